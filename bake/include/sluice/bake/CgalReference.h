@@ -1,0 +1,72 @@
+// The exact CPU reference: signed distance to a triangle soup with CGAL, in double precision.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "sluice/bake/Grid.h"
+#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/Progress.h"
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Result.h"
+
+namespace sluice::bake {
+
+/// What the user asked for: auto picks parity for closed, non-self-intersecting meshes and the
+/// generalized winding number otherwise.
+enum class SignMode { Auto, Parity, Winding };
+
+/// Parses "auto" | "parity" | "winding".
+Result<SignMode> parseSignMode(const std::string& text);
+const char* signModeName(SignMode mode);
+
+/// Exact unsigned distance (CGAL AABB tree over the soup) with a sign from ray parity
+/// (Side_of_triangle_mesh, closed meshes only) or the generalized winding number (any soup).
+/// Thread-safe for queries once built.
+class CgalReference {
+public:
+    /// Errors: EmptyMesh (no non-degenerate triangle), InvalidArgument (Parity forced on a mesh
+    /// that is not closed).
+    static Result<CgalReference> build(const TriangleSoup& soup,
+                                       const format::MeshDiagnostics& diagnostics, SignMode mode);
+    CgalReference(CgalReference&&) noexcept;
+    CgalReference& operator=(CgalReference&&) noexcept;
+    ~CgalReference();
+
+    /// The sign method in use.
+    format::SignMethod signMethod() const;
+
+    /// Exact |distance| from p to the nearest triangle [world units].
+    double unsignedDistance(const glm::dvec3& p) const;
+    /// Generalized winding number at p (Jacobson et al. 2013), for any soup.
+    double windingNumber(const glm::dvec3& p) const;
+    /// Signed distance, negative inside, with the chosen sign method.
+    double signedDistance(const glm::dvec3& p) const;
+
+    /// signedDistance at many points, on all cores (TBB), reporting to `progress` if given.
+    std::vector<double> signedDistances(std::span<const glm::dvec3> points,
+                                        Progress* progress = nullptr) const;
+
+private:
+    struct Impl;
+    explicit CgalReference(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> m_impl;
+};
+
+struct BakeSettings {
+    GridOptions grid;
+    SignMode sign = SignMode::Auto;
+    format::Storage storage = format::Storage::F32;
+    double scale = 1.0; ///< recorded in the asset; the mesh is already scaled
+};
+
+/// Bakes the mesh on the CPU with CGAL into a collider asset with full provenance (backend
+/// "cgal"). Errors from gridFor and CgalReference::build.
+Result<format::ColliderAsset> bakeCgal(const ImportedMesh& mesh, const BakeSettings& settings,
+                                       Progress* progress = nullptr);
+
+} // namespace sluice::bake

@@ -1,0 +1,34 @@
+// Mesh import through assimp (every format it reads) into one welded triangle soup.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "sluice/bake/TriangleSoup.h"
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Result.h"
+
+namespace sluice::bake {
+
+struct ImportOptions {
+    double scale = 1.0; ///< uniform scale applied after node transforms; finite, > 0
+};
+
+/// A mesh ready to bake, with what we learned about it.
+struct ImportedMesh {
+    TriangleSoup soup;
+    format::MeshDiagnostics diagnostics;
+    std::string sourceFile; ///< file name without folders
+    std::string sourceHash; ///< XXH3-64 of the file bytes, 16 hex digits
+};
+
+/// Reads every mesh of the file with node transforms applied, welds identical positions, drops
+/// nothing but reports degenerate triangles. Errors: Io, MeshImport (assimp's message),
+/// EmptyMesh (no triangles: empty file, point cloud, lines), NonFinite (NaN/inf coordinates),
+/// InvalidArgument (bad scale). `.vdb` level sets go through importVdbLevelSet instead.
+Result<ImportedMesh> importMesh(const std::filesystem::path& path, const ImportOptions& options);
+
+/// Edge and degeneracy counts, closedness, and CGAL's self-intersection test.
+format::MeshDiagnostics diagnose(const TriangleSoup& soup);
+
+} // namespace sluice::bake

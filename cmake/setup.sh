@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# One-command set-up for a fresh Debian 12 machine (run as root):
+#   bash cmake/setup.sh demo    installs what is missing, builds, bakes and validates the demo
+#   bash cmake/setup.sh test    installs what is missing, builds, runs the whole test suite
+# A second run skips what is already installed and rebuilds only what changed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+mode=${1:-}
+case "$mode" in
+  demo|test) ;;
+  *) echo "usage: bash cmake/setup.sh demo|test" >&2; exit 2 ;;
+esac
+
+# Build tools and libraries (Debian 12 package names).
+packages=(
+  cmake ninja-build g++ pkg-config python3 python3-venv
+  libassimp-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
+  libopenvdb-dev libtbb-dev libcereal-dev libcli11-dev libglm-dev libstb-dev libxxhash-dev
+  libspdlog-dev libfmt-dev nlohmann-json3-dev
+  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+# Test data: third-party meshes (assimp's models, CGAL's data set).
+if [ "$mode" = test ]; then
+  packages+=(assimp-testmodels libcgal-demo)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "setup: missing Debian packages: ${missing[*]} (run as root, or install them)" >&2
+    exit 2
+  fi
+  echo "setup: installing ${missing[*]}"
+  apt-get update -q
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+jobs=$(nproc)
+cmake --preset dev >/dev/null
+cmake --build --preset dev -j "$jobs"
+
+if [ "$mode" = test ]; then
+  ctest --preset dev -j "$jobs"
+else
+  bash assets/demo.sh build/dev/bin
+fi

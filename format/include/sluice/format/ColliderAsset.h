@@ -1,0 +1,95 @@
+// The collider asset in memory: a dense signed distance grid plus its provenance.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace sluice::format {
+
+/// How distances are stored in the file. In memory they are always float.
+enum class Storage : std::uint8_t {
+    F32 = 0, ///< IEEE binary32
+    F16 = 1, ///< IEEE binary16; the quantization error is recorded in the metadata
+};
+
+/// How the inside/outside sign was decided.
+enum class SignMethod : std::uint8_t {
+    Parity = 0,  ///< ray parity on a closed mesh (CGAL Side_of_triangle_mesh)
+    Winding = 1, ///< generalized winding number > 0.5 (Jacobson et al. 2013)
+    Level = 2,   ///< taken from an input level set (.vdb)
+};
+
+/// Mesh diagnostics measured on the welded triangle soup at import.
+struct MeshDiagnostics {
+    std::uint64_t triangles = 0;           ///< after import, degenerate ones included
+    std::uint64_t vertices = 0;            ///< after welding identical positions
+    std::uint64_t degenerateTriangles = 0; ///< zero area or repeated vertex
+    std::uint64_t boundaryEdges = 0;       ///< edges used by exactly one triangle
+    std::uint64_t nonManifoldEdges = 0;    ///< edges used by three or more triangles
+    bool closed = false;                   ///< no boundary edges and no non-manifold edges
+    bool selfIntersecting = false;         ///< CGAL PMP found intersecting triangle pairs
+};
+
+/// The settings a bake was made with.
+struct BakeParams {
+    std::string backend;        ///< "cgal", "gpu", ...
+    std::uint32_t resolution = 0; ///< voxels along the longest side, 0 if voxelSize was given
+    double padding = 3.0;       ///< [voxels] added on every side of the mesh box
+    std::string signMode = "auto"; ///< "auto" | "parity" | "winding" as requested
+    SignMethod signUsed = SignMethod::Parity; ///< what was actually used
+    double scale = 1.0;         ///< uniform import scale applied to the mesh
+};
+
+/// Figures from `sluice-bake validate` against the CGAL reference, when known.
+struct ValidationFigures {
+    bool known = false;
+    std::uint64_t pointsChecked = 0;
+    double maxError = 0.0;  ///< [voxels] max |phi - phi_ref|
+    double meanError = 0.0; ///< [voxels]
+    double rmsError = 0.0;  ///< [voxels]
+    std::uint64_t signMismatches = 0;
+    double eikonalMedian = 0.0;       ///< median |grad phi|
+    double eikonalP99 = 0.0;          ///< 99th percentile of |grad phi|
+    double eikonalOutsideShare = 0.0; ///< share of |grad phi| outside [0.5, 1.5]
+};
+
+/// Everything about a collider except its samples.
+struct ColliderMeta {
+    glm::uvec3 dims{0};       ///< [grid points] along x, y, z; each >= 2
+    glm::dvec3 origin{0.0};   ///< [world units] position of grid point (0,0,0)
+    double voxelSize = 0.0;   ///< [world units] spacing between grid points, > 0
+    Storage storage = Storage::F32;
+    std::int8_t signConvention = -1; ///< sign of phi inside the solid; always -1 for now
+    std::string sourceFile;   ///< file name of the source mesh (no folders)
+    std::string sourceHash;   ///< XXH3-64 of the source file bytes, 16 hex digits
+    BakeParams bake;
+    std::string toolVersion;  ///< "sluice-bake 0.1.0"
+    MeshDiagnostics mesh;
+    ValidationFigures validation;
+    double quantizationError = 0.0; ///< [world units] max |stored - exact| from fp16, 0 for fp32
+};
+
+/// A collider: phi sampled at origin + (i, j, k) * voxelSize, negative inside, in world units.
+/// distances[i + dims.x * (j + dims.y * k)] (x fastest).
+struct ColliderAsset {
+    ColliderMeta meta;
+    std::vector<float> distances;
+
+    /// Number of grid points (dims.x * dims.y * dims.z), computed in 64 bits.
+    std::uint64_t pointCount() const {
+        return std::uint64_t(meta.dims.x) * meta.dims.y * meta.dims.z;
+    }
+    /// Linear index of grid point (i, j, k).
+    std::uint64_t index(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
+        return i + std::uint64_t(meta.dims.x) * (j + std::uint64_t(meta.dims.y) * k);
+    }
+    /// World position of grid point (i, j, k).
+    glm::dvec3 pointPosition(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
+        return meta.origin + glm::dvec3(i, j, k) * meta.voxelSize;
+    }
+};
+
+} // namespace sluice::format
