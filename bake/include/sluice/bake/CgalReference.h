@@ -39,6 +39,9 @@ public:
 
     /// The sign method in use.
     format::SignMethod signMethod() const;
+    /// Why parity (asked for, or chosen by auto) fell back to the winding number because no
+    /// closed polygon mesh could be made of the soup; empty when it did not.
+    const std::string& signFallbackReason() const;
 
     /// Exact |distance| from p to the nearest triangle [world units].
     double unsignedDistance(const glm::dvec3& p) const;

@@ -25,7 +25,8 @@ struct ImportedMesh {
 /// Reads every mesh of the file with node transforms applied, welds identical positions, drops
 /// nothing but reports degenerate triangles. Errors: Io, MeshImport (assimp's message),
 /// EmptyMesh (no triangles: empty file, point cloud, lines), NonFinite (NaN/inf coordinates),
-/// InvalidArgument (bad scale). `.vdb` level sets go through importVdbLevelSet instead.
+/// InvalidArgument (bad scale), SizeOverflow (over 20 M triangles or a 4 GiB file). `.vdb`
+/// level sets go through importVdbLevelSet instead.
 Result<ImportedMesh> importMesh(const std::filesystem::path& path, const ImportOptions& options);
 
 /// Edge and degeneracy counts, closedness, and CGAL's self-intersection test.

@@ -1,0 +1,37 @@
+// Checking any collider asset against the exact CGAL reference.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "sluice/bake/CgalReference.h"
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Result.h"
+
+namespace sluice::bake {
+
+struct ValidateOptions {
+    std::uint64_t maxFullPoints = 2'000'000; ///< above this many grid points, sample instead
+    std::uint64_t samplePoints = 1'000'000;  ///< sample size for large grids
+    double nearSurfaceShare = 0.5;           ///< share of the sample within 2 voxels of the surface
+    double surfaceBand = 1e-4;               ///< [voxels] sign mismatches this close are ignored
+    SignMode sign = SignMode::Auto;          ///< reference sign method
+    std::uint64_t seed = 1;                  ///< sampling seed (reports are reproducible)
+};
+
+/// What `sluice-bake validate` reports. Errors are in voxel units.
+struct ValidationReport {
+    format::ValidationFigures figures;
+    bool sampled = false;               ///< true when a stratified sample was used
+    std::uint64_t signComparedPoints = 0; ///< points outside the surface band
+    double signMismatchPercent = 0.0;
+    format::SignMethod referenceSign = format::SignMethod::Parity;
+};
+
+/// Recomputes the reference at every grid point (or a stratified sample with a near-surface
+/// share for grids over maxFullPoints) and compares. Eikonal statistics use central differences
+/// of the asset at interior grid points.
+Result<ValidationReport> validate(const format::ColliderAsset& asset, const ImportedMesh& mesh,
+                                  const ValidateOptions& options, Progress* progress = nullptr);
+
+} // namespace sluice::bake

@@ -1,0 +1,179 @@
+// Helpers shared by the sluice-bake subcommands: errors, loading by file type, names and JSON.
+#include "CliSupport.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "sluice/bake/Cli.h"
+#include "sluice/bake/VdbIO.h"
+#include "sluice/format/AssetIO.h"
+
+namespace sluice::bake::cli {
+
+CLI::Validator finiteNumber(bool allowZero) {
+    return CLI::Validator(
+        [allowZero](std::string& text) -> std::string {
+            double value = 0.0;
+            if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) ||
+                (allowZero ? value < 0.0 : value <= 0.0))
+                return std::string("expected a finite number ") + (allowZero ? ">= 0" : "> 0") +
+                       ", got " + text;
+            return {};
+        },
+        allowZero ? "NONNEGATIVE" : "POSITIVE");
+}
+
+std::string toolVersion() {
+    return std::string("sluice-bake ") + SLUICE_VERSION;
+}
+
+int exitCodeFor(const Error& error) {
+    switch (error.code) {
+    case ErrorCode::NoGlContext:
+        return kExitNoGlContext;
+    case ErrorCode::ShaderCompile:
+    case ErrorCode::ShaderLink:
+    case ErrorCode::GpuOutOfMemory:
+        return kExitInternal;
+    default:
+        return kExitBadInput;
+    }
+}
+
+int reportError(std::string_view command, const std::string& what, const Error& error) {
+    std::cerr << "sluice-bake " << command << ": " << what << ": " << error.message() << '\n';
+    return exitCodeFor(error);
+}
+
+int reportFileError(std::string_view command, const std::string& what,
+                    const std::filesystem::path& path, const Error& error) {
+    const bool named = error.detail.find(path.string()) != std::string::npos;
+    return reportError(command, named ? what : what + " '" + path.string() + "'", error);
+}
+
+int reportBadInput(std::string_view command, const std::string& message) {
+    std::cerr << "sluice-bake " << command << ": " << message << '\n';
+    return kExitBadInput;
+}
+
+bool hasExtension(const std::filesystem::path& path, std::string_view ext) {
+    std::string actual = path.extension().string();
+    std::transform(actual.begin(), actual.end(), actual.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return actual == ext;
+}
+
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale) {
+    if (hasExtension(path, ".vdb"))
+        return importVdbLevelSet(path, scale);
+    ImportOptions options;
+    options.scale = scale;
+    return importMesh(path, options);
+}
+
+Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path) {
+    if (hasExtension(path, ".vdb"))
+        return readVdbDense(path);
+    return format::readAsset(path);
+}
+
+Result<void> checkOutputPath(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (path.filename().empty() || std::filesystem::is_directory(path, ec))
+        return fail(ErrorCode::InvalidArgument, "'" + path.string() + "' is a folder, not a file");
+    const std::filesystem::path folder =
+        path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+    if (!std::filesystem::is_directory(folder, ec))
+        return fail(ErrorCode::Io,
+                    "the folder '" + folder.string() + "' does not exist (create it first)");
+    return {};
+}
+
+const char* storageName(format::Storage storage) {
+    return storage == format::Storage::F16 ? "f16" : "f32";
+}
+
+const char* signMethodName(format::SignMethod method) {
+    switch (method) {
+    case format::SignMethod::Parity:
+        return "parity";
+    case format::SignMethod::Winding:
+        return "winding";
+    case format::SignMethod::Level:
+        return "level";
+    }
+    return "unknown";
+}
+
+std::string describeMesh(const format::MeshDiagnostics& mesh) {
+    std::string text = std::to_string(mesh.triangles) + " triangles, " +
+                       std::to_string(mesh.vertices) + " vertices, ";
+    text += mesh.closed ? "closed" : "open";
+    text += mesh.selfIntersecting ? ", self-intersecting" : ", not self-intersecting";
+    text += ", " + std::to_string(mesh.degenerateTriangles) + " degenerate, " +
+            std::to_string(mesh.boundaryEdges) + " boundary edges, " +
+            std::to_string(mesh.nonManifoldEdges) + " non-manifold edges";
+    return text;
+}
+
+std::string describeDims(const glm::uvec3& dims) {
+    return std::to_string(dims.x) + " x " + std::to_string(dims.y) + " x " +
+           std::to_string(dims.z) + " = " +
+           std::to_string(std::uint64_t(dims.x) * dims.y * dims.z) + " points";
+}
+
+std::string num(double value, int digits) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*g", digits, value);
+    return text;
+}
+
+nlohmann::ordered_json toJson(const format::MeshDiagnostics& mesh) {
+    return {{"triangles", mesh.triangles},
+            {"vertices", mesh.vertices},
+            {"degenerateTriangles", mesh.degenerateTriangles},
+            {"boundaryEdges", mesh.boundaryEdges},
+            {"nonManifoldEdges", mesh.nonManifoldEdges},
+            {"closed", mesh.closed},
+            {"selfIntersecting", mesh.selfIntersecting}};
+}
+
+nlohmann::ordered_json toJson(const format::ValidationFigures& figures) {
+    return {{"known", figures.known},
+            {"pointsChecked", figures.pointsChecked},
+            {"maxError", figures.maxError},
+            {"meanError", figures.meanError},
+            {"rmsError", figures.rmsError},
+            {"signMismatches", figures.signMismatches},
+            {"eikonalMedian", figures.eikonalMedian},
+            {"eikonalP99", figures.eikonalP99},
+            {"eikonalOutsideShare", figures.eikonalOutsideShare}};
+}
+
+nlohmann::ordered_json toJson(const format::ColliderMeta& meta) {
+    const format::BakeParams& bake = meta.bake;
+    return {{"dims", {meta.dims.x, meta.dims.y, meta.dims.z}},
+            {"pointCount", std::uint64_t(meta.dims.x) * meta.dims.y * meta.dims.z},
+            {"origin", {meta.origin.x, meta.origin.y, meta.origin.z}},
+            {"voxelSize", meta.voxelSize},
+            {"storage", storageName(meta.storage)},
+            {"signConvention", meta.signConvention},
+            {"sourceFile", meta.sourceFile},
+            {"sourceHash", meta.sourceHash},
+            {"toolVersion", meta.toolVersion},
+            {"bake",
+             {{"backend", bake.backend},
+              {"resolution", bake.resolution},
+              {"padding", bake.padding},
+              {"signMode", bake.signMode},
+              {"signUsed", signMethodName(bake.signUsed)},
+              {"scale", bake.scale}}},
+            {"mesh", toJson(meta.mesh)},
+            {"validation", toJson(meta.validation)},
+            {"quantizationError", meta.quantizationError}};
+}
+
+} // namespace sluice::bake::cli

@@ -1,0 +1,86 @@
+// What the sluice-bake subcommands share: registration, error reporting, loading, JSON, names.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/Validate.h"
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Result.h"
+
+namespace sluice::bake::cli {
+
+/// A registered subcommand: its CLI11 app and what runs it once parsing succeeded. `run`
+/// returns a process exit code (Cli.h) and may throw only on internal failures.
+struct Command {
+    CLI::App* app = nullptr;
+    std::function<int()> run;
+};
+
+// One per subcommand, each in its own file (<Name>Command.cpp).
+Command addBakeCommand(CLI::App& parent);
+Command addValidateCommand(CLI::App& parent);
+Command addInfoCommand(CLI::App& parent);
+Command addExportCommand(CLI::App& parent);
+Command addGlInfoCommand(CLI::App& parent);
+
+/// CLI11 check: a finite number > 0 (or >= 0 with `allowZero`), with a short message. CLI11's
+/// PositiveNumber prints DBL_MAX in full and lets NaN through.
+CLI::Validator finiteNumber(bool allowZero);
+
+/// "sluice-bake <SLUICE_VERSION>", what --version prints and assets record.
+std::string toolVersion();
+
+/// The exit code for an error: kExitNoGlContext for NoGlContext, kExitInternal for failures of
+/// our own GPU code (shader compile/link, GPU memory), kExitBadInput for everything else.
+int exitCodeFor(const Error& error);
+
+/// Prints "sluice-bake <command>: <what>: <detail> [<Code>]" on stderr and returns
+/// exitCodeFor(error). `what` names the file ("cannot read mesh 'a.obj'").
+int reportError(std::string_view command, const std::string& what, const Error& error);
+
+/// reportError for a failure about one file: "<what> '<path>'", or just "<what>" when the
+/// error's detail already names the path (as the readers' messages do), so it is said once.
+int reportFileError(std::string_view command, const std::string& what,
+                    const std::filesystem::path& path, const Error& error);
+
+/// Prints "sluice-bake <command>: <message>" on stderr and returns kExitBadInput.
+int reportBadInput(std::string_view command, const std::string& message);
+
+/// True if the file name ends in `ext` (".vdb"), ignoring case.
+bool hasExtension(const std::filesystem::path& path, std::string_view ext);
+
+/// A mesh through assimp, or the zero isosurface of a level-set .vdb, at the given scale.
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale);
+
+/// A collider asset file, or the first float grid of a .vdb read densely.
+Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path);
+
+/// Checks that `path` can be a new output file: its folder exists and it is not a folder.
+/// Cheap, so commands fail before long work; the atomic write still has the last word.
+Result<void> checkOutputPath(const std::filesystem::path& path);
+
+const char* storageName(format::Storage storage);
+const char* signMethodName(format::SignMethod method);
+
+/// "1280 triangles, 642 vertices, closed, not self-intersecting, ..." for people.
+std::string describeMesh(const format::MeshDiagnostics& mesh);
+
+/// "70 x 70 x 70 = 343000 points".
+std::string describeDims(const glm::uvec3& dims);
+
+/// Compact number for tables: up to `digits` significant digits ("%.*g").
+std::string num(double value, int digits = 6);
+
+// JSON views of the metadata (field names as in ColliderAsset.h).
+nlohmann::ordered_json toJson(const format::MeshDiagnostics& mesh);
+nlohmann::ordered_json toJson(const format::ValidationFigures& figures);
+nlohmann::ordered_json toJson(const format::ColliderMeta& meta);
+
+} // namespace sluice::bake::cli

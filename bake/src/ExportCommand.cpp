@@ -1,0 +1,50 @@
+// `sluice-bake export`: a collider asset out as an OpenVDB float level set.
+#include <iostream>
+#include <memory>
+
+#include "CliSupport.h"
+#include "sluice/bake/Cli.h"
+#include "sluice/bake/VdbIO.h"
+#include "sluice/format/AssetIO.h"
+
+namespace sluice::bake::cli {
+namespace {
+
+struct ExportArgs {
+    std::string asset;
+    std::string output;
+    bool quiet = false;
+};
+
+int runExport(const ExportArgs& args) {
+    constexpr std::string_view cmd = "export";
+    if (!hasExtension(args.output, ".vdb"))
+        return reportBadInput(cmd, "'" + args.output + "': the output must be a .vdb file");
+    if (Result<void> out = checkOutputPath(args.output); !out)
+        return reportFileError(cmd, "cannot write", args.output, out.error());
+    Result<format::ColliderAsset> asset = format::readAsset(args.asset);
+    if (!asset)
+        return reportFileError(cmd, "cannot read asset", args.asset, asset.error());
+    if (Result<void> ok = exportVdb(*asset, args.output); !ok)
+        return reportFileError(cmd, "cannot write", args.output, ok.error());
+    if (!args.quiet)
+        std::cout << "exported " << args.asset << " -> " << args.output << " (level set, "
+                  << describeDims(asset->meta.dims) << ", voxel " << num(asset->meta.voxelSize)
+                  << " world units)\n";
+    return kExitOk;
+}
+
+} // namespace
+
+Command addExportCommand(CLI::App& parent) {
+    auto args = std::make_shared<ExportArgs>();
+    CLI::App* app = parent.add_subcommand(
+        "export", "Write an asset as an OpenVDB float level set (every grid point an active "
+                  "voxel), atomically.");
+    app->add_option("ASSET", args->asset, "collider asset (.slc)")->required();
+    app->add_option("OUT", args->output, "output file (.vdb)")->required();
+    app->add_flag("-q,--quiet", args->quiet, "no summary");
+    return {app, [args] { return runExport(*args); }};
+}
+
+} // namespace sluice::bake::cli

@@ -1,0 +1,149 @@
+// `sluice-bake info`: an asset's header, provenance and figures, and optionally a slice picture.
+#include <algorithm>
+#include <array>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include "CliSupport.h"
+#include "sluice/bake/Cli.h"
+#include "sluice/bake/SliceImage.h"
+#include "sluice/format/AssetHeader.h"
+#include "sluice/format/Hash.h"
+
+namespace sluice::bake::cli {
+namespace {
+
+struct InfoArgs {
+    std::string asset;
+    bool json = false;
+    std::string slice;
+    std::string png;
+};
+
+/// The header of a file that has already been read and verified whole.
+format::AssetHeader readHeader(const std::filesystem::path& path) {
+    std::array<std::byte, format::kAssetHeaderSize> bytes{};
+    std::ifstream in(path, std::ios::binary);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+    return format::unpackAssetHeader(bytes);
+}
+
+void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vdb,
+               const format::AssetHeader& header, float lo, float hi) {
+    const format::ColliderMeta& m = asset.meta;
+    std::cout << args.asset;
+    if (vdb)
+        std::cout << "  (OpenVDB grid, read densely over its active box)\n";
+    else
+        std::cout << "  (collider asset v" << header.major << '.' << header.minor << ", "
+                  << header.fileSize << " bytes, checksum " << format::hex64(header.checksum)
+                  << ")\n";
+    const glm::dvec3 extent = glm::dvec3(m.dims - 1u) * m.voxelSize;
+    std::cout << "  grid          " << describeDims(m.dims) << '\n'
+              << "  voxel size    " << num(m.voxelSize) << " world units\n"
+              << "  origin        (" << num(m.origin.x) << ", " << num(m.origin.y) << ", "
+              << num(m.origin.z) << ") world units\n"
+              << "  extent        " << num(extent.x) << " x " << num(extent.y) << " x "
+              << num(extent.z) << " world units\n"
+              << "  distances     " << num(lo) << " .. " << num(hi)
+              << " world units (negative inside)\n"
+              << "  storage       " << storageName(m.storage) << ", quantization error "
+              << num(m.quantizationError, 3) << " world units\n";
+    if (vdb)
+        return;
+    const format::BakeParams& b = m.bake;
+    std::cout << "  source        " << m.sourceFile << "  (xxh3 " << m.sourceHash << ")\n"
+              << "  tool          " << m.toolVersion << '\n'
+              << "  bake          backend " << b.backend << ", resolution "
+              << (b.resolution ? std::to_string(b.resolution) : std::string("- (voxel size)"))
+              << ", padding " << num(b.padding) << " voxels, sign " << b.signMode << " -> "
+              << signMethodName(b.signUsed) << ", scale " << num(b.scale) << '\n'
+              << "  mesh          " << describeMesh(m.mesh) << '\n';
+    const format::ValidationFigures& v = m.validation;
+    if (!v.known) {
+        std::cout << "  validation    not recorded (sluice-bake validate --write)\n";
+        return;
+    }
+    std::cout << "  validation    " << v.pointsChecked << " points: error max "
+              << num(v.maxError, 3) << ", mean " << num(v.meanError, 3) << ", rms "
+              << num(v.rmsError, 3) << " voxels; " << v.signMismatches
+              << " sign mismatches; |grad phi| median " << num(v.eikonalMedian, 4) << ", p99 "
+              << num(v.eikonalP99, 4) << ", " << num(100.0 * v.eikonalOutsideShare, 3)
+              << " % outside [0.5, 1.5]\n";
+}
+
+int runInfo(const InfoArgs& args) {
+    constexpr std::string_view cmd = "info";
+    std::optional<SliceSpec> slice;
+    if (!args.slice.empty()) {
+        Result<SliceSpec> parsed = parseSlice(args.slice);
+        if (!parsed)
+            return reportBadInput(cmd, "--slice " + args.slice + ": " + parsed.error().detail);
+        slice = *parsed;
+        if (Result<void> out = checkOutputPath(args.png); !out)
+            return reportFileError(cmd, "cannot write", args.png, out.error());
+    }
+
+    Result<format::ColliderAsset> asset = loadAsset(args.asset);
+    if (!asset)
+        return reportFileError(cmd, "cannot read asset", args.asset, asset.error());
+    const bool vdb = hasExtension(args.asset, ".vdb");
+    const format::AssetHeader header = vdb ? format::AssetHeader{} : readHeader(args.asset);
+    const auto [lo, hi] = std::minmax_element(asset->distances.begin(), asset->distances.end());
+    const float minPhi = lo == asset->distances.end() ? 0.0f : *lo;
+    const float maxPhi = hi == asset->distances.end() ? 0.0f : *hi;
+
+    if (slice) {
+        const Image image = renderSlice(*asset, *slice);
+        if (Result<void> ok = writePng(image, args.png); !ok)
+            return reportFileError(cmd, "cannot write", args.png, ok.error());
+    }
+
+    if (args.json) {
+        nlohmann::ordered_json out = {{"file", args.asset},
+                                      {"format", vdb ? "openvdb" : "sluice-collider"}};
+        if (!vdb)
+            out["header"] = {{"major", header.major},
+                             {"minor", header.minor},
+                             {"headerSize", header.headerSize},
+                             {"fileSize", header.fileSize},
+                             {"metaOffset", header.metaOffset},
+                             {"metaSize", header.metaSize},
+                             {"payloadOffset", header.payloadOffset},
+                             {"payloadSize", header.payloadSize},
+                             {"checksum", format::hex64(header.checksum)}};
+        const nlohmann::ordered_json meta = toJson(asset->meta);
+        for (const auto& [key, value] : meta.items())
+            out[key] = value;
+        out["distanceRange"] = {minPhi, maxPhi};
+        if (slice)
+            out["slicePng"] = args.png;
+        std::cout << out.dump(2) << '\n';
+    } else {
+        printText(args, *asset, vdb, header, minPhi, maxPhi);
+        if (slice)
+            std::cout << "  slice         " << args.slice << " -> " << args.png << '\n';
+    }
+    return kExitOk;
+}
+
+} // namespace
+
+Command addInfoCommand(CLI::App& parent) {
+    auto args = std::make_shared<InfoArgs>();
+    CLI::App* app = parent.add_subcommand(
+        "info", "Print an asset's header and metadata: grid, provenance, mesh diagnostics, "
+                "validation figures. Also reads .vdb grids.");
+    app->add_option("ASSET", args->asset, "collider asset (.slc) or .vdb file")->required();
+    app->add_flag("--json", args->json, "print as JSON");
+    CLI::Option* slice = app->add_option(
+        "--slice", args->slice, "slice to draw: x|y|z=FRACTION of the grid extent, e.g. z=0.5");
+    CLI::Option* png = app->add_option("--png", args->png, "PNG file for the --slice picture");
+    slice->needs(png);
+    png->needs(slice);
+    return {app, [args] { return runInfo(*args); }};
+}
+
+} // namespace sluice::bake::cli

@@ -1,0 +1,327 @@
+// Mesh import through assimp: every mesh of the file, node transforms applied, welded positions.
+#include "sluice/bake/MeshImport.h"
+
+#include <bit>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "sluice/format/Hash.h"
+
+namespace sluice::bake {
+
+namespace {
+
+/// Largest mesh we import [triangles, counting instances]: the CGAL reference needs roughly
+/// 200 bytes per triangle, so this keeps a bake within a few GiB of memory.
+constexpr std::uint64_t kMaxTriangles = 20'000'000;
+/// Largest source file we hand to assimp [bytes].
+constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(4) << 30;
+
+/// Exact-position key for welding; -0.0 and +0.0 weld together.
+struct PositionKey {
+    std::uint64_t bits[3];
+    bool operator==(const PositionKey&) const = default;
+};
+struct PositionKeyHash {
+    std::size_t operator()(const PositionKey& k) const {
+        std::uint64_t h = 0x9e3779b97f4a7c15ull;
+        for (std::uint64_t b : k.bits)
+            h = (h ^ b) * 0xff51afd7ed558ccdull, h ^= h >> 32;
+        return std::size_t(h);
+    }
+};
+PositionKey keyOf(const glm::dvec3& p) {
+    return {{std::bit_cast<std::uint64_t>(p.x + 0.0), std::bit_cast<std::uint64_t>(p.y + 0.0),
+             std::bit_cast<std::uint64_t>(p.z + 0.0)}};
+}
+
+glm::dmat4 toGlm(const aiMatrix4x4& m) {
+    glm::dmat4 out(1.0);
+    for (unsigned r = 0; r < 4; ++r) // assimp is row-major, glm column-major
+        for (unsigned c = 0; c < 4; ++c)
+            out[c][r] = double(m[r][c]);
+    return out;
+}
+
+void silenceAssimp() {
+    // assimp logs through DefaultLogger; the NullLogger drops everything. Errors still come back
+    // through Importer::GetErrorString, which is what we report.
+    static std::once_flag once;
+    std::call_once(once, [] { Assimp::DefaultLogger::set(nullptr); });
+}
+
+/// Collects the triangles of the scene in world space, welding identical positions.
+class SoupBuilder {
+public:
+    SoupBuilder(const aiScene& scene, double scale) : m_scene(scene), m_scale(scale) {}
+
+    /// Walks the node tree from the root, accumulating transforms in double precision. A mesh
+    /// used by several nodes is instanced once per node.
+    Result<void> addScene(const std::string& fileName) {
+        if (!m_scene.mRootNode)
+            return addAllMeshesUntransformed(fileName);
+        std::vector<std::pair<const aiNode*, glm::dmat4>> stack{
+            {m_scene.mRootNode, glm::dmat4(1.0)}};
+        bool anyMeshUsed = false;
+        while (!stack.empty()) {
+            const auto [node, parent] = stack.back();
+            stack.pop_back();
+            const glm::dmat4 world = parent * toGlm(node->mTransformation);
+            for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+                if (node->mMeshes[i] >= m_scene.mNumMeshes)
+                    return fail(ErrorCode::MeshImport,
+                                fileName + ": a node refers to a mesh that does not exist");
+                anyMeshUsed = true;
+                if (Result<void> r = addMesh(*m_scene.mMeshes[node->mMeshes[i]], world, fileName);
+                    !r)
+                    return r;
+            }
+            for (unsigned c = node->mNumChildren; c-- > 0;) // reversed so children pop in order
+                if (node->mChildren[c])
+                    stack.push_back({node->mChildren[c], world});
+        }
+        // Some loaders leave meshes out of the node tree; take them as they are then.
+        return anyMeshUsed ? Result<void>{} : addAllMeshesUntransformed(fileName);
+    }
+
+    TriangleSoup take() { return std::move(m_soup); }
+
+private:
+    Result<void> addAllMeshesUntransformed(const std::string& fileName) {
+        for (unsigned m = 0; m < m_scene.mNumMeshes; ++m)
+            if (Result<void> r = addMesh(*m_scene.mMeshes[m], glm::dmat4(1.0), fileName); !r)
+                return r;
+        return {};
+    }
+
+    Result<void> addMesh(const aiMesh& mesh, const glm::dmat4& world, const std::string& fileName) {
+        // Map each referenced vertex once: FBX and friends split vertices per face normal, so
+        // many assimp vertices weld to one position.
+        std::vector<std::uint32_t> welded(mesh.mNumVertices, kUnmapped);
+        for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+            const aiFace& face = mesh.mFaces[f];
+            if (face.mNumIndices != 3)
+                continue; // points and lines; polygons were triangulated by aiProcess_Triangulate
+            if (m_soup.triangles.size() >= kMaxTriangles)
+                return fail(ErrorCode::SizeOverflow,
+                            fileName + ": more than " + std::to_string(kMaxTriangles) +
+                                " triangles; decimate the mesh before baking");
+            glm::uvec3 tri;
+            for (int c = 0; c < 3; ++c) {
+                const unsigned v = face.mIndices[c];
+                if (v >= mesh.mNumVertices)
+                    return fail(ErrorCode::MeshImport,
+                                fileName + ": a face refers to a vertex that does not exist");
+                if (welded[v] == kUnmapped) {
+                    const aiVector3D& p = mesh.mVertices[v];
+                    const glm::dvec3 w =
+                        glm::dvec3(world * glm::dvec4(double(p.x), double(p.y), double(p.z), 1.0)) *
+                        m_scale;
+                    if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
+                        return fail(ErrorCode::NonFinite,
+                                    fileName + ": vertex " + std::to_string(v) + " of mesh '" +
+                                        mesh.mName.C_Str() +
+                                        "' has a NaN or infinite coordinate; fix the mesh");
+                    welded[v] = weld(w);
+                }
+                tri[c] = welded[v];
+            }
+            m_soup.triangles.push_back(tri);
+        }
+        return {};
+    }
+
+    std::uint32_t weld(const glm::dvec3& p) {
+        const auto [it, inserted] =
+            m_index.try_emplace(keyOf(p), std::uint32_t(m_soup.positions.size()));
+        if (inserted)
+            m_soup.positions.push_back(p);
+        return it->second;
+    }
+
+    static constexpr std::uint32_t kUnmapped = ~std::uint32_t(0);
+    const aiScene& m_scene;
+    double m_scale;
+    TriangleSoup m_soup;
+    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> m_index;
+};
+
+/// OFF and PLY headers declare their element counts up front, and assimp allocates for them
+/// before reading (a 12-line OFF file asking for 353 billion vertices takes all memory). Returns
+/// an error when the declared elements cannot fit in the file: each vertex needs at least 6
+/// bytes as text ("0 0 0\n") or 3 binary, each face 8 as text ("3 0 1 2\n") or 4 binary.
+Result<void> checkDeclaredCounts(const std::filesystem::path& path, std::uintmax_t fileBytes,
+                                 const std::string& shown) {
+    std::string ext = path.extension().string();
+    for (char& c : ext)
+        c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".off" && ext != ".ply")
+        return {};
+    std::ifstream in(path, std::ios::binary);
+    std::string header(4096, '\0');
+    in.read(header.data(), std::streamsize(header.size()));
+    header.resize(std::size_t(in.gcount()));
+    std::istringstream lines(header);
+    std::string line;
+    double vertices = 0, faces = 0;
+    bool binary = false, counted = false;
+    if (ext == ".off") {
+        // "OFF" (or COFF, NOFF, ...), maybe with the counts on the same line; '#' comments.
+        std::string word;
+        lines >> word;
+        if (word.size() < 3 || word.compare(word.size() - 3, 3, "OFF") != 0)
+            return {};
+        while (lines >> word && word[0] == '#')
+            std::getline(lines, line);
+        std::string rest;
+        std::getline(lines, rest);
+        std::istringstream counts(word + " " + rest);
+        counted = bool(counts >> vertices >> faces);
+    } else {
+        while (std::getline(lines, line) && line.rfind("end_header", 0) != 0) {
+            std::istringstream words(line);
+            std::string key, name;
+            double count = 0;
+            words >> key;
+            if (key == "format")
+                binary = line.find("binary") != std::string::npos;
+            if (key == "element" && (words >> name >> count)) {
+                vertices += name == "vertex" ? count : 0;
+                faces += name == "face" ? count : 0;
+                counted = true;
+            }
+        }
+    }
+    if (!counted)
+        return {}; // let assimp say what is wrong with it
+    const double needed = binary ? vertices * 3 + faces * 4 : vertices * 6 + faces * 8;
+    if (needed > double(fileBytes)) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      ": the header declares %.0f vertices and %.0f faces, more than its %.0f "
+                      "bytes can hold",
+                      vertices, faces, double(fileBytes));
+        return fail(ErrorCode::MeshImport, shown + text);
+    }
+    return {};
+}
+
+/// Whether any mesh has a face of three or more corners, looking only through pointers that
+/// are set (the scene is not validated yet).
+bool hasSurfaceFaces(const aiScene& scene) {
+    for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+        const aiMesh* mesh = scene.mMeshes ? scene.mMeshes[m] : nullptr;
+        if (!mesh || !mesh->mFaces)
+            continue;
+        for (unsigned f = 0; f < mesh->mNumFaces; ++f)
+            if (mesh->mFaces[f].mNumIndices >= 3)
+                return true;
+    }
+    return false;
+}
+
+Result<ImportedMesh> importChecked(const std::filesystem::path& path,
+                                   const ImportOptions& options) {
+    const std::string fileName = path.filename().string();
+    const std::string shown = path.string();
+    if (!std::isfinite(options.scale) || !(options.scale > 0.0))
+        return fail(ErrorCode::InvalidArgument,
+                    "import scale must be finite and > 0, got " + std::to_string(options.scale));
+
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status))
+        return fail(ErrorCode::Io, shown + ": no such file");
+    if (!std::filesystem::is_regular_file(status))
+        return fail(ErrorCode::Io, shown + ": not a regular file");
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (ec)
+        return fail(ErrorCode::Io, shown + ": cannot read the file size (" + ec.message() + ")");
+    if (bytes == 0)
+        return fail(ErrorCode::EmptyMesh, shown + ": the file is empty");
+    if (bytes > kMaxFileBytes)
+        return fail(ErrorCode::SizeOverflow, shown + ": the file is larger than 4 GiB");
+
+    if (Result<void> r = checkDeclaredCounts(path, bytes, shown); !r)
+        return r.error();
+
+    Result<std::string> hash = format::hashFileHex(path);
+    if (!hash)
+        return hash.error();
+
+    silenceAssimp();
+    Assimp::Importer importer;
+    // Read without post-processing first: a point cloud or a file of lines is not corrupt, it
+    // just has nothing to bake, and we say so before assimp's validation calls a mesh without
+    // faces invalid.
+    const aiScene* scene = importer.ReadFile(path.string(), 0);
+    if (!scene) {
+        const std::string why = importer.GetErrorString();
+        return fail(ErrorCode::MeshImport,
+                    shown + ": assimp cannot read it" + (why.empty() ? "" : " (" + why + ")"));
+    }
+    if (!hasSurfaceFaces(*scene))
+        return fail(ErrorCode::EmptyMesh,
+                    shown + ": no triangles (only points or lines, or no geometry at all)");
+    // Validation must come before anything else touches the scene: Debian's assimp is built
+    // with its internal asserts on, and its steps abort() on out-of-range indices.
+    scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure);
+    if (!scene) {
+        const std::string why = importer.GetErrorString();
+        return fail(ErrorCode::MeshImport, shown + ": assimp read an invalid scene" +
+                                               (why.empty() ? "" : " (" + why + ")"));
+    }
+    // Polygons become triangles; points and lines stay 1- and 2-index faces and are skipped.
+    // No PreTransformVertices: we walk the node tree ourselves (it also covers instancing).
+    scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
+    if (!scene)
+        return fail(ErrorCode::MeshImport, shown + ": assimp cannot triangulate its polygons");
+
+    SoupBuilder builder(*scene, options.scale);
+    if (Result<void> r = builder.addScene(shown); !r)
+        return r.error();
+    ImportedMesh mesh;
+    mesh.soup = builder.take();
+    if (mesh.soup.triangles.empty())
+        return fail(ErrorCode::EmptyMesh,
+                    shown + ": no triangles (only points or lines, or no geometry at all)");
+    mesh.diagnostics = diagnose(mesh.soup);
+    mesh.sourceFile = fileName;
+    mesh.sourceHash = std::move(*hash);
+    return mesh;
+}
+
+} // namespace
+
+Result<ImportedMesh> importMesh(const std::filesystem::path& path, const ImportOptions& options) {
+    // The module boundary: assimp (and allocation on hostile inputs) may throw.
+    try {
+        return importChecked(path, options);
+    } catch (const std::bad_alloc&) {
+        return fail(ErrorCode::SizeOverflow, path.string() + ": out of memory while importing");
+    } catch (const std::exception& e) {
+        return fail(ErrorCode::MeshImport, path.string() + ": import failed (" + e.what() + ")");
+    } catch (...) {
+        return fail(ErrorCode::MeshImport, path.string() + ": import failed (unknown exception)");
+    }
+}
+
+} // namespace sluice::bake

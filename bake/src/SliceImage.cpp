@@ -1,0 +1,234 @@
+// Slice pictures of a collider: distance colour map with the zero contour, beside the gradient.
+#include "sluice/bake/SliceImage.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <system_error>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+#include <stb_image_write.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "sluice/format/AtomicFile.h"
+#include "sluice/format/SdfSampler.h"
+
+namespace sluice::bake {
+namespace {
+
+constexpr int kMinLongSide = 512;  // [px]
+constexpr int kMaxLongSide = 2048; // [px]
+constexpr int kGap = 8;            // [px] between the halves
+
+const glm::dvec3 kWhite{1.0, 1.0, 1.0};
+// Ends of the diverging map (close to ColorBrewer RdBu's): blue inside, red outside.
+const glm::dvec3 kInside{0.08, 0.24, 0.70};
+const glm::dvec3 kOutside{0.75, 0.08, 0.08};
+const glm::dvec3 kContour{0.05, 0.05, 0.05};
+const glm::dvec3 kGapColour{0.2, 0.2, 0.2};
+
+std::uint8_t toByte(double c) {
+    return std::uint8_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0));
+}
+
+void putPixel(Image& image, int x, int y, const glm::dvec3& c) {
+    const std::size_t at = (std::size_t(y) * std::size_t(image.width) + std::size_t(x)) * 3;
+    image.rgb[at + 0] = toByte(c.x);
+    image.rgb[at + 1] = toByte(c.y);
+    image.rgb[at + 2] = toByte(c.z);
+}
+
+// Iso-line spacing [voxels]: 1, 2 or 5 times a power of ten, about eight lines across `range`.
+double isoSpacingVoxels(double rangeVoxels) {
+    const double raw = std::max(rangeVoxels / 8.0, 1.0);
+    const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0})
+        if (m * decade >= raw)
+            return m * decade;
+    return 10.0 * decade;
+}
+
+// How strongly a line at distance `px` [px] from the pixel centre covers it: fully within a
+// quarter pixel, fading out over one pixel (a cheap antialiased line about 2 px wide).
+double lineCoverage(double px) {
+    return std::clamp(1.25 - px, 0.0, 1.0);
+}
+
+} // namespace
+
+Result<SliceSpec> parseSlice(const std::string& text) {
+    auto bad = [&](const std::string& why) {
+        return fail(ErrorCode::InvalidArgument,
+                    "--slice '" + text + "': " + why +
+                        "; expected x|y|z=FRACTION with FRACTION in [0, 1], e.g. z=0.5");
+    };
+    if (text.size() < 2 || text[1] != '=')
+        return bad("no axis=fraction");
+    SliceSpec slice;
+    switch (text[0]) {
+    case 'x':
+    case 'X':
+        slice.axis = Axis::X;
+        break;
+    case 'y':
+    case 'Y':
+        slice.axis = Axis::Y;
+        break;
+    case 'z':
+    case 'Z':
+        slice.axis = Axis::Z;
+        break;
+    default:
+        return bad("unknown axis '" + text.substr(0, 1) + "'");
+    }
+    const char* first = text.data() + 2;
+    const char* last = text.data() + text.size();
+    if (first == last)
+        return bad("missing fraction");
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(first, last, value);
+    if (ec != std::errc() || end != last)
+        return bad("fraction is not a number");
+    if (!std::isfinite(value))
+        return bad("fraction is not finite");
+    if (value < 0.0 || value > 1.0)
+        return bad("fraction outside [0, 1]");
+    slice.fraction = value;
+    return slice;
+}
+
+SliceLayout sliceLayout(const format::ColliderMeta& meta, const SliceSpec& slice) {
+    SLUICE_ASSERT(meta.dims.x >= 2 && meta.dims.y >= 2 && meta.dims.z >= 2,
+                  "sliceLayout needs at least 2 grid points per axis");
+    SliceLayout layout;
+    const int w = int(slice.axis);
+    layout.uAxis = slice.axis == Axis::X ? Axis::Y : Axis::X;
+    layout.vAxis = slice.axis == Axis::Z ? Axis::Y : Axis::Z;
+    const double extentU = meta.dims[int(layout.uAxis)] - 1.0; // [voxels]
+    const double extentV = meta.dims[int(layout.vAxis)] - 1.0;
+    const double longest = std::max(extentU, extentV);
+    // Whole pixels per voxel while upscaling keeps grid points on pixel centres.
+    if (longest < kMinLongSide - 1)
+        layout.pixelsPerVoxel = std::ceil((kMinLongSide - 1) / longest);
+    else if (longest > kMaxLongSide - 1)
+        layout.pixelsPerVoxel = (kMaxLongSide - 1) / longest;
+    else
+        layout.pixelsPerVoxel = 1.0;
+    layout.halfWidth = int(std::lround(extentU * layout.pixelsPerVoxel)) + 1;
+    layout.height = int(std::lround(extentV * layout.pixelsPerVoxel)) + 1;
+    layout.gap = kGap;
+    layout.planeIndex = std::clamp(slice.fraction, 0.0, 1.0) * (meta.dims[w] - 1.0);
+    return layout;
+}
+
+Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice) {
+    const format::ColliderMeta& meta = asset.meta;
+    const SliceLayout layout = sliceLayout(meta, slice);
+    const format::SdfSampler sampler(asset);
+    const int u = int(layout.uAxis), v = int(layout.vAxis), w = int(slice.axis);
+    const double h = meta.voxelSize; // central-difference step [world units]
+
+    // Sample phi and its gradient at every pixel first: the colour ranges need the whole slice.
+    const std::size_t pixels = std::size_t(layout.halfWidth) * std::size_t(layout.height);
+    std::vector<float> phi(pixels);
+    std::vector<glm::dvec3> grad(pixels);
+    tbb::parallel_for(tbb::blocked_range<int>(0, layout.height), [&](const auto& rows) {
+        for (int py = rows.begin(); py != rows.end(); ++py)
+            for (int px = 0; px < layout.halfWidth; ++px) {
+                glm::dvec3 index(0.0);
+                index[u] = px / layout.pixelsPerVoxel;
+                index[v] = (layout.height - 1 - py) / layout.pixelsPerVoxel;
+                index[w] = layout.planeIndex;
+                const glm::dvec3 p = meta.origin + index * meta.voxelSize;
+                const std::size_t at =
+                    std::size_t(py) * std::size_t(layout.halfWidth) + std::size_t(px);
+                phi[at] = sampler.value(p);
+                // A one-voxel central difference of the trilinear field is the trilinear
+                // interpolant of the grid's central differences: smooth across cell faces,
+                // unlike the analytic gradient of the interpolant.
+                glm::dvec3 g;
+                for (int a = 0; a < 3; ++a) {
+                    glm::dvec3 e(0.0);
+                    e[a] = h;
+                    g[a] = (double(sampler.value(p + e)) - double(sampler.value(p - e))) / (2 * h);
+                }
+                grad[at] = g;
+            }
+    });
+
+    // Inside and outside are normalized separately, so both ends of the map are used.
+    double rangeInside = 1e-3 * meta.voxelSize, rangeOutside = 1e-3 * meta.voxelSize;
+    for (float d : phi) {
+        if (d < 0)
+            rangeInside = std::max(rangeInside, -double(d));
+        else
+            rangeOutside = std::max(rangeOutside, double(d));
+    }
+    const double spacing =
+        isoSpacingVoxels(std::max(rangeInside, rangeOutside) / meta.voxelSize) * meta.voxelSize;
+    const double worldPerPixel = meta.voxelSize / layout.pixelsPerVoxel;
+
+    Image image;
+    image.width = 2 * layout.halfWidth + layout.gap;
+    image.height = layout.height;
+    image.rgb.assign(std::size_t(image.width) * std::size_t(image.height) * 3, 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, layout.height), [&](const auto& rows) {
+        for (int py = rows.begin(); py != rows.end(); ++py) {
+            for (int px = 0; px < layout.halfWidth; ++px) {
+                const std::size_t at =
+                    std::size_t(py) * std::size_t(layout.halfWidth) + std::size_t(px);
+                const double d = phi[at];
+                const glm::dvec3& g = grad[at];
+
+                // Left: the distance. A gentle power curve gives the near-surface band more of
+                // the colour ramp than the far field.
+                const double t = std::pow(
+                    std::min(std::abs(d) / (d < 0 ? rangeInside : rangeOutside), 1.0), 0.7);
+                glm::dvec3 c = glm::mix(kWhite, d < 0 ? kInside : kOutside, t);
+                // Lines drawn by their distance in pixels, |phi - level| / |grad phi in plane|,
+                // so they keep their width however steep the field is.
+                const double slope =
+                    std::max(std::hypot(g[u], g[v]), 0.05) * worldPerPixel; // [world units/px]
+                const double level = std::round(d / spacing) * spacing;
+                if (level != 0.0)
+                    c *= 1.0 - 0.22 * lineCoverage(std::abs(d - level) / slope);
+                c = glm::mix(c, kContour, lineCoverage(std::abs(d) / slope));
+                putPixel(image, px, py, c);
+
+                // Right: the normalized gradient, (x, y, z) -> (r, g, b), as in Smeton 2020.
+                const double length = glm::length(g);
+                const glm::dvec3 n = length > 1e-12 ? g / length : glm::dvec3(0.0);
+                putPixel(image, layout.halfWidth + layout.gap + px, py, 0.5 + 0.5 * n);
+            }
+            for (int px = 0; px < layout.gap; ++px)
+                putPixel(image, layout.halfWidth + px, py, kGapColour);
+        }
+    });
+    return image;
+}
+
+Result<void> writePng(const Image& image, const std::filesystem::path& path) {
+    if (image.width <= 0 || image.height <= 0 ||
+        image.rgb.size() != std::size_t(image.width) * std::size_t(image.height) * 3)
+        return fail(ErrorCode::InvalidArgument,
+                    "cannot write " + path.string() + ": the image is empty or malformed");
+    std::vector<std::byte> png;
+    auto append = [](void* context, void* data, int size) {
+        auto* out = static_cast<std::vector<std::byte>*>(context);
+        const auto* bytes = static_cast<const std::byte*>(data);
+        out->insert(out->end(), bytes, bytes + size);
+    };
+    const int ok = stbi_write_png_to_func(append, &png, image.width, image.height, 3,
+                                          image.rgb.data(), image.width * 3);
+    if (!ok || png.empty())
+        return fail(ErrorCode::Io, "cannot encode the PNG for " + path.string());
+    return format::writeFileAtomic(path, std::span<const std::byte>(png));
+}
+
+} // namespace sluice::bake

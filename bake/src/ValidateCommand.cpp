@@ -1,0 +1,196 @@
+// `sluice-bake validate`: an asset against the exact CGAL reference of its mesh, with limits.
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+#include "CliSupport.h"
+#include "sluice/bake/Cli.h"
+#include "sluice/format/AssetIO.h"
+
+namespace sluice::bake::cli {
+namespace {
+
+/// [voxels] default --max-error beyond quantization. A CGAL bake stores the same reference in
+/// fp32, so its error is float rounding (~1e-7 relative, far below this); anything near a
+/// thousandth of a voxel is a real disagreement.
+constexpr double kDefaultMaxErrorVoxels = 1e-3;
+/// [%] default --max-sign-errors: a CGAL bake has the reference's signs everywhere outside the
+/// 1e-4-voxel surface band, so any mismatch is a failure.
+constexpr double kDefaultMaxSignErrorsPercent = 0.0;
+
+struct ValidateArgs {
+    std::string asset;
+    std::string mesh;
+    bool json = false;
+    double maxError = kDefaultMaxErrorVoxels;
+    bool maxErrorGiven = false;
+    double maxSignErrors = kDefaultMaxSignErrorsPercent;
+    std::string sign; ///< empty: the method the asset records
+    std::uint64_t samples = ValidateOptions{}.samplePoints;
+    std::uint64_t seed = ValidateOptions{}.seed;
+    bool write = false;
+    bool quiet = false;
+};
+
+/// The default --max-error for an asset [voxels]: kDefaultMaxErrorVoxels plus, for fp16, the
+/// quantization error the writer recorded (or, if none is recorded, the fp16 rounding bound
+/// 2^-11 * max |phi|).
+double defaultMaxError(const format::ColliderAsset& asset) {
+    if (asset.meta.storage != format::Storage::F16)
+        return kDefaultMaxErrorVoxels;
+    double quantization = asset.meta.quantizationError;
+    if (quantization <= 0.0) {
+        double largest = 0.0;
+        for (float phi : asset.distances)
+            largest = std::max(largest, double(std::abs(phi)));
+        quantization = largest * 0x1.0p-11;
+    }
+    return kDefaultMaxErrorVoxels + quantization / asset.meta.voxelSize;
+}
+
+/// What --sign means when not given: the method the asset was baked with, so a winding-number
+/// bake of an open mesh is not checked against parity (auto for level-set sources).
+std::string defaultSign(const format::ColliderMeta& meta) {
+    switch (meta.bake.signUsed) {
+    case format::SignMethod::Parity:
+        return "parity";
+    case format::SignMethod::Winding:
+        return "winding";
+    case format::SignMethod::Level:
+        return "auto";
+    }
+    return "auto";
+}
+
+int runValidate(const ValidateArgs& args) {
+    constexpr std::string_view cmd = "validate";
+    const std::string signText = args.sign;
+    if (!signText.empty())
+        if (Result<SignMode> sign = parseSignMode(signText); !sign)
+            return reportBadInput(cmd, "--sign " + signText + ": " + sign.error().detail);
+    if (args.write && hasExtension(args.asset, ".vdb"))
+        return reportBadInput(cmd,
+                              "--write needs a collider asset (.slc), not '" + args.asset + "'");
+
+    Result<format::ColliderAsset> asset = loadAsset(args.asset);
+    if (!asset)
+        return reportFileError(cmd, "cannot read asset", args.asset, asset.error());
+    Result<ImportedMesh> mesh = loadMesh(args.mesh, asset->meta.bake.scale);
+    if (!mesh)
+        return reportFileError(cmd, "cannot read mesh", args.mesh, mesh.error());
+
+    ValidateOptions options;
+    options.samplePoints = args.samples;
+    options.seed = args.seed;
+    // A .vdb grid records no bake, so its sign method is unknown: auto.
+    const bool vdb = hasExtension(args.asset, ".vdb");
+    const std::string signUsed = !signText.empty() ? signText
+                                 : vdb             ? std::string("auto")
+                                                   : defaultSign(asset->meta);
+    options.sign = parseSignMode(signUsed).value();
+
+    const std::uint64_t gridPoints = asset->pointCount();
+    const std::uint64_t toCheck = gridPoints > options.maxFullPoints
+                                      ? std::min(gridPoints, options.samplePoints)
+                                      : gridPoints;
+    Result<ValidationReport> report = [&] {
+        Progress progress("validating", toCheck, !args.quiet && !args.json);
+        return validate(*asset, *mesh, options, &progress);
+    }();
+    if (!report)
+        return reportError(cmd, "cannot validate '" + args.asset + "' against '" + args.mesh + "'",
+                           report.error());
+
+    const format::ValidationFigures& f = report->figures;
+    const double maxError = args.maxErrorGiven ? args.maxError : defaultMaxError(*asset);
+    const bool errorOk = f.maxError <= maxError;
+    const bool signOk = report->signMismatchPercent <= args.maxSignErrors;
+    const bool hashKnown = !asset->meta.sourceHash.empty();
+    const bool hashMatches = asset->meta.sourceHash == mesh->sourceHash;
+
+    bool written = false;
+    if (args.write) {
+        asset->meta.validation = f;
+        if (Result<void> ok = format::writeAsset(args.asset, *asset); !ok)
+            return reportFileError(cmd, "cannot update", args.asset, ok.error());
+        written = true;
+    }
+
+    if (args.json) {
+        nlohmann::ordered_json out = {
+            {"asset", args.asset},
+            {"mesh", args.mesh},
+            {"sampled", report->sampled},
+            {"referenceSign", signMethodName(report->referenceSign)},
+            {"signComparedPoints", report->signComparedPoints},
+            {"signMismatchPercent", report->signMismatchPercent},
+            {"figures", toJson(f)},
+            {"limits", {{"maxError", maxError}, {"maxSignErrorsPercent", args.maxSignErrors}}},
+            {"withinLimits", errorOk && signOk},
+            {"sourceHashMatches",
+             hashKnown ? nlohmann::ordered_json(hashMatches) : nlohmann::ordered_json()},
+            {"written", written}};
+        std::cout << out.dump(2) << '\n';
+    } else {
+        auto verdict = [](bool ok) { return ok ? "ok" : "OVER"; };
+        std::cout << "validate " << args.asset << " against " << args.mesh << '\n'
+                  << "  reference  CGAL, " << signMethodName(report->referenceSign) << " sign, "
+                  << (report->sampled ? "stratified sample of " : "every grid point: ")
+                  << f.pointsChecked << " of " << gridPoints << " points\n"
+                  << "  distance   max " << num(f.maxError, 3) << "  mean " << num(f.meanError, 3)
+                  << "  rms " << num(f.rmsError, 3) << " voxels   limit " << num(maxError, 3)
+                  << "  " << verdict(errorOk) << '\n'
+                  << "  sign       " << f.signMismatches << " mismatches of "
+                  << report->signComparedPoints << " compared points ("
+                  << num(report->signMismatchPercent, 3) << " %)   limit "
+                  << num(args.maxSignErrors, 3) << " %  " << verdict(signOk) << '\n'
+                  << "  eikonal    |grad phi| median " << num(f.eikonalMedian, 4) << "  p99 "
+                  << num(f.eikonalP99, 4) << "  outside [0.5, 1.5] "
+                  << num(100.0 * f.eikonalOutsideShare, 3) << " %\n";
+        if (hashKnown && !hashMatches)
+            std::cout << "  note       the mesh file's hash differs from the asset's source ("
+                      << asset->meta.sourceFile << ")\n";
+        if (written)
+            std::cout << "  wrote the figures into " << args.asset << '\n';
+        std::cout << "  result     " << (errorOk && signOk ? "PASS" : "FAIL") << '\n';
+    }
+    return errorOk && signOk ? kExitOk : kExitOverLimits;
+}
+
+} // namespace
+
+Command addValidateCommand(CLI::App& parent) {
+    auto args = std::make_shared<ValidateArgs>();
+    CLI::App* app = parent.add_subcommand(
+        "validate", "Check an asset against the exact CGAL reference of MESH (imported at the "
+                    "scale the asset records). Exit 0 within the limits, 1 over them.");
+    app->add_option("ASSET", args->asset, "collider asset (.slc, or a .vdb grid)")->required();
+    app->add_option("MESH", args->mesh, "the mesh the asset was baked from")->required();
+    app->add_flag("--json", args->json, "print the report as JSON");
+    app->add_option_function<double>(
+           "--max-error", [args](double e) { args->maxError = e, args->maxErrorGiven = true; },
+           "[voxels] largest allowed |phi - phi_ref|; default 1e-3, plus the recorded "
+           "quantization error for f16 assets")
+        ->check(finiteNumber(true));
+    app->add_option("--max-sign-errors", args->maxSignErrors,
+                    "[%] largest allowed share of sign mismatches (points within 1e-4 voxel of "
+                    "the surface are not counted)")
+        ->check(CLI::Range(0.0, 100.0))
+        ->capture_default_str();
+    app->add_option("--sign", args->sign,
+                    "reference sign method: auto, parity, winding (default: what the asset "
+                    "records)");
+    app->add_option("--samples", args->samples,
+                    "sample size for grids over 2M points (stratified: half within 2 voxels of "
+                    "the surface)")
+        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 28))
+        ->capture_default_str();
+    app->add_option("--seed", args->seed, "sampling seed (same seed, same report)")
+        ->capture_default_str();
+    app->add_flag("--write", args->write,
+                  "store the figures in the asset's metadata (rewritten atomically)");
+    app->add_flag("-q,--quiet", args->quiet, "no progress bar");
+    return {app, [args] { return runValidate(*args); }};
+}
+
+} // namespace sluice::bake::cli

@@ -1,0 +1,189 @@
+// Decodes collider asset files, treating every byte as untrusted (checks in AssetIO.h order).
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "AssetMeta.h"
+#include "Bytes.h"
+#include "sluice/format/AssetIO.h"
+#include "sluice/format/AtomicFile.h"
+#include "sluice/format/Half.h"
+#include "sluice/format/Hash.h"
+
+namespace sluice::format {
+
+namespace {
+
+using detail::checkedAdd;
+using detail::checkedMul;
+using detail::loadLE;
+
+constexpr const char* kRebake = "; re-bake with sluice-bake";
+
+std::string str(std::uint64_t v) {
+    return std::to_string(v);
+}
+
+// Section layout checks, after the header fields themselves are known to be sane.
+Result<void> checkSections(const AssetHeader& h, const std::string& name) {
+    auto bad = [&](ErrorCode code, const std::string& what) {
+        return fail(code, name + ": " + what + kRebake);
+    };
+    const auto metaEnd = checkedAdd(h.metaOffset, h.metaSize);
+    const auto payloadEnd = checkedAdd(h.payloadOffset, h.payloadSize);
+    if (!metaEnd || !payloadEnd)
+        return bad(ErrorCode::SizeOverflow, "a section offset + size overflows 64 bits");
+    if (h.metaSize > kAssetMaxMetaBytes)
+        return bad(ErrorCode::SizeOverflow, "metadata block of " + str(h.metaSize) +
+                                                " bytes exceeds the limit of " +
+                                                str(kAssetMaxMetaBytes));
+    if (h.metaOffset < h.headerSize || *metaEnd > h.fileSize)
+        return bad(ErrorCode::OffsetOutOfRange,
+                   "metadata [" + str(h.metaOffset) + ", " + str(*metaEnd) +
+                       ") lies outside the file body [" + str(h.headerSize) + ", " +
+                       str(h.fileSize) + ")");
+    if (h.payloadOffset < *metaEnd || *payloadEnd > h.fileSize)
+        return bad(ErrorCode::OffsetOutOfRange,
+                   "payload [" + str(h.payloadOffset) + ", " + str(*payloadEnd) +
+                       ") overlaps the metadata or lies outside the file (" + str(h.fileSize) +
+                       " bytes)");
+    // Sections are packed as drawn in AssetHeader.h: no bytes belong to nothing.
+    const auto alignedMetaEnd = detail::alignUp(*metaEnd, kAssetPayloadAlignment);
+    if (h.metaOffset != h.headerSize || !alignedMetaEnd || h.payloadOffset != *alignedMetaEnd ||
+        *payloadEnd != h.fileSize)
+        return bad(ErrorCode::OffsetOutOfRange,
+                   "sections are not laid out as version 1 requires (metadata at " +
+                       str(h.metaOffset) + ", payload at " + str(h.payloadOffset) + ")");
+    return {};
+}
+
+// Value checks on decoded metadata, then the point count against the payload.
+Result<std::uint64_t> checkMeta(const ColliderMeta& m, const AssetHeader& h,
+                                const std::string& name) {
+    auto bad = [&](ErrorCode code, const std::string& what) {
+        return fail(code, name + ": " + what + kRebake);
+    };
+    if (m.dims.x < 2 || m.dims.y < 2 || m.dims.z < 2)
+        return bad(ErrorCode::BadMetadata, "grid dims " + str(m.dims.x) + "x" + str(m.dims.y) +
+                                               "x" + str(m.dims.z) + " (each must be >= 2)");
+    if (m.signConvention != -1 && m.signConvention != 1)
+        return bad(ErrorCode::BadMetadata,
+                   "sign convention " + std::to_string(int(m.signConvention)) + " (-1 or +1)");
+    if (!std::isfinite(m.quantizationError) || m.quantizationError < 0.0)
+        return bad(ErrorCode::BadMetadata, "quantization error is not a finite value >= 0");
+    if (!std::isfinite(m.voxelSize))
+        return bad(ErrorCode::NonFinite, "voxel size is not finite");
+    if (!(m.voxelSize > 0.0))
+        return bad(ErrorCode::BadMetadata,
+                   "voxel size " + std::to_string(m.voxelSize) + " is not > 0");
+    if (!std::isfinite(m.origin.x) || !std::isfinite(m.origin.y) || !std::isfinite(m.origin.z))
+        return bad(ErrorCode::NonFinite, "grid origin is not finite");
+    // The far corner must be finite too, or samplers would divide infinities.
+    const glm::dvec3 far = m.origin + glm::dvec3(m.dims - glm::uvec3(1)) * m.voxelSize;
+    if (!std::isfinite(far.x) || !std::isfinite(far.y) || !std::isfinite(far.z))
+        return bad(ErrorCode::NonFinite,
+                   "grid extent overflows (voxel size " + std::to_string(m.voxelSize) + ")");
+
+    // dims are u32, so x*y cannot overflow 64 bits; the product with z can.
+    const auto points = checkedMul(std::uint64_t(m.dims.x) * m.dims.y, m.dims.z);
+    if (!points || *points > kMaxAssetPoints)
+        return bad(ErrorCode::SizeOverflow, "grid " + str(m.dims.x) + "x" + str(m.dims.y) + "x" +
+                                                str(m.dims.z) + " exceeds the limit of " +
+                                                str(kMaxAssetPoints) + " points");
+    const std::uint64_t expected = *points * bytesPerSample(m.storage); // <= 2^30, no overflow
+    if (h.payloadSize != expected)
+        return bad(ErrorCode::SizeMismatch, "payload is " + str(h.payloadSize) + " bytes but " +
+                                                str(*points) + " points need " + str(expected));
+    return *points;
+}
+
+// Converts the payload to floats; the first NaN or infinity is reported with its grid point.
+Result<std::vector<float>> decodeSamples(std::span<const std::byte> payload, const ColliderMeta& m,
+                                         std::uint64_t points, const std::string& name) {
+    std::vector<float> out(static_cast<std::size_t>(points));
+    const bool half = m.storage == Storage::F16;
+    for (std::size_t n = 0; n < out.size(); ++n) {
+        const float v = half ? halfToFloat(loadLE<std::uint16_t>(payload.data() + 2 * n))
+                             : std::bit_cast<float>(loadLE<std::uint32_t>(payload.data() + 4 * n));
+        if (!std::isfinite(v)) {
+            const std::uint64_t i = n % m.dims.x;
+            const std::uint64_t j = (n / m.dims.x) % m.dims.y;
+            const std::uint64_t k = n / (std::uint64_t(m.dims.x) * m.dims.y);
+            return fail(ErrorCode::NonFinite, name + ": sample (" + str(i) + ", " + str(j) + ", " +
+                                                  str(k) + ") is " +
+                                                  (std::isnan(v) ? "NaN" : "infinite") + kRebake);
+        }
+        out[n] = v;
+    }
+    return out;
+}
+
+} // namespace
+
+Result<ColliderAsset> decodeAsset(std::span<const std::byte> bytes,
+                                  std::string_view nameForMessages) {
+    const std::string name(nameForMessages);
+    const std::uint64_t actualSize = bytes.size();
+
+    if (actualSize < kAssetHeaderSize)
+        return fail(ErrorCode::Truncated, name + ": " + str(actualSize) +
+                                              " bytes, shorter than the " + str(kAssetHeaderSize) +
+                                              "-byte header" + kRebake);
+    const AssetHeader h = unpackAssetHeader(bytes.first<kAssetHeaderSize>());
+
+    if (std::memcmp(h.magic.data(), kAssetMagic.data(), kAssetMagic.size()) != 0)
+        return fail(ErrorCode::BadMagic,
+                    name + ": not a Sluice collider asset (wrong magic bytes); pass a file "
+                           "written by sluice-bake");
+    if (h.major != kAssetMajor || h.minor > kAssetMinor)
+        return fail(ErrorCode::UnsupportedVersion,
+                    name + ": format version " + str(h.major) + "." + str(h.minor) +
+                        ", this build reads " + str(kAssetMajor) + ".0 to " + str(kAssetMajor) +
+                        "." + str(kAssetMinor) + kRebake + " of this version");
+    if (h.headerSize != kAssetHeaderSize)
+        return fail(ErrorCode::BadHeader, name + ": header size " + str(h.headerSize) +
+                                              ", version 1 headers are " + str(kAssetHeaderSize) +
+                                              " bytes" + kRebake);
+    if (h.fileSize > actualSize)
+        return fail(ErrorCode::Truncated, name + ": " + str(actualSize) +
+                                              " bytes but the header says " + str(h.fileSize) +
+                                              " (incomplete copy?)" + kRebake);
+    if (h.fileSize < actualSize)
+        return fail(ErrorCode::SizeMismatch, name + ": " + str(actualSize) +
+                                                 " bytes but the header says " + str(h.fileSize) +
+                                                 " (trailing bytes)" + kRebake);
+    if (auto sections = checkSections(h, name); !sections)
+        return sections.error();
+
+    const std::uint64_t checksum = xxh3(bytes.subspan(kAssetHeaderSize));
+    if (checksum != h.checksum)
+        return fail(ErrorCode::ChecksumMismatch,
+                    name + ": checksum " + hex64(checksum) + " differs from the stored " +
+                        hex64(h.checksum) + " (file corrupted after writing)" + kRebake);
+
+    auto meta = detail::decodeMeta(bytes.subspan(h.metaOffset, h.metaSize), name);
+    if (!meta)
+        return meta.error();
+    auto points = checkMeta(*meta, h, name);
+    if (!points)
+        return points.error();
+    auto samples =
+        decodeSamples(bytes.subspan(h.payloadOffset, h.payloadSize), *meta, *points, name);
+    if (!samples)
+        return samples.error();
+
+    ColliderAsset asset;
+    asset.meta = std::move(*meta);
+    asset.distances = std::move(*samples);
+    return asset;
+}
+
+Result<ColliderAsset> readAsset(const std::filesystem::path& path) {
+    auto bytes = readFileBytes(path, kMaxAssetFileBytes);
+    if (!bytes)
+        return bytes.error();
+    return decodeAsset(*bytes, path.string());
+}
+
+} // namespace sluice::format

@@ -1,0 +1,133 @@
+// Encodes collider assets (fp32 or fp16 samples) and writes them atomically.
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "AssetMeta.h"
+#include "Bytes.h"
+#include "sluice/format/AssetIO.h"
+#include "sluice/format/AtomicFile.h"
+#include "sluice/format/Half.h"
+#include "sluice/format/Hash.h"
+
+namespace sluice::format {
+
+namespace {
+
+using detail::storeLE;
+
+std::string str(std::uint64_t v) {
+    return std::to_string(v);
+}
+
+// The writer refuses what the reader would reject, so every file it writes loads again.
+Result<void> checkWritable(const ColliderAsset& asset) {
+    const ColliderMeta& m = asset.meta;
+    auto bad = [](ErrorCode code, const std::string& what) {
+        return fail(code, "cannot write collider asset: " + what);
+    };
+    if (m.dims.x < 2 || m.dims.y < 2 || m.dims.z < 2)
+        return bad(ErrorCode::InvalidArgument, "grid dims " + str(m.dims.x) + "x" + str(m.dims.y) +
+                                                   "x" + str(m.dims.z) + " (each must be >= 2)");
+    if (asset.pointCount() > kMaxAssetPoints)
+        return bad(ErrorCode::SizeOverflow, str(asset.pointCount()) + " grid points exceed the " +
+                                                "limit of " + str(kMaxAssetPoints));
+    if (asset.distances.size() != asset.pointCount())
+        return bad(ErrorCode::InvalidArgument, str(asset.distances.size()) + " distances for " +
+                                                   str(asset.pointCount()) + " grid points");
+    if (!std::isfinite(m.voxelSize) || !std::isfinite(m.origin.x) || !std::isfinite(m.origin.y) ||
+        !std::isfinite(m.origin.z))
+        return bad(ErrorCode::NonFinite, "origin or voxel size is not finite");
+    const glm::dvec3 far = m.origin + glm::dvec3(m.dims - glm::uvec3(1)) * m.voxelSize;
+    if (!std::isfinite(far.x) || !std::isfinite(far.y) || !std::isfinite(far.z))
+        return bad(ErrorCode::NonFinite, "grid extent overflows");
+    if (!(m.voxelSize > 0.0))
+        return bad(ErrorCode::InvalidArgument,
+                   "voxel size " + std::to_string(m.voxelSize) + " is not > 0");
+    if (m.storage != Storage::F32 && m.storage != Storage::F16)
+        return bad(ErrorCode::InvalidArgument, "unknown storage type");
+    if (std::uint8_t(m.bake.signUsed) > std::uint8_t(SignMethod::Level))
+        return bad(ErrorCode::InvalidArgument, "unknown sign method");
+    if (m.signConvention != -1 && m.signConvention != 1)
+        return bad(ErrorCode::InvalidArgument, "sign convention must be -1 or +1");
+    for (const std::string* s :
+         {&m.sourceFile, &m.sourceHash, &m.bake.backend, &m.bake.signMode, &m.toolVersion})
+        if (s->size() > kAssetMaxStringBytes)
+            return bad(ErrorCode::InvalidArgument,
+                       "a metadata string is longer than " + str(kAssetMaxStringBytes) + " bytes");
+    for (std::size_t n = 0; n < asset.distances.size(); ++n)
+        if (!std::isfinite(asset.distances[n]))
+            return bad(ErrorCode::NonFinite,
+                       "sample " + str(n) + " is " +
+                           (std::isnan(asset.distances[n]) ? "NaN" : "infinite"));
+    return {};
+}
+
+// max |stored - exact| [world units] over all samples, measured in double.
+double quantizationErrorOf(const std::vector<float>& distances, Storage storage) {
+    if (storage == Storage::F32)
+        return 0.0;
+    double maxError = 0.0;
+    for (const float d : distances) {
+        const double err = std::abs(double(halfToFloat(floatToHalf(d))) - double(d));
+        maxError = err > maxError ? err : maxError;
+    }
+    return maxError;
+}
+
+// Little-endian samples, x fastest (the order of `distances`).
+void storeSamples(const std::vector<float>& distances, Storage storage, std::byte* out) {
+    if (storage == Storage::F32) {
+        for (std::size_t n = 0; n < distances.size(); ++n)
+            storeLE(out + 4 * n, std::bit_cast<std::uint32_t>(distances[n]));
+        return;
+    }
+    for (std::size_t n = 0; n < distances.size(); ++n)
+        storeLE(out + 2 * n, floatToHalf(distances[n]));
+}
+
+} // namespace
+
+std::uint32_t bytesPerSample(Storage storage) {
+    return storage == Storage::F16 ? 2u : 4u;
+}
+
+Result<EncodedAsset> encodeAsset(const ColliderAsset& asset) {
+    if (auto ok = checkWritable(asset); !ok)
+        return ok.error();
+
+    // Measured before the metadata is encoded, because the metadata carries the figure.
+    const double quantizationError = quantizationErrorOf(asset.distances, asset.meta.storage);
+    ColliderMeta meta = asset.meta;
+    meta.quantizationError = quantizationError;
+    const std::vector<std::byte> metaBytes = detail::encodeMeta(meta);
+    const std::uint64_t payloadSize = asset.pointCount() * bytesPerSample(asset.meta.storage);
+
+    AssetHeader header;
+    header.metaOffset = kAssetHeaderSize;
+    header.metaSize = metaBytes.size();
+    header.payloadOffset =
+        *detail::alignUp(header.metaOffset + header.metaSize, kAssetPayloadAlignment);
+    header.payloadSize = payloadSize;
+    header.fileSize = header.payloadOffset + header.payloadSize;
+
+    EncodedAsset encoded;
+    encoded.quantizationError = quantizationError;
+    encoded.bytes.resize(static_cast<std::size_t>(header.fileSize)); // padding stays zero
+    std::memcpy(encoded.bytes.data() + header.metaOffset, metaBytes.data(), metaBytes.size());
+    storeSamples(asset.distances, asset.meta.storage, encoded.bytes.data() + header.payloadOffset);
+    header.checksum = xxh3(std::span(encoded.bytes).subspan(kAssetHeaderSize));
+    const auto headerBytes = packAssetHeader(header);
+    std::memcpy(encoded.bytes.data(), headerBytes.data(), headerBytes.size());
+    return encoded;
+}
+
+Result<void> writeAsset(const std::filesystem::path& path, const ColliderAsset& asset) {
+    auto encoded = encodeAsset(asset);
+    if (!encoded)
+        return fail(encoded.error().code, path.string() + ": " + encoded.error().detail);
+    return writeFileAtomic(path, encoded->bytes);
+}
+
+} // namespace sluice::format

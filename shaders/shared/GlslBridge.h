@@ -1,0 +1,65 @@
+// Macros that let one header compile as C++ and as GLSL 4.50 (structs, constants, small functions).
+//
+// Rules for a shared header (shaders/shared/*.h):
+//   - include guards, not #pragma once (GLSL has no pragma once); include this file first;
+//   - wrap declarations in SLUICE_SHARED_BEGIN / SLUICE_SHARED_END (namespace sluice::shared in
+//     C++, nothing in GLSL);
+//   - constants are `SLUICE_CONST int kName = 3;` and work as GLSL layout qualifiers
+//     (binding = kName, local_size_x = kName);
+//   - std430 structs use scalars (int, uint, float), vec2, vec4, ivec4, uvec4 and mat4, never
+//     vec3 (16-byte aligned in std430, 12 bytes in C++); C++ aligns glm vectors to 4 bytes, so
+//     order members to put each vec2 at a multiple of 8 and each vec4/mat4 at a multiple of 16,
+//     and give every struct C++ static_asserts on size and offsets in an `#ifdef __cplusplus`
+//     block;
+//   - functions shared by both languages are `SLUICE_FUNC float f(uint i) { ... }`, using only
+//     operations spelled the same in both (float(x) casts, sin, sqrt, min, max, abs, dot);
+//   - C++-only includes go inside `#ifdef __cplusplus` with angle brackets: quoted includes are
+//     inlined into the GLSL by cmake/SluiceEmbedScript.cmake wherever they appear.
+// Keep these files ASCII: GLSL compilers may reject other bytes, even in comments.
+#ifndef SLUICE_SHARED_GLSL_BRIDGE_H
+#define SLUICE_SHARED_GLSL_BRIDGE_H
+
+#ifdef __cplusplus
+
+#include <cmath>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+namespace sluice::shared {
+// GLSL type names for shared declarations. glm's vec4/mat4 have the std430 layout of their
+// GLSL counterparts (16 and 64 bytes, tightly packed floats).
+using uint = std::uint32_t;
+using vec2 = glm::vec2;
+using vec4 = glm::vec4;
+using ivec4 = glm::ivec4;
+using uvec4 = glm::uvec4;
+using mat4 = glm::mat4;
+// GLSL built-ins, so shared function bodies resolve to the float overloads.
+using glm::dot;
+using glm::max;
+using glm::min;
+using std::abs;
+using std::sin;
+using std::cos;
+using std::sqrt;
+} // namespace sluice::shared
+
+#define SLUICE_SHARED_BEGIN namespace sluice::shared {
+#define SLUICE_SHARED_END }
+#define SLUICE_CONST inline constexpr
+#define SLUICE_FUNC inline
+#define SLUICE_STRINGIFY_IMPL(x) #x
+/// String literal of a macro's expansion, e.g. a GLSL identifier named once for both languages.
+#define SLUICE_STRINGIFY(x) SLUICE_STRINGIFY_IMPL(x)
+
+#else // GLSL
+
+#define SLUICE_SHARED_BEGIN
+#define SLUICE_SHARED_END
+#define SLUICE_CONST const
+#define SLUICE_FUNC
+
+#endif
+
+#endif // SLUICE_SHARED_GLSL_BRIDGE_H

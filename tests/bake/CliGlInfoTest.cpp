@@ -1,0 +1,65 @@
+// `sluice-bake gl-info` on whatever OpenGL 4.5 this machine has (Mesa's llvmpipe without a GPU).
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include "TestMeshes.h"
+#include "sluice/bake/Cli.h"
+
+namespace sluice::bake {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Runs `sluice-bake <args>` (args already shell-safe) and returns its exit code; stdout and
+/// stderr go to the given files.
+int runBake(const std::string& args, const fs::path& out, const fs::path& err) {
+    const std::string command = std::string("'") + SLUICE_BAKE_EXE + "' " + args + " >'" +
+                                out.string() + "' 2>'" + err.string() + "'";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string readText(const fs::path& path) {
+    std::ifstream in(path);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(CliGlInfo, PrintsTheRendererAndComputeLimits) {
+    const fs::path dir = testmesh::tempDir("cli-gl-info");
+    const fs::path out = dir / "out.txt", err = dir / "err.txt";
+    const int code = runBake("gl-info --json", out, err);
+    ASSERT_EQ(code, kExitOk) << "this machine should have GL 4.5 (llvmpipe at least)\n"
+                             << readText(err);
+    const nlohmann::json info = nlohmann::json::parse(readText(out));
+    EXPECT_FALSE(info["renderer"].get<std::string>().empty());
+    EXPECT_FALSE(info["vendor"].get<std::string>().empty());
+    EXPECT_GE(info["glMajor"].get<int>() * 10 + info["glMinor"].get<int>(), 45);
+    EXPECT_TRUE(info["platform"] == "device" || info["platform"] == "surfaceless")
+        << info["platform"];
+    // GL 4.5 guarantees at least 1024 invocations per work group and 65535 groups per axis.
+    EXPECT_GE(info["maxWorkGroupInvocations"].get<int>(), 1024);
+    EXPECT_GE(info["maxWorkGroupCount"][0].get<long>(), 65535);
+
+    const int textCode = runBake("gl-info --self-test", out, err);
+    EXPECT_EQ(textCode, kExitOk) << readText(err);
+    EXPECT_NE(readText(out).find(info["renderer"].get<std::string>()), std::string::npos)
+        << readText(out);
+    EXPECT_NE(readText(out).find("self-test: passed"), std::string::npos) << readText(out);
+}
+
+TEST(CliGlInfo, AnUnknownPlatformExitsThree) {
+    const fs::path dir = testmesh::tempDir("cli-gl-info-none");
+    const fs::path out = dir / "out.txt", err = dir / "err.txt";
+    EXPECT_EQ(runBake("gl-info --platform nowhere", out, err), kExitNoGlContext);
+    EXPECT_NE(readText(err).find("NoGlContext"), std::string::npos) << readText(err);
+}
+
+} // namespace
+} // namespace sluice::bake

@@ -1,0 +1,381 @@
+// Mesh import through assimp and the mesh diagnostics: welding, transforms, bad files.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "TestMeshes.h"
+#include "sluice/bake/MeshImport.h"
+#include "sluice/format/Hash.h"
+
+namespace {
+
+using namespace sluice;
+using namespace sluice::bake;
+namespace fs = std::filesystem;
+
+fs::path writeText(const std::string& folder, const std::string& name, const std::string& text) {
+    const fs::path path = testmesh::tempDir(folder) / name;
+    std::ofstream(path) << text;
+    return path;
+}
+
+std::set<std::tuple<double, double, double>> positionSet(const TriangleSoup& soup) {
+    std::set<std::tuple<double, double, double>> out;
+    for (const glm::dvec3& p : soup.positions)
+        out.insert({p.x, p.y, p.z});
+    return out;
+}
+
+// --- Reading files ---------------------------------------------------------------------------
+
+TEST(MeshImport, ReadsAnObjWithItsTrianglesPositionsAndHash) {
+    const TriangleSoup box = testmesh::boxSoup({-0.1, 0.2, 0.3}, {1.7, 2.9, 3.1});
+    const fs::path path = testmesh::writeTempObj(box, "import-obj", "box.obj");
+    Result<ImportedMesh> mesh = importMesh(path, {});
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+
+    EXPECT_EQ(mesh->soup.triangles.size(), 12u);
+    ASSERT_EQ(mesh->soup.positions.size(), 8u);
+    // assimp parses into floats (and not always to the nearest one): a float ulp or two.
+    const Box bounds = mesh->soup.bounds();
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(bounds.lo[a], box.positions[0][a], 4e-7 * std::abs(box.positions[0][a]));
+        EXPECT_NEAR(bounds.hi[a], box.positions[7][a], 4e-7 * std::abs(box.positions[7][a]));
+    }
+    EXPECT_EQ(mesh->sourceFile, "box.obj");
+    Result<std::string> hash = format::hashFileHex(path);
+    ASSERT_TRUE(hash.ok());
+    EXPECT_EQ(mesh->sourceHash, *hash);
+    EXPECT_EQ(mesh->sourceHash.size(), 16u);
+    EXPECT_EQ(mesh->diagnostics.triangles, 12u);
+    EXPECT_EQ(mesh->diagnostics.vertices, 8u);
+    EXPECT_TRUE(mesh->diagnostics.closed);
+    EXPECT_FALSE(mesh->diagnostics.selfIntersecting);
+}
+
+TEST(MeshImport, KeepsTheOrientationOfObjTriangles) {
+    const fs::path path = testmesh::writeTempObj(testmesh::boxSoup({0, 0, 0}, {1, 2, 3}),
+                                                 "import-orientation", "box.obj");
+    Result<ImportedMesh> mesh = importMesh(path, {});
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+    EXPECT_NEAR(testmesh::signedVolume(mesh->soup), 6.0, 1e-6);
+}
+
+TEST(MeshImport, WeldsTheVerticesFbxSplitsPerFaceNormal) {
+    // box.fbx stores 24 corner vertices (4 per face, for the normals); welded, a cube has 8.
+    Result<ImportedMesh> mesh = importMesh(SLUICE_ASSIMP_MODELS "/FBX/box.fbx", {});
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+    EXPECT_EQ(mesh->diagnostics.triangles, 12u);
+    EXPECT_EQ(mesh->diagnostics.vertices, 8u);
+    EXPECT_EQ(mesh->diagnostics.boundaryEdges, 0u);
+    EXPECT_TRUE(mesh->diagnostics.closed);
+}
+
+// A COLLADA scene instancing one triangle in two nodes: node "a" moves it by +10 in x, its
+// child "b" scales by 2 and moves by +5 in z (in a's frame). Y_UP, so assimp adds no rotation.
+constexpr const char* kTwoInstancesDae = R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="tri" name="tri"><mesh>
+      <source id="tri-pos">
+        <float_array id="tri-pos-array" count="9">0 0 0 1 0 0 0 1 0</float_array>
+        <technique_common><accessor source="#tri-pos-array" count="3" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common>
+      </source>
+      <vertices id="tri-vtx"><input semantic="POSITION" source="#tri-pos"/></vertices>
+      <triangles count="1">
+        <input semantic="VERTEX" source="#tri-vtx" offset="0"/><p>0 1 2</p>
+      </triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="Scene">
+      <node id="a" name="a"><matrix>1 0 0 10  0 1 0 0  0 0 1 0  0 0 0 1</matrix>
+        <instance_geometry url="#tri"/>
+        <node id="b" name="b"><matrix>2 0 0 0  0 2 0 0  0 0 2 5  0 0 0 1</matrix>
+          <instance_geometry url="#tri"/>
+        </node>
+      </node>
+    </visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#Scene"/></scene>
+</COLLADA>
+)";
+
+TEST(MeshImport, AppliesNestedNodeTransformsToEveryInstance) {
+    const fs::path path = writeText("import-dae", "two.dae", kTwoInstancesDae);
+    Result<ImportedMesh> mesh = importMesh(path, {});
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+    EXPECT_EQ(mesh->soup.triangles.size(), 2u);
+    const std::set<std::tuple<double, double, double>> expected = {
+        {10, 0, 0}, {11, 0, 0}, {10, 1, 0}, {10, 0, 5}, {12, 0, 5}, {10, 2, 5}};
+    EXPECT_EQ(positionSet(mesh->soup), expected);
+}
+
+TEST(MeshImport, ScalesUniformlyAfterTheNodeTransforms) {
+    const fs::path path = writeText("import-dae-scale", "two.dae", kTwoInstancesDae);
+    Result<ImportedMesh> mesh = importMesh(path, {.scale = 0.5});
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+    const Box box = mesh->soup.bounds();
+    EXPECT_EQ(box.lo, glm::dvec3(5, 0, 0));
+    EXPECT_EQ(box.hi, glm::dvec3(6, 1, 2.5));
+}
+
+TEST(MeshImport, TriangulatesPolygonsAndIgnoresPointsAndLines) {
+    const fs::path path = writeText("import-mixed", "mixed.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 5 5 5\n"
+                                    "f 1 2 3 4\n"
+                                    "l 1 5\n"
+                                    "p 5\n");
+    Result<ImportedMesh> mesh = importMesh(path, {});
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+    EXPECT_EQ(mesh->soup.triangles.size(), 2u); // the quad
+    EXPECT_EQ(mesh->soup.positions.size(), 4u); // the point and line vertex are not used
+    EXPECT_EQ(mesh->soup.bounds().hi, glm::dvec3(1, 1, 0));
+    EXPECT_EQ(mesh->diagnostics.boundaryEdges, 4u);
+}
+
+TEST(MeshImport, ReadsStlPlyOffAndGltfToo) {
+    // One file per format from assimp's own test models, with the triangle counts they hold.
+    const std::pair<const char*, std::size_t> files[] = {
+        {"STL/triangle.stl", 1},
+        {"PLY/cube.ply", 12},
+        {"PLY/cube_binary.ply", 12},
+        {"OFF/Cube.off", 12},
+        {"glTF2/BoxTextured-glTF/BoxTextured.gltf", 12},
+        {"Collada/COLLADA.dae", 0}}; // 0: any number, just read it
+    for (const auto& [file, triangles] : files) {
+        Result<ImportedMesh> mesh = importMesh(fs::path(SLUICE_ASSIMP_MODELS) / file, {});
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+        if (triangles)
+            EXPECT_EQ(mesh->soup.triangles.size(), triangles) << file;
+        else
+            EXPECT_GT(mesh->soup.triangles.size(), 0u) << file;
+    }
+}
+
+// --- Bad input -------------------------------------------------------------------------------
+
+TEST(MeshImport, RejectsEveryBrokenFileInAssimpsInvalidFolderWithoutCrashing) {
+    int checked = 0;
+    for (const fs::directory_entry& entry :
+         fs::directory_iterator(fs::path(SLUICE_ASSIMP_MODELS) / "invalid")) {
+        const std::string name = entry.path().filename().string();
+        // readme.txt describes the folder; malformed2.obj's only flaw is a material that does
+        // not exist, which geometry import does not use (see the next test).
+        if (name == "readme.txt" || name == "malformed2.obj")
+            continue;
+        Result<ImportedMesh> mesh = importMesh(entry.path(), {});
+        ASSERT_FALSE(mesh.ok()) << entry.path() << " was accepted";
+        const ErrorCode code = mesh.error().code;
+        EXPECT_TRUE(code == ErrorCode::MeshImport || code == ErrorCode::EmptyMesh)
+            << entry.path() << ": " << mesh.error().message();
+        EXPECT_NE(mesh.error().detail.find(name), std::string::npos)
+            << "the message should name the file: " << mesh.error().detail;
+        ++checked;
+    }
+    EXPECT_EQ(checked, 13); // 10 empty files, emptyIrrMesh.xml, OutOfMemory.off, malformed.obj
+}
+
+TEST(MeshImport, ReadsTheCubeWithAMissingMaterialAsTheOpenBoxItIs) {
+    // malformed2.obj: an empty "f" line, five quads of a cube and "usemtl" of a material that
+    // does not exist. The geometry is fine: a box without one face.
+    Result<ImportedMesh> mesh = importMesh(SLUICE_ASSIMP_MODELS "/invalid/malformed2.obj", {});
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+    EXPECT_EQ(mesh->diagnostics.triangles, 10u);
+    EXPECT_EQ(mesh->diagnostics.vertices, 8u);
+    EXPECT_EQ(mesh->diagnostics.boundaryEdges, 4u);
+    EXPECT_FALSE(mesh->diagnostics.closed);
+}
+
+TEST(MeshImport, RejectsHeadersThatDeclareMoreThanTheFileHoldsBeforeAllocating) {
+    // assimp would reserve memory for every declared vertex; the check answers at once.
+    Result<ImportedMesh> off = importMesh(SLUICE_ASSIMP_MODELS "/invalid/OutOfMemory.off", {});
+    ASSERT_FALSE(off.ok());
+    EXPECT_EQ(off.error().code, ErrorCode::MeshImport);
+    EXPECT_NE(off.error().detail.find("declares"), std::string::npos) << off.error().detail;
+    const fs::path ply = writeText("import-huge-ply", "huge.ply",
+                                   "ply\nformat binary_little_endian 1.0\n"
+                                   "element vertex 4000000000\nproperty float x\n"
+                                   "property float y\nproperty float z\nend_header\n");
+    Result<ImportedMesh> mesh = importMesh(ply, {});
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::MeshImport);
+}
+
+TEST(MeshImport, RejectsAnEmptyFileAsEmptyMesh) {
+    const fs::path path = writeText("import-empty", "nothing.obj", "");
+    Result<ImportedMesh> mesh = importMesh(path, {});
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::EmptyMesh);
+    EXPECT_NE(mesh.error().detail.find("nothing.obj"), std::string::npos);
+}
+
+TEST(MeshImport, RejectsAPointCloudAsEmptyMesh) {
+    const fs::path path = writeText("import-points", "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    Result<ImportedMesh> mesh = importMesh(path, {});
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::EmptyMesh) << mesh.error().message();
+    EXPECT_NE(mesh.error().detail.find("points.obj"), std::string::npos);
+
+    Result<ImportedMesh> shipped = importMesh(SLUICE_ASSIMP_MODELS "/OBJ/point_cloud.obj", {});
+    ASSERT_FALSE(shipped.ok());
+    EXPECT_EQ(shipped.error().code, ErrorCode::EmptyMesh) << shipped.error().message();
+}
+
+TEST(MeshImport, RejectsOnlyLinesAsEmptyMesh) {
+    Result<ImportedMesh> mesh = importMesh(SLUICE_ASSIMP_MODELS "/OBJ/testline.obj", {});
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::EmptyMesh) << mesh.error().message();
+}
+
+TEST(MeshImport, RejectsANanCoordinateAsNonFinite) {
+    const fs::path path =
+        writeText("import-nan", "nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+    Result<ImportedMesh> mesh = importMesh(path, {});
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::NonFinite) << mesh.error().message();
+    EXPECT_NE(mesh.error().detail.find("nan.obj"), std::string::npos);
+}
+
+TEST(MeshImport, RejectsAnInfiniteCoordinateAfterScalingAsNonFinite) {
+    // 1e38 fits a float; times 1e300 it does not fit a double.
+    const fs::path path =
+        writeText("import-inf", "big.obj", "v 0 0 0\nv 1e38 0 0\nv 0 1 0\nf 1 2 3\n");
+    Result<ImportedMesh> mesh = importMesh(path, {.scale = 1e300});
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::NonFinite) << mesh.error().message();
+}
+
+TEST(MeshImport, RejectsAMissingFileAsIo) {
+    Result<ImportedMesh> mesh = importMesh("/nonexistent/folder/ghost.fbx", {});
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::Io);
+    EXPECT_NE(mesh.error().detail.find("ghost.fbx"), std::string::npos);
+}
+
+TEST(MeshImport, RejectsAFolderAsIo) {
+    Result<ImportedMesh> mesh = importMesh(testmesh::tempDir("import-folder"), {});
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::Io);
+}
+
+TEST(MeshImport, RejectsAScaleThatIsNotPositiveAndFinite) {
+    const fs::path path =
+        testmesh::writeTempObj(testmesh::boxSoup({0, 0, 0}, {1, 1, 1}), "import-scale", "box.obj");
+    for (double scale : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+        Result<ImportedMesh> mesh = importMesh(path, {.scale = scale});
+        ASSERT_FALSE(mesh.ok()) << scale;
+        EXPECT_EQ(mesh.error().code, ErrorCode::InvalidArgument);
+    }
+}
+
+// --- Diagnostics -----------------------------------------------------------------------------
+
+TEST(MeshDiagnostics, FindsAClosedBoxClosedAndClean) {
+    const format::MeshDiagnostics d = diagnose(testmesh::boxSoup({0, 0, 0}, {1, 1, 1}));
+    EXPECT_EQ(d.triangles, 12u);
+    EXPECT_EQ(d.vertices, 8u);
+    EXPECT_EQ(d.degenerateTriangles, 0u);
+    EXPECT_EQ(d.boundaryEdges, 0u);
+    EXPECT_EQ(d.nonManifoldEdges, 0u);
+    EXPECT_TRUE(d.closed);
+    EXPECT_FALSE(d.selfIntersecting);
+}
+
+TEST(MeshDiagnostics, CountsTheFourRimEdgesOfAnOpenBox) {
+    const format::MeshDiagnostics d = diagnose(testmesh::boxSoup({0, 0, 0}, {1, 1, 1}, true));
+    EXPECT_EQ(d.triangles, 10u);
+    EXPECT_EQ(d.boundaryEdges, 4u);
+    EXPECT_EQ(d.nonManifoldEdges, 0u);
+    EXPECT_FALSE(d.closed);
+    EXPECT_FALSE(d.selfIntersecting);
+}
+
+TEST(MeshDiagnostics, CountsAnEdgeSharedByThreeTrianglesAsNonManifold) {
+    TriangleSoup fan;
+    fan.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {-1, -1, 0}};
+    fan.triangles = {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}};
+    const format::MeshDiagnostics d = diagnose(fan);
+    EXPECT_EQ(d.nonManifoldEdges, 1u);
+    EXPECT_EQ(d.boundaryEdges, 6u);
+    EXPECT_FALSE(d.closed);
+    EXPECT_FALSE(d.selfIntersecting); // they only share the edge
+}
+
+TEST(MeshDiagnostics, CountsRepeatedIndexAndZeroAreaTrianglesAsDegenerate) {
+    TriangleSoup soup = testmesh::boxSoup({0, 0, 0}, {1, 1, 1});
+    soup.positions.push_back({0.5, 0.0, 0.0}); // on the edge from corner 0 to corner 1
+    soup.triangles.push_back({0, 0, 1});       // repeated index
+    soup.triangles.push_back({0, 8, 1});       // three distinct corners on one line
+    const format::MeshDiagnostics d = diagnose(soup);
+    EXPECT_EQ(d.triangles, 14u);
+    EXPECT_EQ(d.degenerateTriangles, 2u);
+    // The sliver adds edges 0-8 and 8-1 once each and edge 0-1 a third time.
+    EXPECT_EQ(d.boundaryEdges, 2u);
+    EXPECT_EQ(d.nonManifoldEdges, 1u);
+    EXPECT_FALSE(d.selfIntersecting); // degenerate triangles are counted, not intersected
+}
+
+TEST(MeshDiagnostics, FindsTwoOverlappingBoxesSelfIntersecting) {
+    TriangleSoup soup = testmesh::boxSoup({0, 0, 0}, {1, 1, 1});
+    const TriangleSoup other = testmesh::boxSoup({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5});
+    for (const glm::uvec3& t : other.triangles)
+        soup.triangles.push_back(t + 8u);
+    soup.positions.insert(soup.positions.end(), other.positions.begin(), other.positions.end());
+    EXPECT_TRUE(diagnose(soup).selfIntersecting);
+    EXPECT_TRUE(diagnose(soup).closed); // two closed shells: every edge used twice
+}
+
+TEST(MeshDiagnostics, FindsTwoSeparateBoxesNotSelfIntersecting) {
+    TriangleSoup soup = testmesh::boxSoup({0, 0, 0}, {1, 1, 1});
+    const TriangleSoup other = testmesh::boxSoup({2, 0, 0}, {3, 1, 1});
+    for (const glm::uvec3& t : other.triangles)
+        soup.triangles.push_back(t + 8u);
+    soup.positions.insert(soup.positions.end(), other.positions.begin(), other.positions.end());
+    EXPECT_FALSE(diagnose(soup).selfIntersecting);
+}
+
+TEST(MeshDiagnostics, FindsCoplanarTrianglesFoldedOverASharedEdgeSelfIntersecting) {
+    TriangleSoup soup;
+    soup.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 1, 0}};
+    soup.triangles = {{0, 1, 2}, {1, 0, 3}}; // both on the same side of edge 0-1, overlapping
+    EXPECT_TRUE(diagnose(soup).selfIntersecting);
+    soup.positions[3] = {0.5, -1, 0}; // now on the other side: a flat, clean pair
+    EXPECT_FALSE(diagnose(soup).selfIntersecting);
+}
+
+TEST(MeshDiagnostics, FindsTrianglesCrossingAtASharedVertexSelfIntersecting) {
+    TriangleSoup soup;
+    soup.positions = {{0, 0, 0}, {2, -1, 0}, {2, 1, 0}, {1, 0, -1}, {1, 0, 1}};
+    soup.triangles = {{0, 1, 2}, {0, 3, 4}}; // the second pierces the first through its inside
+    EXPECT_TRUE(diagnose(soup).selfIntersecting);
+    soup.positions[3] = {-1, 0, -1};
+    soup.positions[4] = {-1, 0, 1}; // now it points away: they share only the vertex
+    EXPECT_FALSE(diagnose(soup).selfIntersecting);
+}
+
+TEST(MeshDiagnostics, FindsTheTessellatedSphereAndTorusClosedAndClean) {
+    for (const TriangleSoup& soup : {testmesh::icoSphereSoup({0, 0, 0}, 1.0, 3),
+                                     testmesh::uvSphereSoup({0, 0, 0}, 1.0, 24, 12),
+                                     testmesh::torusSoup({0, 0, 0}, 1.0, 0.3, 32, 16)}) {
+        const format::MeshDiagnostics d = diagnose(soup);
+        EXPECT_TRUE(d.closed);
+        EXPECT_FALSE(d.selfIntersecting);
+        EXPECT_EQ(d.degenerateTriangles, 0u);
+        EXPECT_GT(testmesh::signedVolume(soup), 0.0); // the helpers wind outward
+    }
+    const format::MeshDiagnostics hemisphere =
+        diagnose(testmesh::uvSphereSoup({0, 0, 0}, 1.0, 24, 12, true));
+    EXPECT_EQ(hemisphere.boundaryEdges, 24u);
+    EXPECT_FALSE(hemisphere.closed);
+}
+
+} // namespace
