@@ -57,7 +57,7 @@ int runGlInfo(const GlInfoArgs& args) {
     options.deviceIndex = args.device;
     Result<gpu::Context> context = gpu::Context::createHeadless(options);
     if (!context)
-        return reportError(cmd, "no OpenGL 4.5 core context with compute shaders", context.error());
+        return reportError(cmd, "headless context", context.error());
     if (args.selfTest)
         if (Result<void> ok = context->selfTest(); !ok)
             return reportError(cmd,

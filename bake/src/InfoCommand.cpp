@@ -80,7 +80,7 @@ int runInfo(const InfoArgs& args) {
     if (!args.slice.empty()) {
         Result<SliceSpec> parsed = parseSlice(args.slice);
         if (!parsed)
-            return reportBadInput(cmd, "--slice " + args.slice + ": " + parsed.error().detail);
+            return reportBadInput(cmd, parsed.error().detail); // the detail names --slice
         slice = *parsed;
         if (Result<void> out = checkOutputPath(args.png); !out)
             return reportFileError(cmd, "cannot write", args.png, out.error());

@@ -1,4 +1,5 @@
 // Encodes collider assets (fp32 or fp16 samples) and writes them atomically.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -97,8 +98,14 @@ Result<EncodedAsset> encodeAsset(const ColliderAsset& asset) {
     if (auto ok = checkWritable(asset); !ok)
         return ok.error();
 
-    // Measured before the metadata is encoded, because the metadata carries the figure.
-    const double quantizationError = quantizationErrorOf(asset.distances, asset.meta.storage);
+    // Measured before the metadata is encoded, because the metadata carries the figure. Samples
+    // read back from an fp16 file are already exact halves and measure 0, so re-writing such an
+    // asset (validate --write) keeps the larger of the recorded and the measured error.
+    const double quantizationError =
+        asset.meta.storage == Storage::F32
+            ? 0.0
+            : std::max(asset.meta.quantizationError,
+                       quantizationErrorOf(asset.distances, asset.meta.storage));
     ColliderMeta meta = asset.meta;
     meta.quantizationError = quantizationError;
     const std::vector<std::byte> metaBytes = detail::encodeMeta(meta);

@@ -108,6 +108,21 @@ TEST(AssetRoundTrip, Fp16StaysWithinTheRecordedQuantizationError) {
     EXPECT_EQ(headerOf(encoded->bytes).payloadSize, asset.pointCount() * 2);
 }
 
+TEST(AssetRoundTrip, ReencodingAnFp16AssetKeepsItsRecordedQuantizationError) {
+    // Samples read back from fp16 are exact halves; a re-write (validate --write) must not
+    // measure them afresh as error-free and lose the figure from the original bake.
+    ColliderAsset asset = makeAsset({7, 6, 5}, Storage::F16);
+    auto first = encodeAsset(asset);
+    ASSERT_TRUE(first.ok()) << first.error().message();
+    ASSERT_GT(first->quantizationError, 0.0);
+    auto decoded = decodeAsset(first->bytes, "half.slc");
+    ASSERT_TRUE(decoded.ok()) << decoded.error().message();
+    auto second = encodeAsset(*decoded);
+    ASSERT_TRUE(second.ok()) << second.error().message();
+    EXPECT_EQ(second->quantizationError, first->quantizationError);
+    EXPECT_EQ(second->bytes, first->bytes);
+}
+
 TEST(AssetRoundTrip, Fp16ClampsDistancesBeyondTheHalfRangeAndRecordsTheError) {
     ColliderAsset asset = makeAsset({2, 2, 2}, Storage::F16);
     asset.distances[0] = 1.0e5f;
