@@ -7,21 +7,22 @@
 #include "CliSupport.h"
 #include "sluice/bake/CgalReference.h"
 #include "sluice/bake/Cli.h"
+#include "sluice/bake/GpuBaker.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
+#include "sluice/gpu/Context.h"
 
 namespace sluice::bake::cli {
 namespace {
 
-/// Where the distances are computed. Only the CGAL reference exists so far; the GPU backend
-/// slots in here (parseBackend, and a case in runBake).
-enum class Backend { Cgal };
+/// Where the distances are computed: the GPU baker (default) or the exact CPU reference.
+enum class Backend { Gpu, Cgal };
 
 struct BakeArgs {
     std::string mesh;
     std::string output;
-    std::string backend = "cgal";
+    std::string backend = "gpu";
     std::uint32_t resolution = GridOptions{}.resolution;
     double voxelSize = 0.0;
     double padding = GridOptions{}.padding;
@@ -30,16 +31,16 @@ struct BakeArgs {
     std::string storage = "f32";
     bool quiet = false;
     bool json = false;
+    bool profile = false;
 };
 
 Result<Backend> parseBackend(const std::string& text) {
     if (text == "cgal")
         return Backend::Cgal;
     if (text == "gpu")
-        return fail(ErrorCode::Unsupported, "--backend gpu: the GPU baker is not in this build "
-                                            "yet; use --backend cgal (the exact CPU reference)");
+        return Backend::Gpu;
     return fail(ErrorCode::InvalidArgument,
-                "--backend " + text + ": unknown backend (available: cgal)");
+                "--backend " + text + ": unknown backend (available: gpu, cgal)");
 }
 
 Result<format::Storage> parseStorage(const std::string& text) {
@@ -89,7 +90,22 @@ int runBake(const BakeArgs& args) {
 
     const auto bakeStart = std::chrono::steady_clock::now();
     std::optional<Result<format::ColliderAsset>> asset;
+    GpuBakeStats gpuStats;
+    std::string renderer;
     switch (*backend) {
+    case Backend::Gpu: {
+        Result<gpu::Context> context = gpu::Context::createHeadless();
+        if (!context)
+            return reportError(cmd, "no GPU context for --backend gpu (use --backend cgal)",
+                               context.error());
+        renderer = context->info().renderer;
+        Progress progress("baking " + mesh->sourceFile + " on the GPU", grid->pointCount(),
+                          !args.quiet);
+        asset.emplace(bakeGpu(*mesh, settings, *context, &progress, {.profile = args.profile},
+                              &gpuStats));
+        progress.finish();
+        break;
+    }
     case Backend::Cgal: {
         Progress progress("baking " + mesh->sourceFile, grid->pointCount(), !args.quiet);
         asset.emplace(bakeCgal(*mesh, settings, &progress));
@@ -119,6 +135,19 @@ int runBake(const BakeArgs& args) {
             {"bytes", encoded->bytes.size()}, {"importSeconds", importSeconds},
             {"bakeSeconds", bakeSeconds},     {"pointsPerSecond", rate},
             {"asset", toJson(meta)}};
+        if (*backend == Backend::Gpu) {
+            out["gpu"] = {{"renderer", renderer},
+                          {"triangles", gpuStats.triangles},
+                          {"bvhNodes", gpuStats.nodes},
+                          {"bvhDepth", gpuStats.depth},
+                          {"bvhSeconds", gpuStats.bvhSeconds},
+                          {"dispatches", gpuStats.dispatches},
+                          {"gpuBytes", gpuStats.gpuBytes}};
+            if (args.profile) {
+                out["gpu"]["distanceSeconds"] = gpuStats.distanceNs * 1e-9;
+                out["gpu"]["signSeconds"] = gpuStats.signNs * 1e-9;
+            }
+        }
         std::cout << out.dump(2) << '\n';
     } else if (!args.quiet) {
         std::cout << "baked " << args.mesh << " -> " << args.output << " (" << encoded->bytes.size()
@@ -137,6 +166,15 @@ int runBake(const BakeArgs& args) {
                       << " voxels)";
         std::cout << "\n  time     import " << num(importSeconds, 3) << " s, bake "
                   << num(bakeSeconds, 3) << " s (" << num(rate, 3) << " voxels/s)\n";
+        if (*backend == Backend::Gpu) {
+            std::cout << "  gpu      " << renderer << ", BVH of " << gpuStats.nodes
+                      << " nodes (depth " << gpuStats.depth << ") in "
+                      << num(gpuStats.bvhSeconds, 3) << " s, " << gpuStats.dispatches
+                      << " dispatches\n";
+            if (args.profile)
+                std::cout << "  passes   distance " << num(gpuStats.distanceNs * 1e-6, 4)
+                          << " ms, sign " << num(gpuStats.signNs * 1e-6, 4) << " ms (GPU time)\n";
+        }
     }
     return kExitOk;
 }
@@ -152,7 +190,9 @@ Command addBakeCommand(CLI::App& parent) {
     app->add_option("-o,--output", args->output, "output asset file (.slc)")
         ->required()
         ->type_name("OUT");
-    app->add_option("--backend", args->backend, "where distances are computed: cgal (exact, CPU)")
+    app->add_option("--backend", args->backend,
+                    "where distances are computed: gpu (OpenGL 4.5 compute, headless; exit 3 if "
+                    "there is no context) or cgal (the exact CPU reference)")
         ->capture_default_str();
     CLI::Option* resolution =
         app->add_option("--resolution", args->resolution,
@@ -169,7 +209,9 @@ Command addBakeCommand(CLI::App& parent) {
         ->capture_default_str();
     app->add_option("--sign", args->sign,
                     "inside/outside method: auto (parity if closed and not self-intersecting, "
-                    "else winding), parity, winding")
+                    "else winding), parity, winding. On the GPU, parity is the winding number of "
+                    "the consistently oriented closed mesh rounded, odd meaning inside (equal to "
+                    "ray parity on a closed surface)")
         ->capture_default_str();
     app->add_option("--scale", args->scale, "uniform scale applied to the mesh at import")
         ->check(finiteNumber(false))
@@ -178,6 +220,8 @@ Command addBakeCommand(CLI::App& parent) {
         ->capture_default_str();
     app->add_flag("-q,--quiet", args->quiet, "no progress bar and no summary");
     app->add_flag("--json", args->json, "print the summary as JSON");
+    app->add_flag("--profile", args->profile,
+                  "gpu backend: time the GPU passes with timer queries and print them");
     return {app, [args] { return runBake(*args); }};
 }
 

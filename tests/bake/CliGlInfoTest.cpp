@@ -1,4 +1,5 @@
-// `sluice-bake gl-info` on whatever OpenGL 4.5 this machine has (Mesa's llvmpipe without a GPU).
+// `sluice-bake gl-info` and `bake --backend gpu` on whatever OpenGL 4.5 this machine has (Mesa's
+// llvmpipe without a GPU).
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -59,6 +60,56 @@ TEST(CliGlInfo, AnUnknownPlatformExitsThree) {
     const fs::path out = dir / "out.txt", err = dir / "err.txt";
     EXPECT_EQ(runBake("gl-info --platform nowhere", out, err), kExitNoGlContext);
     EXPECT_NE(readText(err).find("NoGlContext"), std::string::npos) << readText(err);
+}
+
+TEST(CliGpuBake, BakesOnTheGpuAndValidatesAgainstTheReference) {
+    const fs::path dir = testmesh::tempDir("cli-gpu-bake");
+    const fs::path mesh =
+        testmesh::writeTempObj(testmesh::icoSphereSoup({0, 0, 0}, 1.0, 3), "cli-gpu-bake", "s.obj");
+    ASSERT_FALSE(mesh.empty());
+    const fs::path asset = dir / "s.slc", out = dir / "out.txt", err = dir / "err.txt";
+    ASSERT_EQ(runBake("bake '" + mesh.string() + "' -o '" + asset.string() +
+                          "' --backend gpu --resolution 16 --profile --json",
+                      out, err),
+              kExitOk)
+        << readText(err);
+    const nlohmann::json bake = nlohmann::json::parse(readText(out));
+    EXPECT_EQ(bake["asset"]["bake"]["backend"], "gpu");
+    EXPECT_EQ(bake["asset"]["bake"]["signUsed"], "parity");
+    EXPECT_GT(bake["gpu"]["bvhNodes"].get<int>(), 1);
+    EXPECT_GE(bake["gpu"]["distanceSeconds"].get<double>(), 0.0);
+
+    // The default backend is the GPU.
+    const fs::path byDefault = dir / "default.slc";
+    ASSERT_EQ(runBake("bake '" + mesh.string() + "' -o '" + byDefault.string() +
+                          "' --resolution 16 --quiet",
+                      out, err),
+              kExitOk)
+        << readText(err);
+    EXPECT_TRUE(readText(byDefault) == readText(asset)) << "default bake differs from --backend gpu";
+
+    ASSERT_EQ(runBake("validate '" + asset.string() + "' '" + mesh.string() + "' --json", out, err),
+              kExitOk)
+        << readText(err) << readText(out);
+    const nlohmann::json report = nlohmann::json::parse(readText(out));
+    EXPECT_LT(report["figures"]["maxError"].get<double>(), 1e-3); // [voxels]
+    EXPECT_EQ(report["figures"]["signMismatches"], 0);
+}
+
+TEST(CliGpuBake, WithoutAGlContextExitsThreeAndWritesNothing) {
+    const fs::path dir = testmesh::tempDir("cli-gpu-none");
+    const fs::path mesh =
+        testmesh::writeTempObj(testmesh::icoSphereSoup({0, 0, 0}, 1.0, 1), "cli-gpu-none", "s.obj");
+    const fs::path out = dir / "out.txt", err = dir / "err.txt";
+    const std::string command = std::string("SLUICE_EGL_PLATFORM=nowhere '") + SLUICE_BAKE_EXE +
+                                "' bake '" + mesh.string() + "' -o '" + (dir / "x.slc").string() +
+                                "' --backend gpu --resolution 8 >'" + out.string() + "' 2>'" +
+                                err.string() + "'";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), kExitNoGlContext) << readText(err);
+    EXPECT_NE(readText(err).find("NoGlContext"), std::string::npos) << readText(err);
+    EXPECT_FALSE(fs::exists(dir / "x.slc"));
 }
 
 } // namespace

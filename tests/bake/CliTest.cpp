@@ -346,8 +346,6 @@ TEST(Cli, BadGridArgumentsExitTwoAndWriteNothing) {
     expectRejected(dir, {"bake", mesh, "-o", output.string(), "--sign", "majority"}, "majority",
                    output);
     expectRejected(dir, {"bake", mesh, "-o", output.string(), "--storage", "f64"}, "f64", output);
-    // The GPU backend is announced, not silently replaced by CGAL.
-    expectRejected(dir, {"bake", mesh, "-o", output.string(), "--backend", "gpu"}, "cgal", output);
     expectRejected(dir, {"bake", mesh, "-o", output.string(), "--backend", "magic"}, "magic",
                    output);
     // A folder that does not exist is reported before any work.
