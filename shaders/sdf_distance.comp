@@ -18,40 +18,30 @@ uniform uvec3 dims;      // [grid points]
 uniform uint sliceBegin; // first z slice of this slab
 uniform uint sliceEnd;   // one past the last
 
-// Squared distance from p to triangle (a, b, c): Ericson, Real-Time Collision Detection, 5.1.5,
-// the same case analysis as the CPU reference. Everything is relative to a corner, so the
-// numbers stay as small as the triangle and its distance to p.
-float pointTriangleDistance2(vec3 p, vec3 a, vec3 b, vec3 c) {
-    vec3 ab = b - a, ac = c - a, ap = p - a;
-    float d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0.0 && d2 <= 0.0)
-        return dot(ap, ap);
-    vec3 bp = p - b;
-    float d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0.0 && d4 <= d3)
-        return dot(bp, bp);
-    float vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        vec3 e = ap - ab * (d1 / (d1 - d3));
-        return dot(e, e);
-    }
-    vec3 cp = p - c;
-    float d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0.0 && d5 <= d6)
-        return dot(cp, cp);
-    float vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        vec3 e = ap - ac * (d2 / (d2 - d6));
-        return dot(e, e);
-    }
-    float va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-        vec3 e = bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-        return dot(e, e);
-    }
-    float denom = 1.0 / (va + vb + vc);
-    vec3 e = ap - ab * (vb * denom) - ac * (vc * denom);
+// Squared distance from p to segment (a, b), both relative to p's frame.
+float segmentDistance2(vec3 p, vec3 a, vec3 b) {
+    vec3 ab = b - a, ap = p - a;
+    float t = clamp(dot(ap, ab) / max(dot(ab, ab), 1.0e-30), 0.0, 1.0);
+    vec3 e = ap - ab * t;
     return dot(e, e);
+}
+
+// Squared distance from p to triangle (a, b, c), without branches: the distance to the plane
+// where p projects inside the triangle, else the nearest of the three edges. The same closest
+// point as Ericson's case analysis (Real-Time Collision Detection, 5.1.5) used by the reference;
+// written branch-free because llvmpipe runs divergent branches inside the BVH walk very slowly.
+// Everything is relative to a corner, so the numbers stay as small as the triangle and its
+// distance to p.
+float pointTriangleDistance2(vec3 p, vec3 a, vec3 b, vec3 c) {
+    vec3 ab = b - a, bc = c - b, ca = a - c;
+    vec3 ap = p - a, bp = p - b, cp = p - c;
+    vec3 n = cross(ab, -ca);
+    bool inside = dot(cross(ab, ap), n) >= 0.0 && dot(cross(bc, bp), n) >= 0.0 &&
+                  dot(cross(ca, cp), n) >= 0.0;
+    float plane = dot(ap, n);
+    float edges = min(segmentDistance2(p, a, b),
+                      min(segmentDistance2(p, b, c), segmentDistance2(p, c, a)));
+    return inside ? plane * plane / dot(n, n) : edges;
 }
 
 float boxDistance2(vec3 p, uint node) {
