@@ -217,6 +217,7 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     const glm::uvec3 dims = grid->dims;
     for (const gpu::Program* program : {&*distance, &*sign})
         program->set("dims", dims);
+    distance->set("bvhDepth", bvh.depth);
     sign->set("beta", float(options.beta));
     sign->set("verifyBand", float(options.verifyBand));
     sign->set("parity", std::uint32_t(soup->method == format::SignMethod::Parity ? 1 : 0));
