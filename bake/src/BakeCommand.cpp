@@ -19,21 +19,6 @@ namespace {
 /// Where the distances are computed: the GPU baker (default) or the exact CPU reference.
 enum class Backend { Gpu, Cgal };
 
-struct BakeArgs {
-    std::string mesh;
-    std::string output;
-    std::string backend = "gpu";
-    std::uint32_t resolution = GridOptions{}.resolution;
-    double voxelSize = 0.0;
-    double padding = GridOptions{}.padding;
-    std::string sign = "auto";
-    double scale = 1.0;
-    std::string storage = "f32";
-    bool quiet = false;
-    bool json = false;
-    bool profile = false;
-};
-
 Result<Backend> parseBackend(const std::string& text) {
     if (text == "cgal")
         return Backend::Cgal;
@@ -54,6 +39,8 @@ Result<format::Storage> parseStorage(const std::string& text) {
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
+
+} // namespace
 
 int runBake(const BakeArgs& args) {
     constexpr std::string_view cmd = "bake";
@@ -101,8 +88,8 @@ int runBake(const BakeArgs& args) {
         renderer = context->info().renderer;
         Progress progress("baking " + mesh->sourceFile + " on the GPU", grid->pointCount(),
                           !args.quiet);
-        asset.emplace(bakeGpu(*mesh, settings, *context, &progress, {.profile = args.profile},
-                              &gpuStats));
+        asset.emplace(
+            bakeGpu(*mesh, settings, *context, &progress, {.profile = args.profile}, &gpuStats));
         progress.finish();
         break;
     }
@@ -178,8 +165,6 @@ int runBake(const BakeArgs& args) {
     }
     return kExitOk;
 }
-
-} // namespace
 
 Command addBakeCommand(CLI::App& parent) {
     auto args = std::make_shared<BakeArgs>();

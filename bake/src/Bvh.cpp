@@ -109,7 +109,7 @@ Bvh buildBvh(std::span<const BvhInputTriangle> input) {
     }
     builder.order.resize(input.size());
     std::iota(builder.order.begin(), builder.order.end(), 0u);
-    builder.bvh.nodes.reserve(2 * input.size() / shared::kBvhLeafSize + 2);
+    builder.bvh.nodes.reserve(input.size()); // fewer nodes than triangles (leaves hold >= 2)
     builder.build(0, std::uint32_t(input.size()), 0);
     builder.bvh.triangles.reserve(input.size());
     for (std::uint32_t index : builder.order)

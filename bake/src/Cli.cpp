@@ -27,7 +27,7 @@ int run(int argc, char** argv) {
 
     const std::vector<cli::Command> commands = {
         cli::addBakeCommand(app),   cli::addValidateCommand(app), cli::addInfoCommand(app),
-        cli::addExportCommand(app), cli::addGlInfoCommand(app),
+        cli::addExportCommand(app), cli::addGlInfoCommand(app),   cli::addBatchCommand(app),
     };
 
     try {

@@ -1,6 +1,7 @@
 // What the sluice-bake subcommands share: registration, error reporting, loading, JSON, names.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -23,12 +24,32 @@ struct Command {
     std::function<int()> run;
 };
 
+/// The options of one bake, as `bake` parses them (and `batch` reads them from a manifest).
+struct BakeArgs {
+    std::string mesh;
+    std::string output;
+    std::string backend = "gpu";   ///< "gpu" | "cgal"
+    std::uint32_t resolution = 64; ///< [voxels] along the longest side; unused if voxelSize > 0
+    double voxelSize = 0.0;        ///< [world units]
+    double padding = 3.0;          ///< [voxels]
+    std::string sign = "auto";
+    double scale = 1.0;
+    std::string storage = "f32";
+    bool quiet = false;
+    bool json = false;
+    bool profile = false;
+};
+
+/// Runs one bake (BakeCommand.cpp) and returns its exit code; prints as `bake` does.
+int runBake(const BakeArgs& args);
+
 // One per subcommand, each in its own file (<Name>Command.cpp).
 Command addBakeCommand(CLI::App& parent);
 Command addValidateCommand(CLI::App& parent);
 Command addInfoCommand(CLI::App& parent);
 Command addExportCommand(CLI::App& parent);
 Command addGlInfoCommand(CLI::App& parent);
+Command addBatchCommand(CLI::App& parent);
 
 /// CLI11 check: a finite number > 0 (or >= 0 with `allowZero`), with a short message. CLI11's
 /// PositiveNumber prints DBL_MAX in full and lets NaN through.

@@ -126,8 +126,8 @@ Result<PreparedSoup> prepare(const TriangleSoup& soup, const format::MeshDiagnos
         const glm::dvec3 center = 0.5 * (box.lo + box.hi);
         double volume = 0.0;
         for (const auto& t : out.triangles)
-            volume += glm::dot(out.points[t[0]] - center, glm::cross(out.points[t[1]] - center,
-                                                                     out.points[t[2]] - center));
+            volume += glm::dot(out.points[t[0]] - center,
+                               glm::cross(out.points[t[1]] - center, out.points[t[2]] - center));
         if (volume < 0.0)
             for (auto& t : out.triangles)
                 std::swap(t[1], t[2]);
@@ -163,8 +163,10 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
         options.maxBufferBytes > 0 ? options.maxBufferBytes : context.info().maxSsboBytes;
     const std::uint64_t gridBytes = grid->pointCount() * sizeof(float);
     const std::uint64_t triangleBytes = input.size() * sizeof(shared::BvhTriangle);
+    // Median splits stop at 2..kBvhLeafSize triangles per leaf, so there are at most n / 2
+    // leaves and fewer than n nodes: an upper bound.
     const std::uint64_t nodeBytes =
-        (2 * input.size() / shared::kBvhLeafSize + 2) * sizeof(shared::BvhNode); // upper bound
+        std::max<std::uint64_t>(input.size(), 1) * sizeof(shared::BvhNode);
     if (gridBytes > maxBuffer)
         return fail(ErrorCode::SizeOverflow,
                     mesh.sourceFile + ": a grid of " + std::to_string(grid->dims.x) + " x " +

@@ -86,7 +86,8 @@ TEST(CliGpuBake, BakesOnTheGpuAndValidatesAgainstTheReference) {
                       out, err),
               kExitOk)
         << readText(err);
-    EXPECT_TRUE(readText(byDefault) == readText(asset)) << "default bake differs from --backend gpu";
+    EXPECT_TRUE(readText(byDefault) == readText(asset))
+        << "default bake differs from --backend gpu";
 
     ASSERT_EQ(runBake("validate '" + asset.string() + "' '" + mesh.string() + "' --json", out, err),
               kExitOk)

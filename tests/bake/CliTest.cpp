@@ -1,4 +1,5 @@
 // The sluice-bake program end to end: subcommands, JSON output, exit codes and bad input.
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -415,6 +416,62 @@ TEST(Cli, InfoSliceWritesAPng) {
               kExitBadInput);
     EXPECT_FALSE(fs::exists(dir / "bad.png"));
     EXPECT_EQ(runBake(dir, {"info", asset.string(), "--slice", "z=0.5"}).code, kExitBadInput);
+}
+
+TEST(Cli, BatchBakesAManifestSkipsWhatIsUpToDateAndWritesADepfile) {
+    const fs::path dir = testmesh::tempDir("cli-batch");
+    ASSERT_TRUE(testmesh::writeObj(testmesh::icoSphereSoup({0, 0, 0}, 1.0, 1), dir / "a.obj"));
+    ASSERT_TRUE(testmesh::writeObj(testmesh::boxSoup({0, 0, 0}, {1, 2, 1}), dir / "b b.obj"));
+    const fs::path manifest = dir / "colliders.json", depfile = dir / "colliders.d";
+    auto writeManifest = [&](int resolutionB) {
+        std::ofstream(manifest) << json{
+            {"colliders",
+             {{{"mesh", "a.obj"}, {"output", "a.slc"}, {"resolution", 8}, {"backend", "cgal"}},
+              {{"mesh", "b b.obj"},
+               {"output", "b.slc"},
+               {"resolution", resolutionB},
+               {"storage", "f16"}}}}}.dump();
+    };
+    writeManifest(8);
+    const std::vector<std::string> batch = {"batch", manifest.string(), "--depfile",
+                                            depfile.string()};
+    RunResult run = runBake(dir, batch);
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("2 baked, 0 up to date, 0 failed"), std::string::npos) << run.out;
+    const std::string a = readText(dir / "a.slc");
+    Result<format::ColliderAsset> b = format::readAsset(dir / "b.slc");
+    ASSERT_TRUE(b.ok()) << b.error().message();
+    EXPECT_EQ(b->meta.bake.backend, "gpu");
+    EXPECT_EQ(b->meta.storage, format::Storage::F16);
+
+    // Nothing changed: nothing is baked.
+    run = runBake(dir, batch);
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("0 baked, 2 up to date"), std::string::npos) << run.out;
+
+    // A newer mesh, or other settings, make that entry stale.
+    fs::last_write_time(dir / "a.obj",
+                        fs::last_write_time(dir / "a.slc") + std::chrono::seconds(10));
+    run = runBake(dir, batch);
+    EXPECT_NE(run.out.find("1 baked, 1 up to date"), std::string::npos) << run.out;
+    EXPECT_TRUE(readText(dir / "a.slc") == a) << "the same bake must give the same bytes";
+    fs::last_write_time(dir / "a.obj", fs::last_write_time(dir / "a.slc") - std::chrono::hours(1));
+    writeManifest(10);
+    run = runBake(dir, batch);
+    EXPECT_NE(run.out.find("1 baked, 1 up to date"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("baked      " + (dir / "b.slc").string()), std::string::npos) << run.out;
+
+    const std::string deps = readText(depfile);
+    EXPECT_NE(deps.find((dir / "a.slc").string() + ": " + (dir / "a.obj").string()),
+              std::string::npos)
+        << deps;
+    EXPECT_NE(deps.find("b\\ b.obj"), std::string::npos) << deps;
+
+    // A broken manifest is bad input.
+    std::ofstream(manifest) << R"({"colliders": [{"mesh": "a.obj"}]})";
+    run = runBake(dir, batch);
+    EXPECT_EQ(run.code, kExitBadInput) << shown(run);
+    EXPECT_NE(run.err.find("output"), std::string::npos) << run.err;
 }
 
 } // namespace

@@ -53,8 +53,8 @@ std::function<Result<ImportedMesh>()> file(std::string path) {
 /// What comparing a GPU bake with the reference found.
 struct Comparison {
     std::uint64_t points = 0;
-    double maxErrorVoxels = 0.0;     ///< max |phi - phi_ref| where the signs agree
-    double maxAbsErrorVoxels = 0.0;  ///< max ||phi| - |phi_ref|| everywhere
+    double maxErrorVoxels = 0.0;    ///< max |phi - phi_ref| where the signs agree
+    double maxAbsErrorVoxels = 0.0; ///< max ||phi| - |phi_ref|| everywhere
     std::uint64_t signMismatches = 0;
     double farthestMismatchVoxels = 0.0; ///< max |phi_ref| over mismatches
     std::uint64_t ties = 0; ///< opposite signs where the winding number is 0.5: either is right
@@ -107,8 +107,7 @@ TEST_P(GpuBakerMeshTest, MatchesTheCgalReferenceAtEveryGridPoint) {
     Result<format::ColliderAsset> asset =
         bakeGpu(*mesh, settings, context(), nullptr, {.profile = true}, &stats);
     ASSERT_TRUE(asset.ok()) << asset.error().message();
-    Result<CgalReference> reference =
-        CgalReference::build(mesh->soup, mesh->diagnostics, c.sign);
+    Result<CgalReference> reference = CgalReference::build(mesh->soup, mesh->diagnostics, c.sign);
     ASSERT_TRUE(reference.ok()) << reference.error().message();
     Result<format::ColliderAsset> cgal = bakeCgal(*mesh, settings);
     ASSERT_TRUE(cgal.ok());
@@ -123,12 +122,13 @@ TEST_P(GpuBakerMeshTest, MatchesTheCgalReferenceAtEveryGridPoint) {
     EXPECT_EQ(asset->meta.sourceHash, cgal->meta.sourceHash);
 
     const Comparison r = compare(*asset, *reference);
-    std::printf("  %-28s %3u^ res, %7llu points, %5llu triangles: max error %.2e voxel, "
-                "%llu sign mismatches (farthest %.3f voxel, %llu ties); distance %.1f ms, sign %.1f ms\n",
-                c.name.c_str(), c.resolution, static_cast<unsigned long long>(r.points),
-                static_cast<unsigned long long>(stats.triangles), r.maxErrorVoxels,
-                static_cast<unsigned long long>(r.signMismatches), r.farthestMismatchVoxels,
-                static_cast<unsigned long long>(r.ties), stats.distanceNs * 1e-6, stats.signNs * 1e-6);
+    std::printf(
+        "  %-28s %3u^ res, %7llu points, %5llu triangles: max error %.2e voxel, "
+        "%llu sign mismatches (farthest %.3f voxel, %llu ties); distance %.1f ms, sign %.1f ms\n",
+        c.name.c_str(), c.resolution, static_cast<unsigned long long>(r.points),
+        static_cast<unsigned long long>(stats.triangles), r.maxErrorVoxels,
+        static_cast<unsigned long long>(r.signMismatches), r.farthestMismatchVoxels,
+        static_cast<unsigned long long>(r.ties), stats.distanceNs * 1e-6, stats.signNs * 1e-6);
     EXPECT_LE(r.maxErrorVoxels, kMaxErrorVoxels);
     EXPECT_LE(r.maxAbsErrorVoxels, kMaxErrorVoxels);
     if (c.exactSign) {
@@ -146,11 +146,20 @@ TEST_P(GpuBakerMeshTest, MatchesTheCgalReferenceAtEveryGridPoint) {
 const glm::dvec3 kCenter{0.3, -0.2, 0.1};
 
 const BakeCase kCases[] = {
-    {"box", analytic([] { return testmesh::boxSoup({-1, -0.5, -0.25}, {1, 0.5, 0.75}); }, "box"),
+    {"box",
+     analytic(
+         [] {
+             return testmesh::boxSoup({-1, -0.5, -0.25}, {1, 0.5, 0.75});
+         },
+         "box"),
      32},
     {"box_winding",
-     analytic([] { return testmesh::boxSoup({-1, -0.5, -0.25}, {1, 0.5, 0.75}); }, "box"), 24,
-     SignMode::Winding},
+     analytic(
+         [] {
+             return testmesh::boxSoup({-1, -0.5, -0.25}, {1, 0.5, 0.75});
+         },
+         "box"),
+     24, SignMode::Winding},
     {"icosphere_parity", analytic([] { return testmesh::icoSphereSoup(kCenter, 1.0, 3); }, "ico"),
      32, SignMode::Parity},
     {"icosphere_winding", analytic([] { return testmesh::icoSphereSoup(kCenter, 1.0, 3); }, "ico"),
@@ -158,7 +167,11 @@ const BakeCase kCases[] = {
     {"torus", analytic([] { return testmesh::torusSoup(kCenter, 1.0, 0.35, 48, 20); }, "torus"),
      40},
     {"open_box",
-     analytic([] { return testmesh::boxSoup({-1, -0.5, -0.25}, {1, 0.5, 0.75}, true); }, "open"),
+     analytic(
+         [] {
+             return testmesh::boxSoup({-1, -0.5, -0.25}, {1, 0.5, 0.75}, true);
+         },
+         "open"),
      24, SignMode::Auto, false},
     {"hemisphere",
      analytic([] { return testmesh::uvSphereSoup(kCenter, 1.0, 32, 16, true); }, "hemi"), 24,
@@ -193,8 +206,8 @@ TEST_F(GpuBakerTest, BakingTwiceGivesIdenticalBytes) {
 
 TEST_F(GpuBakerTest, StoresHalfFloatsWithTheirMeasuredQuantizationError) {
     const ImportedMesh mesh = testmesh::imported(testmesh::icoSphereSoup(kCenter, 1.0, 2), "ico");
-    Result<format::ColliderAsset> asset = bakeGpu(
-        mesh, {.grid = {.resolution = 24}, .storage = format::Storage::F16}, context());
+    Result<format::ColliderAsset> asset =
+        bakeGpu(mesh, {.grid = {.resolution = 24}, .storage = format::Storage::F16}, context());
     ASSERT_TRUE(asset.ok()) << asset.error().message();
     EXPECT_EQ(asset->meta.storage, format::Storage::F16);
     Result<format::EncodedAsset> encoded = format::encodeAsset(*asset);
@@ -218,8 +231,7 @@ TEST_F(GpuBakerTest, RejectsAGridOverTheLargestGpuBufferCleanly) {
 
 TEST_F(GpuBakerTest, RejectsAGridOverTheBakeLimitBeforeTouchingTheGpu) {
     const ImportedMesh mesh = testmesh::imported(testmesh::icoSphereSoup(kCenter, 1.0, 1), "ico");
-    Result<format::ColliderAsset> asset =
-        bakeGpu(mesh, {.grid = {.voxelSize = 1e-4}}, context());
+    Result<format::ColliderAsset> asset = bakeGpu(mesh, {.grid = {.voxelSize = 1e-4}}, context());
     ASSERT_FALSE(asset.ok());
     EXPECT_EQ(asset.error().code, ErrorCode::SizeOverflow);
 }

@@ -122,9 +122,9 @@ int main(int argc, char** argv) {
         }
         double gpuError = 0.0;
         for (std::size_t n = 0; n < gpuAsset->distances.size(); ++n)
-            gpuError = std::max(gpuError, std::abs(double(gpuAsset->distances[n]) -
-                                                   cgalAsset->distances[n]) /
-                                              grid->voxelSize);
+            gpuError = std::max(gpuError,
+                                std::abs(double(gpuAsset->distances[n]) - cgalAsset->distances[n]) /
+                                    grid->voxelSize);
         double vdbError = 0.0;
         const double vdbSeconds = bakeOpenVdb(*mesh, *grid, cgalAsset->distances, vdbError);
         const double points = double(grid->pointCount());
