@@ -2,14 +2,15 @@
 # One-command set-up for a fresh Debian 12 machine (run as root):
 #   bash cmake/setup.sh demo    installs what is missing, builds, bakes and validates the demo
 #   bash cmake/setup.sh test    installs what is missing, builds, runs the whole test suite
+#   bash cmake/setup.sh asan    the same suite built with AddressSanitizer + UBSan (CI runs it too)
 # A second run skips what is already installed and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 mode=${1:-}
 case "$mode" in
-  demo|test) ;;
-  *) echo "usage: bash cmake/setup.sh demo|test" >&2; exit 2 ;;
+  demo|test|asan) ;;
+  *) echo "usage: bash cmake/setup.sh demo|test|asan" >&2; exit 2 ;;
 esac
 
 # Build tools and libraries (Debian 12 package names).
@@ -22,7 +23,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 # Test data: third-party meshes (assimp's models, CGAL's data set).
-if [ "$mode" = test ]; then
+if [ "$mode" != demo ]; then
   packages+=(assimp-testmodels libcgal-demo)
 fi
 
@@ -41,11 +42,13 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc)
-cmake --preset dev >/dev/null
-cmake --build --preset dev -j "$jobs"
+preset=dev
+[ "$mode" = asan ] && preset=asan
+cmake --preset "$preset" >/dev/null
+cmake --build --preset "$preset" -j "$jobs"
 
-if [ "$mode" = test ]; then
-  ctest --preset dev -j "$jobs"
+if [ "$mode" = demo ]; then
+  bash assets/demo.sh "build/$preset/bin"
 else
-  bash assets/demo.sh build/dev/bin
+  ctest --preset "$preset" -j "$jobs"
 fi

@@ -92,22 +92,6 @@ Result<void> checkOutputPath(const std::filesystem::path& path) {
     return {};
 }
 
-const char* storageName(format::Storage storage) {
-    return storage == format::Storage::F16 ? "f16" : "f32";
-}
-
-const char* signMethodName(format::SignMethod method) {
-    switch (method) {
-    case format::SignMethod::Parity:
-        return "parity";
-    case format::SignMethod::Winding:
-        return "winding";
-    case format::SignMethod::Level:
-        return "level";
-    }
-    return "unknown";
-}
-
 std::string describeMesh(const format::MeshDiagnostics& mesh) {
     std::string text = std::to_string(mesh.triangles) + " triangles, " +
                        std::to_string(mesh.vertices) + " vertices, ";

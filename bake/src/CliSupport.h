@@ -87,8 +87,8 @@ Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path);
 /// Cheap, so commands fail before long work; the atomic write still has the last word.
 Result<void> checkOutputPath(const std::filesystem::path& path);
 
-const char* storageName(format::Storage storage);
-const char* signMethodName(format::SignMethod method);
+using format::signMethodName;
+using format::storageName;
 
 /// "1280 triangles, 642 vertices, closed, not self-intersecting, ..." for people.
 std::string describeMesh(const format::MeshDiagnostics& mesh);

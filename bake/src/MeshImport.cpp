@@ -267,39 +267,47 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
     if (!hash)
         return hash.error();
 
-    silenceAssimp();
-    Assimp::Importer importer;
-    // Read without post-processing first: a point cloud or a file of lines is not corrupt, it
-    // just has nothing to bake, and we say so before assimp's validation calls a mesh without
-    // faces invalid.
-    const aiScene* scene = importer.ReadFile(path.string(), 0);
-    if (!scene) {
-        const std::string why = importer.GetErrorString();
-        return fail(ErrorCode::MeshImport,
-                    shown + ": assimp cannot read it" + (why.empty() ? "" : " (" + why + ")"));
-    }
-    if (!hasSurfaceFaces(*scene))
-        return fail(ErrorCode::EmptyMesh,
-                    shown + ": no triangles (only points or lines, or no geometry at all)");
-    // Validation must come before anything else touches the scene: Debian's assimp is built
-    // with its internal asserts on, and its steps abort() on out-of-range indices.
-    scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure);
-    if (!scene) {
-        const std::string why = importer.GetErrorString();
-        return fail(ErrorCode::MeshImport, shown + ": assimp read an invalid scene" +
-                                               (why.empty() ? "" : " (" + why + ")"));
-    }
-    // Polygons become triangles; points and lines stay 1- and 2-index faces and are skipped.
-    // No PreTransformVertices: we walk the node tree ourselves (it also covers instancing).
-    scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
-    if (!scene)
-        return fail(ErrorCode::MeshImport, shown + ": assimp cannot triangulate its polygons");
+    const auto readSoup = [&]() -> Result<TriangleSoup> {
+        silenceAssimp();
+        Assimp::Importer importer;
+        // Read without post-processing first: a point cloud or a file of lines is not corrupt,
+        // it just has nothing to bake, and we say so before assimp's validation calls a mesh
+        // without faces invalid.
+        const aiScene* scene = importer.ReadFile(path.string(), 0);
+        if (!scene) {
+            const std::string why = importer.GetErrorString();
+            return fail(ErrorCode::MeshImport,
+                        shown + ": assimp cannot read it" + (why.empty() ? "" : " (" + why + ")"));
+        }
+        if (!hasSurfaceFaces(*scene))
+            return fail(ErrorCode::EmptyMesh,
+                        shown + ": no triangles (only points or lines, or no geometry at all)");
+        // Validation must come before anything else touches the scene: Debian's assimp is
+        // built with its internal asserts on, and its steps abort() on out-of-range indices.
+        scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure);
+        if (!scene) {
+            const std::string why = importer.GetErrorString();
+            return fail(ErrorCode::MeshImport, shown + ": assimp read an invalid scene" +
+                                                   (why.empty() ? "" : " (" + why + ")"));
+        }
+        // Polygons become triangles; points and lines stay 1- and 2-index faces and are
+        // skipped. No PreTransformVertices: we walk the node tree ourselves (instancing too).
+        scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
+        if (!scene)
+            return fail(ErrorCode::MeshImport, shown + ": assimp cannot triangulate its polygons");
 
-    SoupBuilder builder(*scene, options.scale);
-    if (Result<void> r = builder.addScene(shown); !r)
-        return r.error();
+        SoupBuilder builder(*scene, options.scale);
+        if (Result<void> r = builder.addScene(shown); !r)
+            return r.error();
+        return builder.take();
+    };
+    // Everything assimp touches runs in the child when isolated; the rest runs here.
+    Result<TriangleSoup> soup = options.isolate ? runIsolated(shown, options.limits, readSoup)
+                                                : readSoup();
+    if (!soup)
+        return soup.error();
     ImportedMesh mesh;
-    mesh.soup = builder.take();
+    mesh.soup = std::move(*soup);
     if (mesh.soup.triangles.empty())
         return fail(ErrorCode::EmptyMesh,
                     shown + ": no triangles (only points or lines, or no geometry at all)");

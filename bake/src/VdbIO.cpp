@@ -59,18 +59,6 @@ std::string quoted(const fs::path& path) {
     return "'" + path.string() + "'";
 }
 
-const char* signMethodName(format::SignMethod method) {
-    switch (method) {
-    case format::SignMethod::Parity:
-        return "parity";
-    case format::SignMethod::Winding:
-        return "winding";
-    case format::SignMethod::Level:
-        return "level";
-    }
-    return "unknown";
-}
-
 Result<void> checkExportable(const format::ColliderAsset& asset) {
     const format::ColliderMeta& meta = asset.meta;
     if (meta.dims.x == 0 || meta.dims.y == 0 || meta.dims.z == 0)
@@ -143,7 +131,7 @@ openvdb::FloatGrid::Ptr buildGrid(const format::ColliderAsset& asset) {
     grid->insertMeta(kMetaSourceHash, openvdb::StringMetadata(meta.sourceHash));
     grid->insertMeta(kMetaToolVersion, openvdb::StringMetadata(meta.toolVersion));
     grid->insertMeta(kMetaBackend, openvdb::StringMetadata(meta.bake.backend));
-    grid->insertMeta(kMetaSignMethod, openvdb::StringMetadata(signMethodName(meta.bake.signUsed)));
+    grid->insertMeta(kMetaSignMethod, openvdb::StringMetadata(format::signMethodName(meta.bake.signUsed)));
     grid->insertMeta(kMetaExporter, openvdb::StringMetadata(exporter));
     return grid;
 }

@@ -31,22 +31,8 @@ const glm::dvec3 kOrigin{-2.0, -1.8, -1.6}; // [world units]
 const glm::dvec3 kCentreIndex{20, 18, 16};  // [voxels]
 const glm::dvec3 kCentre = kOrigin + kCentreIndex * kVoxel;
 
-format::ColliderAsset assetFrom(glm::uvec3 dims, glm::dvec3 origin, double voxelSize,
-                                const std::function<double(const glm::dvec3&)>& sdf) {
-    format::ColliderAsset asset;
-    asset.meta.dims = dims;
-    asset.meta.origin = origin;
-    asset.meta.voxelSize = voxelSize;
-    asset.distances.resize(asset.pointCount());
-    for (std::uint32_t k = 0; k < dims.z; ++k)
-        for (std::uint32_t j = 0; j < dims.y; ++j)
-            for (std::uint32_t i = 0; i < dims.x; ++i)
-                asset.distances[asset.index(i, j, k)] = float(sdf(asset.pointPosition(i, j, k)));
-    return asset;
-}
-
 format::ColliderAsset sphereAsset() {
-    return assetFrom(kDims, kOrigin, kVoxel,
+    return testmesh::assetFromSdf(kDims, kOrigin, kVoxel,
                      [](const glm::dvec3& p) { return testmesh::sphereSdf(p, kCentre, kRadius); });
 }
 
@@ -296,7 +282,7 @@ TEST(SliceImage, WritePngReportsBadImagesAndFolders) {
 // Not a check but a picture to look at: a torus cut across its ring, to eyeball the colours.
 TEST(SliceImage, WritesATorusPictureForInspection) {
     const fs::path dir = testmesh::tempDir("slice-torus");
-    const auto torus = assetFrom({61, 61, 25}, {-1.5, -1.5, -0.6}, 0.05, [](const glm::dvec3& p) {
+    const auto torus = testmesh::assetFromSdf({61, 61, 25}, {-1.5, -1.5, -0.6}, 0.05, [](const glm::dvec3& p) {
         return testmesh::torusSdf(p, {0.0, 0.0, 0.0}, 1.0, 0.35);
     });
     for (const char* spec : {"z=0.5", "y=0.5"}) {

@@ -39,26 +39,8 @@ const glm::uvec3 kDims{37, 39, 41};                // [grid points]
 const glm::dvec3 kOrigin{-1.013, 0.4217, -0.9981}; // [world units]
 const glm::dvec3 kCentre = kOrigin + glm::dvec3(18.3, 19.1, 20.45) * kVoxel;
 
-format::ColliderAsset assetFrom(glm::uvec3 dims, glm::dvec3 origin, double voxelSize,
-                                const std::function<double(const glm::dvec3&)>& sdf) {
-    format::ColliderAsset asset;
-    asset.meta.dims = dims;
-    asset.meta.origin = origin;
-    asset.meta.voxelSize = voxelSize;
-    asset.meta.sourceFile = "sphere.obj";
-    asset.meta.sourceHash = "0123456789abcdef";
-    asset.meta.toolVersion = "sluice-bake 0.1.0";
-    asset.meta.bake.backend = "cgal";
-    asset.distances.resize(asset.pointCount());
-    for (std::uint32_t k = 0; k < dims.z; ++k)
-        for (std::uint32_t j = 0; j < dims.y; ++j)
-            for (std::uint32_t i = 0; i < dims.x; ++i)
-                asset.distances[asset.index(i, j, k)] = float(sdf(asset.pointPosition(i, j, k)));
-    return asset;
-}
-
 format::ColliderAsset sphereAsset() {
-    return assetFrom(kDims, kOrigin, kVoxel,
+    return testmesh::assetFromSdf(kDims, kOrigin, kVoxel,
                      [](const glm::dvec3& p) { return testmesh::sphereSdf(p, kCentre, kRadius); });
 }
 
@@ -334,7 +316,7 @@ TEST(VdbIO, AMissingFileIsAnIoError) {
 TEST(VdbIO, RejectsTruncatedFiles) {
     const fs::path dir = testmesh::tempDir("vdb-truncated");
     // Small, with two leaves so that cuts also fall between nodes (11 KB, mostly node masks).
-    const auto small = assetFrom({12, 5, 4}, {0.0, 0.0, 0.0}, 0.25, [](const glm::dvec3& p) {
+    const auto small = testmesh::assetFromSdf({12, 5, 4}, {0.0, 0.0, 0.0}, 0.25, [](const glm::dvec3& p) {
         return testmesh::sphereSdf(p, {1.4, 0.5, 0.4}, 0.6);
     });
     ASSERT_TRUE(bake::exportVdb(small, dir / "whole.vdb"));

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 
+#include "sluice/bake/Isolated.h"
 #include "sluice/bake/TriangleSoup.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
@@ -12,6 +13,10 @@ namespace sluice::bake {
 
 struct ImportOptions {
     double scale = 1.0; ///< uniform scale applied after node transforms; finite, > 0
+    /// Run assimp in a child process (runIsolated) so that a crash, an abort from one of its
+    /// compiled-in asserts, or a hang on a hostile file becomes a MeshImport error.
+    bool isolate = true;
+    IsolationLimits limits; ///< time and memory for the isolated importer
 };
 
 /// A mesh ready to bake, with what we learned about it.

@@ -22,6 +22,21 @@ enum class SignMethod : std::uint8_t {
     Level = 2,   ///< taken from an input level set (.vdb)
 };
 
+/// "f32" | "f16", as the command line and JSON spell it.
+inline const char* storageName(Storage storage) {
+    return storage == Storage::F16 ? "f16" : "f32";
+}
+
+/// "parity" | "winding" | "level", as the command line, JSON and VDB metadata spell it.
+inline const char* signMethodName(SignMethod method) {
+    switch (method) {
+    case SignMethod::Parity: return "parity";
+    case SignMethod::Winding: return "winding";
+    case SignMethod::Level: return "level";
+    }
+    return "unknown";
+}
+
 /// Mesh diagnostics measured on the welded triangle soup at import.
 struct MeshDiagnostics {
     std::uint64_t triangles = 0;           ///< after import, degenerate ones included

@@ -1,0 +1,231 @@
+// Forked-child isolation for third-party parsers: the answer travels back through a pipe.
+#include "sluice/bake/Isolated.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace sluice::bake {
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kUnderAsan = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kUnderAsan = true;
+#else
+constexpr bool kUnderAsan = false;
+#endif
+#else
+constexpr bool kUnderAsan = false;
+#endif
+
+// Wire format (host byte order: both ends are this process image):
+//   u8 ok=1, u64 positions, u64 triangles, f64[3*positions], u32[3*triangles]
+//   u8 ok=0, u32 error code, u64 detail length, detail bytes
+template <class T> void put(std::vector<char>& out, const T& v) {
+    const char* p = reinterpret_cast<const char*>(&v);
+    out.insert(out.end(), p, p + sizeof(T));
+}
+
+std::vector<char> serialize(const Result<TriangleSoup>& r) {
+    std::vector<char> out;
+    if (r.ok()) {
+        const TriangleSoup& s = r.value();
+        put<std::uint8_t>(out, 1);
+        put<std::uint64_t>(out, s.positions.size());
+        put<std::uint64_t>(out, s.triangles.size());
+        for (const glm::dvec3& p : s.positions)
+            for (int a = 0; a < 3; ++a)
+                put<double>(out, p[a]);
+        for (const glm::uvec3& t : s.triangles)
+            for (int a = 0; a < 3; ++a)
+                put<std::uint32_t>(out, t[a]);
+    } else {
+        put<std::uint8_t>(out, 0);
+        put<std::uint32_t>(out, static_cast<std::uint32_t>(r.error().code));
+        put<std::uint64_t>(out, r.error().detail.size());
+        out.insert(out.end(), r.error().detail.begin(), r.error().detail.end());
+    }
+    return out;
+}
+
+/// Reads a message produced by serialize(); false if it is incomplete or inconsistent.
+class Reader {
+public:
+    explicit Reader(const std::vector<char>& bytes) : m_bytes(bytes) {}
+    template <class T> bool get(T& v) {
+        if (m_bytes.size() - m_pos < sizeof(T))
+            return false;
+        std::memcpy(&v, m_bytes.data() + m_pos, sizeof(T));
+        m_pos += sizeof(T);
+        return true;
+    }
+    std::size_t remaining() const { return m_bytes.size() - m_pos; }
+    const char* cursor() const { return m_bytes.data() + m_pos; }
+
+private:
+    const std::vector<char>& m_bytes;
+    std::size_t m_pos = 0;
+};
+
+bool deserialize(const std::vector<char>& bytes, Result<TriangleSoup>& out) {
+    Reader in(bytes);
+    std::uint8_t ok = 0;
+    if (!in.get(ok))
+        return false;
+    if (ok == 0) {
+        std::uint32_t code = 0;
+        std::uint64_t len = 0;
+        if (!in.get(code) || !in.get(len) || len != in.remaining() ||
+            code > static_cast<std::uint32_t>(ErrorCode::Unsupported))
+            return false;
+        out = Error{static_cast<ErrorCode>(code), std::string(in.cursor(), len)};
+        return true;
+    }
+    std::uint64_t np = 0, nt = 0;
+    if (!in.get(np) || !in.get(nt))
+        return false;
+    // Both ends are us, but sizes are still checked before anything is allocated from them.
+    if (np > in.remaining() / (3 * sizeof(double)) ||
+        nt > in.remaining() / (3 * sizeof(std::uint32_t)) ||
+        np * 3 * sizeof(double) + nt * 3 * sizeof(std::uint32_t) != in.remaining())
+        return false;
+    TriangleSoup soup;
+    soup.positions.resize(np);
+    soup.triangles.resize(nt);
+    for (glm::dvec3& p : soup.positions)
+        for (int a = 0; a < 3; ++a)
+            in.get(p[a]);
+    for (glm::uvec3& t : soup.triangles)
+        for (int a = 0; a < 3; ++a)
+            in.get(t[a]);
+    out = std::move(soup);
+    return true;
+}
+
+bool writeAll(int fd, const char* data, std::size_t size) {
+    while (size > 0) {
+        const ssize_t n = ::write(fd, data, size);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return false;
+        data += n;
+        size -= static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+[[noreturn]] void childMain(int fd, const IsolationLimits& limits,
+                            const std::function<Result<TriangleSoup>()>& work) {
+    const rlimit noCore{0, 0}; // a crash here is an answer, not something to debug
+    ::setrlimit(RLIMIT_CORE, &noCore);
+    if (limits.maxAddressSpaceBytes > 0 && !kUnderAsan) {
+        const rlimit cap{limits.maxAddressSpaceBytes, limits.maxAddressSpaceBytes};
+        ::setrlimit(RLIMIT_AS, &cap);
+    }
+    std::vector<char> message;
+    try {
+        message = serialize(work());
+    } catch (const std::bad_alloc&) {
+        message = serialize(Error{ErrorCode::SizeOverflow, "out of memory while importing"});
+    } catch (const std::exception& e) {
+        message = serialize(Error{ErrorCode::MeshImport, std::string("import failed: ") + e.what()});
+    } catch (...) {
+        message = serialize(Error{ErrorCode::MeshImport, "import failed (unknown exception)"});
+    }
+    const bool sent = writeAll(fd, message.data(), message.size());
+    ::close(fd);
+    ::_exit(sent ? 0 : 3);
+}
+
+std::string describeDeath(int status) {
+    if (WIFSIGNALED(status)) {
+        const int sig = WTERMSIG(status);
+        const char* name = ::sigabbrev_np(sig);
+        return std::string("crashed with SIG") + (name ? name : std::to_string(sig).c_str());
+    }
+    if (WIFEXITED(status))
+        return "exited with status " + std::to_string(WEXITSTATUS(status)) + " without an answer";
+    return "stopped without an answer";
+}
+
+} // namespace
+
+Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits& limits,
+                                 const std::function<Result<TriangleSoup>()>& work) {
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0)
+        return fail(ErrorCode::Io, what + ": cannot create a pipe for the import process (" +
+                                       std::strerror(errno) + ")");
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        const int err = errno;
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return fail(ErrorCode::Io,
+                    what + ": cannot start the import process (" + std::strerror(err) + ")");
+    }
+    if (pid == 0) {
+        ::close(fds[0]);
+        childMain(fds[1], limits, work);
+    }
+    ::close(fds[1]);
+
+    // Drain the pipe while the child runs (it may write more than a pipe buffer holds).
+    std::vector<char> bytes;
+    const auto deadline = std::chrono::steady_clock::now() + limits.timeout;
+    bool timedOut = false;
+    char buffer[1 << 16];
+    for (;;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
+        if (left.count() <= 0) {
+            timedOut = true;
+            break;
+        }
+        pollfd pfd{fds[0], POLLIN, 0};
+        const int ready = ::poll(&pfd, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
+        if (ready < 0 && errno == EINTR)
+            continue;
+        if (ready <= 0)
+            continue;
+        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break; // EOF: the child closed its end (finished or died)
+        bytes.insert(bytes.end(), buffer, buffer + n);
+    }
+    ::close(fds[0]);
+    if (timedOut)
+        ::kill(pid, SIGKILL);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+
+    if (timedOut)
+        return fail(ErrorCode::MeshImport,
+                    what + ": the importer did not finish within " +
+                        std::to_string(limits.timeout.count() / 1000.0) +
+                        " s and was stopped; the file is probably malformed");
+    Result<TriangleSoup> result = Error{ErrorCode::MeshImport, {}};
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && deserialize(bytes, result))
+        return result;
+    return fail(ErrorCode::MeshImport, what + ": the importer " + describeDeath(status) +
+                                           " while reading it; the file is probably malformed");
+}
+
+} // namespace sluice::bake
