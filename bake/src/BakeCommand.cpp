@@ -176,8 +176,8 @@ Command addBakeCommand(CLI::App& parent) {
         ->required()
         ->type_name("OUT");
     app->add_option("--backend", args->backend,
-                    "where distances are computed: gpu (OpenGL 4.5 compute, headless; exit 3 if "
-                    "there is no context) or cgal (the exact CPU reference)")
+                    "where distances are computed: cgal (the exact CPU reference, all cores) or gpu "
+                    "(OpenGL 4.5 compute, headless; exit 3 if there is no context)")
         ->capture_default_str();
     CLI::Option* resolution =
         app->add_option("--resolution", args->resolution,

@@ -4,7 +4,7 @@
 // with the defaults of `bake`):
 //   { "colliders": [ { "mesh": "meshes/rock.obj", "output": "rock.slc", "resolution": 64,
 //                      "voxelSize": 0, "padding": 3, "sign": "auto", "storage": "f32",
-//                      "scale": 1, "backend": "gpu" } ] }
+//                      "scale": 1, "backend": "cgal" } ] }
 // An output is up to date when it exists, is no older than its mesh, and records the same tool
 // version and bake settings as its entry asks for; --force bakes everything. --depfile writes a
 // Makefile-syntax rule per output (output: mesh manifest) for build systems (Ninja's depfile).

@@ -426,10 +426,11 @@ TEST(Cli, BatchBakesAManifestSkipsWhatIsUpToDateAndWritesADepfile) {
     auto writeManifest = [&](int resolutionB) {
         std::ofstream(manifest) << json{
             {"colliders",
-             {{{"mesh", "a.obj"}, {"output", "a.slc"}, {"resolution", 8}, {"backend", "cgal"}},
+             {{{"mesh", "a.obj"}, {"output", "a.slc"}, {"resolution", 8}},
               {{"mesh", "b b.obj"},
                {"output", "b.slc"},
                {"resolution", resolutionB},
+               {"backend", "gpu"},
                {"storage", "f16"}}}}}.dump();
     };
     writeManifest(8);
@@ -443,6 +444,9 @@ TEST(Cli, BatchBakesAManifestSkipsWhatIsUpToDateAndWritesADepfile) {
     ASSERT_TRUE(b.ok()) << b.error().message();
     EXPECT_EQ(b->meta.bake.backend, "gpu");
     EXPECT_EQ(b->meta.storage, format::Storage::F16);
+    Result<format::ColliderAsset> aAsset = format::readAsset(dir / "a.slc");
+    ASSERT_TRUE(aAsset.ok()) << aAsset.error().message();
+    EXPECT_EQ(aAsset->meta.bake.backend, "cgal"); // the default backend
 
     // Nothing changed: nothing is baked.
     run = runBake(dir, batch);
