@@ -24,22 +24,8 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
         return reference.error();
 
     format::ColliderAsset asset;
+    asset.meta = bakeProvenance(mesh, *grid, settings, "cgal", reference->signMethod());
     format::ColliderMeta& meta = asset.meta;
-    meta.dims = grid->dims;
-    meta.origin = grid->origin;
-    meta.voxelSize = grid->voxelSize;
-    meta.storage = settings.storage;
-    meta.signConvention = -1;
-    meta.sourceFile = mesh.sourceFile;
-    meta.sourceHash = mesh.sourceHash;
-    meta.bake.backend = "cgal";
-    meta.bake.resolution = settings.grid.voxelSize > 0.0 ? 0 : settings.grid.resolution;
-    meta.bake.padding = settings.grid.padding;
-    meta.bake.signMode = signModeName(settings.sign);
-    meta.bake.signUsed = reference->signMethod();
-    meta.bake.scale = settings.scale;
-    meta.toolVersion = std::string("sluice-bake ") + SLUICE_VERSION;
-    meta.mesh = mesh.diagnostics;
 
     // Whole z-slices per batch; x runs fastest, as in the asset, so neighbouring points follow
     // each other and the reference can carry its winding number along the rows.
@@ -62,6 +48,28 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     return asset;
 }
 } // namespace
+
+format::ColliderMeta bakeProvenance(const ImportedMesh& mesh, const GridSpec& grid,
+                                    const BakeSettings& settings, const char* backend,
+                                    format::SignMethod signUsed) {
+    format::ColliderMeta meta;
+    meta.dims = grid.dims;
+    meta.origin = grid.origin;
+    meta.voxelSize = grid.voxelSize;
+    meta.storage = settings.storage;
+    meta.signConvention = -1;
+    meta.sourceFile = mesh.sourceFile;
+    meta.sourceHash = mesh.sourceHash;
+    meta.bake.backend = backend;
+    meta.bake.resolution = settings.grid.voxelSize > 0.0 ? 0 : settings.grid.resolution;
+    meta.bake.padding = settings.grid.padding;
+    meta.bake.signMode = signModeName(settings.sign);
+    meta.bake.signUsed = signUsed;
+    meta.bake.scale = settings.scale;
+    meta.toolVersion = std::string("sluice-bake ") + SLUICE_VERSION;
+    meta.mesh = mesh.diagnostics;
+    return meta;
+}
 
 Result<format::ColliderAsset> bakeCgal(const ImportedMesh& mesh, const BakeSettings& settings,
                                        Progress* progress) {

@@ -242,20 +242,27 @@ const char* signModeName(SignMode mode) {
     return "auto";
 }
 
-Result<CgalReference> CgalReference::build(const TriangleSoup& soup,
-                                           const format::MeshDiagnostics& diagnostics,
-                                           SignMode mode) {
+Result<format::SignMethod> chooseSignMethod(const format::MeshDiagnostics& diagnostics,
+                                            SignMode mode) {
     if (mode == SignMode::Parity && !diagnostics.closed)
         return fail(ErrorCode::InvalidArgument,
                     "ray parity needs a closed mesh, and this one has " +
                         std::to_string(diagnostics.boundaryEdges) + " boundary and " +
                         std::to_string(diagnostics.nonManifoldEdges) +
                         " non-manifold edges; use --sign winding or auto");
+    const bool parity = mode == SignMode::Parity ||
+                        (mode == SignMode::Auto && diagnostics.closed && !diagnostics.selfIntersecting);
+    return parity ? format::SignMethod::Parity : format::SignMethod::Winding;
+}
+
+Result<CgalReference> CgalReference::build(const TriangleSoup& soup,
+                                           const format::MeshDiagnostics& diagnostics,
+                                           SignMode mode) {
+    Result<format::SignMethod> method = chooseSignMethod(diagnostics, mode);
+    if (!method)
+        return method.error();
     auto impl = std::make_unique<Impl>();
-    impl->method = mode == SignMode::Parity || (mode == SignMode::Auto && diagnostics.closed &&
-                                                !diagnostics.selfIntersecting)
-                       ? format::SignMethod::Parity
-                       : format::SignMethod::Winding;
+    impl->method = *method;
 
     // Degenerate triangles have no closest-point or solid-angle meaning (CGAL asserts on them);
     // leaving them out changes neither the distance nor the winding number anywhere off them.

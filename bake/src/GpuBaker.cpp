@@ -75,17 +75,11 @@ struct PreparedSoup {
 /// The triangles the bake uses, oriented as the CGAL reference orients them.
 Result<PreparedSoup> prepare(const TriangleSoup& soup, const format::MeshDiagnostics& diagnostics,
                              SignMode mode) {
-    if (mode == SignMode::Parity && !diagnostics.closed)
-        return fail(ErrorCode::InvalidArgument,
-                    "ray parity needs a closed mesh, and this one has " +
-                        std::to_string(diagnostics.boundaryEdges) + " boundary and " +
-                        std::to_string(diagnostics.nonManifoldEdges) +
-                        " non-manifold edges; use --sign winding or auto");
+    Result<format::SignMethod> method = chooseSignMethod(diagnostics, mode);
+    if (!method)
+        return method.error();
     PreparedSoup out;
-    out.method = mode == SignMode::Parity || (mode == SignMode::Auto && diagnostics.closed &&
-                                              !diagnostics.selfIntersecting)
-                     ? format::SignMethod::Parity
-                     : format::SignMethod::Winding;
+    out.method = *method;
     out.points = soup.positions;
     std::vector<std::array<std::size_t, 3>> faces; // three distinct corners
     faces.reserve(soup.triangles.size());
@@ -268,22 +262,7 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     }
 
     format::ColliderAsset asset;
-    format::ColliderMeta& meta = asset.meta;
-    meta.dims = grid->dims;
-    meta.origin = grid->origin;
-    meta.voxelSize = grid->voxelSize;
-    meta.storage = settings.storage;
-    meta.signConvention = -1;
-    meta.sourceFile = mesh.sourceFile;
-    meta.sourceHash = mesh.sourceHash;
-    meta.bake.backend = "gpu";
-    meta.bake.resolution = settings.grid.voxelSize > 0.0 ? 0 : settings.grid.resolution;
-    meta.bake.padding = settings.grid.padding;
-    meta.bake.signMode = signModeName(settings.sign);
-    meta.bake.signUsed = soup->method;
-    meta.bake.scale = settings.scale;
-    meta.toolVersion = std::string("sluice-bake ") + SLUICE_VERSION;
-    meta.mesh = mesh.diagnostics;
+    asset.meta = bakeProvenance(mesh, *grid, settings, "gpu", soup->method);
     // Voxels to world units in double, so the only float rounding is the GPU's and the last one.
     asset.distances.resize(voxels.size());
     std::transform(voxels.begin(), voxels.end(), asset.distances.begin(),

@@ -20,6 +20,12 @@ namespace sluice::bake {
 /// generalized winding number otherwise.
 enum class SignMode { Auto, Parity, Winding };
 
+/// The sign method a bake uses for `mode` on a mesh with these diagnostics: parity when asked,
+/// or under Auto for a closed mesh that does not intersect itself; the winding number otherwise.
+/// Error InvalidArgument when parity is forced on a mesh that is not closed.
+Result<format::SignMethod> chooseSignMethod(const format::MeshDiagnostics& diagnostics,
+                                            SignMode mode);
+
 /// Parses "auto" | "parity" | "winding".
 Result<SignMode> parseSignMode(const std::string& text);
 const char* signModeName(SignMode mode);
@@ -66,6 +72,12 @@ struct BakeSettings {
     format::Storage storage = format::Storage::F32;
     double scale = 1.0; ///< recorded in the asset; the mesh is already scaled
 };
+
+/// Metadata of a bake by `backend` ("cgal", "gpu"): grid, storage, sign convention, source file
+/// and hash, bake parameters, tool version and diagnostics. Distances are the caller's.
+format::ColliderMeta bakeProvenance(const ImportedMesh& mesh, const GridSpec& grid,
+                                    const BakeSettings& settings, const char* backend,
+                                    format::SignMethod signUsed);
 
 /// Bakes the mesh on the CPU with CGAL into a collider asset with full provenance (backend
 /// "cgal"). Errors from gridFor and CgalReference::build.
