@@ -39,6 +39,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 
+#include "BoundaryChain.h"
 #include "WindingNumber.h"
 
 namespace sluice::bake {
@@ -278,24 +279,7 @@ Result<CgalReference> CgalReference::build(const TriangleSoup& soup,
         return fail(ErrorCode::EmptyMesh, "the mesh has no triangle of non-zero area");
 
     // The boundary chain: each edge's uses in one direction minus uses in the other.
-    std::vector<std::pair<std::uint64_t, int>> uses;
-    uses.reserve(kept.size() * 3);
-    for (const glm::uvec3& t : kept)
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t u = t[c], v = t[(c + 1) % 3];
-            uses.push_back({std::uint64_t(std::min(u, v)) << 32 | std::max(u, v), u < v ? 1 : -1});
-        }
-    std::sort(uses.begin(), uses.end());
-    std::vector<std::pair<std::uint64_t, int>> boundary; // edge (lo -> hi) with net multiplicity
-    for (std::size_t i = 0; i < uses.size();) {
-        int net = 0;
-        std::size_t j = i;
-        for (; j < uses.size() && uses[j].first == uses[i].first; ++j)
-            net += uses[j].second;
-        if (net != 0)
-            boundary.push_back({uses[i].first, net});
-        i = j;
-    }
+    const auto boundary = boundaryChain(kept);
 
     // A closed soup wound inward would give w = -1 inside; turn it outward (its volume is
     // origin-independent because it is a cycle). Open soups keep their winding as given.
@@ -337,8 +321,8 @@ Result<CgalReference> CgalReference::build(const TriangleSoup& soup,
             WindingSoup coneWinding;
             bool degenerate = false;
             for (const auto& [edge, net] : boundary) {
-                const glm::dvec3 lo = soup.positions[edge >> 32];
-                const glm::dvec3 hi = soup.positions[edge & 0xffffffffu];
+                const glm::dvec3 lo = soup.positions[edge.first];
+                const glm::dvec3 hi = soup.positions[edge.second];
                 // net copies of lo -> hi are cancelled by net copies of (hi, lo, apex).
                 const glm::dvec3 first = net > 0 ? hi : lo, second = net > 0 ? lo : hi;
                 if (CGAL::collinear(toPoint(first), toPoint(second), toPoint(apex))) {

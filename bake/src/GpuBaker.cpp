@@ -22,6 +22,7 @@
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <glm/geometric.hpp>
 
+#include "BoundaryChain.h"
 #include "Bvh.h"
 #include "sluice/bake/BakeShaders.h"
 #include "sluice/gpu/Buffer.h"
@@ -46,24 +47,7 @@ Point toPoint(const glm::dvec3& p) {
 /// True when every edge's uses in one direction cancel its uses in the other: the soup is a
 /// cycle, whose winding number is an integer everywhere off it.
 bool isCycle(const std::vector<std::array<std::size_t, 3>>& polygons) {
-    std::vector<std::pair<std::pair<std::size_t, std::size_t>, int>> uses;
-    uses.reserve(polygons.size() * 3);
-    for (const auto& t : polygons)
-        for (int c = 0; c < 3; ++c) {
-            const std::size_t u = t[c], v = t[(c + 1) % 3];
-            uses.push_back({{std::min(u, v), std::max(u, v)}, u < v ? 1 : -1});
-        }
-    std::sort(uses.begin(), uses.end());
-    for (std::size_t i = 0; i < uses.size();) {
-        int net = 0;
-        std::size_t j = i;
-        for (; j < uses.size() && uses[j].first == uses[i].first; ++j)
-            net += uses[j].second;
-        if (net != 0)
-            return false;
-        i = j;
-    }
-    return true;
+    return boundaryChain(polygons).empty();
 }
 
 struct PreparedSoup {
