@@ -1,0 +1,112 @@
+// The scene file as plain data: what sluice-play simulates. Read with readScene (SceneIO.h).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace sluice::format {
+
+/// Current scene-file version ("version": 1). A file without "version" is read as version 1;
+/// a larger version is rejected with UnsupportedVersion.
+inline constexpr int kSceneVersion = 1;
+
+/// Largest particle capacity a scene may ask for (issue 4 documents the limit).
+inline constexpr std::uint32_t kMaxSceneParticles = 1u << 24;
+
+/// Most colliders in one scene.
+inline constexpr std::uint32_t kMaxSceneColliders = 64;
+
+/// Simulation parameters. After readScene every field holds a value: the ones the file leaves
+/// out are derived from `spacing` as documented in docs/scene-format.md.
+struct SimulationParams {
+    float spacing = 0.02f;             ///< particle rest spacing [m]; particle radius = spacing / 2
+    float kernelRadius = 0.0f;         ///< SPH support h [m]; default 2 * spacing
+    float restDensity = 1000.0f;       ///< rho0 [kg/m^3]
+    float timeStep = 1.0f / 60.0f;     ///< one step of `--steps` [s]
+    std::uint32_t substeps = 0;        ///< PBF substeps per step; default from a CFL estimate
+    std::uint32_t minIterations = 2;   ///< solver iterations always run per substep
+    std::uint32_t maxIterations = 0;   ///< iteration cap per substep; default 8
+    float targetDensityError = 0.0f;   ///< stop iterating when the average compression (rho/rho0-1,
+                                       ///< >= 0) is below this; 0 = always run maxIterations
+    float relaxation = 0.0f;           ///< lambda epsilon as a fraction of sum |grad C|^2 of a
+                                       ///< full-neighbourhood particle (eq. 8); default 0.01
+    float scorrK = 0.0f;               ///< s_corr k (eq. 10), in units of that particle's lambda
+                                       ///< per unit compression; default 0.1
+    float scorrN = 4.0f;               ///< s_corr exponent n (eq. 10)
+    float scorrDeltaQ = 0.0f;          ///< s_corr delta q [m]; default 0.2 * h
+    float xsph = 0.01f;                ///< XSPH viscosity c, fraction of the neighbour average
+    float vorticity = 0.0f;            ///< vorticity confinement epsilon [m/s]; default
+                                       ///< 0.01 * sqrt(9.81 * h)
+    glm::vec3 gravity{0.0f, -9.81f, 0.0f}; ///< [m/s^2]
+    std::uint32_t capacity = 0;        ///< most particles; default: blocks + everything emitters
+                                       ///< emit between start and stop (stop defaults start + 10 s)
+};
+
+/// A region filled with particles at the rest spacing when the scene starts.
+struct FluidBlock {
+    enum class Shape { Box, Sphere };
+    Shape shape = Shape::Box;
+    glm::vec3 min{0.0f};    ///< box corner [m]
+    glm::vec3 max{0.0f};    ///< box corner [m], > min on every axis
+    glm::vec3 center{0.0f}; ///< sphere centre [m]
+    float radius = 0.0f;    ///< sphere radius [m]
+    glm::vec3 velocity{0.0f}; ///< initial velocity [m/s]
+};
+
+/// A nozzle: a disc of particles at the rest spacing leaves it every spacing / speed seconds.
+struct Emitter {
+    glm::vec3 position{0.0f};           ///< disc centre [m]
+    glm::vec3 direction{0.0f, -1.0f, 0.0f}; ///< unit after reading
+    float radius = 0.0f;                ///< disc radius [m], >= spacing / 2
+    float speed = 0.0f;                 ///< exit speed [m/s], > 0
+    float rate = 0.0f;                  ///< optional cap [particles/s]; 0 = no cap
+    float start = 0.0f;                 ///< [s]
+    float stop = 0.0f;                  ///< [s]; default start + 10 s; > start
+};
+
+/// One keyframe of a kinematic collider; between keys translation is linear and rotation slerped.
+struct ColliderKey {
+    float time = 0.0f;                  ///< [s], strictly increasing across keys
+    glm::vec3 translation{0.0f};        ///< [m]
+    glm::vec3 rotationDegrees{0.0f};    ///< Euler angles X, Y, Z [degrees], applied Z * Y * X
+};
+
+/// A baked collider placed in the scene.
+struct SceneCollider {
+    std::string asset;                  ///< path as written in the file (relative to the scene)
+    std::string resolvedPath;           ///< absolute or cwd-relative path readScene resolved
+    glm::vec3 translation{0.0f};        ///< [m]
+    glm::vec3 rotationDegrees{0.0f};    ///< Euler X, Y, Z [degrees], applied Z * Y * X
+    float scale = 1.0f;                 ///< uniform scale, > 0 (SDFs only survive uniform scale)
+    float friction = 0.0f;              ///< fraction of tangential slip removed per contact [0, 1]
+    glm::vec3 linearVelocity{0.0f};     ///< kinematic motion [m/s]
+    glm::vec3 angularVelocityDegrees{0.0f}; ///< about the collider origin [degrees/s]
+    std::vector<ColliderKey> keys;      ///< keyframes; when present they replace the velocities
+};
+
+/// The camera sluice-play renders from (issue 6).
+struct Camera {
+    glm::vec3 position{2.0f, 1.5f, 2.0f}; ///< [m]
+    glm::vec3 target{0.0f};               ///< [m]
+    float fovDegrees = 45.0f;             ///< vertical field of view [degrees]
+    bool set = false;                     ///< false: sluice-play frames the scene itself
+};
+
+/// A whole scene file.
+struct Scene {
+    std::string path;          ///< the file it was read from
+    std::string name;          ///< "name", default the file stem
+    SimulationParams simulation;
+    std::vector<FluidBlock> blocks;
+    std::vector<Emitter> emitters;
+    std::vector<SceneCollider> colliders;
+    std::optional<glm::vec3> domainMin; ///< particles stay inside [domainMin, domainMax] if set
+    std::optional<glm::vec3> domainMax;
+    Camera camera;
+};
+
+} // namespace sluice::format

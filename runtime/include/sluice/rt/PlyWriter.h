@@ -1,0 +1,22 @@
+// Particle files in the PLY format that Blender, Houdini and MeshLab read.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <vector>
+
+#include "sluice/format/Result.h"
+#include "sluice/rt/SceneSetup.h"
+
+namespace sluice::rt {
+
+/// The bytes of a binary little-endian PLY file with one vertex per particle, properties
+/// `float x y z vx vy vz` [m, m/s] and `uint id`, sorted by id so the file does not depend on
+/// the solver's memory order.
+std::vector<std::byte> encodePly(std::span<const ParticleState> particles);
+
+/// Writes encodePly's bytes atomically (temporary file, then rename).
+Result<void> writePly(const std::filesystem::path& path, std::span<const ParticleState> particles);
+
+} // namespace sluice::rt

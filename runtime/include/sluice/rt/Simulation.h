@@ -1,0 +1,114 @@
+// The PBF solver on the GPU: particle buffers, the neighbour sort and the solver passes
+// (docs/pbf.md), stepped without CPU-GPU synchronisation inside a step.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Result.h"
+#include "sluice/format/Scene.h"
+#include "sluice/gpu/Buffer.h"
+#include "sluice/rt/SceneSetup.h"
+
+namespace sluice::rt {
+
+/// How a Simulation runs.
+struct SimulationOptions {
+    /// Restore a fixed particle order inside every hash bucket after the counting sort, so two
+    /// runs give identical bytes (costs one short pass per substep).
+    bool deterministic = false;
+    /// Time every pass group with GL timestamp queries (read back without stalling).
+    bool timers = true;
+};
+
+/// The pass groups timed per step, in order.
+enum class Pass : std::uint32_t { Emit, Predict, Sort, Solve, Velocity, Vorticity, Stats, Count };
+
+/// Short name of a pass ("sort").
+const char* passName(Pass pass);
+
+/// What one step did, read back after it (docs/pbf.md, "Statistics").
+struct StepStats {
+    std::uint64_t step = 0;          ///< steps completed
+    double time = 0.0;               ///< simulated time after the step [s]
+    std::uint32_t particles = 0;
+    double avgDensityError = 0.0;    ///< mean rho/rho0 - 1, compression only, last lambda pass
+    double maxDensityError = 0.0;
+    double maxSpeed = 0.0;           ///< [m/s]
+    std::uint32_t insideColliders = 0; ///< particles with phi < -0.5 r in some collider
+    std::uint32_t nonFinite = 0;     ///< particles reset this step because they went non-finite
+    std::uint32_t iterations = 0;    ///< solver iterations of the last substep
+    bool capacityReached = false;    ///< an emitter could not add particles this step
+};
+
+/// GPU time per pass group of the latest step whose timer queries are complete [ms];
+/// negative where no figure is available yet.
+using PassTimes = std::array<double, std::size_t(Pass::Count)>;
+
+/// Reads every collider asset the scene names (readAsset, checks dims and finiteness). Errors
+/// name the scene file, the collider index and the asset ("re-bake with sluice-bake").
+Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scene& scene);
+
+/// Position Based Fluids on the GPU. Needs a current GL 4.5 context for its whole life.
+class Simulation {
+public:
+    /// Compiles the passes, fills the blocks and uploads the colliders (one per scene collider,
+    /// in order). Fails with GpuOutOfMemory when the buffers would not fit, InvalidArgument
+    /// when the colliders do not match the scene.
+    static Result<Simulation> create(const format::Scene& scene,
+                                     std::vector<format::ColliderAsset> colliders,
+                                     const SimulationOptions& options = {});
+
+    Simulation(Simulation&&) noexcept;
+    Simulation& operator=(Simulation&&) noexcept;
+    ~Simulation();
+
+    /// One step: timeStep seconds in `substeps` substeps. Queues GPU work only.
+    void step();
+
+    /// Statistics of the latest step (waits for the GPU; one small readback).
+    StepStats readStats();
+
+    /// GPU time per pass of the latest step with complete timer queries; never waits.
+    PassTimes passTimes();
+
+    /// Current particles, in memory order (ids identify them). Waits for the GPU.
+    std::vector<ParticleState> downloadParticles() const;
+
+    /// Replaces every particle (a restored snapshot, or a test's hand-made state). Fails with
+    /// InvalidArgument when there are more than capacity() of them.
+    Result<void> setParticles(const std::vector<ParticleState>& particles);
+
+    /// Particles now live.
+    std::uint32_t particleCount() const;
+    /// Particles at most.
+    std::uint32_t capacity() const;
+    /// Simulated time [s] and steps done.
+    double time() const;
+    std::uint64_t steps() const;
+
+    /// The buffers renderers read: vec4 positions [m] and vec4 velocities [m/s] with the
+    /// density error in w, particleCount() of them, valid after step() returns.
+    const gpu::Buffer& positionBuffer() const;
+    const gpu::Buffer& velocityBuffer() const;
+
+    /// GPU memory the simulation allocated, colliders included [bytes].
+    std::uint64_t gpuBytes() const;
+    /// Of that, the bytes per particle of capacity, colliders and hash table excluded.
+    std::uint64_t bytesPerParticle() const;
+
+    /// Constants derived from the scene's parameters.
+    const PbfConstants& constants() const;
+    const format::Scene& scene() const;
+
+private:
+    struct Impl;
+    explicit Simulation(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> m_impl;
+};
+
+} // namespace sluice::rt

@@ -1,0 +1,536 @@
+// The GPU step of docs/pbf.md: buffers, the counting-sort neighbour grid and the solver passes.
+#include "sluice/rt/Simulation.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <span>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "PrefixScan.h"
+#include "shared/Pbf.h"
+#include "sluice/format/AssetIO.h"
+#include "sluice/gpu/GpuTimer.h"
+#include "sluice/gpu/Program.h"
+#include "sluice/rt/RuntimeShaders.h"
+
+namespace sluice::rt {
+
+namespace {
+
+constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
+constexpr std::uint32_t kNoStop = 0xffffffffu;
+constexpr std::size_t kStatsHeaderBytes = sizeof(shared::PbfStats);
+
+std::uint32_t groupsFor(std::uint32_t items) {
+    return gpu::groupCount(items, shared::kPbfLocalSize);
+}
+
+// Affine world transform of a pose: translate * rotate * scale.
+glm::mat4 poseMatrix(const ColliderPose& pose) {
+    return glm::translate(glm::mat4(1.0f), pose.translation) * glm::mat4_cast(pose.rotation) *
+           glm::scale(glm::mat4(1.0f), glm::vec3(pose.scale));
+}
+
+} // namespace
+
+const char* passName(Pass pass) {
+    switch (pass) {
+    case Pass::Emit: return "emit";
+    case Pass::Predict: return "predict";
+    case Pass::Sort: return "sort";
+    case Pass::Solve: return "solve";
+    case Pass::Velocity: return "velocity";
+    case Pass::Vorticity: return "vorticity+xsph";
+    case Pass::Stats: return "stats";
+    case Pass::Count: break;
+    }
+    return "?";
+}
+
+Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scene& scene) {
+    std::vector<format::ColliderAsset> assets;
+    for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
+        const format::SceneCollider& collider = scene.colliders[c];
+        const std::string path =
+            collider.resolvedPath.empty() ? collider.asset : collider.resolvedPath;
+        auto asset = format::readAsset(path);
+        if (!asset)
+            return Error{asset.error().code, scene.path + ": colliders[" + std::to_string(c) +
+                                                 "]: " + asset.error().detail};
+        assets.push_back(std::move(*asset));
+    }
+    return assets;
+}
+
+struct Simulation::Impl {
+    format::Scene scene;
+    PbfConstants k;
+    SimulationOptions options;
+    std::uint32_t capacity = 0;
+    std::uint32_t tableSize = 0;
+    std::uint32_t maxIterations = 0;
+    std::uint32_t count = 0;
+    std::uint32_t nextId = 0;
+    int cur = 0; // which of pos/vel/id [2] holds the current particles
+    double time = 0.0;
+    std::uint64_t steps = 0;
+    bool capacityReached = false;
+    std::uint64_t gpuBytes = 0;
+    std::uint64_t bytesPerParticle = 0;
+    EmitterSchedule emitters;
+    std::vector<format::ColliderAsset> colliderAssets;
+    std::vector<shared::GpuCollider> colliderRecords;
+
+    gpu::Program predict, scatter, bucketSort, reorder, lambda, delta, velocity, vorticity,
+        confine, stats;
+    std::unique_ptr<PrefixScan> scan;
+    gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
+    gpu::Buffer lambdaBuf, cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
+    gpu::Buffer colliderBuf, sdfBuf, params;
+    std::vector<gpu::GpuTimer> timers;
+    std::vector<ParticleState> staging;
+
+    explicit Impl(const format::Scene& s) : scene(s), emitters(s) {}
+
+    Result<void> allocate();
+    void uploadParams();
+    void uploadColliders(double t0, double t1);
+    void append(const std::vector<ParticleState>& particles);
+    void substep();
+    void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;
+    void barrier() const { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
+    void dispatch(const gpu::Program& program, std::uint32_t items) const {
+        program.dispatchChunked(glm::uvec3(groupsFor(items), 1, 1), kMaxGroupsPerDispatch);
+    }
+    void begin(Pass p) {
+        if (options.timers)
+            timers[std::size_t(p)].begin();
+    }
+    void end(Pass p) {
+        if (options.timers)
+            timers[std::size_t(p)].end();
+    }
+};
+
+Result<void> Simulation::Impl::allocate() {
+    struct Alloc {
+        gpu::Buffer* buffer;
+        std::uint64_t bytes;
+        const char* label;
+    };
+    const std::uint64_t n = capacity;
+    const std::uint64_t v4 = 16, u = 4;
+    std::uint64_t sdfFloats = 0;
+    for (const auto& a : colliderAssets)
+        sdfFloats += a.pointCount();
+    const std::vector<Alloc> allocs = {
+        {&pos[0], n * v4, "pos 0"},       {&pos[1], n * v4, "pos 1"},
+        {&vel[0], n * v4, "vel 0"},       {&vel[1], n * v4, "vel 1"},
+        {&pred[0], n * v4, "pred 0"},     {&pred[1], n * v4, "pred 1"},
+        {&predStart, n * v4, "predStart"},
+        {&id[0], n * u, "id 0"},          {&id[1], n * u, "id 1"},
+        {&lambdaBuf, n * u, "lambda"},    {&hash, n * u, "hash"},
+        {&rank, n * u, "rank"},           {&sortedToOld, n * u, "sortedToOld"},
+        {&omega, n * v4, "omega"},        {&cellCount, tableSize * u, "cellCount"},
+        {&cellStart, tableSize * u, "cellStart"},
+        {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats),
+         "stats"},
+        {&colliderBuf, std::max<std::uint64_t>(1, colliderAssets.size()) *
+                           sizeof(shared::GpuCollider),
+         "colliders"},
+        {&sdfBuf, std::max<std::uint64_t>(1, sdfFloats) * u, "sdf"},
+        {&params, sizeof(shared::PbfParams), "params"},
+    };
+    std::uint64_t total = 0;
+    for (const Alloc& a : allocs)
+        total += a.bytes;
+    gpuBytes = total;
+    bytesPerParticle = 7 * v4 + 6 * u + v4;
+    GLint64 maxSsbo = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
+    for (const Alloc& a : allocs) {
+        if (maxSsbo > 0 && a.bytes > std::uint64_t(maxSsbo))
+            return Error{ErrorCode::GpuOutOfMemory,
+                         scene.path + ": the " + a.label + " buffer needs " +
+                             std::to_string(a.bytes) + " bytes, more than this GL allows in one "
+                             "storage block (" + std::to_string(maxSsbo) +
+                             "); lower simulation.capacity or coarsen the colliders"};
+        auto buffer = gpu::Buffer::create(a.bytes, a.label);
+        if (!buffer)
+            return Error{buffer.error().code, scene.path + ": " + buffer.error().detail};
+        *a.buffer = std::move(*buffer);
+    }
+    return {};
+}
+
+void Simulation::Impl::uploadParams() {
+    const format::SimulationParams& s = scene.simulation;
+    shared::PbfParams p{};
+    p.kernel = {k.h, k.h * k.h, k.poly6, k.spikyGrad};
+    p.fluid = {k.volume, k.epsilon, k.lambdaRef, k.radius};
+    p.scorr = {s.scorrK, s.scorrN, k.wDeltaQ > 0.0f ? 1.0f / k.wDeltaQ : 0.0f, 1.0f / k.h};
+    p.step = {k.dt, 1.0f / k.dt, s.xsph, s.vorticity};
+    p.gravity = {s.gravity, s.targetDensityError};
+    if (scene.domainMin && scene.domainMax) {
+        p.domainMin = {*scene.domainMin + glm::vec3(k.radius), 1.0f};
+        p.domainMax = {*scene.domainMax - glm::vec3(k.radius), 0.0f};
+    }
+    p.counts = {count, tableSize - 1, std::uint32_t(colliderRecords.size()), s.minIterations};
+    p.control = {0, tableSize, options.deterministic ? 1u : 0u, maxIterations};
+    params.upload(std::span(&p, 1));
+}
+
+void Simulation::Impl::uploadColliders(double t0, double t1) {
+    if (colliderRecords.empty())
+        return;
+    for (std::size_t c = 0; c < colliderRecords.size(); ++c) {
+        const ColliderPose now = colliderPose(scene.colliders[c], float(t1));
+        const ColliderPose before = colliderPose(scene.colliders[c], float(t0));
+        const glm::mat4 world = poseMatrix(now);
+        shared::GpuCollider& r = colliderRecords[c];
+        r.worldToGrid = glm::inverse(world);
+        r.rotation = glm::mat4_cast(now.rotation);
+        r.motion = poseMatrix(before) * r.worldToGrid;
+        r.boxMax.w = now.scale;
+    }
+    colliderBuf.upload(colliderRecords);
+}
+
+void Simulation::Impl::append(const std::vector<ParticleState>& particles) {
+    if (particles.empty())
+        return;
+    std::vector<glm::vec4> p, v;
+    std::vector<std::uint32_t> ids;
+    for (const ParticleState& s : particles) {
+        p.emplace_back(s.position, 0.0f);
+        v.emplace_back(s.velocity, 0.0f);
+        ids.push_back(s.id);
+    }
+    pos[cur].upload(p, std::size_t(count) * sizeof(glm::vec4));
+    vel[cur].upload(v, std::size_t(count) * sizeof(glm::vec4));
+    id[cur].upload(ids, std::size_t(count) * sizeof(std::uint32_t));
+    count += std::uint32_t(particles.size());
+}
+
+void Simulation::Impl::bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const {
+    posIn.bindStorage(shared::kBindPosIn);
+    velIn.bindStorage(shared::kBindVelIn);
+}
+
+void Simulation::Impl::substep() {
+    const double t0 = time;
+    const double t1 = time + k.dt;
+
+    begin(Pass::Emit);
+    staging.clear();
+    if (!emitters.emit(float(t0), count, capacity, nextId, staging))
+        capacityReached = true;
+    append(staging);
+    uploadParams();
+    uploadColliders(t0, t1);
+    // Per-substep counters: no stop yet, empty iteration sums.
+    const std::uint32_t noStop = kNoStop, zero = 0;
+    glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, 12, 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                              &noStop);
+    glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, kStatsHeaderBytes,
+                              statsBuf.size() - kStatsHeaderBytes, GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferSubData(cellCount.id(), GL_R32UI, 0, cellCount.size(), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+    end(Pass::Emit);
+    if (count == 0) {
+        time = t1;
+        return;
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT |
+                    GL_BUFFER_UPDATE_BARRIER_BIT);
+
+    params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
+    statsBuf.bindStorage(shared::kBindStats);
+    colliderBuf.bindStorage(shared::kBindColliders);
+    sdfBuf.bindStorage(shared::kBindSdf);
+    cellCount.bindStorage(shared::kBindCellCount);
+    cellStart.bindStorage(shared::kBindCellStart);
+    hash.bindStorage(shared::kBindHash);
+    rank.bindStorage(shared::kBindRank);
+    sortedToOld.bindStorage(shared::kBindSortedToOld);
+    lambdaBuf.bindStorage(shared::kBindLambda);
+    omega.bindStorage(shared::kBindOmega);
+
+    // 2. Predict and count into buckets.
+    begin(Pass::Predict);
+    bindParticles(pos[cur], vel[cur]);
+    pred[0].bindStorage(shared::kBindPredOut);
+    dispatch(predict, count);
+    barrier();
+    end(Pass::Predict);
+
+    // 3. Counting sort by bucket and reorder into the other buffers.
+    begin(Pass::Sort);
+    scan->exclusive(cellCount, cellStart, tableSize);
+    cellStart.bindStorage(shared::kBindCellStart);
+    cellCount.bindStorage(shared::kBindCellCount);
+    dispatch(scatter, count);
+    barrier();
+    if (options.deterministic) {
+        dispatch(bucketSort, tableSize);
+        barrier();
+    }
+    const int nxt = 1 - cur;
+    pos[cur].bindStorage(shared::kBindPosIn);
+    pos[nxt].bindStorage(shared::kBindPosOut);
+    vel[cur].bindStorage(shared::kBindVelIn);
+    vel[nxt].bindStorage(shared::kBindVelOut);
+    pred[0].bindStorage(shared::kBindPredIn);
+    predStart.bindStorage(shared::kBindPredOut);
+    id[cur].bindStorage(shared::kBindIdIn);
+    id[nxt].bindStorage(shared::kBindIdOut);
+    dispatch(reorder, count);
+    barrier();
+    cur = nxt;
+    end(Pass::Sort);
+
+    // 4. Solver iterations. Iteration k reads x* from predStart (k = 0) or pred[(k - 1) % 2]
+    // and writes pred[k % 2]; predStart keeps the substep's start positions, which fix the
+    // neighbour sets.
+    begin(Pass::Solve);
+    predStart.bindStorage(shared::kBindPredStart);
+    bindParticles(pos[cur], vel[cur]);
+    const gpu::Buffer* in = &predStart;
+    for (std::uint32_t it = 0; it < maxIterations; ++it) {
+        in->bindStorage(shared::kBindPredIn);
+        lambda.set("iteration", it);
+        dispatch(lambda, count);
+        barrier();
+        pred[it % 2].bindStorage(shared::kBindPredOut);
+        delta.set("iteration", it);
+        dispatch(delta, count);
+        barrier();
+        in = &pred[it % 2];
+    }
+    end(Pass::Solve);
+
+    // 5. Velocity, x <- x*, non-finite guard; velocities go to the other buffer.
+    begin(Pass::Velocity);
+    in->bindStorage(shared::kBindPredIn);
+    vel[cur].bindStorage(shared::kBindVelIn);
+    vel[1 - cur].bindStorage(shared::kBindVelOut);
+    dispatch(velocity, count);
+    barrier();
+    end(Pass::Velocity);
+
+    // 6. Vorticity confinement and XSPH, back into vel[cur].
+    begin(Pass::Vorticity);
+    const bool withVorticity = scene.simulation.vorticity > 0.0f;
+    vel[1 - cur].bindStorage(shared::kBindVelIn);
+    if (withVorticity) {
+        dispatch(vorticity, count);
+        barrier();
+    }
+    vel[cur].bindStorage(shared::kBindVelOut);
+    confine.set("withVorticity", withVorticity ? 1u : 0u);
+    dispatch(confine, count);
+    barrier();
+    end(Pass::Vorticity);
+    time = t1;
+}
+
+Result<Simulation> Simulation::create(const format::Scene& scene,
+                                      std::vector<format::ColliderAsset> colliders,
+                                      const SimulationOptions& options) {
+    if (colliders.size() != scene.colliders.size())
+        return Error{ErrorCode::InvalidArgument,
+                     scene.path + ": " + std::to_string(scene.colliders.size()) +
+                         " colliders in the scene but " + std::to_string(colliders.size()) +
+                         " assets given"};
+    auto impl = std::make_unique<Impl>(scene);
+    impl->options = options;
+    impl->k = deriveConstants(scene.simulation);
+    impl->capacity = std::max<std::uint32_t>(scene.simulation.capacity, 1);
+    impl->maxIterations = std::max<std::uint32_t>(scene.simulation.maxIterations, 1);
+    impl->tableSize = std::max<std::uint32_t>(1024, std::bit_ceil(2 * impl->capacity));
+    impl->colliderAssets = std::move(colliders);
+
+    // Compile every pass.
+    struct Build {
+        gpu::Program* program;
+        const char* name;
+    };
+    const Build builds[] = {
+        {&impl->predict, "pbf_predict.comp"},   {&impl->scatter, "pbf_scatter.comp"},
+        {&impl->bucketSort, "pbf_bucket_sort.comp"}, {&impl->reorder, "pbf_reorder.comp"},
+        {&impl->lambda, "pbf_lambda.comp"},     {&impl->delta, "pbf_delta.comp"},
+        {&impl->velocity, "pbf_velocity.comp"}, {&impl->vorticity, "pbf_vorticity.comp"},
+        {&impl->confine, "pbf_confine.comp"},   {&impl->stats, "pbf_stats.comp"},
+    };
+    for (const Build& b : builds) {
+        auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name));
+        if (!program)
+            return program.error();
+        *b.program = std::move(*program);
+    }
+    auto scan = PrefixScan::create(impl->tableSize);
+    if (!scan)
+        return scan.error();
+    impl->scan = std::make_unique<PrefixScan>(std::move(*scan));
+    if (auto ok = impl->allocate(); !ok)
+        return ok.error();
+
+    // Collider grids back to back in one buffer; their records point at their offsets.
+    std::uint64_t offset = 0;
+    for (const format::ColliderAsset& a : impl->colliderAssets) {
+        shared::GpuCollider r{};
+        r.origin = {glm::vec3(a.meta.origin), float(a.meta.voxelSize)};
+        r.boxMax = {glm::vec3(a.meta.origin + glm::dvec3(a.meta.dims - glm::uvec3(1)) *
+                                                  a.meta.voxelSize),
+                    1.0f};
+        r.dims = {a.meta.dims, std::uint32_t(offset)};
+        impl->sdfBuf.upload(a.distances, offset * sizeof(float));
+        offset += a.pointCount();
+        impl->colliderRecords.push_back(r);
+    }
+    for (std::size_t c = 0; c < impl->colliderRecords.size(); ++c)
+        impl->colliderRecords[c].material.x = scene.colliders[c].friction;
+
+    const std::size_t ring = 8 + 2 * std::size_t(std::max(1u, scene.simulation.substeps));
+    for (std::size_t p = 0; p < std::size_t(Pass::Count); ++p)
+        impl->timers.emplace_back(ring);
+
+    std::vector<ParticleState> initial = fillBlocks(scene);
+    if (initial.size() > impl->capacity)
+        return Error{ErrorCode::InvalidArgument,
+                     scene.path + ": the fluid blocks hold " + std::to_string(initial.size()) +
+                         " particles but simulation.capacity is " +
+                         std::to_string(impl->capacity)};
+    impl->nextId = std::uint32_t(initial.size());
+    impl->append(initial);
+    const std::uint32_t zero = 0;
+    glClearNamedBufferData(impl->statsBuf.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    impl->uploadParams();
+    return Simulation(std::move(impl));
+}
+
+Simulation::Simulation(std::unique_ptr<Impl> impl) : m_impl(std::move(impl)) {}
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+Simulation::~Simulation() = default;
+
+void Simulation::step() {
+    Impl& s = *m_impl;
+    for (auto& timer : s.timers)
+        timer.poll();
+    s.capacityReached = false;
+    const std::uint32_t zero = 0;
+    glClearNamedBufferSubData(s.statsBuf.id(), GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                              &zero);
+    const std::uint32_t substeps = std::max(1u, s.scene.simulation.substeps);
+    for (std::uint32_t i = 0; i < substeps; ++i)
+        s.substep();
+
+    // Step statistics: max speed and particles inside colliders, from the final state.
+    s.begin(Pass::Stats);
+    glClearNamedBufferSubData(s.statsBuf.id(), GL_R32UI, 4, 8, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                              &zero);
+    if (s.count > 0) {
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
+        s.bindParticles(s.pos[s.cur], s.vel[s.cur]);
+        s.statsBuf.bindStorage(shared::kBindStats);
+        s.colliderBuf.bindStorage(shared::kBindColliders);
+        s.sdfBuf.bindStorage(shared::kBindSdf);
+        s.dispatch(s.stats, s.count);
+    }
+    s.end(Pass::Stats);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+                    GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    ++s.steps;
+}
+
+StepStats Simulation::readStats() {
+    Impl& s = *m_impl;
+    StepStats out;
+    out.step = s.steps;
+    out.time = s.time;
+    out.particles = s.count;
+    out.capacityReached = s.capacityReached;
+    std::vector<std::uint32_t> raw(s.statsBuf.size() / 4);
+    s.statsBuf.download(raw.data(), s.statsBuf.size());
+    out.nonFinite = raw[0];
+    out.insideColliders = raw[1];
+    out.maxSpeed = std::bit_cast<float>(raw[2]);
+    const std::uint32_t stop = raw[3];
+    out.iterations = stop == kNoStop ? s.maxIterations : stop;
+    const std::uint32_t slot = std::min(stop, s.maxIterations - 1);
+    const std::uint32_t* it = raw.data() + kStatsHeaderBytes / 4 + 4 * slot;
+    if (it[3] > 0) {
+        const double sum = (double(it[1]) * 4294967296.0 + double(it[0])) /
+                           double(shared::kErrorFixedScale);
+        out.avgDensityError = sum / double(it[3]);
+        out.maxDensityError = std::bit_cast<float>(it[2]);
+    }
+    return out;
+}
+
+PassTimes Simulation::passTimes() {
+    Impl& s = *m_impl;
+    PassTimes times;
+    times.fill(-1.0);
+    if (!s.options.timers)
+        return times;
+    const double perStep = s.scene.simulation.substeps;
+    for (std::size_t p = 0; p < times.size(); ++p) {
+        gpu::GpuTimer& timer = s.timers[p];
+        while (timer.poll()) {
+        }
+        if (timer.completed() == 0)
+            continue;
+        const double mean = double(timer.totalNs()) / double(timer.completed()) * 1e-6;
+        times[p] = Pass(p) == Pass::Stats ? mean : mean * perStep;
+    }
+    return times;
+}
+
+std::vector<ParticleState> Simulation::downloadParticles() const {
+    const Impl& s = *m_impl;
+    std::vector<ParticleState> out(s.count);
+    if (s.count == 0)
+        return out;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    const auto p = s.pos[s.cur].download<glm::vec4>(0, s.count);
+    const auto v = s.vel[s.cur].download<glm::vec4>(0, s.count);
+    const auto ids = s.id[s.cur].download<std::uint32_t>(0, s.count);
+    for (std::uint32_t i = 0; i < s.count; ++i)
+        out[i] = ParticleState{glm::vec3(p[i]), glm::vec3(v[i]), ids[i]};
+    return out;
+}
+
+Result<void> Simulation::setParticles(const std::vector<ParticleState>& particles) {
+    Impl& s = *m_impl;
+    if (particles.size() > s.capacity)
+        return Error{ErrorCode::InvalidArgument,
+                     std::to_string(particles.size()) + " particles do not fit the capacity " +
+                         std::to_string(s.capacity)};
+    s.count = 0;
+    s.append(particles);
+    for (const ParticleState& p : particles)
+        s.nextId = std::max(s.nextId, p.id + 1);
+    return {};
+}
+
+std::uint32_t Simulation::particleCount() const { return m_impl->count; }
+std::uint32_t Simulation::capacity() const { return m_impl->capacity; }
+double Simulation::time() const { return m_impl->time; }
+std::uint64_t Simulation::steps() const { return m_impl->steps; }
+const gpu::Buffer& Simulation::positionBuffer() const { return m_impl->pos[m_impl->cur]; }
+const gpu::Buffer& Simulation::velocityBuffer() const { return m_impl->vel[m_impl->cur]; }
+std::uint64_t Simulation::gpuBytes() const { return m_impl->gpuBytes; }
+std::uint64_t Simulation::bytesPerParticle() const { return m_impl->bytesPerParticle; }
+const PbfConstants& Simulation::constants() const { return m_impl->k; }
+const format::Scene& Simulation::scene() const { return m_impl->scene; }
+
+} // namespace sluice::rt

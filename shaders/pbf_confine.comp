@@ -1,0 +1,39 @@
+// Vorticity confinement and XSPH viscosity (Macklin & Müller 2013, eq. 16, 17; docs/pbf.md 6),
+// both from the velocities of pbf_velocity.comp, written to the other velocity buffer.
+#version 450 core
+
+#include "shared/PbfGlsl.h"
+
+layout(local_size_x = kPbfLocalSize) in;
+
+layout(std430, binding = kBindPosIn) readonly buffer PosIn { vec4 pos[]; };
+layout(std430, binding = kBindVelIn) readonly buffer VelIn { vec4 vel[]; };
+layout(std430, binding = kBindVelOut) writeonly buffer VelOut { vec4 velOut[]; };
+layout(std430, binding = kBindOmega) readonly buffer Omega { vec4 omega[]; };
+layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
+layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
+layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+
+uniform uint withVorticity; // 0: omega was not computed this substep
+
+void main() {
+    uint i = SLUICE_GLOBAL_ID.x;
+    if (i >= PBF_COUNT)
+        return;
+    vec3 xi = pos[i].xyz;
+    vec3 vi = vel[i].xyz;
+    vec3 wi = withVorticity != 0u ? omega[i].xyz : vec3(0.0);
+    float wiLen = length(wi);
+    vec3 eta = vec3(0.0);
+    vec3 blend = vec3(0.0);
+    PBF_NEIGHBOURS_BEGIN(predStart, pos, i, xi)
+        if (withVorticity != 0u)
+            eta += (length(omega[j].xyz) - wiLen) * spikyGrad(d, q2);
+        blend += (vel[j].xyz - vi) * poly6(q2);
+    PBF_NEIGHBOURS_END
+    eta *= PBF_VOLUME;
+    float etaLen = length(eta);
+    vec3 n = etaLen >= 1e-12 ? eta / etaLen : vec3(0.0);
+    vec3 v = vi + PBF_DT * P.step.w * cross(n, wi) + P.step.z * PBF_VOLUME * blend;
+    velOut[i] = vec4(v, vel[i].w);
+}

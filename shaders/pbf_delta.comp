@@ -1,0 +1,59 @@
+// PBF solve, second half of iteration k (docs/pbf.md 4.2-4.4): the early stop, the position
+// correction with s_corr (Macklin & Müller 2013, eq. 10, 11), collisions and the domain box.
+#version 450 core
+
+#define PBF_WITH_COLLIDERS 1
+#include "shared/PbfGlsl.h"
+
+layout(local_size_x = kPbfLocalSize) in;
+
+uniform uint iteration; // k, the solver iteration of this dispatch
+
+layout(std430, binding = kBindPosIn) readonly buffer PosIn { vec4 pos[]; };
+layout(std430, binding = kBindPredIn) readonly buffer PredIn { vec4 pred[]; };
+layout(std430, binding = kBindPredOut) writeonly buffer PredOut { vec4 predOut[]; };
+layout(std430, binding = kBindLambda) readonly buffer Lambda { float lambda[]; };
+layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
+layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
+layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+layout(std430, binding = kBindStats) buffer Stats {
+    PbfStats stats;
+    PbfIterationStats iterations[];
+};
+
+bool converged(uint k) {
+    if (k < P.counts.w || P.gravity.w <= 0.0 || iterations[k].particles == 0u)
+        return false;
+    float sum = (float(iterations[k].errorHi) * 4294967296.0 + float(iterations[k].errorLo)) /
+                kErrorFixedScale;
+    return sum / float(iterations[k].particles) <= P.gravity.w;
+}
+
+void main() {
+    uint k = iteration;
+    uint i = SLUICE_GLOBAL_ID.x;
+    if (i >= PBF_COUNT)
+        return;
+    bool stop = stats.stopIteration < k || converged(k);
+    if (stop) {
+        // Ping-pong: the output buffer must still hold the positions.
+        predOut[i] = pred[i];
+        if (gl_LocalInvocationIndex == 0u)
+            atomicMin(stats.stopIteration, k);
+        return;
+    }
+
+    vec3 xi = pred[i].xyz;
+    float li = lambda[i];
+    float scorrScale = -P.scorr.x * P.fluid.z;
+    vec3 dp = vec3(0.0);
+    PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
+        float scorr = scorrScale * pow(poly6(q2) * P.scorr.z, P.scorr.y);
+        dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
+    PBF_NEIGHBOURS_END
+    vec3 x = xi + PBF_VOLUME * dp;
+    x = clampToDomain(collide(x, pos[i].xyz));
+    // A non-finite correction is dropped here, so it cannot reach the neighbours in the next
+    // iteration; pbf_velocity.comp counts what still goes wrong.
+    predOut[i] = vec4(allFinite(x) ? x : xi, 0.0);
+}

@@ -1,0 +1,37 @@
+// PBF step 2 and the counting half of the neighbour sort (docs/pbf.md): apply gravity, predict
+// x*, and count every particle into the hash bucket of its cell.
+#version 450 core
+
+#include "shared/PbfGlsl.h"
+
+layout(local_size_x = kPbfLocalSize) in;
+
+layout(std430, binding = kBindPosIn) readonly buffer PosIn { vec4 pos[]; };
+layout(std430, binding = kBindVelIn) buffer VelIn { vec4 vel[]; };
+layout(std430, binding = kBindPredOut) writeonly buffer PredOut { vec4 pred[]; };
+layout(std430, binding = kBindCellCount) buffer CellCount { uint cellCount[]; };
+layout(std430, binding = kBindHash) writeonly buffer Hash { uint hash[]; };
+layout(std430, binding = kBindRank) writeonly buffer Rank { uint rank[]; };
+layout(std430, binding = kBindStats) buffer Stats { PbfStats stats; };
+
+void main() {
+    uint i = SLUICE_GLOBAL_ID.x;
+    if (i >= PBF_COUNT)
+        return;
+    vec3 v = vel[i].xyz + PBF_DT * P.gravity.xyz;
+    vec3 x = pos[i].xyz + PBF_DT * v;
+    if (!allFinite(x) || !allFinite(v)) {
+        // Keep NaN and infinity out of the neighbour search: the particle stays where it was,
+        // at rest, and is counted (docs/pbf.md step 5 does the same after the solve).
+        x = pos[i].xyz;
+        v = vec3(0.0);
+        atomicAdd(stats.nonFinite, 1u);
+    }
+    vel[i] = vec4(v, vel[i].w);
+    pred[i] = vec4(x, 0.0);
+    uint bucket = cellHash(cellOf(x));
+    hash[i] = bucket;
+    // The rank depends on scheduling; pbf_bucket_sort.comp restores a fixed order when the run
+    // must be deterministic.
+    rank[i] = atomicAdd(cellCount[bucket], 1u);
+}

@@ -1,0 +1,29 @@
+// Statistics of a recorded step: maximum speed and particles inside colliders
+// (phi < -0.5 r for some collider). Integer atomics, so the counts are exact and order-free.
+#version 450 core
+
+#define PBF_WITH_COLLIDERS 1
+#include "shared/PbfGlsl.h"
+
+layout(local_size_x = kPbfLocalSize) in;
+
+layout(std430, binding = kBindPosIn) readonly buffer PosIn { vec4 pos[]; };
+layout(std430, binding = kBindVelIn) readonly buffer VelIn { vec4 vel[]; };
+layout(std430, binding = kBindStats) buffer Stats { PbfStats stats; };
+
+void main() {
+    uint i = SLUICE_GLOBAL_ID.x;
+    if (i >= PBF_COUNT)
+        return;
+    vec3 x = pos[i].xyz;
+    float speed = length(vel[i].xyz);
+    if (!isnan(speed))
+        atomicMax(stats.maxSpeedBits, floatBitsToUint(speed));
+    for (uint c = 0u; c < P.counts.z; ++c) {
+        vec3 normal;
+        if (colliderDistance(c, x, normal) < -0.5 * PBF_RADIUS) {
+            atomicAdd(stats.insideColliders, 1u);
+            break;
+        }
+    }
+}

@@ -1,0 +1,27 @@
+// Vorticity omega_i = curl v by SPH (Macklin & Müller 2013, eq. 15), for the confinement pass.
+#version 450 core
+
+#include "shared/PbfGlsl.h"
+
+layout(local_size_x = kPbfLocalSize) in;
+
+layout(std430, binding = kBindPosIn) readonly buffer PosIn { vec4 pos[]; };
+layout(std430, binding = kBindVelIn) readonly buffer VelIn { vec4 vel[]; };
+layout(std430, binding = kBindOmega) writeonly buffer Omega { vec4 omega[]; };
+layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
+layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
+layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+
+void main() {
+    uint i = SLUICE_GLOBAL_ID.x;
+    if (i >= PBF_COUNT)
+        return;
+    vec3 xi = pos[i].xyz;
+    vec3 vi = vel[i].xyz;
+    vec3 w = vec3(0.0);
+    PBF_NEIGHBOURS_BEGIN(predStart, pos, i, xi)
+        // grad_j W(x_i - x_j) = gradW(x_j - x_i) = -gradW(d)
+        w += cross(vel[j].xyz - vi, -spikyGrad(d, q2));
+    PBF_NEIGHBOURS_END
+    omega[i] = vec4(PBF_VOLUME * w, 0.0);
+}

@@ -1,0 +1,163 @@
+// GLSL helpers of the PBF passes: the parameter block, kernels, the hashed cell grid, the
+// 27-cell neighbour loop and collider sampling (docs/pbf.md). GLSL only.
+#ifndef SLUICE_SHARED_PBF_GLSL_H
+#define SLUICE_SHARED_PBF_GLSL_H
+
+#include "shared/Pbf.h"
+#include "shared/ChunkedDispatch.h"
+
+#ifndef __cplusplus
+
+layout(std140, binding = kBindParams) uniform PbfParamsBlock { PbfParams P; };
+
+#define PBF_H (P.kernel.x)
+#define PBF_H2 (P.kernel.y)
+#define PBF_VOLUME (P.fluid.x)
+#define PBF_RADIUS (P.fluid.w)
+#define PBF_DT (P.step.x)
+#define PBF_COUNT (P.counts.x)
+
+// Müller et al. 2003: poly6 W(q) from q^2, and the spiky gradient of x (both 0 outside h).
+float poly6(float q2) {
+    float a = PBF_H2 - q2;
+    return q2 < PBF_H2 ? P.kernel.z * a * a * a : 0.0;
+}
+vec3 spikyGrad(vec3 x, float q2) {
+    if (q2 >= PBF_H2 || q2 <= 0.0)
+        return vec3(0.0);
+    float q = sqrt(q2);
+    float a = PBF_H - q;
+    return (P.kernel.w * a * a / q) * x;
+}
+
+ivec3 cellOf(vec3 x) { return ivec3(floor(x * P.scorr.w)); }
+
+uint cellHash(ivec3 c) {
+    return ((uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u)) &
+           P.counts.y;
+}
+
+// Finite test on the bits: compilers may assume isnan() and isinf() are false.
+bool allFinite(vec3 v) {
+    uvec3 exponent = floatBitsToUint(v) & uvec3(0x7f800000u);
+    return all(notEqual(exponent, uvec3(0x7f800000u)));
+}
+
+// Neighbour loop over the sorted particles. The neighbour set is fixed for the substep
+// (docs/pbf.md step 3): j is a neighbour of i when their x* at the substep start, START[],
+// were closer than h; START also chooses the cells visited. A candidate whose own start cell is
+// not the cell being visited came through a hash collision and is skipped, so no neighbour
+// is counted twice. Inside the body: j, xj = POS[j].xyz, d = xi - xj and q2 = |d|^2 from the
+// current positions POS (q2 may reach h as particles move; the kernels are 0 there).
+// Close with PBF_NEIGHBOURS_END.
+#define PBF_NEIGHBOURS_BEGIN(START, POS, i, xi)                                               \
+    {                                                                                          \
+        vec3 pbfStart_ = START[i].xyz;                                                         \
+        ivec3 pbfCell_ = cellOf(pbfStart_);                                                    \
+        for (int dz_ = -1; dz_ <= 1; ++dz_)                                                    \
+            for (int dy_ = -1; dy_ <= 1; ++dy_)                                                \
+                for (int dx_ = -1; dx_ <= 1; ++dx_) {                                          \
+                    ivec3 cc_ = pbfCell_ + ivec3(dx_, dy_, dz_);                               \
+                    uint bucket_ = cellHash(cc_);                                              \
+                    uint begin_ = cellStart[bucket_];                                          \
+                    uint end_ = begin_ + cellCount[bucket_];                                   \
+                    for (uint j = begin_; j < end_; ++j) {                                     \
+                        if (j == i)                                                            \
+                            continue;                                                          \
+                        vec3 startJ_ = START[j].xyz;                                           \
+                        if (cellOf(startJ_) != cc_)                                            \
+                            continue;                                                          \
+                        vec3 d0_ = pbfStart_ - startJ_;                                        \
+                        if (dot(d0_, d0_) >= PBF_H2)                                           \
+                            continue;                                                          \
+                        vec3 xj = POS[j].xyz;                                                  \
+                        vec3 d = xi - xj;                                                      \
+                        float q2 = dot(d, d);
+#define PBF_NEIGHBOURS_END                                                                     \
+    }                                                                                          \
+    }                                                                                          \
+    }
+
+#ifdef PBF_WITH_COLLIDERS
+layout(std430, binding = kBindColliders) readonly buffer CollidersBuf { GpuCollider colliders[]; };
+layout(std430, binding = kBindSdf) readonly buffer SdfBuf { float sdf[]; };
+
+float sdfAt(uint base, uvec3 dims, uvec3 p) { return sdf[base + p.x + dims.x * (p.y + dims.y * p.z)]; }
+
+// phi and its gradient in collider c's local frame, exactly format::SdfSampler's rule:
+// trilinear inside the grid box, phi(clamp(q)) + |q - clamp(q)| outside.
+void sampleCollider(uint c, vec3 q, out float phi, out vec3 grad) {
+    vec3 lo = colliders[c].origin.xyz;
+    float voxel = colliders[c].origin.w;
+    uvec3 dims = colliders[c].dims.xyz;
+    uint base = colliders[c].dims.w;
+    vec3 qc = clamp(q, lo, colliders[c].boxMax.xyz);
+    vec3 g = (qc - lo) / voxel;
+    vec3 cellLo = clamp(floor(g), vec3(0.0), vec3(dims) - 2.0);
+    vec3 t = clamp(g - cellLo, 0.0, 1.0);
+    uvec3 b = uvec3(cellLo);
+    float v000 = sdfAt(base, dims, b);
+    float v100 = sdfAt(base, dims, b + uvec3(1, 0, 0));
+    float v010 = sdfAt(base, dims, b + uvec3(0, 1, 0));
+    float v110 = sdfAt(base, dims, b + uvec3(1, 1, 0));
+    float v001 = sdfAt(base, dims, b + uvec3(0, 0, 1));
+    float v101 = sdfAt(base, dims, b + uvec3(1, 0, 1));
+    float v011 = sdfAt(base, dims, b + uvec3(0, 1, 1));
+    float v111 = sdfAt(base, dims, b + uvec3(1, 1, 1));
+    float c00 = mix(v000, v100, t.x), c10 = mix(v010, v110, t.x);
+    float c01 = mix(v001, v101, t.x), c11 = mix(v011, v111, t.x);
+    vec3 out_ = q - qc;
+    float outside = length(out_);
+    phi = mix(mix(c00, c10, t.y), mix(c01, c11, t.y), t.z) + outside;
+    vec3 w0 = vec3(1.0) - t;
+    grad.x = w0.y * w0.z * (v100 - v000) + t.y * w0.z * (v110 - v010) +
+             w0.y * t.z * (v101 - v001) + t.y * t.z * (v111 - v011);
+    grad.y = w0.x * w0.z * (v010 - v000) + t.x * w0.z * (v110 - v100) +
+             w0.x * t.z * (v011 - v001) + t.x * t.z * (v111 - v101);
+    grad.z = w0.x * w0.y * (v001 - v000) + t.x * w0.y * (v101 - v100) +
+             w0.x * t.y * (v011 - v010) + t.x * t.y * (v111 - v110);
+    grad /= voxel;
+    if (outside > 0.0) {
+        // Outside the box the clamped axes lose their derivative; |q - c| adds its own.
+        grad = mix(grad, vec3(0.0), notEqual(out_, vec3(0.0))) + out_ / outside;
+    }
+}
+
+// phi in world units and the world normal of collider c at world point x.
+float colliderDistance(uint c, vec3 x, out vec3 normal) {
+    vec3 q = (colliders[c].worldToGrid * vec4(x, 1.0)).xyz;
+    float phiLocal;
+    vec3 gradLocal;
+    sampleCollider(c, q, phiLocal, gradLocal);
+    normal = mat3(colliders[c].rotation) * gradLocal;
+    return colliders[c].boxMax.w * phiLocal;
+}
+
+// docs/pbf.md "Collision": push out to the particle radius along the SDF normal, then remove
+// `friction` of the tangential slip relative to the collider. xOld is x at the substep start.
+vec3 collide(vec3 x, vec3 xOld) {
+    uint n = P.counts.z;
+    for (uint c = 0u; c < n; ++c) {
+        vec3 normal;
+        float phi = colliderDistance(c, x, normal);
+        float len = length(normal);
+        if (!(phi < PBF_RADIUS) || !(len > 0.0))
+            continue;
+        normal /= len;
+        x += (PBF_RADIUS - phi) * normal;
+        vec3 carried = x - (colliders[c].motion * vec4(x, 1.0)).xyz;
+        vec3 slip = (x - xOld) - carried;
+        vec3 tangential = slip - dot(slip, normal) * normal;
+        x -= colliders[c].material.x * tangential;
+    }
+    return x;
+}
+#endif // PBF_WITH_COLLIDERS
+
+vec3 clampToDomain(vec3 x) {
+    return P.domainMin.w > 0.5 ? clamp(x, P.domainMin.xyz, P.domainMax.xyz) : x;
+}
+
+#endif // !__cplusplus
+
+#endif // SLUICE_SHARED_PBF_GLSL_H

@@ -1,0 +1,336 @@
+// CPU reference of the PBF substep, written straight from docs/pbf.md.
+#include "ReferencePbf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "sluice/format/Assert.h"
+
+namespace sluice::ref {
+
+namespace {
+
+bool isFinite(glm::vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// Packs a cell (each coordinate in +-2^20) into one key.
+std::int64_t cellKey(glm::ivec3 c) {
+    constexpr std::int64_t kBias = 1 << 20, kBits = 21;
+    return ((std::int64_t(c.x) + kBias) << (2 * kBits)) | ((std::int64_t(c.y) + kBias) << kBits) |
+           (std::int64_t(c.z) + kBias);
+}
+
+} // namespace
+
+ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceCollider> colliders)
+    : m_params(scene.simulation), m_c(rt::deriveConstants(scene.simulation)), m_schedule(scene) {
+    SLUICE_ASSERT(m_params.maxIterations > 0, "ReferencePbf: maxIterations must be > 0");
+    if (scene.domainMin && scene.domainMax) {
+        m_hasDomain = true;
+        m_domainMin = *scene.domainMin;
+        m_domainMax = *scene.domainMax;
+    }
+    for (const ReferenceCollider& c : colliders) {
+        SLUICE_ASSERT(c.asset != nullptr, "ReferencePbf: collider without an asset");
+        m_colliders.push_back({c.placement, format::SdfSampler(*c.asset)});
+    }
+    m_particles = rt::fillBlocks(scene);
+    if (m_particles.size() > m_params.capacity) {
+        m_particles.resize(m_params.capacity);
+        m_stats.capacityReached = true;
+    }
+    m_nextId = std::uint32_t(m_particles.size());
+}
+
+float ReferencePbf::timeAt(std::uint64_t substepIndex) const {
+    return float(double(substepIndex) * double(m_c.dt));
+}
+
+float ReferencePbf::W(float q) const {
+    const float h = m_c.h;
+    if (q >= h)
+        return 0.0f;
+    const float d = h * h - q * q;
+    return m_c.poly6 * d * d * d;
+}
+
+glm::vec3 ReferencePbf::gradW(glm::vec3 x) const {
+    const float q = glm::length(x);
+    if (q <= 0.0f || q >= m_c.h)
+        return glm::vec3(0.0f);
+    const float d = m_c.h - q;
+    return (m_c.spikyGrad * d * d / q) * x;
+}
+
+void ReferencePbf::substep() {
+    m_stats.nonFinite = 0;
+    m_stats.capacityReached = false;
+    substepImpl();
+    finishStats();
+}
+
+void ReferencePbf::step() {
+    m_stats.nonFinite = 0;
+    m_stats.capacityReached = false;
+    for (std::uint32_t n = 0; n < m_params.substeps; ++n)
+        substepImpl();
+    finishStats();
+}
+
+void ReferencePbf::substepImpl() {
+    const float t = timeAt(m_substepIndex);
+    const float dt = m_c.dt;
+
+    // 1. Emit.
+    std::vector<rt::ParticleState> fresh;
+    if (!m_schedule.emit(t, std::uint32_t(m_particles.size()), m_params.capacity, m_nextId, fresh))
+        m_stats.capacityReached = true;
+    m_particles.insert(m_particles.end(), fresh.begin(), fresh.end());
+    const std::size_t n = m_particles.size();
+
+    // 2. Predict (symplectic Euler).
+    m_predicted.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        rt::ParticleState& p = m_particles[i];
+        p.velocity += dt * m_params.gravity;
+        m_predicted[i] = p.position + dt * p.velocity;
+    }
+
+    // 3. Neighbours from x*, kept for the whole substep.
+    buildNeighbours();
+
+    // 4. Solve, with collisions and the domain clamp after every position update.
+    solve();
+
+    // 5. Velocity, and the non-finite guard.
+    std::vector<glm::vec3> velocity(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec3 x = m_particles[i].position;
+        velocity[i] = (m_predicted[i] - x) / dt;
+        if (!isFinite(m_predicted[i]) || !isFinite(velocity[i])) {
+            m_predicted[i] = x;
+            velocity[i] = glm::vec3(0.0f);
+            ++m_stats.nonFinite;
+        }
+    }
+
+    // 6. Vorticity confinement and XSPH, from the velocities of step 5.
+    vorticityAndXsph(velocity);
+
+    // 7. Commit.
+    for (std::size_t i = 0; i < n; ++i) {
+        m_particles[i].position = m_predicted[i];
+        m_particles[i].velocity = velocity[i];
+    }
+    ++m_substepIndex;
+}
+
+void ReferencePbf::buildNeighbours() {
+    const std::size_t n = m_predicted.size();
+    const float h = m_c.h;
+    std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;
+    std::vector<glm::ivec3> cells(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        // A non-finite x* has no cell: it neither has nor is a neighbour (step 5 resets it).
+        if (!isFinite(m_predicted[i]))
+            continue;
+        // Far-away cells fold into the outermost ones; the distance test still decides.
+        constexpr float kLimit = float(1 << 19);
+        cells[i] = glm::ivec3(glm::clamp(glm::floor(m_predicted[i] / h), -kLimit, kLimit));
+        grid[cellKey(cells[i])].push_back(std::uint32_t(i));
+    }
+    m_neighbourStart.assign(n + 1, 0);
+    m_neighbours.clear();
+    std::vector<std::uint32_t> found;
+    for (std::size_t i = 0; i < n; ++i) {
+        m_neighbourStart[i] = std::uint32_t(m_neighbours.size());
+        if (!isFinite(m_predicted[i]))
+            continue;
+        found.clear();
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const auto it = grid.find(cellKey(cells[i] + glm::ivec3(dx, dy, dz)));
+                    if (it == grid.end())
+                        continue;
+                    for (std::uint32_t j : it->second)
+                        if (j != i && glm::length(m_predicted[i] - m_predicted[j]) < h)
+                            found.push_back(j);
+                }
+        std::sort(found.begin(), found.end()); // a fixed summation order
+        m_neighbours.insert(m_neighbours.end(), found.begin(), found.end());
+    }
+    m_neighbourStart[n] = std::uint32_t(m_neighbours.size());
+}
+
+void ReferencePbf::solve() {
+    const std::size_t n = m_predicted.size();
+    const float rho0 = m_params.restDensity;
+    const float m = m_c.mass;
+    const float V = m_c.volume;
+    const float r = m_c.radius;
+    const float t0 = timeAt(m_substepIndex);
+    const float t1 = timeAt(m_substepIndex + 1);
+    m_lambda.assign(n, 0.0f);
+    m_constraint.assign(n, 0.0f);
+    std::vector<glm::vec3> dp(n);
+    std::vector<glm::vec3> xOld(n);
+    for (std::size_t i = 0; i < n; ++i)
+        xOld[i] = m_particles[i].position;
+
+    // Kernel values of every neighbour pair, from the x* of the current iteration (the lambda
+    // and the correction passes read the same x*).
+    std::vector<float> pairW(m_neighbours.size());
+    std::vector<glm::vec3> pairGrad(m_neighbours.size());
+
+    std::uint32_t updates = 0;
+    for (std::uint32_t k = 0; k < m_params.maxIterations; ++k) {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::uint32_t a = m_neighbourStart[i]; a < m_neighbourStart[i + 1]; ++a) {
+                const glm::vec3 d = m_predicted[i] - m_predicted[m_neighbours[a]];
+                pairW[a] = W(glm::length(d));
+                pairGrad[a] = gradW(d);
+            }
+
+        // 4.1 Density constraint and lambda (eq. 1, 7, 8).
+        double errorSum = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            float wSum = W(0.0f);
+            glm::vec3 gSum(0.0f);
+            float gSq = 0.0f;
+            for (std::uint32_t a = m_neighbourStart[i]; a < m_neighbourStart[i + 1]; ++a) {
+                wSum += pairW[a];
+                const glm::vec3 g = V * pairGrad[a];
+                gSum += g;
+                gSq += glm::dot(g, g);
+            }
+            const float rho = m * wSum;
+            const float C = std::max(rho / rho0 - 1.0f, 0.0f);
+            m_constraint[i] = C;
+            m_lambda[i] = -C / (gSq + glm::dot(gSum, gSum) + m_c.epsilon);
+            errorSum += C;
+        }
+        // 4.2 Early exit on the mean compression.
+        const double meanError = n > 0 ? errorSum / double(n) : 0.0;
+        if (k >= m_params.minIterations && m_params.targetDensityError > 0.0f &&
+            meanError <= m_params.targetDensityError)
+            break;
+
+        // 4.3 Position corrections, all from the same x* (eq. 10, 11).
+        for (std::size_t i = 0; i < n; ++i) {
+            glm::vec3 sum(0.0f);
+            for (std::uint32_t a = m_neighbourStart[i]; a < m_neighbourStart[i + 1]; ++a) {
+                const std::uint32_t j = m_neighbours[a];
+                const float scorr = -m_params.scorrK * m_c.lambdaRef *
+                                    std::pow(pairW[a] / m_c.wDeltaQ, m_params.scorrN);
+                sum += (m_lambda[i] + m_lambda[j] + scorr) * pairGrad[a];
+            }
+            dp[i] = V * sum;
+        }
+
+        // 4.4 Apply, collide in scene order, clamp into the domain shrunk by r.
+        for (std::size_t i = 0; i < n; ++i) {
+            glm::vec3 x = m_predicted[i] + dp[i];
+            collide(x, xOld[i], t0, t1);
+            if (m_hasDomain)
+                for (int a = 0; a < 3; ++a) // std::max/min in this order keep a NaN a NaN
+                    x[a] = std::min(std::max(x[a], m_domainMin[a] + r), m_domainMax[a] - r);
+            m_predicted[i] = x;
+        }
+        ++updates;
+    }
+
+    double sum = 0.0, maxC = 0.0;
+    for (float C : m_constraint) {
+        sum += C;
+        maxC = std::max(maxC, double(C));
+    }
+    m_stats.avgDensityError = n > 0 ? sum / double(n) : 0.0;
+    m_stats.maxDensityError = maxC;
+    m_stats.iterationsLastSubstep = updates;
+}
+
+void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1) const {
+    const float r = m_c.radius;
+    for (const Collider& c : m_colliders) {
+        const rt::ColliderPose now = rt::colliderPose(c.placement, t1);
+        const glm::vec3 q = now.toLocal(x);
+        const float phi = now.scale * c.sampler.value(glm::dvec3(q));
+        if (!(phi < r))
+            continue;
+        const glm::vec3 grad = now.rotation * glm::vec3(c.sampler.gradient(glm::dvec3(q)));
+        const float gradLength = glm::length(grad);
+        if (!(gradLength > 0.0f))
+            continue; // no direction to push along (a flat spot of the interpolant)
+        const glm::vec3 normal = grad / gradLength;
+        x += (r - phi) * normal;
+        // Friction: remove the slip relative to the collider's own motion of the contact point,
+        // c = x - T(t) T(t + dt)^-1 x.
+        const rt::ColliderPose before = rt::colliderPose(c.placement, t0);
+        const glm::vec3 carried = x - before.toWorld(now.toLocal(x));
+        const glm::vec3 slip = (x - xOld) - carried;
+        const glm::vec3 tangential = slip - glm::dot(slip, normal) * normal;
+        x -= c.placement.friction * tangential;
+    }
+}
+
+void ReferencePbf::vorticityAndXsph(std::vector<glm::vec3>& velocity) const {
+    const std::size_t n = velocity.size();
+    const float V = m_c.volume;
+    const float dt = m_c.dt;
+    // Eq. 15: omega_i = sum_j V (v_j - v_i) x gradW(x_j - x_i).
+    std::vector<glm::vec3> omega(n, glm::vec3(0.0f));
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::uint32_t a = m_neighbourStart[i]; a < m_neighbourStart[i + 1]; ++a) {
+            const std::uint32_t j = m_neighbours[a];
+            omega[i] +=
+                V * glm::cross(velocity[j] - velocity[i], gradW(m_predicted[j] - m_predicted[i]));
+        }
+    std::vector<glm::vec3> out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        glm::vec3 eta(0.0f), xsph(0.0f);
+        const float omegaI = glm::length(omega[i]);
+        for (std::uint32_t a = m_neighbourStart[i]; a < m_neighbourStart[i + 1]; ++a) {
+            const std::uint32_t j = m_neighbours[a];
+            const glm::vec3 d = m_predicted[i] - m_predicted[j];
+            eta += V * (glm::length(omega[j]) - omegaI) * gradW(d);
+            xsph += V * (velocity[j] - velocity[i]) * W(glm::length(d));
+        }
+        const float etaLength = glm::length(eta);
+        const glm::vec3 N = etaLength < 1e-12f ? glm::vec3(0.0f) : eta / etaLength;
+        // Eq. 16 (confinement force) and eq. 17 (XSPH), weights normalised by V.
+        out[i] =
+            velocity[i] + dt * m_params.vorticity * glm::cross(N, omega[i]) + m_params.xsph * xsph;
+    }
+    velocity = std::move(out);
+}
+
+float ReferencePbf::colliderDistance(glm::vec3 x, float t) const {
+    float best = std::numeric_limits<float>::infinity();
+    for (const Collider& c : m_colliders) {
+        const rt::ColliderPose pose = rt::colliderPose(c.placement, t);
+        best = std::min(best, pose.scale * c.sampler.value(glm::dvec3(pose.toLocal(x))));
+    }
+    return best;
+}
+
+void ReferencePbf::finishStats() {
+    const float t = time();
+    double maxSpeed = 0.0;
+    std::uint32_t inside = 0;
+    for (const rt::ParticleState& p : m_particles) {
+        maxSpeed = std::max(maxSpeed, double(glm::length(p.velocity)));
+        if (colliderDistance(p.position, t) < -0.5f * m_c.radius)
+            ++inside;
+    }
+    m_stats.maxSpeed = maxSpeed;
+    m_stats.insideColliders = inside;
+}
+
+} // namespace sluice::ref

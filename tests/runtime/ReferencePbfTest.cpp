@@ -1,0 +1,488 @@
+// The CPU reference PBF (tests/reference) against closed-form motion and physical invariants.
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "ReferencePbf.h"
+#include "RuntimeTestScenes.h"
+
+using namespace sluice;
+
+namespace {
+
+constexpr float kSpacing = 0.02f;
+constexpr float kRadius = 0.5f * kSpacing;
+
+/// A scene with every parameter set and one particle; the test places it.
+format::Scene oneParticleScene() {
+    format::Scene scene = testscene::emptyScene(kSpacing, 4, 16);
+    format::FluidBlock block;
+    block.min = glm::vec3(0.0f);
+    block.max = glm::vec3(kSpacing);
+    scene.blocks.push_back(block);
+    return scene;
+}
+
+/// The solid box [-0.5, 0.5] x [-0.2, 0] x [-0.5, 0.5]: a floor whose top face is y = 0.
+const format::ColliderAsset& floorAsset() {
+    static const format::ColliderAsset asset =
+        testscene::boxColliderAsset({-0.5, -0.2, -0.5}, {0.5, 0.0, 0.5}, 0.02);
+    return asset;
+}
+
+ref::ReferenceCollider floorCollider(float friction = 0.0f) {
+    ref::ReferenceCollider c;
+    c.asset = &floorAsset();
+    c.placement.asset = "floor.sdf";
+    c.placement.friction = friction;
+    return c;
+}
+
+void place(ref::ReferencePbf& sim, std::size_t i, glm::vec3 x, glm::vec3 v) {
+    sim.mutableParticles()[i].position = x;
+    sim.mutableParticles()[i].velocity = v;
+}
+
+void expectVecNear(glm::vec3 a, glm::vec3 b, float tol) {
+    EXPECT_NEAR(a.x, b.x, tol);
+    EXPECT_NEAR(a.y, b.y, tol);
+    EXPECT_NEAR(a.z, b.z, tol);
+}
+
+} // namespace
+
+TEST(ReferencePbf, FreeParticleFollowsSymplecticEuler) {
+    format::Scene scene = oneParticleScene();
+    ref::ReferencePbf sim(scene, {});
+    const glm::vec3 x0(0.1f, 1.0f, 0.2f), v0(0.5f, 2.0f, -0.3f);
+    place(sim, 0, x0, v0);
+    const float dt = sim.constants().dt;
+    const glm::vec3 g = scene.simulation.gravity;
+    glm::vec3 x = x0, v = v0; // the same float operations, by hand
+    for (int n = 1; n <= 40; ++n) {
+        sim.substep();
+        v += dt * g;
+        const glm::vec3 xs = x + dt * v;
+        v = (xs - x) / dt;
+        x = xs;
+        const rt::ParticleState& p = sim.particles()[0];
+        expectVecNear(p.position, x, 1e-6f);
+        expectVecNear(p.velocity, v, 1e-5f);
+        // Closed form of symplectic Euler: x0 + n dt v0 + g dt^2 n (n + 1) / 2 (explicit Euler
+        // would give n (n - 1) / 2, 7e-3 m away after 40 substeps). The float velocity
+        // (x* - x) / dt loses about ulp(x) / dt per substep, hence 1e-4.
+        const glm::dvec3 exact =
+            glm::dvec3(x0) + double(n) * double(dt) * glm::dvec3(v0) +
+            glm::dvec3(g) * double(dt) * double(dt) * double(n * (n + 1)) / 2.0;
+        expectVecNear(p.position, glm::vec3(exact), 1e-4f);
+    }
+    EXPECT_NEAR(sim.time(), 40.0 * dt, 1e-6);
+}
+
+TEST(ReferencePbf, ParticleRestsOnABoxFloorWithoutSinking) {
+    ref::ReferencePbf sim(oneParticleScene(), {floorCollider()});
+    const glm::vec3 x0(0.05f, kRadius, -0.03f);
+    place(sim, 0, x0, glm::vec3(0.0f));
+    for (int s = 0; s < 60; ++s) {
+        sim.step();
+        const rt::ParticleState& p = sim.particles()[0];
+        EXPECT_GE(sim.colliderDistance(p.position, sim.time()), kRadius - 1e-6f);
+        expectVecNear(p.position, x0, 1e-6f);
+        EXPECT_LT(glm::length(p.velocity), 1e-3f);
+        EXPECT_EQ(sim.stats().insideColliders, 0u);
+    }
+}
+
+TEST(ReferencePbf, RestLatticeWithoutGravityHasNoDensityErrorAndStaysPut) {
+    format::Scene scene = testscene::smallScene({6, 6, 6}, kSpacing);
+    scene.domainMin.reset();
+    scene.domainMax.reset();
+    scene.simulation.gravity = glm::vec3(0.0f);
+    scene.simulation.scorrK = 0.0f;
+    ref::ReferencePbf sim(scene, {});
+    const std::vector<rt::ParticleState> start = sim.particles();
+    for (int s = 0; s < 10; ++s) {
+        sim.step();
+        EXPECT_LT(sim.stats().avgDensityError, 1e-6);
+        EXPECT_LT(sim.stats().maxDensityError, 1e-5);
+    }
+    for (std::size_t i = 0; i < start.size(); ++i)
+        expectVecNear(sim.particles()[i].position, start[i].position, 1e-6f);
+
+    // With s_corr on, one iteration leaves the interior (full, symmetric neighbourhoods) in
+    // place and pushes the surface layer outward: s_corr is a repulsion. (Later iterations
+    // carry the surface's motion inward, one layer each.)
+    scene.simulation.scorrK = 0.1f;
+    scene.simulation.minIterations = 1;
+    scene.simulation.maxIterations = 1;
+    ref::ReferencePbf repulsive(scene, {});
+    repulsive.substep();
+    const glm::vec3 centre(3.0f * kSpacing);
+    for (std::size_t i = 0; i < start.size(); ++i) {
+        const glm::uvec3 ijk(i % 6, (i / 6) % 6, i / 36);
+        const bool surface =
+            glm::any(glm::equal(ijk, glm::uvec3(0))) || glm::any(glm::equal(ijk, glm::uvec3(5)));
+        const glm::vec3 moved = repulsive.particles()[i].position - start[i].position;
+        if (surface)
+            EXPECT_GT(glm::dot(moved, start[i].position - centre), 1e-7f) << "particle " << i;
+        else
+            EXPECT_LT(glm::length(moved), 1e-7f) << "particle " << i;
+    }
+}
+
+TEST(ReferencePbf, SolveAndXsphConserveMomentum) {
+    format::Scene scene = testscene::emptyScene(kSpacing, 4, 216);
+    scene.simulation.gravity = glm::vec3(0.0f);
+    scene.simulation.vorticity = 0.0f; // confinement adds momentum by design
+    scene.simulation.xsph = 0.1f;
+    format::FluidBlock block;
+    block.max = glm::vec3(6.0f * kSpacing);
+    scene.blocks.push_back(block);
+    ref::ReferencePbf sim(scene, {});
+    ASSERT_EQ(sim.particles().size(), 216u);
+    // Squeeze into 60 % of the volume with jitter and random velocities: strongly compressed.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> jitter(-0.2f * kSpacing, 0.2f * kSpacing), vel(-1, 1);
+    glm::dvec3 before(0.0);
+    for (rt::ParticleState& p : sim.mutableParticles()) {
+        p.position = 0.85f * p.position + glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+        p.velocity = glm::vec3(vel(rng), vel(rng), vel(rng));
+        before += glm::dvec3(p.velocity);
+    }
+    const std::vector<rt::ParticleState> start = sim.particles();
+    sim.substep();
+    glm::dvec3 after(0.0);
+    double changed = 0.0;
+    for (std::size_t i = 0; i < start.size(); ++i) {
+        after += glm::dvec3(sim.particles()[i].velocity);
+        changed += glm::length(sim.particles()[i].velocity - start[i].velocity);
+    }
+    EXPECT_GT(changed / double(start.size()), 0.5); // mean |dv| [m/s]: the solve had work to do
+    EXPECT_LT(glm::length(after - before), 1e-5 * changed);
+}
+
+TEST(ReferencePbf, HydrostaticColumnSettlesBelowOnePercentDensityError) {
+    // 6 x 12 x 6 particles standing in a tank that fits them exactly; defaults otherwise
+    // (4 substeps of 1/60 s, 8 iterations).
+    const format::Scene scene = testscene::smallScene({6, 12, 6}, kSpacing);
+    ref::ReferencePbf sim(scene, {});
+    for (int s = 0; s < 120; ++s) {
+        sim.step();
+        ASSERT_EQ(sim.stats().nonFinite, 0u);
+    }
+    EXPECT_LT(sim.stats().avgDensityError, 0.01);
+    EXPECT_LT(sim.stats().maxDensityError, 0.05);
+    EXPECT_LT(sim.stats().maxSpeed, 0.05); // settled after 2 s
+    double meanY = 0.0;
+    for (const rt::ParticleState& p : sim.particles()) {
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_GE(p.position[a], (*scene.domainMin)[a] + kRadius - 1e-6f);
+            EXPECT_LE(p.position[a], (*scene.domainMax)[a] - kRadius + 1e-6f);
+        }
+        meanY += p.position.y / double(sim.particles().size());
+    }
+    // Neither collapsed nor blown up: the start had mean height 0.12 m. (Walls without boundary
+    // particles let the column sink by about a particle radius.)
+    EXPECT_GT(meanY, 0.10);
+    EXPECT_LT(meanY, 0.13);
+}
+
+TEST(ReferencePbf, NonFiniteParticleIsResetAndCounted) {
+    format::Scene scene = testscene::smallScene({4, 4, 4}, kSpacing);
+    ref::ReferencePbf sim(scene, {});
+    const glm::vec3 x5 = sim.particles()[5].position;
+    sim.mutableParticles()[5].velocity.y = std::numeric_limits<float>::quiet_NaN();
+    sim.substep();
+    EXPECT_EQ(sim.stats().nonFinite, 1u);
+    expectVecNear(sim.particles()[5].position, x5, 0.0f);
+    expectVecNear(sim.particles()[5].velocity, glm::vec3(0.0f), 0.0f);
+    for (const rt::ParticleState& p : sim.particles())
+        EXPECT_TRUE(std::isfinite(glm::dot(p.position, p.velocity)));
+    sim.step();
+    EXPECT_EQ(sim.stats().nonFinite, 0u);
+
+    // A position that is not finite stays so: reset to itself in each of the 4 substeps.
+    sim.mutableParticles()[7].position.x = std::numeric_limits<float>::infinity();
+    sim.step();
+    EXPECT_EQ(sim.stats().nonFinite, 4u);
+    for (const rt::ParticleState& p : sim.particles()) {
+        if (p.id == 7)
+            continue;
+        EXPECT_TRUE(std::isfinite(glm::dot(p.position, p.velocity)));
+    }
+}
+
+TEST(ReferencePbf, FrictionRemovesThatShareOfTangentialSlipOnAStaticFloor) {
+    for (float friction : {0.0f, 0.5f, 1.0f}) {
+        ref::ReferencePbf sim(oneParticleScene(), {floorCollider(friction)});
+        place(sim, 0, {0.0f, kRadius, 0.0f}, {1.0f, 0.0f, 0.0f});
+        const float dt = sim.constants().dt;
+        sim.substep();
+        const rt::ParticleState& p = sim.particles()[0];
+        EXPECT_NEAR(p.position.x, (1.0f - friction) * dt, 1e-7f) << "friction " << friction;
+        EXPECT_NEAR(p.position.y, kRadius, 1e-7f);
+        EXPECT_NEAR(p.velocity.x, 1.0f - friction, 1e-4f);
+        EXPECT_NEAR(p.velocity.y, 0.0f, 1e-4f);
+    }
+}
+
+TEST(ReferencePbf, TiltedScaledColliderPushesAlongItsWorldNormal) {
+    ref::ReferenceCollider tilted = floorCollider();
+    tilted.placement.rotationDegrees = {0.0f, 0.0f, 30.0f};
+    tilted.placement.translation = {1.0f, 2.0f, 3.0f};
+    tilted.placement.scale = 1.5f;
+    format::Scene scene = oneParticleScene();
+    scene.simulation.gravity = glm::vec3(0.0f);
+    ref::ReferencePbf sim(scene, {tilted});
+    place(sim, 0, tilted.placement.translation, glm::vec3(0.0f)); // on the top face, phi = 0
+    sim.substep();
+    const glm::vec3 normal(-0.5f, std::sqrt(0.75f), 0.0f); // Rz(30 degrees) * (0, 1, 0)
+    expectVecNear(sim.particles()[0].position, tilted.placement.translation + kRadius * normal,
+                  1e-6f);
+    EXPECT_EQ(sim.stats().insideColliders, 0u);
+}
+
+TEST(ReferencePbf, ScaledSphereColliderPushesAParticleOutToItsSurface) {
+    static const format::ColliderAsset sphere =
+        testscene::sphereColliderAsset(glm::dvec3(0.0), 0.1, 0.01);
+    ref::ReferenceCollider c{&sphere, {}};
+    c.placement.translation = {1.0f, 0.0f, 0.0f};
+    c.placement.scale = 2.0f; // world radius 0.2
+    format::Scene scene = oneParticleScene();
+    scene.simulation.gravity = glm::vec3(0.0f);
+    ref::ReferencePbf sim(scene, {c});
+    // Local (0.075, 0.005, 0.005): a cell centre in y and z, where the trilinear gradient is
+    // accurate to O(voxel^2) (on a grid plane it is one-sided and tilts by about 4 degrees).
+    const glm::vec3 x0(1.15f, 0.01f, 0.01f);
+    place(sim, 0, x0, glm::vec3(0.0f));
+    const glm::vec3 radial = glm::normalize(x0 - c.placement.translation);
+    EXPECT_NEAR(sim.colliderDistance(x0, 0.0f), glm::length(x0 - c.placement.translation) - 0.2f,
+                1e-3f); // trilinear error
+    sim.substep();
+    expectVecNear(sim.particles()[0].position, c.placement.translation + (0.2f + kRadius) * radial,
+                  5e-4f);
+    EXPECT_EQ(sim.stats().insideColliders, 0u);
+}
+
+TEST(ReferencePbf, RisingPlatformLiftsAParticle) {
+    ref::ReferenceCollider platform = floorCollider();
+    platform.placement.linearVelocity = {0.0f, 0.5f, 0.0f};
+    ref::ReferencePbf sim(oneParticleScene(), {platform});
+    place(sim, 0, {0.0f, kRadius, 0.0f}, glm::vec3(0.0f));
+    sim.substep(); // the platform's pose at the end of the substep counts
+    EXPECT_NEAR(sim.particles()[0].position.y, kRadius + 0.5f * sim.constants().dt, 1e-6f);
+    for (int s = 0; s < 30; ++s)
+        sim.step();
+    const rt::ParticleState& p = sim.particles()[0];
+    EXPECT_NEAR(p.position.y, 0.5f * sim.time() + kRadius, 1e-4f);
+    EXPECT_NEAR(p.velocity.y, 0.5f, 1e-3f);
+    EXPECT_NEAR(p.position.x, 0.0f, 1e-6f);
+}
+
+TEST(ReferencePbf, MovingPlatformWithFullFrictionCarriesAParticle) {
+    for (float friction : {0.0f, 1.0f}) {
+        ref::ReferenceCollider platform = floorCollider(friction);
+        platform.placement.linearVelocity = {0.3f, 0.0f, 0.0f};
+        ref::ReferencePbf sim(oneParticleScene(), {platform});
+        place(sim, 0, {0.0f, kRadius, 0.0f}, glm::vec3(0.0f));
+        for (int s = 0; s < 30; ++s)
+            sim.step();
+        const rt::ParticleState& p = sim.particles()[0];
+        EXPECT_NEAR(p.position.x, friction * 0.3f * sim.time(), 1e-5f);
+        EXPECT_NEAR(p.velocity.x, friction * 0.3f, 1e-3f);
+        EXPECT_NEAR(p.position.y, kRadius, 1e-6f);
+    }
+}
+
+TEST(ReferencePbf, TurntableWithFullFrictionTurnsAParticleWithIt) {
+    ref::ReferenceCollider table = floorCollider(1.0f);
+    table.placement.angularVelocityDegrees = {0.0f, 90.0f, 0.0f};
+    ref::ReferencePbf sim(oneParticleScene(), {table});
+    place(sim, 0, {0.2f, kRadius, 0.0f}, glm::vec3(0.0f));
+    for (int s = 0; s < 60; ++s) // 1 s: a quarter turn, (0.2, 0, 0) -> (0, 0, -0.2)
+        sim.step();
+    const rt::ParticleState& p = sim.particles()[0];
+    // The contact-point rule drifts outward by (w dt)^2 r / 2 per substep, 1e-3 m in all.
+    expectVecNear(p.position, {0.0f, kRadius, -0.2f}, 2e-3f);
+    EXPECT_NEAR(glm::length(p.velocity), 0.2f * std::numbers::pi_v<float> / 2.0f, 5e-3f);
+}
+
+TEST(ReferencePbf, XsphBlendsTheVelocitiesOfNeighbours) {
+    format::Scene scene = testscene::emptyScene(kSpacing, 4, 2);
+    scene.simulation.gravity = glm::vec3(0.0f);
+    scene.simulation.xsph = 0.5f;
+    scene.simulation.vorticity = 0.0f;
+    scene.simulation.scorrK = 0.0f;
+    format::FluidBlock block;
+    block.max = glm::vec3(2.0f * kSpacing, kSpacing, kSpacing);
+    scene.blocks.push_back(block);
+    ref::ReferencePbf sim(scene, {});
+    place(sim, 0, {0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f});
+    place(sim, 1, {0.03f, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f});
+    sim.substep();
+    const rt::PbfConstants& c = sim.constants();
+    // Two particles are far below rest density: no correction, x* = x + dt v.
+    const double q = 0.03 - 2.0 * c.dt;
+    const double w = 315.0 / (64.0 * std::numbers::pi * std::pow(c.h, 9)) *
+                     std::pow(double(c.h) * c.h - q * q, 3);
+    const double expected = 1.0 + 0.5 * c.volume * (-2.0) * w;
+    EXPECT_NEAR(sim.particles()[0].velocity.x, expected, 1e-4);
+    EXPECT_NEAR(sim.particles()[1].velocity.x, -expected, 1e-4);
+    EXPECT_LT(expected, 0.99); // the test sees XSPH at all
+}
+
+TEST(ReferencePbf, EmitterStopsAtCapacityAndReportsIt) {
+    format::Scene scene = testscene::emptyScene(kSpacing, 4, 30);
+    scene.simulation.gravity = glm::vec3(0.0f);
+    format::Emitter e;
+    e.position = {0.0f, 1.0f, 0.0f};
+    e.radius = 0.04f; // 13 per layer
+    e.speed = 1.0f;   // a layer every 0.02 s: at t = 0, 0.0208 (substep 5), 0.0417 (substep 10)
+    e.stop = 1.0f;
+    scene.emitters.push_back(e);
+    ref::ReferencePbf sim(scene, {});
+    sim.step();
+    EXPECT_EQ(sim.particles().size(), 13u);
+    EXPECT_FALSE(sim.stats().capacityReached);
+    sim.step();
+    EXPECT_EQ(sim.particles().size(), 26u);
+    EXPECT_FALSE(sim.stats().capacityReached);
+    sim.step();
+    EXPECT_EQ(sim.particles().size(), 30u);
+    EXPECT_TRUE(sim.stats().capacityReached);
+    for (std::uint32_t i = 0; i < 30; ++i)
+        EXPECT_EQ(sim.particles()[i].id, i);
+    // The first layer left at t = 0 at 1 m/s and has moved for 3 steps.
+    // (s_corr between the layers pushes it ahead a little.)
+    EXPECT_NEAR(sim.particles()[6].position.y, 1.0f - sim.time(), 0.5f * kSpacing);
+}
+
+TEST(ReferencePbf, TargetDensityErrorEndsTheSolveAfterMinIterations) {
+    format::Scene scene = testscene::smallScene({4, 4, 4}, kSpacing);
+    scene.simulation.maxIterations = 8;
+    {
+        ref::ReferencePbf sim(scene, {});
+        sim.substep();
+        EXPECT_EQ(sim.stats().iterationsLastSubstep, 8u); // target 0: always all iterations
+    }
+    scene.simulation.targetDensityError = 0.5f;
+    for (std::uint32_t minIterations : {0u, 2u, 5u}) {
+        scene.simulation.minIterations = minIterations;
+        ref::ReferencePbf sim(scene, {});
+        sim.substep();
+        EXPECT_EQ(sim.stats().iterationsLastSubstep, minIterations);
+    }
+}
+
+namespace {
+
+/// docs/pbf.md steps 2 to 6 for one substep of one solver iteration, in double, all pairs, no
+/// colliders or domain: an independent evaluation to hold the reference's float code against.
+struct BruteForceSubstep {
+    std::vector<glm::dvec3> x, v;
+    double confinementShare = 0.0; ///< max |dt eps (N x omega)| [m/s], to see it is exercised
+
+    BruteForceSubstep(const std::vector<rt::ParticleState>& start,
+                      const format::SimulationParams& p, const rt::PbfConstants& c) {
+        const double h = c.h, V = c.volume, dt = c.dt, pi = std::numbers::pi;
+        auto W = [&](double q) {
+            return q < h ? 315.0 / (64.0 * pi * std::pow(h, 9)) * std::pow(h * h - q * q, 3) : 0.0;
+        };
+        auto gradW = [&](const glm::dvec3& d) {
+            const double q = glm::length(d);
+            return q > 0.0 && q < h ? -45.0 / (pi * std::pow(h, 6)) * (h - q) * (h - q) / q * d
+                                    : glm::dvec3(0.0);
+        };
+        const std::size_t n = start.size();
+        std::vector<glm::dvec3> xs(n);
+        v.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            v[i] = glm::dvec3(start[i].velocity) + dt * glm::dvec3(p.gravity);
+            xs[i] = glm::dvec3(start[i].position) + dt * v[i];
+        }
+        std::vector<std::vector<std::size_t>> nb(n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < n; ++j)
+                if (j != i && glm::length(xs[i] - xs[j]) < h)
+                    nb[i].push_back(j);
+        std::vector<double> lambda(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            double rho = W(0.0), gSq = 0.0;
+            glm::dvec3 gSum(0.0);
+            for (std::size_t j : nb[i]) {
+                rho += W(glm::length(xs[i] - xs[j]));
+                const glm::dvec3 g = V * gradW(xs[i] - xs[j]);
+                gSum += g;
+                gSq += glm::dot(g, g);
+            }
+            const double C = std::max(c.mass * rho / p.restDensity - 1.0, 0.0);
+            lambda[i] = -C / (gSq + glm::dot(gSum, gSum) + c.epsilon);
+        }
+        std::vector<glm::dvec3> dp(n, glm::dvec3(0.0));
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j : nb[i]) {
+                const double scorr = -p.scorrK * c.lambdaRef *
+                                     std::pow(W(glm::length(xs[i] - xs[j])) / c.wDeltaQ, p.scorrN);
+                dp[i] += V * (lambda[i] + lambda[j] + scorr) * gradW(xs[i] - xs[j]);
+            }
+        for (std::size_t i = 0; i < n; ++i) {
+            xs[i] += dp[i];
+            v[i] = (xs[i] - glm::dvec3(start[i].position)) / dt;
+        }
+        std::vector<glm::dvec3> omega(n, glm::dvec3(0.0));
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j : nb[i])
+                omega[i] += V * glm::cross(v[j] - v[i], gradW(xs[j] - xs[i]));
+        std::vector<glm::dvec3> out(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            glm::dvec3 eta(0.0), xsph(0.0);
+            for (std::size_t j : nb[i]) {
+                eta += V * (glm::length(omega[j]) - glm::length(omega[i])) * gradW(xs[i] - xs[j]);
+                xsph += V * (v[j] - v[i]) * W(glm::length(xs[i] - xs[j]));
+            }
+            const glm::dvec3 N = glm::length(eta) < 1e-12 ? glm::dvec3(0.0) : glm::normalize(eta);
+            const glm::dvec3 confinement = dt * double(p.vorticity) * glm::cross(N, omega[i]);
+            confinementShare = std::max(confinementShare, glm::length(confinement));
+            out[i] = v[i] + confinement + double(p.xsph) * xsph;
+        }
+        v = out;
+        x = xs;
+    }
+};
+
+} // namespace
+
+TEST(ReferencePbf, OneIterationMatchesABruteForceDoubleEvaluationOfPbfMd) {
+    format::Scene scene = testscene::emptyScene(kSpacing, 4, 64);
+    scene.simulation.minIterations = 1;
+    scene.simulation.maxIterations = 1;
+    scene.simulation.xsph = 0.05f;
+    scene.simulation.vorticity = 0.5f;
+    format::FluidBlock block;
+    block.max = glm::vec3(4.0f * kSpacing);
+    scene.blocks.push_back(block);
+    ref::ReferencePbf sim(scene, {});
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> jitter(-0.15f * kSpacing, 0.15f * kSpacing),
+        vel(-0.5f, 0.5f);
+    for (rt::ParticleState& p : sim.mutableParticles()) {
+        p.position = 0.85f * p.position + glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+        p.velocity = glm::vec3(vel(rng), vel(rng), vel(rng));
+    }
+    const BruteForceSubstep expected(sim.particles(), scene.simulation, sim.constants());
+    sim.substep();
+    double maxDx = 0.0;
+    for (std::size_t i = 0; i < expected.x.size(); ++i) {
+        const rt::ParticleState& p = sim.particles()[i];
+        expectVecNear(p.position, glm::vec3(expected.x[i]), 2e-7f);
+        expectVecNear(p.velocity, glm::vec3(expected.v[i]), 1e-4f);
+        maxDx = std::max(maxDx, glm::length(expected.x[i] - glm::dvec3(p.position)));
+    }
+    EXPECT_GT(sim.stats().avgDensityError, 0.05); // compressed: the solve moved particles
+    EXPECT_GT(expected.confinementShare, 1e-2);   // and confinement changed velocities
+}
