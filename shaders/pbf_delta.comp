@@ -51,9 +51,14 @@ void main() {
         float scorr = scorrScale * pow(poly6(q2) * P.scorr.z, P.scorr.y);
         dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
     PBF_NEIGHBOURS_END
+    // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
+    // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
+    // pbf_velocity.comp counts what still goes wrong.
     vec3 x = xi + PBF_VOLUME * dp;
-    x = clampToDomain(collide(x, pos[i].xyz));
-    // A non-finite correction is dropped here, so it cannot reach the neighbours in the next
-    // iteration; pbf_velocity.comp counts what still goes wrong.
-    predOut[i] = vec4(allFinite(x) ? x : xi, 0.0);
+    if (!allFinite(x))
+        x = xi;
+    x = collide(x, pos[i].xyz);
+    if (!allFinite(x))
+        x = xi;
+    predOut[i] = vec4(clampToDomain(x), 0.0);
 }

@@ -100,6 +100,11 @@ void ReferencePbf::substepImpl() {
         rt::ParticleState& p = m_particles[i];
         p.velocity += dt * m_params.gravity;
         m_predicted[i] = p.position + dt * p.velocity;
+        if (!isFinite(m_predicted[i]) || !isFinite(p.velocity)) {
+            m_predicted[i] = p.position; // docs/pbf.md step 2: no NaN enters the search
+            p.velocity = glm::vec3(0.0f);
+            ++m_stats.nonFinite;
+        }
     }
 
     // 3. Neighbours from x*, kept for the whole substep.
@@ -237,7 +242,11 @@ void ReferencePbf::solve() {
         // 4.4 Apply, collide in scene order, clamp into the domain shrunk by r.
         for (std::size_t i = 0; i < n; ++i) {
             glm::vec3 x = m_predicted[i] + dp[i];
+            if (!isFinite(x))
+                x = m_predicted[i]; // a non-finite correction is dropped (step 4.4)
             collide(x, xOld[i], t0, t1);
+            if (!isFinite(x))
+                x = m_predicted[i];
             if (m_hasDomain)
                 for (int a = 0; a < 3; ++a) // std::max/min in this order keep a NaN a NaN
                     x[a] = std::min(std::max(x[a], m_domainMin[a] + r), m_domainMax[a] - r);

@@ -77,6 +77,7 @@ inline format::ColliderAsset sphereColliderAsset(glm::dvec3 center, double radiu
 }
 
 /// Every SimulationParams field set to what readScene derives from `spacing` (h = 2 s,
+/// except targetDensityError = 0: tests run a fixed iteration count unless they say otherwise;
 /// 8 iterations, relaxation 0.01, s_corr k 0.1 / n 4 / dq 0.2 h, xsph 0.01, vorticity
 /// 0.01 sqrt(9.81 h)), with `substeps` substeps of a 1/60 s step and the given capacity.
 inline format::SimulationParams defaultParams(float spacing, std::uint32_t substeps = 4,

@@ -30,8 +30,9 @@ struct SimulationParams {
     std::uint32_t substeps = 0;        ///< PBF substeps per step; default from a CFL estimate
     std::uint32_t minIterations = 2;   ///< solver iterations always run per substep
     std::uint32_t maxIterations = 0;   ///< iteration cap per substep; default 8
-    float targetDensityError = 0.0f;   ///< stop iterating when the average compression (rho/rho0-1,
-                                       ///< >= 0) is below this; 0 = always run maxIterations
+    float targetDensityError = 0.005f; ///< stop iterating when the average compression (rho/rho0-1,
+                                       ///< >= 0) is below this (after minIterations); 0 = always
+                                       ///< run maxIterations
     float relaxation = 0.0f;           ///< lambda epsilon as a fraction of sum |grad C|^2 of a
                                        ///< full-neighbourhood particle (eq. 8); default 0.01
     float scorrK = 0.0f;               ///< s_corr k (eq. 10), in units of that particle's lambda

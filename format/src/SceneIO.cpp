@@ -1,0 +1,539 @@
+// Scene files: JSON (read with cereal's rapidjson) to format::Scene, validated, defaults derived.
+#include "sluice/format/SceneIO.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <new>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "Json.h"
+
+namespace sluice::format {
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace rj = detail::rj;
+using detail::formatFloat;
+using detail::formatNumber;
+using detail::JsonObject;
+using detail::readFloat;
+using detail::readNumber;
+using detail::readVec3;
+using detail::throwAt;
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kDefaultEmitterDuration = 10.0f; // [s] emitter stop when the file has none
+constexpr std::uint32_t kMaxDefaultSubsteps = 64;
+constexpr double kCflNumber = 0.4; // a particle moves at most 0.4 h per substep
+
+// Allowed interval of a number; compared in float, as the value is stored.
+struct Bounds {
+    float lo = -kInf;
+    float hi = kInf;
+    bool loOpen = false;
+    bool hiOpen = false;
+};
+
+Bounds closed(float lo, float hi) {
+    return {lo, hi, false, false};
+}
+Bounds atLeast(float lo) {
+    return {lo, kInf, false, false};
+}
+Bounds above(float lo) {
+    return {lo, kInf, true, false};
+}
+
+// "1.5 is out of range [0, 1]" or "-2 is out of range: must be > 0", plus an optional note.
+void checkRange(float value, const std::string& shown, const std::string& path, Bounds b,
+                const std::string& note = {}) {
+    const bool low = b.loOpen ? !(value > b.lo) : !(value >= b.lo);
+    const bool high = b.hiOpen ? !(value < b.hi) : !(value <= b.hi);
+    if (!low && !high)
+        return;
+    std::string problem = shown + " is out of range";
+    if (std::isinf(b.hi))
+        problem += std::string(": must be ") + (b.loOpen ? "> " : ">= ") + formatFloat(b.lo);
+    else
+        problem += std::string(" ") + (b.loOpen ? "(" : "[") + formatFloat(b.lo) + ", " +
+                   formatFloat(b.hi) + (b.hiOpen ? ")" : "]");
+    if (!note.empty())
+        problem += " (" + note + ")";
+    throwAt(ErrorCode::InvalidArgument, path, std::move(problem));
+}
+
+float readFloatIn(const rj::Value& value, const std::string& path, Bounds b,
+                  const std::string& note = {}) {
+    const float f = readFloat(value, path);
+    checkRange(f, formatNumber(value.GetDouble()), path, b, note);
+    return f;
+}
+
+std::string vecText(glm::vec3 v) {
+    return "[" + formatFloat(v.x) + ", " + formatFloat(v.y) + ", " + formatFloat(v.z) + "]";
+}
+
+// Reads {"min": [..], "max": [..]} with max > min on every axis.
+void readMinMax(const rj::Value& value, const std::string& path, glm::vec3& min, glm::vec3& max) {
+    const JsonObject o(value, path, {"min", "max"});
+    min = readVec3(o.require("min"), o.pathOf("min"));
+    max = readVec3(o.require("max"), o.pathOf("max"));
+    for (int a = 0; a < 3; ++a)
+        if (!(max[a] > min[a]))
+            throwAt(ErrorCode::InvalidArgument, o.pathOf("max"),
+                    vecText(max) + " must exceed min " + vecText(min) + " on every axis (" +
+                        "xyz"[a] + ": " + formatFloat(max[a]) + " <= " + formatFloat(min[a]) + ")");
+}
+
+// Builds a Scene from a parsed document; every problem is thrown as a JsonError.
+class SceneParser {
+public:
+    SceneParser(const fs::path& file, const SceneReadOptions& options)
+        : m_file(file), m_options(options) {}
+
+    Scene parse(const rj::Value& root);
+
+private:
+    void readVersion(const rj::Value& root);
+    void readSimulation(const rj::Value* value);
+    FluidBlock readBlock(const rj::Value& value, const std::string& path);
+    Emitter readEmitter(const rj::Value& value, const std::string& path);
+    SceneCollider readCollider(const rj::Value& value, const std::string& path);
+    void readCamera(const rj::Value& value, const std::string& path);
+    void deriveCapacity();
+    void deriveSubsteps();
+
+    const fs::path& m_file;
+    const SceneReadOptions& m_options;
+    Scene m_scene;
+    bool m_givenSubsteps = false;
+    bool m_givenCapacity = false;
+    std::uint64_t m_blockParticles = 0;
+};
+
+void SceneParser::readVersion(const rj::Value& root) {
+    // Before the key check: a newer file may well have keys this build does not know.
+    if (!root.IsObject())
+        throwAt(ErrorCode::BadMetadata, "", "expected an object, got " + detail::describe(root));
+    const auto it = root.FindMember("version");
+    if (it == root.MemberEnd())
+        return;
+    const double v = readNumber(it->value, "version");
+    if (v != std::floor(v))
+        throwAt(ErrorCode::BadMetadata, "version", "expected an integer, got " + formatNumber(v));
+    if (v > double(kSceneVersion))
+        throwAt(ErrorCode::UnsupportedVersion, "version",
+                "version " + formatNumber(v) + " is newer than this build reads (" +
+                    std::to_string(kSceneVersion) + "); update Sluice");
+    if (v < 1)
+        throwAt(ErrorCode::InvalidArgument, "version",
+                formatNumber(v) + " is out of range [1, " + std::to_string(kSceneVersion) + "]");
+}
+
+void SceneParser::readSimulation(const rj::Value* value) {
+    SimulationParams& p = m_scene.simulation;
+    static const rj::Value kEmpty(rj::kObjectType);
+    const JsonObject o(value ? *value : kEmpty, "simulation",
+                       {"spacing", "kernelRadius", "restDensity", "timeStep", "substeps",
+                        "minIterations", "maxIterations", "targetDensityError", "relaxation",
+                        "scorrK", "scorrN", "scorrDeltaQ", "xsph", "vorticity", "gravity",
+                        "capacity"});
+    auto floatIn = [&](std::string_view key, float& out, Bounds b, const std::string& note = {}) {
+        const rj::Value* v = o.find(key);
+        if (v)
+            out = readFloatIn(*v, o.pathOf(key), b, note);
+        return v != nullptr;
+    };
+    auto intIn = [&](std::string_view key, std::uint32_t& out, std::int64_t lo, std::int64_t hi) {
+        const rj::Value* v = o.find(key);
+        if (v)
+            out = std::uint32_t(detail::readInteger(*v, o.pathOf(key), lo, hi));
+        return v != nullptr;
+    };
+
+    // Spacing first: other ranges and every default are in units of it.
+    floatIn("spacing", p.spacing, closed(1e-4f, 10.0f));
+    const float s = p.spacing;
+    if (!floatIn("kernelRadius", p.kernelRadius, closed(s, 4.0f * s),
+                 "1 to 4 times spacing " + formatFloat(s)))
+        p.kernelRadius = 2.0f * s;
+    const float h = p.kernelRadius;
+    floatIn("restDensity", p.restDensity, above(0.0f));
+    floatIn("timeStep", p.timeStep, {0.0f, 1.0f, true, false});
+    m_givenSubsteps = intIn("substeps", p.substeps, 1, 1000);
+    intIn("minIterations", p.minIterations, 1, 1000);
+    const bool givenMax = intIn("maxIterations", p.maxIterations, 1, 1000);
+    if (!givenMax)
+        p.maxIterations = 8;
+    if (p.maxIterations < p.minIterations)
+        throwAt(ErrorCode::InvalidArgument, o.pathOf("maxIterations"),
+                std::to_string(p.maxIterations) + (givenMax ? "" : " (the default)") +
+                    " is less than minIterations " + std::to_string(p.minIterations));
+    floatIn("targetDensityError", p.targetDensityError, closed(0.0f, 1.0f));
+    if (!floatIn("relaxation", p.relaxation, closed(0.0f, 100.0f)))
+        p.relaxation = 0.01f;
+    if (!floatIn("scorrK", p.scorrK, atLeast(0.0f)))
+        p.scorrK = 0.1f;
+    floatIn("scorrN", p.scorrN, closed(1.0f, 8.0f));
+    if (!floatIn("scorrDeltaQ", p.scorrDeltaQ, {0.0f, h, false, true},
+                 "0 to kernelRadius " + formatFloat(h) + ", excluded"))
+        p.scorrDeltaQ = static_cast<float>(0.2 * double(h));
+    floatIn("xsph", p.xsph, closed(0.0f, 1.0f));
+    if (!floatIn("vorticity", p.vorticity, atLeast(0.0f)))
+        p.vorticity = static_cast<float>(0.01 * std::sqrt(9.81 * double(h)));
+    if (const rj::Value* g = o.find("gravity"))
+        p.gravity = readVec3(*g, o.pathOf("gravity"));
+    m_givenCapacity = intIn("capacity", p.capacity, 1, kMaxSceneParticles);
+}
+
+FluidBlock SceneParser::readBlock(const rj::Value& value, const std::string& path) {
+    const JsonObject o(value, path, {"box", "sphere", "velocity"});
+    const float s = m_scene.simulation.spacing;
+    FluidBlock b;
+    if (o.has("box") == o.has("sphere"))
+        throwAt(ErrorCode::BadMetadata, path,
+                o.has("box") ? "has both \"box\" and \"sphere\"; a fluid block is one of them"
+                             : "missing required key \"box\" or \"sphere\"");
+    std::string shapePath;
+    if (const rj::Value* box = o.find("box")) {
+        shapePath = o.pathOf("box");
+        b.shape = FluidBlock::Shape::Box;
+        readMinMax(*box, shapePath, b.min, b.max);
+    } else {
+        shapePath = o.pathOf("sphere");
+        const JsonObject sphere(o.require("sphere"), shapePath, {"center", "radius"});
+        b.shape = FluidBlock::Shape::Sphere;
+        b.center = readVec3(sphere.require("center"), sphere.pathOf("center"));
+        b.radius = readFloatIn(sphere.require("radius"), sphere.pathOf("radius"), above(0.0f));
+    }
+    if (const rj::Value* v = o.find("velocity"))
+        b.velocity = readVec3(*v, o.pathOf("velocity"));
+
+    const std::uint64_t n = blockParticleCount(b, s);
+    if (n == 0)
+        throwAt(ErrorCode::InvalidArgument, shapePath,
+                "holds no particles at spacing " + formatFloat(s) +
+                    (b.shape == FluidBlock::Shape::Box
+                         ? " (every side must be at least one spacing long)"
+                         : " (the radius must be at least spacing / 2)"));
+    if (n > kMaxSceneParticles)
+        throwAt(ErrorCode::SizeOverflow, shapePath,
+                "holds more than " + std::to_string(kMaxSceneParticles) +
+                    " particles (the limit) at spacing " + formatFloat(s));
+    m_blockParticles += n;
+    return b;
+}
+
+Emitter SceneParser::readEmitter(const rj::Value& value, const std::string& path) {
+    const JsonObject o(value, path,
+                       {"position", "direction", "radius", "speed", "rate", "start", "stop"});
+    const float s = m_scene.simulation.spacing;
+    Emitter e;
+    e.position = readVec3(o.require("position"), o.pathOf("position"));
+    const glm::vec3 d = readVec3(o.require("direction"), o.pathOf("direction"));
+    // Normalised in double: a float length of a tiny vector would underflow to 0.
+    const glm::dvec3 dd(d);
+    const double length = std::sqrt(glm::dot(dd, dd));
+    if (!(length > 0.0))
+        throwAt(ErrorCode::InvalidArgument, o.pathOf("direction"),
+                vecText(d) + " has no direction (zero vector)");
+    e.direction = glm::vec3(dd / length);
+    e.radius = readFloatIn(o.require("radius"), o.pathOf("radius"), atLeast(0.5f * s),
+                           "at least spacing / 2");
+    e.speed = readFloatIn(o.require("speed"), o.pathOf("speed"), above(0.0f));
+    if (const rj::Value* v = o.find("rate"))
+        e.rate = readFloatIn(*v, o.pathOf("rate"), atLeast(0.0f));
+    if (const rj::Value* v = o.find("start"))
+        e.start = readFloatIn(*v, o.pathOf("start"), atLeast(0.0f));
+    if (const rj::Value* v = o.find("stop"))
+        e.stop = readFloatIn(*v, o.pathOf("stop"), above(e.start),
+                             "after start " + formatFloat(e.start));
+    else
+        e.stop = e.start + kDefaultEmitterDuration;
+    if (emitterDiscCount(e.radius, s) > kMaxSceneParticles)
+        throwAt(ErrorCode::SizeOverflow, o.pathOf("radius"),
+                "a disc of radius " + formatFloat(e.radius) + " holds more than " +
+                    std::to_string(kMaxSceneParticles) + " particles (the limit) at spacing " +
+                    formatFloat(s));
+    return e;
+}
+
+SceneCollider SceneParser::readCollider(const rj::Value& value, const std::string& path) {
+    const JsonObject o(value, path,
+                       {"asset", "translation", "rotation", "scale", "friction", "motion"});
+    SceneCollider c;
+    c.asset = detail::readString(o.require("asset"), o.pathOf("asset"));
+    if (c.asset.empty() || c.asset.find('\0') != std::string::npos)
+        throwAt(ErrorCode::BadMetadata, o.pathOf("asset"),
+                "expected a file path, got an empty string or one with a NUL byte");
+    c.resolvedPath = (m_file.parent_path() / fs::path(c.asset)).lexically_normal().string();
+    if (const rj::Value* v = o.find("translation"))
+        c.translation = readVec3(*v, o.pathOf("translation"));
+    if (const rj::Value* v = o.find("rotation"))
+        c.rotationDegrees = readVec3(*v, o.pathOf("rotation"));
+    if (const rj::Value* v = o.find("scale"))
+        c.scale = readFloatIn(*v, o.pathOf("scale"), above(0.0f));
+    if (const rj::Value* v = o.find("friction"))
+        c.friction = readFloatIn(*v, o.pathOf("friction"), closed(0.0f, 1.0f));
+
+    if (const rj::Value* mv = o.find("motion")) {
+        const JsonObject m(*mv, o.pathOf("motion"),
+                           {"linearVelocity", "angularVelocity", "keyframes"});
+        if (const rj::Value* v = m.find("linearVelocity"))
+            c.linearVelocity = readVec3(*v, m.pathOf("linearVelocity"));
+        if (const rj::Value* v = m.find("angularVelocity"))
+            c.angularVelocityDegrees = readVec3(*v, m.pathOf("angularVelocity"));
+        if (const rj::Value* kv = m.find("keyframes")) {
+            if (m.has("linearVelocity") || m.has("angularVelocity"))
+                throwAt(ErrorCode::BadMetadata, m.path(),
+                        "has both \"keyframes\" and velocities; a collider moves by one or the "
+                        "other");
+            // The keys give the whole placement (docs/pbf.md), so a rest pose would be ignored.
+            for (const std::string_view key : {"translation", "rotation"})
+                if (o.has(key))
+                    throwAt(ErrorCode::BadMetadata, o.pathOf(key),
+                            "not allowed with motion.keyframes: the keys place the collider "
+                            "(give \"" +
+                                std::string(key) + "\" in each key)");
+            const std::string keysPath = m.pathOf("keyframes");
+            const rj::Value& keys = detail::requireArray(*kv, keysPath);
+            if (keys.Empty())
+                throwAt(ErrorCode::BadMetadata, keysPath, "needs at least 1 key, got none");
+            for (rj::SizeType i = 0; i < keys.Size(); ++i) {
+                const JsonObject k(keys[i], detail::joinIndex(keysPath, i),
+                                   {"time", "translation", "rotation"});
+                ColliderKey key;
+                key.time = readFloat(k.require("time"), k.pathOf("time"));
+                if (!c.keys.empty() && !(key.time > c.keys.back().time))
+                    throwAt(ErrorCode::InvalidArgument, k.pathOf("time"),
+                            formatNumber(k.require("time").GetDouble()) +
+                                " is not after the previous key's time " +
+                                formatFloat(c.keys.back().time) +
+                                " (times must strictly increase)");
+                key.translation = readVec3(k.require("translation"), k.pathOf("translation"));
+                if (const rj::Value* r = k.find("rotation"))
+                    key.rotationDegrees = readVec3(*r, k.pathOf("rotation"));
+                c.keys.push_back(key);
+            }
+        }
+    }
+
+    if (m_options.checkAssets) {
+        std::error_code ec;
+        const fs::file_status st = fs::status(c.resolvedPath, ec);
+        if (!fs::exists(st))
+            throwAt(ErrorCode::Io, o.pathOf("asset"),
+                    "collider asset not found: " + c.resolvedPath + " (bake it with sluice-bake)");
+        if (!fs::is_regular_file(st))
+            throwAt(ErrorCode::Io, o.pathOf("asset"),
+                    "collider asset is not a file: " + c.resolvedPath);
+    }
+    return c;
+}
+
+void SceneParser::readCamera(const rj::Value& value, const std::string& path) {
+    const JsonObject o(value, path, {"position", "target", "fov"});
+    Camera& cam = m_scene.camera;
+    cam.position = readVec3(o.require("position"), o.pathOf("position"));
+    cam.target = readVec3(o.require("target"), o.pathOf("target"));
+    if (cam.target == cam.position)
+        throwAt(ErrorCode::InvalidArgument, o.pathOf("target"),
+                vecText(cam.target) + " equals the position; the camera needs a direction");
+    if (const rj::Value* v = o.find("fov"))
+        cam.fovDegrees = readFloatIn(*v, o.pathOf("fov"), {1.0f, 179.0f, true, true});
+    cam.set = true;
+}
+
+// Capacity: the blocks' particles plus everything each emitter emits between start and stop.
+void SceneParser::deriveCapacity() {
+    SimulationParams& p = m_scene.simulation;
+    if (m_blockParticles > kMaxSceneParticles)
+        throwAt(ErrorCode::SizeOverflow, "fluid",
+                "the fluid blocks hold " + std::to_string(m_blockParticles) +
+                    " particles, more than the limit " + std::to_string(kMaxSceneParticles));
+    if (m_givenCapacity) {
+        if (p.capacity < m_blockParticles)
+            throwAt(ErrorCode::InvalidArgument, "simulation.capacity",
+                    std::to_string(p.capacity) + " is smaller than the " +
+                        std::to_string(m_blockParticles) + " particles the fluid blocks hold");
+        return;
+    }
+    // The layer count in float, as the runtime's emitter schedule computes its interval, so a
+    // round duration gives a round count (8 s / 0.02 s = 400, not 400.00001 -> 401).
+    double emitted = 0.0;
+    for (const Emitter& e : m_scene.emitters) {
+        const std::uint64_t disc = emitterDiscCount(e.radius, p.spacing);
+        float interval = p.spacing / e.speed;
+        if (e.rate > 0.0f)
+            interval = std::max(interval, float(disc) / e.rate);
+        const float layers = std::ceil((e.stop - e.start) / interval);
+        // A long, fast emitter can pass the float range; double cannot overflow here.
+        emitted += (std::isfinite(layers)
+                        ? double(layers)
+                        : std::ceil((double(e.stop) - double(e.start)) / double(interval))) *
+                   double(disc);
+    }
+    const double total = double(m_blockParticles) + emitted;
+    if (!(total <= double(kMaxSceneParticles)))
+        throwAt(ErrorCode::SizeOverflow, "simulation.capacity",
+                "the scene needs " + formatNumber(total) + " particles (" +
+                    std::to_string(m_blockParticles) + " in fluid blocks + " +
+                    formatNumber(emitted) + " from emitters), more than the limit " +
+                    std::to_string(kMaxSceneParticles) +
+                    "; use a larger spacing, an earlier emitter stop, or set capacity");
+    p.capacity = static_cast<std::uint32_t>(total);
+}
+
+// Substeps from a CFL estimate: the fastest a particle is likely to move is its start or exit
+// speed plus a free fall over the scene's height; one substep moves it at most 0.4 h.
+void SceneParser::deriveSubsteps() {
+    SimulationParams& p = m_scene.simulation;
+    double minY = std::numeric_limits<double>::infinity();
+    double maxY = -minY;
+    auto span = [&](double lo, double hi) {
+        minY = std::min(minY, lo);
+        maxY = std::max(maxY, hi);
+    };
+    for (const FluidBlock& b : m_scene.blocks) {
+        if (b.shape == FluidBlock::Shape::Box)
+            span(b.min.y, b.max.y);
+        else
+            span(double(b.center.y) - b.radius, double(b.center.y) + b.radius);
+    }
+    for (const Emitter& e : m_scene.emitters)
+        span(e.position.y, e.position.y);
+    if (m_scene.domainMin)
+        span(m_scene.domainMin->y, m_scene.domainMax->y);
+    const double height = maxY > minY ? maxY - minY : 0.0;
+    const glm::dvec3 g(p.gravity);
+    const double fall = std::sqrt(2.0 * std::sqrt(glm::dot(g, g)) * height);
+    double vEst = fall;
+    for (const Emitter& e : m_scene.emitters)
+        vEst = std::max(vEst, double(e.speed) + fall);
+    for (const FluidBlock& b : m_scene.blocks) {
+        const glm::dvec3 v(b.velocity);
+        vEst = std::max(vEst, std::sqrt(glm::dot(v, v)) + fall);
+    }
+    const double n = std::ceil(double(p.timeStep) * vEst / (kCflNumber * double(p.kernelRadius)));
+    p.substeps = n >= double(kMaxDefaultSubsteps) ? kMaxDefaultSubsteps
+                                                  : std::max<std::uint32_t>(1, std::uint32_t(n));
+}
+
+Scene SceneParser::parse(const rj::Value& root) {
+    readVersion(root);
+    const JsonObject o(root, "",
+                       {"version", "name", "description", "simulation", "fluid", "emitters",
+                        "colliders", "domain", "camera"});
+    m_scene.path = m_file.string();
+    m_scene.name = m_file.stem().string();
+    if (const rj::Value* v = o.find("name"))
+        m_scene.name = detail::readString(*v, "name");
+    if (const rj::Value* v = o.find("description"))
+        (void)detail::readString(*v, "description");
+    readSimulation(o.find("simulation"));
+
+    if (const rj::Value* v = o.find("domain")) {
+        glm::vec3 min, max;
+        readMinMax(*v, "domain", min, max);
+        const float s = m_scene.simulation.spacing;
+        for (int a = 0; a < 3; ++a)
+            if (max[a] - min[a] < s)
+                throwAt(ErrorCode::InvalidArgument, "domain.max",
+                        std::string("the domain is ") + formatFloat(max[a] - min[a]) + " wide on " +
+                            "xyz"[a] + ", less than one spacing " + formatFloat(s));
+        m_scene.domainMin = min;
+        m_scene.domainMax = max;
+    }
+    if (const rj::Value* v = o.find("fluid")) {
+        const rj::Value& blocks = detail::requireArray(*v, "fluid");
+        for (rj::SizeType i = 0; i < blocks.Size(); ++i)
+            m_scene.blocks.push_back(readBlock(blocks[i], detail::joinIndex("fluid", i)));
+    }
+    if (const rj::Value* v = o.find("emitters")) {
+        const rj::Value& emitters = detail::requireArray(*v, "emitters");
+        for (rj::SizeType i = 0; i < emitters.Size(); ++i)
+            m_scene.emitters.push_back(readEmitter(emitters[i], detail::joinIndex("emitters", i)));
+    }
+    if (m_scene.blocks.empty() && m_scene.emitters.empty())
+        throwAt(ErrorCode::BadMetadata, "fluid",
+                "a scene needs at least one fluid block (\"fluid\") or one emitter "
+                "(\"emitters\")");
+    if (const rj::Value* v = o.find("colliders")) {
+        const rj::Value& colliders = detail::requireArray(*v, "colliders");
+        if (colliders.Size() > kMaxSceneColliders)
+            throwAt(ErrorCode::InvalidArgument, "colliders",
+                    std::to_string(colliders.Size()) + " colliders, more than the limit " +
+                        std::to_string(kMaxSceneColliders));
+        for (rj::SizeType i = 0; i < colliders.Size(); ++i)
+            m_scene.colliders.push_back(
+                readCollider(colliders[i], detail::joinIndex("colliders", i)));
+    }
+    if (const rj::Value* v = o.find("camera"))
+        readCamera(*v, "camera");
+
+    deriveCapacity();
+    if (!m_givenSubsteps)
+        deriveSubsteps();
+    return std::move(m_scene);
+}
+
+} // namespace
+
+Result<Scene> parseScene(std::string_view json, const std::filesystem::path& file,
+                         const SceneReadOptions& options) {
+    const std::string name = file.string();
+    if (json.size() > kMaxSceneFileBytes)
+        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(json.size()) +
+                                                 " bytes, more than the scene-file limit of " +
+                                                 std::to_string(kMaxSceneFileBytes));
+    try {
+        rj::Document doc;
+        if (const auto e = detail::parseJson(json, doc))
+            return fail(e->code, name + ":" + std::to_string(e->line) + ":" +
+                                     std::to_string(e->column) + ": " +
+                                     detail::displayPath(e->path) + ": " + e->problem);
+        SceneParser parser(file, options);
+        return parser.parse(doc);
+    } catch (const detail::JsonError& e) {
+        return fail(e.code, name + ": " + detail::displayPath(e.path) + ": " + e.problem);
+    } catch (const std::bad_alloc&) {
+        return fail(ErrorCode::SizeOverflow, name + ": out of memory while reading the scene");
+    } catch (const std::exception& e) {
+        // cereal::RapidJSONException from a rapidjson internal assert, or anything else.
+        return fail(ErrorCode::BadMetadata, name + ": cannot read the scene: " + e.what());
+    }
+}
+
+Result<Scene> readScene(const std::filesystem::path& file, const SceneReadOptions& options) {
+    const std::string name = file.string();
+    std::error_code ec;
+    const fs::file_status st = fs::status(file, ec);
+    if (!fs::exists(st))
+        return fail(ErrorCode::Io, name + ": cannot read the scene file: " +
+                                       (ec ? ec.message() : std::string("no such file")));
+    if (!fs::is_regular_file(st))
+        return fail(ErrorCode::Io, name + ": cannot read the scene file: not a regular file");
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (ec)
+        return fail(ErrorCode::Io, name + ": cannot read the scene file: " + ec.message());
+    if (size > kMaxSceneFileBytes)
+        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(size) +
+                                                 " bytes, more than the scene-file limit of " +
+                                                 std::to_string(kMaxSceneFileBytes));
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        return fail(ErrorCode::Io, name + ": cannot open the scene file for reading");
+    std::string text(std::size_t(size), '\0');
+    in.read(text.data(), std::streamsize(size));
+    if (std::uintmax_t(in.gcount()) != size)
+        return fail(ErrorCode::Io, name + ": read " + std::to_string(in.gcount()) + " of " +
+                                       std::to_string(size) + " bytes of the scene file");
+    return parseScene(text, file, options);
+}
+
+} // namespace sluice::format
