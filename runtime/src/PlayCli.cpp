@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "Bench.h"
 #include "StatsReport.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/SceneIO.h"
@@ -39,6 +40,9 @@ struct PlayOptions {
     bool deterministic = false;
     bool check = false;
     bool quiet = false;
+    bool bench = false;
+    std::string benchJson;
+    std::uint64_t warmup = 20;
 };
 
 int exitCodeFor(const Error& error) {
@@ -207,11 +211,24 @@ int run(int argc, char** argv) {
     app.add_flag("--check", o.check,
                  "Exit 1 if a particle went non-finite or ended inside a collider");
     app.add_flag("--quiet", o.quiet, "Print nothing but errors");
+    app.add_flag("--bench", o.bench,
+                 "Benchmark (headless): warm up, then the median step and pass times over --steps");
+    app.add_option("--warmup", o.warmup, "Steps run before --bench measures (default 20)");
+    app.add_option("--bench-json", o.benchJson, "Write the --bench results to this JSON file");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         const int code = app.exit(e);
         return code == 0 ? kPlayExitOk : kPlayExitBadInput;
+    }
+    if (o.bench) {
+        BenchOptions bench;
+        bench.scene = o.scene;
+        bench.steps = o.steps > 0 ? o.steps : 100;
+        bench.warmup = o.warmup;
+        bench.json = o.benchJson;
+        bench.deterministic = o.deterministic;
+        return runBench(bench);
     }
     if (!o.headless) {
         std::cerr << "sluice-play: the viewer window is not built yet; run with --headless\n";

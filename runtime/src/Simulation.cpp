@@ -93,6 +93,7 @@ struct Simulation::Impl {
     gpu::Buffer lambdaBuf, cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
     gpu::Buffer colliderBuf, sdfBuf, params;
     std::vector<gpu::GpuTimer> timers;
+    std::array<std::uint64_t, std::size_t(Pass::Count)> drainedNs{}; // totals at the last drain
     std::vector<ParticleState> staging;
 
     explicit Impl(const format::Scene& s) : scene(s), emitters(s) {}
@@ -491,6 +492,23 @@ PassTimes Simulation::passTimes() {
             continue;
         const double mean = double(timer.totalNs()) / double(timer.completed()) * 1e-6;
         times[p] = Pass(p) == Pass::Stats ? mean : mean * perStep;
+    }
+    return times;
+}
+
+PassTimes Simulation::drainPassTimes() {
+    Impl& s = *m_impl;
+    PassTimes times;
+    times.fill(-1.0);
+    if (!s.options.timers)
+        return times;
+    for (std::size_t p = 0; p < times.size(); ++p) {
+        gpu::GpuTimer& timer = s.timers[p];
+        if (timer.pending() > 0)
+            timer.elapsedNs();
+        const std::uint64_t total = timer.totalNs();
+        times[p] = double(total - s.drainedNs[p]) * 1e-6;
+        s.drainedNs[p] = total;
     }
     return times;
 }

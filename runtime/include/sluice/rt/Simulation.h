@@ -76,6 +76,10 @@ public:
     /// GPU time per pass of the latest step with complete timer queries; never waits.
     PassTimes passTimes();
 
+    /// Waits for every timer query in flight, then returns the GPU time per pass summed over
+    /// everything since the previous call [ms] (for benchmarks: call it after each step).
+    PassTimes drainPassTimes();
+
     /// Current particles, in memory order (ids identify them). Waits for the GPU.
     std::vector<ParticleState> downloadParticles() const;
 

@@ -1,0 +1,134 @@
+// The benchmark loop: warm-up, then one GPU-timed step at a time, medians over the steps.
+#include "Bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <span>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sluice/format/AtomicFile.h"
+#include "sluice/format/SceneIO.h"
+#include "sluice/gpu/Context.h"
+#include "sluice/rt/PlayCli.h"
+#include "sluice/rt/Simulation.h"
+
+namespace sluice::rt {
+namespace {
+
+double median(std::vector<double> values) {
+    if (values.empty())
+        return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+int fail(const Error& error) {
+    std::cerr << "sluice-play: " << error.message() << '\n';
+    return error.code == ErrorCode::NoGlContext ? kPlayExitNoGlContext : kPlayExitBadInput;
+}
+
+} // namespace
+
+int runBench(const BenchOptions& o) {
+    auto scene = format::readScene(o.scene);
+    if (!scene)
+        return fail(scene.error());
+    auto colliders = loadSceneColliders(*scene);
+    if (!colliders)
+        return fail(colliders.error());
+    auto context = gpu::Context::createHeadless();
+    if (!context)
+        return fail(context.error());
+    SimulationOptions options;
+    options.deterministic = o.deterministic;
+    auto sim = Simulation::create(*scene, std::move(*colliders), options);
+    if (!sim)
+        return fail(sim.error());
+
+    for (std::uint64_t i = 0; i < o.warmup; ++i)
+        sim->step();
+    sim->drainPassTimes();
+
+    // Each measured step is drained before the next, so the GPU times are per step; the wall
+    // time of the whole run is measured separately, without per-step waits.
+    std::vector<double> stepMs;
+    std::vector<std::vector<double>> passMs(std::size_t(Pass::Count));
+    std::uint64_t iterations = 0;
+    double errorSum = 0.0;
+    const auto start = std::chrono::steady_clock::now();
+    for (std::uint64_t i = 0; i < o.steps; ++i) {
+        sim->step();
+        const PassTimes times = sim->drainPassTimes();
+        double total = 0.0;
+        for (std::size_t p = 0; p < times.size(); ++p) {
+            passMs[p].push_back(times[p]);
+            total += std::max(times[p], 0.0);
+        }
+        stepMs.push_back(total);
+        const StepStats stats = sim->readStats();
+        iterations += stats.iterations;
+        errorSum += stats.avgDensityError;
+    }
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    const std::uint32_t particles = sim->particleCount();
+    const double stepMedian = median(stepMs);
+    const double substeps = scene->simulation.substeps;
+    const double avgIterations = double(iterations) / double(std::max<std::uint64_t>(o.steps, 1));
+    // Particle-iterations per second: particles x substeps x iterations of the last substep,
+    // per second of median GPU step time.
+    const double throughput =
+        stepMedian > 0.0 ? particles * substeps * avgIterations / (stepMedian * 1e-3) : 0.0;
+
+    std::printf("sluice-play --bench %s\n  GL: %s\n  %u particles, %g substeps, %.2f iterations "
+                "(mean of the last substeps), avg density error %.3f %%\n",
+                scene->path.c_str(), context->info().renderer.c_str(), particles, substeps,
+                avgIterations, 100.0 * errorSum / double(std::max<std::uint64_t>(o.steps, 1)));
+    std::printf("  %-16s %12s\n", "pass", "median ms");
+    nlohmann::json passes = nlohmann::json::object();
+    for (std::size_t p = 0; p < passMs.size(); ++p) {
+        const double m = median(passMs[p]);
+        std::printf("  %-16s %12.4f\n", passName(Pass(p)), m);
+        passes[passName(Pass(p))] = m;
+    }
+    std::printf("  %-16s %12.4f\n  steps/s (GPU median): %.2f   steps/s (wall): %.2f\n"
+                "  particle-iterations/s: %.4g   GPU memory: %llu bytes (%llu per particle)\n",
+                "step", stepMedian, stepMedian > 0 ? 1e3 / stepMedian : 0.0,
+                wall > 0 ? double(o.steps) / wall : 0.0, throughput,
+                static_cast<unsigned long long>(sim->gpuBytes()),
+                static_cast<unsigned long long>(sim->bytesPerParticle()));
+
+    if (!o.json.empty()) {
+        const nlohmann::json doc = {
+            {"tool", std::string("sluice-play ") + SLUICE_VERSION},
+            {"scene", scene->path},
+            {"renderer", context->info().renderer},
+            {"particles", particles},
+            {"substeps", substeps},
+            {"meanIterations", avgIterations},
+            {"avgDensityError", errorSum / double(std::max<std::uint64_t>(o.steps, 1))},
+            {"warmupSteps", o.warmup},
+            {"measuredSteps", o.steps},
+            {"medianStepMs", stepMedian},
+            {"medianPassMs", passes},
+            {"stepsPerSecondGpu", stepMedian > 0 ? 1e3 / stepMedian : 0.0},
+            {"stepsPerSecondWall", wall > 0 ? double(o.steps) / wall : 0.0},
+            {"particleIterationsPerSecond", throughput},
+            {"gpuBytes", sim->gpuBytes()},
+            {"bytesPerParticle", sim->bytesPerParticle()},
+        };
+        const std::string text = doc.dump(2) + "\n";
+        if (auto ok = format::writeFileAtomic(o.json, std::as_bytes(std::span(text.data(), text.size())));
+            !ok)
+            return fail(ok.error());
+    }
+    return kPlayExitOk;
+}
+
+} // namespace sluice::rt
