@@ -80,6 +80,7 @@ struct Simulation::Impl {
     double time = 0.0;
     std::uint64_t steps = 0;
     bool capacityReached = false;
+    bool emittersOn = true;
     std::uint64_t gpuBytes = 0;
     std::uint64_t bytesPerParticle = 0;
     EmitterSchedule emitters;
@@ -229,7 +230,7 @@ void Simulation::Impl::substep() {
 
     begin(Pass::Emit);
     staging.clear();
-    if (!emitters.emit(float(t0), count, capacity, nextId, staging))
+    if (emittersOn && !emitters.emit(float(t0), count, capacity, nextId, staging))
         capacityReached = true;
     append(staging);
     uploadParams();
@@ -526,6 +527,57 @@ std::vector<ParticleState> Simulation::downloadParticles() const {
         out[i] = ParticleState{glm::vec3(p[i]), glm::vec3(v[i]), ids[i]};
     return out;
 }
+
+Result<void> Simulation::setParameters(const format::SimulationParams& params) {
+    Impl& s = *m_impl;
+    format::SimulationParams p = params;
+    const format::SimulationParams& now = s.scene.simulation;
+    p.spacing = now.spacing;
+    p.restDensity = now.restDensity;
+    p.capacity = now.capacity;
+    const float values[] = {p.kernelRadius, p.timeStep, p.targetDensityError, p.relaxation,
+                            p.scorrK, p.scorrN, p.scorrDeltaQ, p.xsph, p.vorticity,
+                            p.gravity.x, p.gravity.y, p.gravity.z};
+    for (float v : values)
+        if (!std::isfinite(v))
+            return Error{ErrorCode::NonFinite, "simulation parameters: a value is not finite"};
+    auto bad = [](const std::string& what) {
+        return Error{ErrorCode::InvalidArgument, "simulation parameters: " + what};
+    };
+    if (p.kernelRadius < p.spacing || p.kernelRadius > 4.0f * p.spacing)
+        return bad("kernelRadius must lie in [spacing, 4 spacing]");
+    if (!(p.timeStep > 0.0f) || p.substeps == 0 || p.minIterations == 0 || p.maxIterations == 0)
+        return bad("timeStep, substeps and iterations must be > 0");
+    if (p.minIterations > p.maxIterations)
+        return bad("minIterations must not exceed maxIterations");
+    if (p.scorrDeltaQ < 0.0f || p.scorrDeltaQ >= p.kernelRadius)
+        return bad("scorrDeltaQ must lie in [0, kernelRadius)");
+    if (p.targetDensityError < 0.0f || p.relaxation < 0.0f || p.scorrK < 0.0f ||
+        p.scorrN < 1.0f || p.xsph < 0.0f || p.vorticity < 0.0f)
+        return bad("targetDensityError, relaxation, scorrK, xsph and vorticity must be >= 0, "
+                   "scorrN >= 1");
+    if (p.maxIterations > s.maxIterations) {
+        // The per-iteration statistics slots grow with the cap.
+        auto stats = gpu::Buffer::create(
+            kStatsHeaderBytes + p.maxIterations * sizeof(shared::PbfIterationStats), "stats");
+        if (!stats)
+            return stats.error();
+        const std::uint32_t zero = 0;
+        glClearNamedBufferData(stats->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        s.statsBuf = std::move(*stats);
+    }
+    s.maxIterations = p.maxIterations;
+    s.scene.simulation = p;
+    s.k = deriveConstants(p);
+    return {};
+}
+
+const format::SimulationParams& Simulation::parameters() const {
+    return m_impl->scene.simulation;
+}
+
+void Simulation::setEmittersEnabled(bool enabled) { m_impl->emittersOn = enabled; }
+bool Simulation::emittersEnabled() const { return m_impl->emittersOn; }
 
 Result<void> Simulation::setParticles(const std::vector<ParticleState>& particles) {
     Impl& s = *m_impl;

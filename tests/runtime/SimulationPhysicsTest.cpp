@@ -182,5 +182,61 @@ TEST_F(SimulationPhysics, EmittersStopAtTheCapacityAndSayWhen) {
         EXPECT_LT(p.velocity.y, 0.0f) << "particle " << p.id;
 }
 
+TEST_F(SimulationPhysics, ParametersChangeBetweenStepsAndBadOnesChangeNothing) {
+    format::Scene scene = testscene::smallScene({4, 4, 4}, 0.02f, 2);
+    scene.domainMin.reset();
+    scene.domainMax.reset();
+    scene.simulation.gravity = glm::vec3(0.0f);
+    scene.simulation.scorrK = 0.0f; // s_corr alone would push the surface layer outwards
+    auto sim = Simulation::create(scene, {});
+    ASSERT_TRUE(sim) << sim.error().message();
+    sim->step();
+    EXPECT_LT(sim->readStats().maxSpeed, 1e-3); // a rest lattice without gravity stays put
+
+    format::SimulationParams p = sim->parameters();
+    p.gravity = glm::vec3(0.0f, -9.81f, 0.0f);
+    p.maxIterations = 12; // more statistics slots than the buffers were made for
+    ASSERT_TRUE(sim->setParameters(p));
+    const double t0 = sim->time();
+    for (int i = 0; i < 6; ++i)
+        sim->step();
+    // Free fall for 0.1 s since gravity came on: every particle moves at g t.
+    const StepStats falling = sim->readStats();
+    EXPECT_NEAR(falling.maxSpeed, 9.81 * (sim->time() - t0), 1e-3);
+
+    format::SimulationParams bad = p;
+    bad.kernelRadius = 10.0f * p.spacing;
+    auto rejected = sim->setParameters(bad);
+    ASSERT_FALSE(rejected);
+    EXPECT_EQ(rejected.error().code, ErrorCode::InvalidArgument);
+    bad = p;
+    bad.xsph = std::nanf("");
+    EXPECT_FALSE(sim->setParameters(bad));
+    EXPECT_EQ(sim->parameters().kernelRadius, p.kernelRadius);
+    EXPECT_EQ(sim->parameters().maxIterations, 12u);
+}
+
+TEST_F(SimulationPhysics, EmittersSwitchedOffAddNothing) {
+    format::Scene scene = testscene::emptyScene(0.02f, 2, 1000);
+    format::Emitter nozzle;
+    nozzle.position = glm::vec3(0.0f, 1.0f, 0.0f);
+    nozzle.radius = 0.04f;
+    nozzle.speed = 1.0f;
+    nozzle.stop = 10.0f;
+    scene.emitters.push_back(nozzle);
+    auto sim = Simulation::create(scene, {});
+    ASSERT_TRUE(sim) << sim.error().message();
+    sim->step();
+    const std::uint32_t before = sim->particleCount();
+    EXPECT_GT(before, 0u);
+    sim->setEmittersEnabled(false);
+    for (int i = 0; i < 5; ++i)
+        sim->step();
+    EXPECT_EQ(sim->particleCount(), before);
+    sim->setEmittersEnabled(true);
+    sim->step();
+    EXPECT_GT(sim->particleCount(), before);
+}
+
 } // namespace
 } // namespace sluice::rt

@@ -83,6 +83,20 @@ public:
     /// Current particles, in memory order (ids identify them). Waits for the GPU.
     std::vector<ParticleState> downloadParticles() const;
 
+    /// Changes the simulation parameters from the next step on (the viewer's live panel).
+    /// `spacing`, `restDensity` and `capacity` keep their values: they fix the particle mass and
+    /// size the buffers. Fails with InvalidArgument (nothing changed) for values the scene reader
+    /// would reject: non-finite numbers, kernelRadius outside [spacing, 4 spacing], zero
+    /// substeps or iterations, minIterations > maxIterations, scorrDeltaQ >= kernelRadius.
+    Result<void> setParameters(const format::SimulationParams& params);
+
+    /// Current parameters (the scene's, or the last setParameters).
+    const format::SimulationParams& parameters() const;
+
+    /// Turns every emitter on or off (off: no new particles; the schedule keeps its place).
+    void setEmittersEnabled(bool enabled);
+    bool emittersEnabled() const;
+
     /// Replaces every particle (a restored snapshot, or a test's hand-made state). Fails with
     /// InvalidArgument when there are more than capacity() of them.
     Result<void> setParticles(const std::vector<ParticleState>& particles);
