@@ -5,21 +5,41 @@
 //   { "colliders": [ { "mesh": "meshes/rock.obj", "output": "rock.slc", "resolution": 64,
 //                      "voxelSize": 0, "padding": 3, "sign": "auto", "storage": "f32",
 //                      "scale": 1, "backend": "cgal" } ] }
-// An output is up to date when it exists, is no older than its mesh, and records the same tool
-// version and bake settings as its entry asks for; --force bakes everything. --depfile writes a
-// Makefile-syntax rule per output (output: mesh manifest) for build systems (Ninja's depfile).
+// An output is fresh when it reads as a valid asset that records the XXH3 hash of the mesh
+// file's current bytes, the same bake settings and this tool version. Only content counts:
+// touching a mesh without changing it bakes nothing, and no modification time is trusted.
+// --force bakes everything. --jobs N bakes up to N entries at once, each in a child process of
+// this program; GPU entries take turns (CGAL entries run beside them). --depfile writes a
+// Makefile-syntax rule per output (output: mesh manifest) for build systems (Ninja's and
+// Make's depfiles).
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "CliSupport.h"
 #include "sluice/bake/Cli.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
+#include "sluice/format/Hash.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -29,59 +49,280 @@ namespace fs = std::filesystem;
 struct BatchArgs {
     std::string manifest;
     std::string depfile;
+    unsigned jobs = 1;
     bool force = false;
     bool quiet = false;
 };
 
+/// One manifest entry: the bake it asks for and its name in the summary.
+struct Entry {
+    BakeArgs bake;     ///< paths resolved against the manifest's folder
+    std::string label; ///< "output" as the manifest spells it
+};
+
+/// What happened to one entry.
+enum class Status { Fresh, Baked, Failed };
+
+struct Outcome {
+    Status status = Status::Failed;
+    int exitCode = kExitOk;         ///< runBake's code for a failed entry
+    double seconds = 0.0;           ///< [s] freshness check and bake
+    std::uint64_t points = 0;       ///< [grid points] of the asset, 0 if unknown
+    std::optional<double> maxError; ///< [voxels] recorded by `validate --write`, if any
+};
+
 /// One manifest entry, paths resolved against the manifest's folder.
-Result<BakeArgs> parseEntry(const nlohmann::json& entry, const fs::path& folder, std::size_t n) {
+Result<Entry> parseEntry(const nlohmann::json& json, const fs::path& folder, std::size_t n) {
     const std::string where = "colliders[" + std::to_string(n) + "]";
-    if (!entry.is_object() || !entry.contains("mesh") || !entry["mesh"].is_string() ||
-        !entry.contains("output") || !entry["output"].is_string())
+    if (!json.is_object() || !json.contains("mesh") || !json["mesh"].is_string() ||
+        !json.contains("output") || !json["output"].is_string())
         return fail(ErrorCode::InvalidArgument,
                     where + " needs string fields \"mesh\" and \"output\"");
-    BakeArgs args;
-    args.mesh = (folder / entry["mesh"].get<std::string>()).string();
-    args.output = (folder / entry["output"].get<std::string>()).string();
+    Entry entry;
+    entry.label = json["output"].get<std::string>();
+    BakeArgs& args = entry.bake;
+    args.mesh = (folder / json["mesh"].get<std::string>()).string();
+    args.output = (folder / entry.label).string();
     try {
-        args.resolution = entry.value("resolution", args.resolution);
-        args.voxelSize = entry.value("voxelSize", args.voxelSize);
-        args.padding = entry.value("padding", args.padding);
-        args.sign = entry.value("sign", args.sign);
-        args.storage = entry.value("storage", args.storage);
-        args.scale = entry.value("scale", args.scale);
-        args.backend = entry.value("backend", args.backend);
+        args.resolution = json.value("resolution", args.resolution);
+        args.voxelSize = json.value("voxelSize", args.voxelSize);
+        args.padding = json.value("padding", args.padding);
+        args.sign = json.value("sign", args.sign);
+        args.storage = json.value("storage", args.storage);
+        args.scale = json.value("scale", args.scale);
+        args.backend = json.value("backend", args.backend);
     } catch (const nlohmann::json::exception& e) {
         return fail(ErrorCode::InvalidArgument, where + ": " + e.what());
     }
     if (args.resolution < 1 || args.resolution > 4096)
         return fail(ErrorCode::InvalidArgument, where + ": resolution must be 1..4096");
-    return args;
+    args.quiet = true;
+    return entry;
 }
 
-/// Whether `args.output` already holds what baking `args` would write.
-bool upToDate(const BakeArgs& args) {
+/// The manifest's entries; InvalidArgument naming the entry for a bad one, or for two entries
+/// that write the same output (they would race under --jobs and overwrite each other anyway).
+Result<std::vector<Entry>> readManifest(const std::string& path) {
+    std::ifstream in(path);
+    if (!in)
+        return fail(ErrorCode::Io, "cannot read manifest '" + path + "'");
+    nlohmann::json manifest;
+    try {
+        manifest = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        return fail(ErrorCode::InvalidArgument, "manifest '" + path + "' is not JSON: " + e.what());
+    }
+    if (!manifest.is_object() || !manifest.contains("colliders") ||
+        !manifest["colliders"].is_array())
+        return fail(ErrorCode::InvalidArgument,
+                    "manifest '" + path + "' needs an array \"colliders\" of {mesh, output, ...}");
+    const fs::path folder = fs::path(path).parent_path();
+    std::vector<Entry> entries;
+    std::set<fs::path> outputs;
+    for (std::size_t n = 0; n < manifest["colliders"].size(); ++n) {
+        Result<Entry> entry = parseEntry(manifest["colliders"][n], folder, n);
+        if (!entry)
+            return fail(ErrorCode::InvalidArgument,
+                        "manifest '" + path + "': " + entry.error().detail);
+        if (!outputs.insert(fs::path(entry->bake.output).lexically_normal()).second)
+            return fail(ErrorCode::InvalidArgument,
+                        "manifest '" + path + "': colliders[" + std::to_string(n) + "] writes '" +
+                            entry->label + "', as an earlier entry does");
+        entries.push_back(std::move(*entry));
+    }
+    return entries;
+}
+
+/// The asset at `args.output` if it holds what baking `args` would write: the mesh file's
+/// current content hash, the same settings and this tool version. Nothing if it is stale,
+/// missing or unreadable (a bake replaces it then).
+std::optional<format::ColliderAsset> freshAsset(const BakeArgs& args) {
     std::error_code ec;
-    const auto outputTime = fs::last_write_time(args.output, ec);
-    if (ec)
-        return false;
-    const auto meshTime = fs::last_write_time(args.mesh, ec);
-    if (ec || outputTime < meshTime)
-        return false;
+    if (!fs::is_regular_file(args.output, ec))
+        return std::nullopt;
+    Result<std::string> hash = format::hashFileHex(args.mesh);
+    if (!hash)
+        return std::nullopt; // the bake will say what is wrong with the mesh
     Result<format::ColliderAsset> asset = format::readAsset(args.output);
     if (!asset)
-        return false;
+        return std::nullopt;
     const format::ColliderMeta& meta = asset->meta;
     const bool byVoxelSize = args.voxelSize > 0.0;
-    return meta.toolVersion == toolVersion() && meta.bake.backend == args.backend &&
-           meta.bake.resolution == (byVoxelSize ? 0u : args.resolution) &&
-           (!byVoxelSize || meta.voxelSize == args.voxelSize) &&
-           meta.bake.padding == args.padding && meta.bake.signMode == args.sign &&
-           meta.bake.scale == args.scale && storageName(meta.storage) == args.storage &&
-           meta.sourceFile == fs::path(args.mesh).filename().string();
+    const bool same = meta.sourceHash == *hash &&
+                      meta.sourceFile == fs::path(args.mesh).filename().string() &&
+                      meta.toolVersion == toolVersion() && meta.bake.backend == args.backend &&
+                      meta.bake.resolution == (byVoxelSize ? 0u : args.resolution) &&
+                      (!byVoxelSize || meta.voxelSize == args.voxelSize) &&
+                      meta.bake.padding == args.padding && meta.bake.signMode == args.sign &&
+                      meta.bake.scale == args.scale && storageName(meta.storage) == args.storage;
+    if (!same)
+        return std::nullopt;
+    return std::move(*asset);
 }
 
-/// A path in a Makefile rule: spaces, '#' and '$' escaped.
+/// Figures of an asset for the summary.
+void describeAsset(const format::ColliderAsset& asset, Outcome& outcome) {
+    outcome.points = asset.pointCount();
+    if (asset.meta.validation.known)
+        outcome.maxError = asset.meta.validation.maxError;
+}
+
+/// `value` with the fewest digits that read back as the same double, for a child's arguments.
+std::string exactNumber(double value) {
+    char text[32];
+    const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
+    return ec == std::errc() ? std::string(text, end) : std::to_string(value);
+}
+
+/// A path as a child's argument: relative ones start with "./", so none reads as an option.
+std::string argumentPath(const std::string& path) {
+    return fs::path(path).is_relative() ? (fs::path(".") / path).string() : path;
+}
+
+/// Runs `sluice-bake bake` with `args` in a child process of this program and returns its exit
+/// code. With --jobs > 1 every bake runs this way: mesh import forks (Isolated.h), and a fork
+/// taken while other threads bake can copy a lock another thread holds (the sanitizers'
+/// allocator does deadlock so). A child that forks only for its own import is the single
+/// threaded case `bake` is tested for, and a crash stays in the child.
+int bakeInChild(const BakeArgs& args) {
+    std::vector<std::string> words = {"sluice-bake", "bake", "--quiet", "-o",
+                                      argumentPath(args.output)};
+    words.insert(words.end(),
+                 {"--backend", args.backend, "--sign", args.sign, "--storage", args.storage});
+    words.insert(words.end(),
+                 {"--padding", exactNumber(args.padding), "--scale", exactNumber(args.scale)});
+    if (args.voxelSize > 0.0)
+        words.insert(words.end(), {"--voxel-size", exactNumber(args.voxelSize)});
+    else
+        words.insert(words.end(), {"--resolution", std::to_string(args.resolution)});
+    words.push_back(argumentPath(args.mesh));
+    std::vector<char*> argv;
+    for (std::string& word : words)
+        argv.push_back(word.data());
+    argv.push_back(nullptr);
+
+    // posix_spawn execs at once (no code of ours runs in between), which is safe beside threads.
+    pid_t pid = 0;
+    if (const int err =
+            ::posix_spawn(&pid, "/proc/self/exe", nullptr, nullptr, argv.data(), environ);
+        err != 0) {
+        std::cerr << "sluice-bake batch: cannot start a bake of '" << args.mesh
+                  << "': " << std::strerror(err) << '\n';
+        return kExitInternal;
+    }
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR)
+            return kExitInternal;
+    if (WIFEXITED(status))
+        return WEXITSTATUS(status);
+    std::cerr << "sluice-bake batch: the bake of '" << args.mesh << "' was killed by signal "
+              << WTERMSIG(status) << '\n';
+    return kExitInternal;
+}
+
+/// Checks one entry and bakes it if it is not fresh, in this process or (`inChild`) in a child
+/// process. GPU bakes hold `gpuTurn` throughout: they share the machine's one GPU (or
+/// llvmpipe's cores), so one runs at a time, beside any number of CGAL bakes.
+Outcome process(const Entry& entry, bool force, bool inChild, std::mutex& gpuTurn) {
+    const auto start = std::chrono::steady_clock::now();
+    auto finish = [&](Outcome outcome) {
+        outcome.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return outcome;
+    };
+    Outcome outcome;
+    if (!force) {
+        if (std::optional<format::ColliderAsset> fresh = freshAsset(entry.bake)) {
+            outcome.status = Status::Fresh;
+            describeAsset(*fresh, outcome);
+            return finish(outcome);
+        }
+    }
+    std::unique_lock<std::mutex> turn(gpuTurn, std::defer_lock);
+    if (entry.bake.backend == "gpu")
+        turn.lock();
+    outcome.exitCode = inChild ? bakeInChild(entry.bake) : runBake(entry.bake);
+    if (turn.owns_lock())
+        turn.unlock();
+    if (outcome.exitCode != kExitOk) {
+        outcome.status = Status::Failed;
+        return finish(outcome);
+    }
+    outcome.status = Status::Baked;
+    if (Result<format::ColliderAsset> written = format::readAsset(entry.bake.output))
+        describeAsset(*written, outcome);
+    return finish(outcome);
+}
+
+/// Runs `process` over every entry, `jobs` at a time; outcomes in manifest order. One job bakes
+/// in this process; several check freshness on threads and bake in child processes.
+std::vector<Outcome> processAll(const std::vector<Entry>& entries, unsigned jobs, bool force) {
+    std::vector<Outcome> outcomes(entries.size());
+    std::mutex gpuTurn;
+    std::atomic<std::size_t> next{0};
+    const std::size_t threads = std::min<std::size_t>(jobs, entries.size());
+    const bool inChild = threads > 1;
+    auto worker = [&] {
+        for (std::size_t i = next++; i < entries.size(); i = next++) {
+            // runCli turns an internal exception into exit 4; off the main thread it would
+            // terminate the process, so each entry catches its own.
+            try {
+                outcomes[i] = process(entries[i], force, inChild, gpuTurn);
+            } catch (const std::exception& e) {
+                std::cerr << "sluice-bake batch: internal error on '" << entries[i].label
+                          << "': " << e.what() << '\n';
+                outcomes[i] = Outcome{.status = Status::Failed, .exitCode = kExitInternal};
+            }
+        }
+    };
+    if (!inChild) {
+        worker();
+        return outcomes;
+    }
+    std::vector<std::jthread> pool;
+    for (std::size_t t = 0; t < threads; ++t)
+        pool.emplace_back(worker);
+    pool.clear(); // joins
+    return outcomes;
+}
+
+const char* statusName(Status status) {
+    switch (status) {
+    case Status::Fresh:
+        return "fresh";
+    case Status::Baked:
+        return "baked";
+    case Status::Failed:
+        return "FAILED";
+    }
+    return "?";
+}
+
+/// The table printed after a batch: one row per entry, in manifest order, then the totals.
+void printSummary(const std::vector<Entry>& entries, const std::vector<Outcome>& outcomes,
+                  double seconds) {
+    std::size_t width = std::string_view("collider").size();
+    for (const Entry& entry : entries)
+        width = std::max(width, entry.label.size());
+    const int w = int(width);
+    std::printf("%-*s  %-6s  %8s  %11s  %s\n", w, "collider", "status", "time [s]", "grid points",
+                "max error [voxels]");
+    std::size_t counts[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const Outcome& o = outcomes[i];
+        ++counts[int(o.status)];
+        const std::string points = o.points > 0 ? std::to_string(o.points) : "-";
+        const std::string error = o.maxError ? num(*o.maxError, 3) : "-";
+        std::printf("%-*s  %-6s  %8.2f  %11s  %s\n", w, entries[i].label.c_str(),
+                    statusName(o.status), o.seconds, points.c_str(), error.c_str());
+    }
+    std::printf("%zu baked, %zu fresh, %zu failed in %.2f s\n", counts[int(Status::Baked)],
+                counts[int(Status::Fresh)], counts[int(Status::Failed)], seconds);
+    std::fflush(stdout);
+}
+
+/// A path in a Makefile rule: spaces and '#' escaped with a backslash, '$' doubled.
 std::string makePath(const std::string& path) {
     std::string out;
     for (char c : path) {
@@ -94,63 +335,37 @@ std::string makePath(const std::string& path) {
     return out;
 }
 
+Result<void> writeDepfile(const std::string& path, const std::string& manifest,
+                          const std::vector<Entry>& entries) {
+    std::string rules;
+    for (const Entry& entry : entries)
+        rules += makePath(entry.bake.output) + ": " + makePath(entry.bake.mesh) + " " +
+                 makePath(manifest) + "\n";
+    const auto* bytes = reinterpret_cast<const std::byte*>(rules.data());
+    return format::writeFileAtomic(path, {bytes, rules.size()});
+}
+
 int runBatch(const BatchArgs& args) {
     constexpr std::string_view cmd = "batch";
-    std::ifstream in(args.manifest);
-    if (!in)
-        return reportBadInput(cmd, "cannot read manifest '" + args.manifest + "'");
-    nlohmann::json manifest;
-    try {
-        manifest = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        return reportBadInput(cmd, "manifest '" + args.manifest + "' is not JSON: " + e.what());
-    }
-    if (!manifest.is_object() || !manifest.contains("colliders") ||
-        !manifest["colliders"].is_array())
-        return reportBadInput(cmd, "manifest '" + args.manifest +
-                                       "' needs an array \"colliders\" of {mesh, output, ...}");
-    const fs::path folder = fs::path(args.manifest).parent_path();
-    std::vector<BakeArgs> entries;
-    for (std::size_t n = 0; n < manifest["colliders"].size(); ++n) {
-        Result<BakeArgs> entry = parseEntry(manifest["colliders"][n], folder, n);
-        if (!entry)
-            return reportBadInput(cmd, "manifest '" + args.manifest + "': " + entry.error().detail);
-        entry->quiet = true;
-        entries.push_back(*entry);
-    }
+    const auto start = std::chrono::steady_clock::now();
+    Result<std::vector<Entry>> entries = readManifest(args.manifest);
+    if (!entries)
+        return reportBadInput(cmd, entries.error().detail);
 
+    const std::vector<Outcome> outcomes = processAll(*entries, args.jobs, args.force);
+    // The first failure in manifest order decides the exit code, whatever order threads ran in.
     int result = kExitOk;
-    std::size_t baked = 0, skipped = 0, failed = 0;
-    for (const BakeArgs& entry : entries) {
-        if (!args.force && upToDate(entry)) {
-            ++skipped;
-            if (!args.quiet)
-                std::cout << "up to date " << entry.output << '\n';
-            continue;
-        }
-        const int code = runBake(entry);
-        if (code != kExitOk) {
-            ++failed;
-            if (result == kExitOk)
-                result = code;
-            continue;
-        }
-        ++baked;
-        if (!args.quiet)
-            std::cout << "baked      " << entry.output << '\n';
-    }
-    if (!args.depfile.empty()) {
-        std::string rules;
-        for (const BakeArgs& entry : entries)
-            rules += makePath(entry.output) + ": " + makePath(entry.mesh) + " " +
-                     makePath(args.manifest) + "\n";
-        const auto* bytes = reinterpret_cast<const std::byte*>(rules.data());
-        if (Result<void> written = format::writeFileAtomic(args.depfile, {bytes, rules.size()});
-            !written)
+    for (const Outcome& outcome : outcomes)
+        if (outcome.status == Status::Failed && result == kExitOk)
+            result = outcome.exitCode;
+
+    if (!args.depfile.empty())
+        if (Result<void> written = writeDepfile(args.depfile, args.manifest, *entries); !written)
             return reportFileError(cmd, "cannot write", args.depfile, written.error());
-    }
     if (!args.quiet)
-        std::cout << baked << " baked, " << skipped << " up to date, " << failed << " failed\n";
+        printSummary(
+            *entries, outcomes,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return result;
 }
 
@@ -162,11 +377,19 @@ Command addBatchCommand(CLI::App& parent) {
         "batch", "Bake every collider a JSON manifest lists ({\"colliders\": [{\"mesh\", "
                  "\"output\", and optionally \"resolution\", \"voxelSize\", \"padding\", "
                  "\"sign\", \"storage\", \"scale\", \"backend\"}]}, paths relative to the "
-                 "manifest), skipping outputs that are up to date.");
+                 "manifest), skipping outputs that are fresh: they record the hash of the "
+                 "mesh's current bytes, the same settings and this tool version. Prints a "
+                 "summary table; exits with the first failed entry's code, and a failed entry's "
+                 "previous output is left untouched.");
     app->add_option("MANIFEST", args->manifest, "manifest file (.json)")->required();
     app->add_option("--depfile", args->depfile,
                     "write a Makefile-syntax depfile (output: mesh manifest) for build systems");
-    app->add_flag("--force", args->force, "bake every entry, up to date or not");
+    app->add_option("-j,--jobs", args->jobs,
+                    "bake up to N entries at once, each in a child process (GPU entries take "
+                    "turns on the GPU)")
+        ->check(CLI::Range(1u, 256u))
+        ->capture_default_str();
+    app->add_flag("--force", args->force, "bake every entry, fresh or not");
     app->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
     return {app, [args] { return runBatch(*args); }};
 }

@@ -1,17 +1,13 @@
 // The sluice-bake program end to end: subcommands, JSON output, exit codes and bad input.
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
+#include "CliRun.h"
 #include "TestMeshes.h"
 #include "sluice/bake/Cli.h"
 #include "sluice/format/AssetIO.h"
@@ -21,46 +17,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using namespace clirun;
 
 const fs::path kSphereObj = fs::path(SLUICE_SOURCE_DIR) / "assets" / "sphere.obj";
-
-struct RunResult {
-    int code = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string readText(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string quote(const std::string& arg) {
-    std::string quoted = "'";
-    for (char c : arg)
-        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return quoted + "'";
-}
-
-/// Runs sluice-bake with `args` (each quoted for the shell), capturing stdout and stderr.
-RunResult runBake(const fs::path& dir, const std::vector<std::string>& args) {
-    std::string command = quote(SLUICE_BAKE_EXE);
-    for (const std::string& arg : args)
-        command += " " + quote(arg);
-    const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-    command += " >" + quote(out.string()) + " 2>" + quote(err.string());
-    const int status = std::system(command.c_str());
-    RunResult run;
-    run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.out = readText(out);
-    run.err = readText(err);
-    return run;
-}
-
-/// `what` printed for a failed expectation: the command's output.
-std::string shown(const RunResult& run) {
-    return "exit " + std::to_string(run.code) + "\nstdout:\n" + run.out + "\nstderr:\n" + run.err;
-}
 
 /// Points of the grid bakeSphere makes: 16 voxels across the sphere, 3 of padding each side.
 constexpr int kSpherePoints = 23 * 23 * 23;
@@ -416,66 +375,6 @@ TEST(Cli, InfoSliceWritesAPng) {
               kExitBadInput);
     EXPECT_FALSE(fs::exists(dir / "bad.png"));
     EXPECT_EQ(runBake(dir, {"info", asset.string(), "--slice", "z=0.5"}).code, kExitBadInput);
-}
-
-TEST(Cli, BatchBakesAManifestSkipsWhatIsUpToDateAndWritesADepfile) {
-    const fs::path dir = testmesh::tempDir("cli-batch");
-    ASSERT_TRUE(testmesh::writeObj(testmesh::icoSphereSoup({0, 0, 0}, 1.0, 1), dir / "a.obj"));
-    ASSERT_TRUE(testmesh::writeObj(testmesh::boxSoup({0, 0, 0}, {1, 2, 1}), dir / "b b.obj"));
-    const fs::path manifest = dir / "colliders.json", depfile = dir / "colliders.d";
-    auto writeManifest = [&](int resolutionB) {
-        std::ofstream(manifest) << json{
-            {"colliders",
-             {{{"mesh", "a.obj"}, {"output", "a.slc"}, {"resolution", 8}},
-              {{"mesh", "b b.obj"},
-               {"output", "b.slc"},
-               {"resolution", resolutionB},
-               {"backend", "gpu"},
-               {"storage", "f16"}}}}}.dump();
-    };
-    writeManifest(8);
-    const std::vector<std::string> batch = {"batch", manifest.string(), "--depfile",
-                                            depfile.string()};
-    RunResult run = runBake(dir, batch);
-    ASSERT_EQ(run.code, kExitOk) << shown(run);
-    EXPECT_NE(run.out.find("2 baked, 0 up to date, 0 failed"), std::string::npos) << run.out;
-    const std::string a = readText(dir / "a.slc");
-    Result<format::ColliderAsset> b = format::readAsset(dir / "b.slc");
-    ASSERT_TRUE(b.ok()) << b.error().message();
-    EXPECT_EQ(b->meta.bake.backend, "gpu");
-    EXPECT_EQ(b->meta.storage, format::Storage::F16);
-    Result<format::ColliderAsset> aAsset = format::readAsset(dir / "a.slc");
-    ASSERT_TRUE(aAsset.ok()) << aAsset.error().message();
-    EXPECT_EQ(aAsset->meta.bake.backend, "cgal"); // the default backend
-
-    // Nothing changed: nothing is baked.
-    run = runBake(dir, batch);
-    ASSERT_EQ(run.code, kExitOk) << shown(run);
-    EXPECT_NE(run.out.find("0 baked, 2 up to date"), std::string::npos) << run.out;
-
-    // A newer mesh, or other settings, make that entry stale.
-    fs::last_write_time(dir / "a.obj",
-                        fs::last_write_time(dir / "a.slc") + std::chrono::seconds(10));
-    run = runBake(dir, batch);
-    EXPECT_NE(run.out.find("1 baked, 1 up to date"), std::string::npos) << run.out;
-    EXPECT_TRUE(readText(dir / "a.slc") == a) << "the same bake must give the same bytes";
-    fs::last_write_time(dir / "a.obj", fs::last_write_time(dir / "a.slc") - std::chrono::hours(1));
-    writeManifest(10);
-    run = runBake(dir, batch);
-    EXPECT_NE(run.out.find("1 baked, 1 up to date"), std::string::npos) << run.out;
-    EXPECT_NE(run.out.find("baked      " + (dir / "b.slc").string()), std::string::npos) << run.out;
-
-    const std::string deps = readText(depfile);
-    EXPECT_NE(deps.find((dir / "a.slc").string() + ": " + (dir / "a.obj").string()),
-              std::string::npos)
-        << deps;
-    EXPECT_NE(deps.find("b\\ b.obj"), std::string::npos) << deps;
-
-    // A broken manifest is bad input.
-    std::ofstream(manifest) << R"({"colliders": [{"mesh": "a.obj"}]})";
-    run = runBake(dir, batch);
-    EXPECT_EQ(run.code, kExitBadInput) << shown(run);
-    EXPECT_NE(run.err.find("output"), std::string::npos) << run.err;
 }
 
 } // namespace

@@ -1,0 +1,314 @@
+// `sluice-bake batch` end to end: freshness by content, --jobs, the summary, depfiles, failures.
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "CliRun.h"
+#include "TestMeshes.h"
+#include "sluice/bake/Cli.h"
+#include "sluice/format/AssetIO.h"
+#include "sluice/format/Hash.h"
+
+namespace sluice::bake {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace clirun;
+
+/// A folder with three small meshes (a.obj, "b b.obj", c.obj) and colliders.json baking them at
+/// resolution 8 with CGAL (a few hundred points each: fast).
+struct BatchFolder {
+    fs::path dir;
+    fs::path manifest;
+    fs::path depfile;
+
+    explicit BatchFolder(const std::string& name)
+        : dir(testmesh::tempDir(name)), manifest(dir / "colliders.json"),
+          depfile(dir / "colliders.d") {
+        EXPECT_TRUE(testmesh::writeObj(testmesh::icoSphereSoup({0, 0, 0}, 1.0, 1), dir / "a.obj"));
+        EXPECT_TRUE(testmesh::writeObj(testmesh::boxSoup({0, 0, 0}, {1, 2, 1}), dir / "b b.obj"));
+        EXPECT_TRUE(
+            testmesh::writeObj(testmesh::torusSoup({0, 0, 0}, 1.0, 0.3, 12, 8), dir / "c.obj"));
+        writeManifest(json::array(
+            {entry("a.obj", "a.slc"), entry("b b.obj", "b.slc"), entry("c.obj", "out/c.slc")}));
+        fs::create_directories(dir / "out");
+    }
+
+    static json entry(const std::string& mesh, const std::string& output, int resolution = 8) {
+        return {{"mesh", mesh}, {"output", output}, {"resolution", resolution}};
+    }
+
+    void writeManifest(const json& colliders) const {
+        std::ofstream(manifest) << json{{"colliders", colliders}}.dump(2);
+    }
+
+    RunResult batch(std::vector<std::string> extra = {}) const {
+        std::vector<std::string> args = {"batch", manifest.string(), "--depfile", depfile.string()};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return runBake(dir, args);
+    }
+};
+
+/// The status column of `label`'s row in batch's summary table ("" if there is no such row).
+std::string statusOf(const std::string& summary, const std::string& label) {
+    std::istringstream lines(summary);
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream words(line);
+        std::string first, status;
+        if (words >> first >> status && first == label)
+            return status;
+    }
+    return "";
+}
+
+/// The row of `label` in batch's summary table, split into words.
+std::vector<std::string> rowOf(const std::string& summary, const std::string& label) {
+    std::istringstream lines(summary);
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream words(line);
+        std::vector<std::string> row;
+        for (std::string word; words >> word;)
+            row.push_back(word);
+        if (!row.empty() && row[0] == label)
+            return row;
+    }
+    return {};
+}
+
+/// Bytes and time stamp of a file, to tell whether anything wrote it.
+struct FileState {
+    std::string bytes;
+    fs::file_time_type time;
+    bool operator==(const FileState&) const = default;
+};
+
+FileState stateOf(const fs::path& path) {
+    return {readText(path), fs::last_write_time(path)};
+}
+
+TEST(Batch, ASecondRunWithNothingChangedBakesNothing) {
+    const BatchFolder f("batch-second-run");
+    RunResult run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("3 baked, 0 fresh, 0 failed"), std::string::npos) << run.out;
+    const FileState a = stateOf(f.dir / "a.slc"), c = stateOf(f.dir / "out" / "c.slc");
+
+    run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("0 baked, 3 fresh, 0 failed"), std::string::npos) << run.out;
+    EXPECT_EQ(statusOf(run.out, "a.slc"), "fresh") << run.out;
+    EXPECT_EQ(statusOf(run.out, "out/c.slc"), "fresh") << run.out;
+    EXPECT_TRUE(stateOf(f.dir / "a.slc") == a) << "a fresh output must not be written";
+    EXPECT_TRUE(stateOf(f.dir / "out" / "c.slc") == c);
+
+    // The table's grid points are the asset's: 8 voxels along the longest side plus 3 of
+    // padding on each side gives 15 points there.
+    Result<format::ColliderAsset> asset = format::readAsset(f.dir / "a.slc");
+    ASSERT_TRUE(asset.ok()) << asset.error().message();
+    EXPECT_EQ(asset->meta.dims.x, 15u);
+    const std::vector<std::string> row = rowOf(run.out, "a.slc");
+    ASSERT_EQ(row.size(), 5u) << run.out;
+    EXPECT_EQ(row[3], std::to_string(asset->pointCount()));
+    EXPECT_EQ(row[4], "-") << "no validation figures yet";
+}
+
+TEST(Batch, TouchingAMeshWithoutChangingItsBytesBakesNothing) {
+    const BatchFolder f("batch-touch");
+    ASSERT_EQ(f.batch().code, kExitOk);
+    const FileState a = stateOf(f.dir / "a.slc");
+    // Newer than its output, as an editor saving the same content or a fresh checkout makes it.
+    fs::last_write_time(f.dir / "a.obj",
+                        fs::last_write_time(f.dir / "a.slc") + std::chrono::seconds(10));
+
+    const RunResult run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("0 baked, 3 fresh"), std::string::npos) << run.out;
+    EXPECT_TRUE(stateOf(f.dir / "a.slc") == a);
+}
+
+TEST(Batch, ChangingOneMeshsBytesRebakesOnlyThatOne) {
+    const BatchFolder f("batch-change");
+    ASSERT_EQ(f.batch().code, kExitOk);
+    const FileState a = stateOf(f.dir / "a.slc"), c = stateOf(f.dir / "out" / "c.slc");
+    const std::string bBefore = readText(f.dir / "b.slc");
+
+    // Other bytes, but an older time stamp than the output: the content decides, not the time.
+    ASSERT_TRUE(testmesh::writeObj(testmesh::boxSoup({0, 0, 0}, {1, 3, 1}), f.dir / "b b.obj"));
+    fs::last_write_time(f.dir / "b b.obj",
+                        fs::last_write_time(f.dir / "b.slc") - std::chrono::hours(1));
+
+    const RunResult run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("1 baked, 2 fresh, 0 failed"), std::string::npos) << run.out;
+    EXPECT_EQ(statusOf(run.out, "b.slc"), "baked") << run.out;
+    EXPECT_TRUE(stateOf(f.dir / "a.slc") == a);
+    EXPECT_TRUE(stateOf(f.dir / "out" / "c.slc") == c);
+    EXPECT_NE(readText(f.dir / "b.slc"), bBefore);
+
+    Result<format::ColliderAsset> b = format::readAsset(f.dir / "b.slc");
+    ASSERT_TRUE(b.ok()) << b.error().message();
+    Result<std::string> hash = format::hashFileHex(f.dir / "b b.obj");
+    ASSERT_TRUE(hash.ok());
+    EXPECT_EQ(b->meta.sourceHash, *hash);
+}
+
+TEST(Batch, OtherSettingsOrAnUnreadableOutputRebakeThatEntry) {
+    const BatchFolder f("batch-settings");
+    ASSERT_EQ(f.batch().code, kExitOk);
+
+    f.writeManifest(json::array({BatchFolder::entry("a.obj", "a.slc", 10),
+                                 BatchFolder::entry("b b.obj", "b.slc"),
+                                 BatchFolder::entry("c.obj", "out/c.slc")}));
+    RunResult run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "a.slc"), "baked") << run.out;
+    EXPECT_NE(run.out.find("1 baked, 2 fresh"), std::string::npos) << run.out;
+    Result<format::ColliderAsset> a = format::readAsset(f.dir / "a.slc");
+    ASSERT_TRUE(a.ok()) << a.error().message();
+    EXPECT_EQ(a->meta.bake.resolution, 10u);
+
+    std::ofstream(f.dir / "b.slc", std::ios::binary) << "not an asset";
+    run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "b.slc"), "baked") << run.out;
+    EXPECT_TRUE(format::readAsset(f.dir / "b.slc").ok());
+
+    // --force bakes everything, to the same bytes.
+    const std::string c = readText(f.dir / "out" / "c.slc");
+    run = f.batch({"--force"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("3 baked, 0 fresh"), std::string::npos) << run.out;
+    EXPECT_EQ(readText(f.dir / "out" / "c.slc"), c);
+}
+
+TEST(Batch, TheDepfileListsEveryOutputWithItsMeshAndTheManifest) {
+    const BatchFolder f("batch-depfile");
+    const RunResult run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+
+    // One Makefile rule per output, in manifest order, spaces escaped with a backslash.
+    auto escaped = [](const fs::path& path) {
+        std::string out;
+        for (char c : path.string())
+            out += c == ' ' ? std::string("\\ ") : std::string(1, c);
+        return out;
+    };
+    const std::string manifest = escaped(f.manifest);
+    const std::string expected =
+        escaped(f.dir / "a.slc") + ": " + escaped(f.dir / "a.obj") + " " + manifest + "\n" +
+        escaped(f.dir / "b.slc") + ": " + escaped(f.dir / "b b.obj") + " " + manifest + "\n" +
+        escaped(f.dir / "out" / "c.slc") + ": " + escaped(f.dir / "c.obj") + " " + manifest + "\n";
+    EXPECT_EQ(readText(f.depfile), expected);
+    EXPECT_NE(readText(f.depfile).find("b\\ b.obj"), std::string::npos);
+
+    // Written again when everything is fresh: a build system reads it after every run.
+    fs::remove(f.depfile);
+    ASSERT_EQ(f.batch().code, kExitOk);
+    EXPECT_EQ(readText(f.depfile), expected);
+}
+
+TEST(Batch, AFailingEntryKeepsItsPreviousOutputAndTheOthersStillBake) {
+    const BatchFolder f("batch-failure");
+    ASSERT_EQ(f.batch().code, kExitOk);
+    const FileState a = stateOf(f.dir / "a.slc");
+    const std::string c = readText(f.dir / "out" / "c.slc");
+
+    std::ofstream(f.dir / "a.obj") << "this is not a mesh\n";
+    ASSERT_TRUE(
+        testmesh::writeObj(testmesh::torusSoup({0, 0, 0}, 1.0, 0.4, 12, 8), f.dir / "c.obj"));
+    for (const char* jobs : {"1", "2"}) {
+        const RunResult run = f.batch({"--jobs", jobs});
+        EXPECT_EQ(run.code, kExitBadInput) << shown(run);
+        EXPECT_NE(run.err.find("a.obj"), std::string::npos) << run.err;
+        EXPECT_EQ(statusOf(run.out, "a.slc"), "FAILED") << run.out;
+        EXPECT_EQ(statusOf(run.out, "b.slc"), "fresh") << run.out;
+        EXPECT_TRUE(stateOf(f.dir / "a.slc") == a) << "a failed bake must not touch its output";
+    }
+    // The first run baked c beside the failure; the second found it fresh.
+    EXPECT_NE(readText(f.dir / "out" / "c.slc"), c);
+    const RunResult run = f.batch();
+    EXPECT_NE(run.out.find("0 baked, 2 fresh, 1 failed"), std::string::npos) << run.out;
+}
+
+TEST(Batch, TwoJobsGiveTheSameBytesAsOne) {
+    // Six entries, one on the GPU (llvmpipe is enough), so CGAL bakes run beside a GPU one.
+    const BatchFolder f("batch-jobs");
+    json colliders = json::array();
+    for (const char* mesh : {"a.obj", "b b.obj", "c.obj"})
+        for (int resolution : {8, 12}) {
+            const std::string name = fs::path(mesh).stem().string() + std::to_string(resolution);
+            json entry = BatchFolder::entry(mesh, name + ".slc", resolution);
+            if (name == "b b12")
+                entry["backend"] = "gpu";
+            colliders.push_back(entry);
+        }
+    f.writeManifest(colliders);
+
+    RunResult run = f.batch({"--jobs", "1"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    std::map<std::string, std::string> serial;
+    for (const json& entry : colliders)
+        serial[entry["output"]] = readText(f.dir / entry["output"].get<std::string>());
+
+    run = f.batch({"--jobs", "2", "--force"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("6 baked, 0 fresh, 0 failed"), std::string::npos) << run.out;
+    for (const auto& [output, bytes] : serial) {
+        EXPECT_FALSE(bytes.empty()) << output;
+        EXPECT_TRUE(readText(f.dir / output) == bytes) << output << " differs under --jobs 2";
+    }
+    Result<format::ColliderAsset> gpu = format::readAsset(f.dir / "b b12.slc");
+    ASSERT_TRUE(gpu.ok()) << gpu.error().message();
+    EXPECT_EQ(gpu->meta.bake.backend, "gpu");
+}
+
+TEST(Batch, ValidationFiguresShowInTheSummaryAndKeepTheOutputFresh) {
+    const BatchFolder f("batch-validated");
+    ASSERT_EQ(f.batch().code, kExitOk);
+    RunResult run = runBake(f.dir, {"validate", (f.dir / "a.slc").string(),
+                                    (f.dir / "a.obj").string(), "--write", "--quiet"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    Result<format::ColliderAsset> a = format::readAsset(f.dir / "a.slc");
+    ASSERT_TRUE(a.ok()) << a.error().message();
+    ASSERT_TRUE(a->meta.validation.known);
+
+    run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "a.slc"), "fresh") << run.out;
+    const std::vector<std::string> row = rowOf(run.out, "a.slc");
+    ASSERT_EQ(row.size(), 5u) << run.out;
+    EXPECT_NE(row[4], "-") << run.out;
+    EXPECT_NEAR(std::stod(row[4]), a->meta.validation.maxError,
+                5e-3 * a->meta.validation.maxError + 1e-12); // printed with 3 digits
+}
+
+TEST(Batch, ABrokenManifestIsBadInputAndBakesNothing) {
+    const BatchFolder f("batch-bad-manifest");
+    const std::vector<std::string> broken = {
+        R"({"colliders": [{"mesh": "a.obj"}]})",                      // no output
+        R"({"colliders": [{"mesh": "a.obj", "output": "x.slc"},
+                          {"mesh": "c.obj", "output": "./x.slc"}]})", // one output twice
+        R"({"colliders": [{"mesh": "a.obj", "output": "x.slc", "resolution": "8"}]})",
+        R"({"colliders": {}})",
+        "not json",
+    };
+    for (const std::string& text : broken) {
+        std::ofstream(f.manifest) << text;
+        const RunResult run = f.batch();
+        EXPECT_EQ(run.code, kExitBadInput) << text << '\n' << shown(run);
+        EXPECT_NE(run.err.find("colliders.json"), std::string::npos) << run.err;
+        EXPECT_FALSE(fs::exists(f.dir / "x.slc")) << text;
+    }
+    EXPECT_EQ(f.batch({"--jobs", "0"}).code, kExitBadInput);
+}
+
+} // namespace
+} // namespace sluice::bake

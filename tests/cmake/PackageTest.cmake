@@ -1,0 +1,63 @@
+# The installed package end to end (ctest runs it with cmake -P):
+#   1. cmake --install BUILD_DIR into WORK_DIR/prefix;
+#   2. configure and build tests/cmake/package against it only (find_package(Sluice),
+#      sluice_bake_colliders() on MESH, a program linking Sluice::format);
+#   3. the collider exists, the program reads it (a ball of radius 0.25 m: phi(0) = -0.25);
+#   4. a second build bakes nothing: the asset's bytes and time stamp stay as they were.
+# Variables: BUILD_DIR, WORK_DIR, CONSUMER_DIR, MESH, GENERATOR, CXX_COMPILER; optional
+# MAKE_PROGRAM, and CXX_FLAGS and LINKER_FLAGS as the build used them (sanitizers).
+
+foreach(var BUILD_DIR WORK_DIR CONSUMER_DIR MESH GENERATOR CXX_COMPILER)
+    if(NOT DEFINED ${var})
+        message(FATAL_ERROR "PackageTest: -D${var}=... is required")
+    endif()
+endforeach()
+
+# Runs a command; stops the test with its output if it fails. Its output lands in `out_var`.
+function(run out_var)
+    execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+    if(NOT rc EQUAL 0)
+        list(JOIN ARGN " " command)
+        message(FATAL_ERROR "PackageTest: `${command}` failed (${rc}):\n${out}")
+    endif()
+    set(${out_var} "${out}" PARENT_SCOPE)
+endfunction()
+
+set(prefix ${WORK_DIR}/prefix)
+set(build ${WORK_DIR}/consumer)
+file(REMOVE_RECURSE ${WORK_DIR})
+
+run(out ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+set(make_program "")
+if(MAKE_PROGRAM)
+    set(make_program -DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM})
+endif()
+run(out ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${build} -G ${GENERATOR} ${make_program}
+    -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_BUILD_TYPE=Release
+    "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${LINKER_FLAGS}"
+    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
+    -DSLUICE_EXPECTED_PREFIX=${prefix} -DSLUICE_TEST_MESH=${MESH})
+run(out ${CMAKE_COMMAND} --build ${build})
+
+cmake_path(GET MESH STEM LAST_ONLY stem)
+set(asset ${build}/colliders/${stem}.slc)
+if(NOT EXISTS ${asset})
+    message(FATAL_ERROR "PackageTest: the build did not bake ${asset}:\n${out}")
+endif()
+run(read ${build}/read_collider ${asset})
+if(NOT read MATCHES "dims 23 23 23 source ${stem}.obj tool sluice-bake [0-9.]+ phi\\(0\\) -0\\.2[45]")
+    message(FATAL_ERROR "PackageTest: read_collider printed an unexpected asset: ${read}")
+endif()
+
+file(SHA256 ${asset} hash_before)
+file(TIMESTAMP ${asset} time_before "%s.%f")
+run(out ${CMAKE_COMMAND} --build ${build})
+file(SHA256 ${asset} hash_after)
+file(TIMESTAMP ${asset} time_after "%s.%f")
+if(NOT hash_before STREQUAL hash_after OR NOT time_before STREQUAL time_after)
+    message(FATAL_ERROR "PackageTest: a second build rewrote ${asset}:\n${out}")
+endif()
+if(GENERATOR MATCHES "Ninja" AND NOT out MATCHES "no work to do")
+    message(FATAL_ERROR "PackageTest: a second build did work:\n${out}")
+endif()
+message(STATUS "PackageTest: ${read}")
