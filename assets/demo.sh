@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The demo: bakes every demo collider with the CGAL backend (only those the build has not
 # already baked, see assets/CMakeLists.txt), validates it against its mesh (storing the figures
-# in the asset) and draws a slice of it.
+# in the asset) and draws a slice of it; then plays the wave-with-sphere scene headless,
+# printing the statistics table and writing PLY frames.
 #   bash assets/demo.sh BIN_DIR [OUT_DIR]
-# BIN_DIR holds sluice-bake (build/dev/bin); OUT_DIR defaults to build/dev/assets.
+# BIN_DIR holds sluice-bake and sluice-play (build/dev/bin); OUT_DIR defaults to
+# build/dev/assets (the scenes are copied there by the build, next to the colliders).
 # Called by `bash cmake/setup.sh demo`. Exits 1 if a collider fails validation, 2 on bad usage.
 set -euo pipefail
 
@@ -70,3 +72,18 @@ if [ ${#failed[@]} -gt 0 ]; then
   exit 1
 fi
 echo "demo: every collider validated against its mesh"
+
+# The fluid: 2 s of the wave hitting the sphere (120 steps of 1/60 s), statistics every 10
+# steps, a PLY frame every 10 steps. --check fails the demo if a particle ever ends up inside a
+# collider or non-finite.
+scene="$out/wave-sphere.json"
+if [ ! -f "$scene" ]; then
+  scene_src="$here/wave-sphere.json"
+  cp "$scene_src" "$scene"
+fi
+frames="$out/wave-sphere-ply"
+echo
+"$1/sluice-play" "$scene" --headless --steps 120 --stats-every 10 --check \
+  --stats-json "$out/wave-sphere-stats.json" --dump-ply "$frames" --dump-every 10
+echo "demo: PLY frames in $frames (open them in Blender, Houdini or MeshLab), statistics in" \
+  "$out/wave-sphere-stats.json"
