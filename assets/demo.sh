@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The demo: bakes every demo collider with the CGAL backend (only those the build has not
 # already baked, see assets/CMakeLists.txt), validates it against its mesh (storing the figures
-# in the asset) and draws a slice of it; then plays the wave-with-sphere scene headless,
-# printing the statistics table and writing PLY frames.
+# in the asset) and draws a slice of it; then plays the wave-with-sphere scene: in the viewer
+# window when there is a display, otherwise headless, printing the statistics table and writing
+# PLY frames, an MP4 and a PNG.
 #   bash assets/demo.sh BIN_DIR [OUT_DIR]
 # BIN_DIR holds sluice-bake and sluice-play (build/dev/bin); OUT_DIR defaults to
 # build/dev/assets (the scenes are copied there by the build, next to the colliders).
@@ -73,17 +74,29 @@ if [ ${#failed[@]} -gt 0 ]; then
 fi
 echo "demo: every collider validated against its mesh"
 
-# The fluid: 2 s of the wave hitting the sphere (120 steps of 1/60 s), statistics every 10
-# steps, a PLY frame every 10 steps. --check fails the demo if a particle ever ends up inside a
-# collider or non-finite.
+# The fluid: the wave hitting the sphere. With a display, in the viewer window; without one (or
+# when the window cannot open: exit 3), headless: 2 s of it (120 steps of 1/60 s), statistics
+# every 10 steps, a PLY frame every 10 steps, every second step rendered into an MP4 and step 120
+# into a PNG. --check fails the demo if a particle ever ends up inside a collider or non-finite.
 scene="$out/wave-sphere.json"
 if [ ! -f "$scene" ]; then
   scene_src="$here/wave-sphere.json"
   cp "$scene_src" "$scene"
 fi
-frames="$out/wave-sphere-ply"
+play="$1/sluice-play"
 echo
-"$1/sluice-play" "$scene" --headless --steps 120 --stats-every 10 --check \
-  --stats-json "$out/wave-sphere-stats.json" --dump-ply "$frames" --dump-every 10
+if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]; then
+  echo "demo: opening the viewer on $scene (drag to orbit, wheel to zoom, F1 for the keys, Esc to quit)"
+  status=0
+  "$play" "$scene" --shots "$out" || status=$?
+  [ "$status" -ne 3 ] && exit "$status"
+  echo "demo: the window could not open; playing headless instead"
+fi
+frames="$out/wave-sphere-ply"
+video="$out/wave-sphere.mp4"
+"$play" "$scene" --headless --steps 120 --stats-every 10 --check \
+  --stats-json "$out/wave-sphere-stats.json" --dump-ply "$frames" --dump-every 10 \
+  --video "$video" --every 2 --size 640x360 --zoom 0.75 --screenshot-at 120 --shots "$out"
+echo "demo: video $video, picture $out/wave-sphere-000120.png"
 echo "demo: PLY frames in $frames (open them in Blender, Houdini or MeshLab), statistics in" \
   "$out/wave-sphere-stats.json"

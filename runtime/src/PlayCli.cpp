@@ -1,4 +1,5 @@
-// runPlay: the sluice-play command line (CLI11) and the headless run loop.
+// runPlay: the sluice-play command line (CLI11), the headless run loop with its optional frame
+// capture, and the hand-over to the viewer window.
 #include "sluice/rt/PlayCli.h"
 
 #include <chrono>
@@ -12,12 +13,16 @@
 #include <CLI/CLI.hpp>
 
 #include "Bench.h"
+#include "CaptureFrames.h"
+#include "CaptureHeadless.h"
 #include "StatsReport.h"
+#include "Viewer.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/SceneIO.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/PlyWriter.h"
 #include "sluice/rt/Simulation.h"
+#include "sluice/rt/render/Renderer.h"
 
 namespace sluice::rt {
 namespace {
@@ -25,9 +30,13 @@ namespace {
 constexpr const char* kExitCodeHelp = R"(Exit codes:
   0  success
   1  --check: a particle went non-finite or ended inside a collider
-  2  bad input: scene file, collider asset or command-line value
-  3  no OpenGL 4.5 core context with compute shaders
-  4  internal error)";
+  2  bad input: scene file, collider asset or command-line value; no ffmpeg for --video
+  3  no OpenGL 4.5 core context with compute shaders; no display for the window
+  4  internal error
+
+Without --headless, sluice-play opens a window (GLFW): drag to orbit, right or middle drag to
+pan, wheel to zoom; F1 lists the keys. --frames, --video and --screenshot-at capture in
+both modes (headless through EGL into an offscreen framebuffer).)";
 
 struct PlayOptions {
     std::string scene;
@@ -43,26 +52,41 @@ struct PlayOptions {
     bool bench = false;
     std::string benchJson;
     std::uint64_t warmup = 20;
+    // Rendering and capture (headless and window).
+    CaptureOptions capture;
+    std::string size = "1280x720";
+    std::string colour = "water";
+    std::string surface = "spheres";
+    // Window only.
+    std::uint64_t maxFrames = 0;
+    bool noVsync = false;
+    bool noPanel = false;
+    std::uint32_t stepsPerFrame = 1;
 };
-
-int exitCodeFor(const Error& error) {
-    switch (error.code) {
-    case ErrorCode::NoGlContext: return kPlayExitNoGlContext;
-    case ErrorCode::ShaderCompile:
-    case ErrorCode::ShaderLink: return kPlayExitInternal;
-    default: return kPlayExitBadInput;
-    }
-}
 
 int fail(const Error& error) {
     std::cerr << "sluice-play: " << error.message() << '\n';
-    return exitCodeFor(error);
+    return playExitCode(error);
 }
 
 std::string plyName(std::uint64_t step) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%06llu.ply", static_cast<unsigned long long>(step));
     return name;
+}
+
+Result<void> parseRenderModes(const PlayOptions& o, RenderSettings& settings) {
+    const auto colour = parseColourMode(o.colour);
+    if (!colour)
+        return fail(ErrorCode::InvalidArgument,
+                    "--colour " + o.colour + ": expected water, speed or density");
+    const auto surface = parseSurfaceMode(o.surface);
+    if (!surface)
+        return fail(ErrorCode::InvalidArgument,
+                    "--surface " + o.surface + ": expected spheres or fluid");
+    settings.colour = *colour;
+    settings.surface = *surface;
+    return {};
 }
 
 int playHeadless(const PlayOptions& o) {
@@ -80,11 +104,26 @@ int playHeadless(const PlayOptions& o) {
                                             ec.message()});
     }
 
+    auto imageSize = parseImageSize(o.size);
+    if (!imageSize)
+        return fail(imageSize.error());
+    RenderSettings settings;
+    if (auto ok = parseRenderModes(o, settings); !ok)
+        return fail(ok.error());
+
     auto context = gpu::Context::createHeadless();
     if (!context)
         return fail(context.error());
     SimulationOptions simOptions;
     simOptions.deterministic = o.deterministic;
+    // The renderer uploads the colliders to 3D textures of its own before the solver takes them.
+    std::optional<HeadlessCapture> capture;
+    if (o.capture.any()) {
+        auto started = HeadlessCapture::start(*scene, *colliders, o.capture, *imageSize, settings);
+        if (!started)
+            return fail(started.error());
+        capture.emplace(std::move(*started));
+    }
     auto sim = Simulation::create(*scene, std::move(*colliders), simOptions);
     if (!sim)
         return fail(sim.error());
@@ -112,6 +151,11 @@ int playHeadless(const PlayOptions& o) {
     };
     if (auto ok = dump(0); !ok)
         return fail(ok.error());
+    auto captureStep = [&](std::uint64_t step) -> Result<void> {
+        return capture ? capture->afterStep(*sim, step) : Result<void>{};
+    };
+    if (auto ok = captureStep(0); !ok)
+        return fail(ok.error());
 
     const auto start = std::chrono::steady_clock::now();
     for (std::uint64_t step = 1; step <= o.steps; ++step) {
@@ -135,6 +179,8 @@ int playHeadless(const PlayOptions& o) {
         }
         if (auto ok = dump(step); !ok)
             return fail(ok.error());
+        if (auto ok = captureStep(step); !ok)
+            return fail(ok.error());
         // The capacity flag is cheap to read (CPU side); report it once.
         if (!capacityReported && sim->particleCount() == sim->capacity() &&
             !scene->emitters.empty()) {
@@ -142,6 +188,10 @@ int playHeadless(const PlayOptions& o) {
                       << sim->capacity() << " reached; emitters stop adding particles\n";
             capacityReported = true;
         }
+    }
+    if (capture) {
+        if (auto ok = capture->finish(); !ok)
+            return fail(ok.error());
     }
     glFinish();
     const double wall =
@@ -156,6 +206,8 @@ int playHeadless(const PlayOptions& o) {
             if (times[p] >= 0.0)
                 std::cout << "  " << passName(Pass(p)) << " " << times[p];
         std::cout << "\n";
+        if (capture)
+            capture->report(std::cout);
     }
 
     if (!o.statsJson.empty()) {
@@ -215,6 +267,31 @@ int run(int argc, char** argv) {
                  "Benchmark (headless): warm up, then the median step and pass times over --steps");
     app.add_option("--warmup", o.warmup, "Steps run before --bench measures (default 20)");
     app.add_option("--bench-json", o.benchJson, "Write the --bench results to this JSON file");
+    app.add_option("--frames", o.capture.framesDir,
+                   "Write a PNG of every --every-th step into this folder (frame_STEP.png)");
+    app.add_option("--every", o.capture.every, "Capture every K steps, from step 0 (default 1)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--video", o.capture.video,
+                   "Encode the captured frames into this MP4 file (needs ffmpeg)");
+    app.add_option("--fps", o.capture.fps,
+                   "Frames per second of --video (default: real time, 1 / (every * timeStep))")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--size", o.size, "Image size WIDTHxHEIGHT: capture, and the window (1280x720)");
+    app.add_option("--zoom", o.capture.zoom,
+                   "The scene camera's distance times this (0.7: closer), window and capture")
+        ->check(CLI::Range(0.01f, 100.0f));
+    app.add_option("--colour", o.colour, "Particle colours: water, speed or density (error)");
+    app.add_option("--surface", o.surface,
+                   "Fluid drawn as spheres or as a screen-space fluid surface: spheres or fluid");
+    app.add_option("--max-frames", o.maxFrames, "Window: close after N frames (tests, demos)");
+    app.add_flag("--no-vsync", o.noVsync, "Window: do not wait for the display's refresh");
+    app.add_flag("--no-panel", o.noPanel, "Window: start with the parameter panel hidden");
+    app.add_option("--steps-per-frame", o.stepsPerFrame, "Window: steps per frame (default 1)")
+        ->check(CLI::Range(1u, 1000u));
+    app.add_option("--screenshot-at", o.capture.screenshotAt,
+                   "Write one PNG of step N (NAME-STEP.png), as the window's P key does");
+    app.add_option("--shots", o.capture.shotsDir,
+                   "Folder of screenshots: --screenshot-at and the window's P key (default: .)");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -231,8 +308,22 @@ int run(int argc, char** argv) {
         return runBench(bench);
     }
     if (!o.headless) {
-        std::cerr << "sluice-play: the viewer window is not built yet; run with --headless\n";
-        return kPlayExitBadInput;
+        ViewerOptions viewer;
+        viewer.scene = o.scene;
+        viewer.capture = o.capture;
+        viewer.maxFrames = o.maxFrames;
+        viewer.vsync = !o.noVsync;
+        viewer.panel = !o.noPanel;
+        viewer.deterministic = o.deterministic;
+        viewer.stepsPerFrame = o.stepsPerFrame;
+        viewer.quiet = o.quiet;
+        auto size = parseImageSize(o.size);
+        if (!size)
+            return fail(size.error());
+        viewer.size = *size;
+        if (auto ok = parseRenderModes(o, viewer.settings); !ok)
+            return fail(ok.error());
+        return runViewer(viewer);
     }
     if (o.steps == 0) {
         std::cerr << "sluice-play: --headless needs --steps N\n";
@@ -242,6 +333,15 @@ int run(int argc, char** argv) {
 }
 
 } // namespace
+
+int playExitCode(const Error& error) {
+    switch (error.code) {
+    case ErrorCode::NoGlContext: return kPlayExitNoGlContext;
+    case ErrorCode::ShaderCompile:
+    case ErrorCode::ShaderLink: return kPlayExitInternal;
+    default: return kPlayExitBadInput;
+    }
+}
 
 int runPlay(int argc, char** argv) {
     try {

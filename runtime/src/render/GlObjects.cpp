@@ -28,10 +28,18 @@ std::string hex(GLenum value) {
 
 } // namespace
 
-void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
-void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
-void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
-void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
+void deleteTexture(GLuint id) {
+    glDeleteTextures(1, &id);
+}
+void deleteFramebuffer(GLuint id) {
+    glDeleteFramebuffers(1, &id);
+}
+void deleteVertexArray(GLuint id) {
+    glDeleteVertexArrays(1, &id);
+}
+void deleteBuffer(GLuint id) {
+    glDeleteBuffers(1, &id);
+}
 
 Result<TextureHandle> createTexture2D(GLenum format, glm::uvec2 size, std::string_view name,
                                       bool linear) {
@@ -41,9 +49,9 @@ Result<TextureHandle> createTexture2D(GLenum format, glm::uvec2 size, std::strin
     TextureHandle texture(id);
     glTextureStorage2D(id, 1, format, static_cast<GLsizei>(size.x), static_cast<GLsizei>(size.y));
     if (outOfMemory())
-        return fail(ErrorCode::GpuOutOfMemory,
-                    "cannot allocate the " + std::string(name) + " texture (" +
-                        std::to_string(size.x) + " x " + std::to_string(size.y) + ")");
+        return fail(ErrorCode::GpuOutOfMemory, "cannot allocate the " + std::string(name) +
+                                                   " texture (" + std::to_string(size.x) + " x " +
+                                                   std::to_string(size.y) + ")");
     const GLint filter = linear ? GL_LINEAR : GL_NEAREST;
     glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, filter);
     glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, filter);

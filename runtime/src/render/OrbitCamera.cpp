@@ -20,8 +20,8 @@ OrbitCamera OrbitCamera::lookAt(glm::vec3 eye, glm::vec3 target, float fovDegree
     camera.m_target = target;
     camera.m_distance = std::clamp(distance, kMinDistance, kMaxDistance);
     camera.m_yaw = std::atan2(offset.x, offset.z);
-    camera.m_pitch = std::clamp(std::asin(std::clamp(offset.y / distance, -1.0f, 1.0f)),
-                                -kMaxPitch, kMaxPitch);
+    camera.m_pitch =
+        std::clamp(std::asin(std::clamp(offset.y / distance, -1.0f, 1.0f)), -kMaxPitch, kMaxPitch);
     camera.m_fovDegrees = fovDegrees;
     return camera;
 }
@@ -35,8 +35,8 @@ void OrbitCamera::pan(glm::vec2 deltaPixels, float viewportHeight) {
     if (viewportHeight <= 0.0f)
         return;
     // Metres per pixel at the target's depth.
-    const float perPixel = 2.0f * m_distance * std::tan(glm::radians(m_fovDegrees) * 0.5f) /
-                           viewportHeight;
+    const float perPixel =
+        2.0f * m_distance * std::tan(glm::radians(m_fovDegrees) * 0.5f) / viewportHeight;
     const glm::mat4 v = view();
     const glm::vec3 right(v[0][0], v[1][0], v[2][0]);
     const glm::vec3 up(v[0][1], v[1][1], v[2][1]);

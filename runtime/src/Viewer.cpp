@@ -1,0 +1,482 @@
+// The viewer window: GLFW set-up, input to camera and actions, and the frame loop (render,
+// present with the panel, collect finished readbacks, step). Nothing in a frame waits for the
+// GPU: statistics, timers and captured frames all come back through fences a few frames later.
+#include "Viewer.h"
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <deque>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "sluice/gpu/Gl.h" // glad first: GLFW must not include the system GL header
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include "CapturePng.h"
+#include "CaptureVideo.h"
+#include "ViewerInput.h"
+#include "ViewerPanel.h"
+#include "ViewerSession.h"
+#include "sluice/rt/PlayCli.h"
+#include "sluice/rt/render/FluidStatsProbe.h"
+#include "sluice/rt/render/FrameReadback.h"
+#include "sluice/rt/render/SceneFraming.h"
+
+namespace sluice::rt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string g_glfwError; // the latest message of GLFW's error callback
+
+void onGlfwError(int, const char* text) {
+    g_glfwError = text != nullptr ? text : "unknown GLFW error";
+}
+
+// glfwTerminate on every way out of runViewer once glfwInit succeeded.
+struct GlfwLibrary {
+    GlfwLibrary() = default;
+    GlfwLibrary(const GlfwLibrary&) = delete;
+    GlfwLibrary& operator=(const GlfwLibrary&) = delete;
+    ~GlfwLibrary() { glfwTerminate(); }
+};
+
+// Frames per second [Hz] of a video that plays the simulation in real time.
+double realTimeFps(const format::Scene& scene, std::uint32_t stepsPerFrame) {
+    return 1.0 / (double(scene.simulation.timeStep) * double(std::max(stepsPerFrame, 1u)));
+}
+
+// Why a frame is read back (requests come back in order, so these queue beside them).
+struct ReadbackPurpose {
+    bool capture = false; // --frames / --video
+    bool screenshot = false;
+    bool record = false;
+};
+
+class ViewerApp {
+public:
+    ViewerApp(GLFWwindow* window, const ViewerOptions& options, ViewerSession session)
+        : m_window(window), m_options(options), m_session(std::move(session)) {
+        m_ui.showPanel = options.panel;
+        m_ui.stepsPerFrame = std::int32_t(options.stepsPerFrame);
+        m_ui.render = options.settings;
+        m_ui.params = m_session->scene().simulation;
+        const glm::uvec2 size = m_session->renderer().size();
+        m_camera = sceneCamera(m_session->scene(), m_session->renderer().bounds(),
+                               float(size.x) / float(size.y));
+        m_camera.zoom(options.capture.zoom);
+        glfwSetWindowUserPointer(window, this);
+        glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int code, int action, int mods) {
+            ImGui_ImplGlfw_KeyCallback(w, key, code, action, mods);
+            ViewerApp& app = of(w);
+            if (!ImGui::GetIO().WantCaptureKeyboard)
+                app.m_input.key(key, action, mods, app.m_ui, app.m_actions);
+        });
+        glfwSetCharCallback(window, ImGui_ImplGlfw_CharCallback);
+        glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+            ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
+            if (action != GLFW_PRESS || !ImGui::GetIO().WantCaptureMouse)
+                of(w).m_input.mouseButton(w, button, action, mods);
+        });
+        glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) {
+            ImGui_ImplGlfw_ScrollCallback(w, dx, dy);
+            if (!ImGui::GetIO().WantCaptureMouse)
+                of(w).m_camera.zoom(ViewerInput::zoomFactor(dy));
+        });
+        glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+            int width = 0;
+            int height = 0;
+            glfwGetWindowSize(w, &width, &height);
+            ViewerApp& app = of(w);
+            app.m_input.cursor(x, y, height, app.m_camera);
+        });
+        glfwSetWindowFocusCallback(window, ImGui_ImplGlfw_WindowFocusCallback);
+        glfwSetCursorEnterCallback(window, ImGui_ImplGlfw_CursorEnterCallback);
+    }
+
+    ViewerApp(const ViewerApp&) = delete;
+    ViewerApp& operator=(const ViewerApp&) = delete;
+
+    ~ViewerApp() {
+        glfwSetWindowUserPointer(m_window, nullptr);
+        glfwSetKeyCallback(m_window, nullptr);
+        glfwSetMouseButtonCallback(m_window, nullptr);
+        glfwSetScrollCallback(m_window, nullptr);
+        glfwSetCursorPosCallback(m_window, nullptr);
+        glfwSetCharCallback(m_window, nullptr);
+        glfwSetWindowFocusCallback(m_window, nullptr);
+        glfwSetCursorEnterCallback(m_window, nullptr);
+    }
+
+    // Runs until the window closes or --max-frames; the exit code.
+    int run() {
+        if (m_options.capture.frames()) {
+            auto capture = FrameCapture::start(m_options.capture, m_session->renderer().size(),
+                                               m_session->scene().simulation.timeStep);
+            if (!capture) {
+                std::cerr << "sluice-play: " << capture.error().message() << '\n';
+                return playExitCode(capture.error());
+            }
+            m_capture.emplace(std::move(*capture));
+        }
+        if (auto ok = createShotsFolder(m_options.capture); !ok) {
+            std::cerr << "sluice-play: " << ok.error().message() << '\n';
+            return playExitCode(ok.error());
+        }
+        auto probe = FluidStatsProbe::create();
+        if (!probe) {
+            std::cerr << "sluice-play: " << probe.error().message() << '\n';
+            return playExitCode(probe.error());
+        }
+        m_probe.emplace(std::move(*probe));
+
+        const Clock::time_point start = Clock::now();
+        Clock::time_point last = start;
+        while (!glfwWindowShouldClose(m_window) && !m_actions.quit) {
+            glfwPollEvents();
+            frame();
+            ++m_frames;
+            const Clock::time_point now = Clock::now();
+            const double ms = std::chrono::duration<double, std::milli>(now - last).count();
+            m_frameMs = m_frames == 1 ? ms : 0.9 * m_frameMs + 0.1 * ms;
+            last = now;
+            measureStepRate(now);
+            if (m_options.maxFrames > 0 && m_frames >= m_options.maxFrames)
+                break;
+        }
+        finishOutputs();
+        const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+        if (!m_options.quiet)
+            std::cout << "sluice-play: " << m_frames << " frames, " << m_session->steps()
+                      << " steps in " << seconds << " s (" << double(m_frames) / seconds
+                      << " frames/s)\n";
+        return m_failed ? kPlayExitBadInput : kPlayExitOk;
+    }
+
+private:
+    static ViewerApp& of(GLFWwindow* window) {
+        return *static_cast<ViewerApp*>(glfwGetWindowUserPointer(window));
+    }
+
+    void frame() {
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        if (m_ui.showPanel)
+            drawViewerPanel(m_ui, figures(), m_actions);
+        if (m_ui.showHelp)
+            drawViewerHelp(m_ui.showHelp);
+        ImGui::Render();
+        handleActions();
+
+        int width = 0;
+        int height = 0;
+        glfwGetFramebufferSize(m_window, &width, &height);
+        if (width > 0 && height > 0) {
+            if (auto ok = m_session->renderer().resize(glm::uvec2(width, height)); !ok)
+                m_ui.status = ok.error().message();
+            Renderer& renderer = m_session->renderer();
+            renderer.render(m_session->simulation(), m_camera, m_ui.render);
+            requestReadbacks();
+            if (m_frames % 8 == 0)
+                m_probe->record(m_session->simulation());
+            if (auto stats = m_probe->poll())
+                m_fluid = stats;
+            m_renderGpuMs = renderer.gpuMilliseconds();
+            m_renderPassMs = renderer.passTimes();
+            glBlitNamedFramebuffer(renderer.outputFramebuffer(), 0, 0, 0, width, height, 0, 0,
+                                   width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            glViewport(0, 0, width, height);
+        }
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        glfwSwapBuffers(m_window);
+        writeReadbacks(false);
+
+        if (!m_ui.paused) {
+            for (std::int32_t i = 0; i < m_ui.stepsPerFrame; ++i)
+                m_session->step();
+        } else if (m_actions.step) {
+            m_session->step();
+        }
+        m_actions = {};
+    }
+
+    ViewerFigures figures() {
+        ViewerFigures f;
+        const Simulation& sim = m_session->simulation();
+        f.sceneName = m_session->scene().name;
+        f.particles = sim.particleCount();
+        f.capacity = sim.capacity();
+        f.steps = m_session->steps();
+        f.time = m_session->time();
+        f.stepsPerSecond = m_stepsPerSecond;
+        f.frameMs = m_frameMs;
+        f.renderGpuMs = m_renderGpuMs;
+        f.renderPassMs = m_renderPassMs;
+        f.passMs = m_session->simulation().passTimes();
+        f.fluid = m_fluid;
+        f.hasEmitters = !m_session->scene().emitters.empty();
+        return f;
+    }
+
+    void measureStepRate(Clock::time_point now) {
+        const double seconds = std::chrono::duration<double>(now - m_rateStart).count();
+        if (seconds < 0.5)
+            return;
+        const std::uint64_t steps = m_session->steps();
+        m_stepsPerSecond = steps >= m_rateSteps ? double(steps - m_rateSteps) / seconds : 0.0;
+        m_rateStart = now;
+        m_rateSteps = steps;
+    }
+
+    void report(const Result<void>& result, const std::string& done) {
+        m_ui.status = result ? done : result.error().message();
+        if (!result)
+            std::cerr << "sluice-play: " << result.error().message() << '\n';
+    }
+
+    void handleActions() {
+        ViewerActions& a = m_actions;
+        if (a.reset)
+            report(m_session->reset(), "reset");
+        if (a.reload) {
+            report(m_session->reload(), "reloaded " + m_session->scene().path);
+            m_ui.params = m_session->scene().simulation;
+            m_ui.emitters = m_session->emittersEnabled();
+        }
+        if (a.applyParameters) {
+            report(m_session->applyParameters(m_ui.params), "parameters applied");
+            m_ui.params = m_session->scene().simulation; // what runs, after a refusal too
+        }
+        if (a.emitters) {
+            m_session->setEmittersEnabled(*a.emitters);
+            m_ui.status = *a.emitters ? "emitters on" : "emitters off";
+        }
+        if (a.frame) {
+            const glm::uvec2 size = m_session->renderer().size();
+            m_camera.frame(m_session->renderer().bounds(), float(size.x) / float(size.y));
+        }
+        if (a.toggleRecording)
+            toggleRecording();
+    }
+
+    void toggleRecording() {
+        if (m_recording) {
+            const std::string path = m_recording->path().string();
+            writeReadbacks(true);
+            report(m_recording->finish(), "saved " + path);
+            m_recording.reset();
+            m_ui.recording = false;
+            return;
+        }
+        char stamp[32];
+        const std::time_t now = std::time(nullptr);
+        std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::localtime(&now));
+        const std::string path = m_session->scene().name + "-" + stamp + ".mp4";
+        auto encoder =
+            VideoEncoder::start(path, m_session->renderer().size(),
+                                realTimeFps(m_session->scene(), std::uint32_t(m_ui.stepsPerFrame)));
+        if (!encoder) {
+            report(encoder.error(), "");
+            return;
+        }
+        m_recording.emplace(std::move(*encoder));
+        m_recordSize = m_session->renderer().size();
+        m_ui.recording = true;
+        m_ui.status = "recording " + path;
+    }
+
+    // Queues the readbacks this frame needs: capture steps, a screenshot, a recorded frame.
+    void requestReadbacks() {
+        const std::uint64_t step = m_session->steps();
+        ReadbackPurpose purpose;
+        if (m_capture && m_capture->wants(step) && step != m_lastCaptured) {
+            purpose.capture = true;
+            m_lastCaptured = step;
+        }
+        purpose.screenshot = m_actions.screenshot;
+        if (m_options.capture.screenshotAt == step && !m_shotAtTaken) {
+            purpose.screenshot = true;
+            m_shotAtTaken = true;
+        }
+        if (m_recording && step != m_lastRecorded) {
+            if (m_session->renderer().size() == m_recordSize) {
+                purpose.record = true;
+                m_lastRecorded = step;
+            } else {
+                report(m_recording->finish(), "the window changed size: recording stopped, saved " +
+                                                  m_recording->path().string());
+                m_recording.reset();
+                m_ui.recording = false;
+            }
+        }
+        if (!purpose.capture && !purpose.screenshot && !purpose.record)
+            return;
+        const Renderer& renderer = m_session->renderer();
+        m_readback.request(renderer.outputFramebuffer(), renderer.size(), step);
+        m_purposes.push_back(purpose);
+    }
+
+    // Writes the frames whose readback finished; `wait` for all of them.
+    void writeReadbacks(bool wait) {
+        for (ReadbackFrame& frame : m_readback.collect(wait)) {
+            const ReadbackPurpose purpose = m_purposes.front();
+            m_purposes.pop_front();
+            if (purpose.capture && m_capture) {
+                if (auto ok = m_capture->write(frame.tag, frame.image); !ok) {
+                    report(ok, "");
+                    m_capture.reset();
+                    m_failed = true;
+                }
+            }
+            if (purpose.screenshot)
+                screenshot(frame);
+            if (purpose.record && m_recording) {
+                if (auto ok = m_recording->write(frame.image); !ok) {
+                    report(ok, "");
+                    m_recording.reset();
+                    m_ui.recording = false;
+                }
+            }
+        }
+    }
+
+    void screenshot(const ReadbackFrame& frame) {
+        const std::filesystem::path path =
+            screenshotPath(m_options.capture.shotsDir, m_session->scene().name, frame.tag);
+        report(writePng(path, frame.image), "saved " + path.string());
+        if (!m_options.quiet && m_options.capture.screenshotAt == frame.tag)
+            std::cout << "sluice-play: screenshot " << path.string() << '\n';
+    }
+
+    void finishOutputs() {
+        writeReadbacks(true);
+        if (m_recording) {
+            report(m_recording->finish(), "saved " + m_recording->path().string());
+            if (!m_options.quiet)
+                std::cout << "sluice-play: " << m_ui.status << '\n';
+            m_recording.reset();
+        }
+        if (m_capture) {
+            if (auto ok = m_capture->finish(); !ok) {
+                report(ok, "");
+                m_failed = true;
+            } else if (!m_options.quiet) {
+                std::cout << "sluice-play: captured " << m_capture->framesWritten() << " frames";
+                if (!m_options.capture.framesDir.empty())
+                    std::cout << " into " << m_options.capture.framesDir;
+                if (!m_options.capture.video.empty())
+                    std::cout << " and " << m_options.capture.video;
+                std::cout << '\n';
+            }
+            m_capture.reset();
+        }
+    }
+
+    GLFWwindow* m_window;
+    const ViewerOptions& m_options;
+    std::optional<ViewerSession> m_session;
+    OrbitCamera m_camera;
+    ViewerUi m_ui;
+    ViewerActions m_actions;
+    std::optional<FluidStatsProbe> m_probe;
+    std::optional<FluidStats> m_fluid;
+    std::optional<double> m_renderGpuMs;
+    RenderPassTimes m_renderPassMs{-1.0, -1.0, -1.0, -1.0};
+    FrameReadback m_readback{3};
+    std::deque<ReadbackPurpose> m_purposes;
+    std::optional<FrameCapture> m_capture;
+    std::optional<VideoEncoder> m_recording;
+    glm::uvec2 m_recordSize{0};
+    std::uint64_t m_lastCaptured = ~std::uint64_t{0};
+    std::uint64_t m_lastRecorded = ~std::uint64_t{0};
+    std::uint64_t m_frames = 0;
+    double m_frameMs = 0.0;
+    double m_stepsPerSecond = 0.0;
+    Clock::time_point m_rateStart = Clock::now();
+    std::uint64_t m_rateSteps = 0;
+    ViewerInput m_input;
+    bool m_failed = false;
+    bool m_shotAtTaken = false;
+};
+
+// ImGui's context and backends for one window (RAII).
+struct ImGuiScope {
+    explicit ImGuiScope(GLFWwindow* window) {
+        IMGUI_CHECKVERSION();
+        ImGui::CreateContext();
+        ImGui::GetIO().IniFilename = nullptr; // no imgui.ini left in the working folder
+        ImGui::StyleColorsDark();
+        ImGui_ImplGlfw_InitForOpenGL(window, false);
+        ImGui_ImplOpenGL3_Init("#version 450");
+    }
+    ImGuiScope(const ImGuiScope&) = delete;
+    ImGuiScope& operator=(const ImGuiScope&) = delete;
+    ~ImGuiScope() {
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+    }
+};
+
+} // namespace
+
+int runViewer(const ViewerOptions& options) {
+    glfwSetErrorCallback(onGlfwError);
+    if (glfwInit() != GLFW_TRUE) {
+        std::cerr << "sluice-play: cannot open a window: " << g_glfwError
+                  << "\n  Without a display, run headless: sluice-play SCENE --headless --steps N"
+                     " [--frames DIR] [--video OUT.mp4]\n";
+        return kPlayExitNoGlContext;
+    }
+    GlfwLibrary glfw;
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+    const std::string title = "Sluice - " + std::filesystem::path(options.scene).stem().string();
+    GLFWwindow* window =
+        glfwCreateWindow(int(options.size.x), int(options.size.y), title.c_str(), nullptr, nullptr);
+    if (window == nullptr) {
+        std::cerr << "sluice-play: cannot create a window with an OpenGL 4.5 core context: "
+                  << g_glfwError << "\n  Run headless instead: sluice-play SCENE --headless\n";
+        return kPlayExitNoGlContext;
+    }
+    glfwMakeContextCurrent(window);
+    glfwSwapInterval(options.vsync ? 1 : 0);
+    const int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(glfwGetProcAddress));
+    if (version == 0 || GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 45) {
+        std::cerr << "sluice-play: the window's OpenGL context is not 4.5 core\n";
+        glfwDestroyWindow(window);
+        return kPlayExitNoGlContext;
+    }
+    int exitCode = kPlayExitOk;
+    {
+        ImGuiScope imgui(window);
+        int width = 0;
+        int height = 0;
+        glfwGetFramebufferSize(window, &width, &height);
+        auto session = ViewerSession::open(options.scene, options.deterministic,
+                                           glm::uvec2(std::max(width, 1), std::max(height, 1)));
+        if (!session) {
+            std::cerr << "sluice-play: " << session.error().message() << '\n';
+            exitCode = playExitCode(session.error());
+        } else {
+            ViewerApp app(window, options, std::move(*session));
+            exitCode = app.run();
+        }
+    }
+    glfwDestroyWindow(window);
+    return exitCode;
+}
+
+} // namespace sluice::rt

@@ -1,0 +1,204 @@
+// The ImGui panel: simulation parameters applied when an edit ends, render modes, statistics.
+#include "ViewerPanel.h"
+
+#include <algorithm>
+
+#include <imgui.h>
+
+namespace sluice::rt {
+namespace {
+
+// True when the widget just finished an edit (slider released, text committed): parameters are
+// applied then, not on every drag frame, since applying rebuilds the simulation.
+bool edited() {
+    return ImGui::IsItemDeactivatedAfterEdit();
+}
+
+void statistics(const ViewerFigures& f) {
+    ImGui::Text("%s: %u particles (capacity %u)", f.sceneName.c_str(), f.particles, f.capacity);
+    ImGui::Text("step %llu, t = %.3f s", static_cast<unsigned long long>(f.steps), f.time);
+    ImGui::Text("%.1f steps/s, frame %.2f ms", f.stepsPerSecond, f.frameMs);
+    if (f.renderGpuMs)
+        ImGui::Text("render GPU %.2f ms", *f.renderGpuMs);
+    if (f.fluid)
+        ImGui::Text("density error avg %.3f %%, max %.2f %%; max speed %.2f m/s",
+                    100.0 * f.fluid->avgDensityError, 100.0 * f.fluid->maxDensityError,
+                    f.fluid->maxSpeed);
+    if (ImGui::BeginTable("passes", 2, ImGuiTableFlags_SizingStretchProp)) {
+        double total = 0.0;
+        for (std::size_t p = 0; p < f.passMs.size(); ++p) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(passName(Pass(p)));
+            ImGui::TableNextColumn();
+            if (f.passMs[p] >= 0.0) {
+                ImGui::Text("%.3f ms", f.passMs[p]);
+                total += f.passMs[p];
+            } else {
+                ImGui::TextUnformatted("-");
+            }
+        }
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted("step GPU");
+        ImGui::TableNextColumn();
+        ImGui::Text("%.3f ms", total);
+        for (std::size_t p = 0; p < f.renderPassMs.size(); ++p) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::Text("render %s", renderPassName(RenderPass(p)));
+            ImGui::TableNextColumn();
+            if (f.renderPassMs[p] >= 0.0)
+                ImGui::Text("%.3f ms", f.renderPassMs[p]);
+            else
+                ImGui::TextUnformatted("-");
+        }
+        ImGui::EndTable();
+    }
+}
+
+void simulationParameters(ViewerUi& ui, ViewerActions& actions) {
+    format::SimulationParams& p = ui.params;
+    int minIterations = int(p.minIterations);
+    int maxIterations = int(p.maxIterations);
+    if (ImGui::SliderInt("min iterations", &minIterations, 1, 20)) {
+        p.minIterations = std::uint32_t(minIterations);
+        p.maxIterations = std::max(p.maxIterations, p.minIterations);
+    }
+    actions.applyParameters |= edited();
+    if (ImGui::SliderInt("max iterations", &maxIterations, 1, 30)) {
+        p.maxIterations = std::uint32_t(maxIterations);
+        p.minIterations = std::min(p.minIterations, p.maxIterations);
+    }
+    actions.applyParameters |= edited();
+    ImGui::SliderFloat("target error", &p.targetDensityError, 0.0f, 0.05f, "%.4f");
+    actions.applyParameters |= edited();
+    ImGui::SliderFloat("relaxation (eps)", &p.relaxation, 1e-4f, 1.0f, "%.4f",
+                       ImGuiSliderFlags_Logarithmic);
+    actions.applyParameters |= edited();
+    ImGui::SliderFloat("s_corr k", &p.scorrK, 0.0f, 0.5f, "%.3f");
+    actions.applyParameters |= edited();
+    ImGui::SliderFloat("s_corr n", &p.scorrN, 1.0f, 8.0f, "%.1f");
+    actions.applyParameters |= edited();
+    ImGui::SliderFloat("s_corr dq [m]", &p.scorrDeltaQ, 0.0f, p.kernelRadius, "%.4f");
+    actions.applyParameters |= edited();
+    ImGui::SliderFloat("XSPH c", &p.xsph, 0.0f, 0.5f, "%.3f");
+    actions.applyParameters |= edited();
+    ImGui::SliderFloat("vorticity [m/s]", &p.vorticity, 0.0f, 0.05f, "%.4f");
+    actions.applyParameters |= edited();
+    ImGui::DragFloat3("gravity [m/s2]", &p.gravity.x, 0.05f, -50.0f, 50.0f, "%.2f");
+    actions.applyParameters |= edited();
+    float stepMs = p.timeStep * 1e3f;
+    if (ImGui::SliderFloat("time step [ms]", &stepMs, 1.0f, 33.3f, "%.2f"))
+        p.timeStep = stepMs * 1e-3f;
+    actions.applyParameters |= edited();
+    int substeps = int(p.substeps);
+    if (ImGui::SliderInt("substeps", &substeps, 1, 16))
+        p.substeps = std::uint32_t(substeps);
+    actions.applyParameters |= edited();
+}
+
+void renderModes(ViewerUi& ui) {
+    RenderSettings& r = ui.render;
+    int surface = int(r.surface);
+    ImGui::RadioButton("spheres", &surface, int(SurfaceMode::Spheres));
+    ImGui::SameLine();
+    ImGui::RadioButton("fluid surface", &surface, int(SurfaceMode::Fluid));
+    r.surface = SurfaceMode(surface);
+    int colour = int(r.colour);
+    ImGui::RadioButton("water", &colour, int(ColourMode::Water));
+    ImGui::SameLine();
+    ImGui::RadioButton("speed", &colour, int(ColourMode::Speed));
+    ImGui::SameLine();
+    ImGui::RadioButton("density error", &colour, int(ColourMode::DensityError));
+    r.colour = ColourMode(colour);
+    ImGui::SliderFloat("speed range [m/s]", &r.speedRange, 0.1f, 10.0f, "%.2f");
+    ImGui::SliderFloat("error range", &r.densityErrorRange, 0.001f, 0.5f, "%.3f",
+                       ImGuiSliderFlags_Logarithmic);
+    ImGui::Checkbox("colliders", &r.drawColliders);
+    ImGui::SameLine();
+    ImGui::Checkbox("glass walls", &r.glassWalls);
+    ImGui::SameLine();
+    ImGui::Checkbox("floor", &r.drawFloor);
+    if (r.surface == SurfaceMode::Fluid) {
+        int iterations = int(r.smoothingIterations);
+        ImGui::SliderInt("smoothing passes", &iterations, 0, 10);
+        r.smoothingIterations = std::uint32_t(iterations);
+        ImGui::SliderFloat("filter radius [r]", &r.filterRadius, 0.5f, 8.0f, "%.1f");
+        ImGui::SliderFloat("absorption [1/m]", &r.absorption, 0.0f, 60.0f, "%.1f");
+        ImGui::SliderFloat("refraction [px/m]", &r.refraction, 0.0f, 300.0f, "%.0f");
+    }
+}
+
+} // namespace
+
+const char* viewerKeyHelp() {
+    return "Left drag       orbit\n"
+           "Right/mid drag  pan (or Shift + left drag)\n"
+           "Wheel           zoom\n"
+           "Space           pause / resume\n"
+           "N, Right        one step (paused)\n"
+           "R               reset the scene\n"
+           "F               frame the scene\n"
+           "C               next colour mode (water, speed, density error)\n"
+           "M               spheres / fluid surface\n"
+           "G               glass walls on / off\n"
+           "P, F12          screenshot (PNG in the current folder)\n"
+           "V               start / stop recording (MP4, needs ffmpeg)\n"
+           "Tab             show / hide the panel\n"
+           "F1, H           this help\n"
+           "Esc, Q          quit";
+}
+
+void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& actions) {
+    const ImGuiIO& io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(360, std::max(200.0f, io.DisplaySize.y - 20.0f)),
+                             ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.8f);
+    if (!ImGui::Begin("Sluice", &ui.showPanel)) {
+        ImGui::End();
+        return;
+    }
+    if (ImGui::Button(ui.paused ? "Run" : "Pause"))
+        ui.paused = !ui.paused;
+    ImGui::SameLine();
+    actions.step |= ImGui::Button("Step");
+    ImGui::SameLine();
+    actions.reset |= ImGui::Button("Reset");
+    ImGui::SameLine();
+    actions.reload |= ImGui::Button("Reload scene");
+    ImGui::SameLine();
+    actions.frame |= ImGui::Button("Frame");
+    ImGui::SliderInt("steps per frame", &ui.stepsPerFrame, 1, 8);
+    if (figures.hasEmitters && ImGui::Checkbox("emitters", &ui.emitters))
+        actions.emitters = ui.emitters;
+
+    if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen))
+        statistics(figures);
+    if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen))
+        renderModes(ui);
+    if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen))
+        simulationParameters(ui, actions);
+    if (ImGui::CollapsingHeader("Capture")) {
+        actions.screenshot |= ImGui::Button("Screenshot");
+        ImGui::SameLine();
+        actions.toggleRecording |= ImGui::Button(ui.recording ? "Stop recording" : "Record");
+    }
+    if (!ui.status.empty())
+        ImGui::TextWrapped("%s", ui.status.c_str());
+    ImGui::End();
+}
+
+void drawViewerHelp(bool& open) {
+    const ImGuiIO& io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f),
+                            ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    if (ImGui::Begin("Keys", &open,
+                     ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse))
+        ImGui::TextUnformatted(viewerKeyHelp());
+    ImGui::End();
+}
+
+} // namespace sluice::rt

@@ -1,0 +1,67 @@
+// The viewer's Dear ImGui panel (live parameters, modes, statistics, capture) and its help
+// overlay with the key bindings.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "sluice/format/Scene.h"
+#include "sluice/rt/Simulation.h"
+#include "sluice/rt/render/FluidStatsProbe.h"
+#include "sluice/rt/render/Renderer.h"
+
+namespace sluice::rt {
+
+/// What the user asked for this frame, from the panel or the keys.
+struct ViewerActions {
+    bool step = false;   ///< one step while paused
+    bool reset = false;  ///< back to the scene's initial state
+    bool reload = false; ///< read the scene file again
+    bool frame = false;  ///< frame the scene with the camera
+    bool screenshot = false;
+    bool toggleRecording = false;
+    bool quit = false;
+    bool applyParameters = false; ///< ViewerUi::params was edited
+    std::optional<bool> emitters; ///< turn the emitters on or off
+};
+
+/// What the panel shows and edits; the viewer keeps it across frames.
+struct ViewerUi {
+    bool paused = false;
+    bool showPanel = true;
+    bool showHelp = false;
+    bool recording = false;
+    std::int32_t stepsPerFrame = 1;
+    RenderSettings render;
+    format::SimulationParams params; ///< the values being edited
+    bool emitters = true;
+    std::string status; ///< last message: a file written, an error
+};
+
+/// Figures for the statistics section, measured without waiting for the GPU.
+struct ViewerFigures {
+    std::string sceneName;
+    std::uint32_t particles = 0;
+    std::uint32_t capacity = 0;
+    std::uint64_t steps = 0;
+    double time = 0.0;           ///< simulated [s]
+    double stepsPerSecond = 0.0; ///< over the last second of wall time
+    double frameMs = 0.0;        ///< wall time per frame, averaged
+    std::optional<double> renderGpuMs;
+    RenderPassTimes renderPassMs{}; ///< GPU time per render pass, negative if unknown
+    PassTimes passMs{};             ///< the simulation's GPU time per pass, negative if unknown
+    std::optional<FluidStats> fluid;
+    bool hasEmitters = false;
+};
+
+/// Draws the panel (inside an ImGui frame) and records the user's requests in `actions`.
+void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& actions);
+
+/// Draws the key and mouse bindings in a window in the middle of the screen.
+void drawViewerHelp(bool& open);
+
+/// The key bindings as plain text lines ("Space  pause / resume"), for the overlay and --help.
+const char* viewerKeyHelp();
+
+} // namespace sluice::rt

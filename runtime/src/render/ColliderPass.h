@@ -1,0 +1,52 @@
+// Draws the scene's colliders by sphere tracing their signed distance grids, uploaded once as
+// 3D textures: an opaque pass before the particles and a translucent "glass" pass after them.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Result.h"
+#include "sluice/format/Scene.h"
+#include "sluice/gpu/Program.h"
+#include "sluice/gpu/Texture3D.h"
+
+namespace sluice::rt {
+
+/// Ray-marched colliders. Needs the frame block bound (shared/Render.h) and an empty vertex
+/// array bound when drawing.
+class ColliderPass {
+public:
+    /// Uploads every collider of `scene` (`colliders[i]` belongs to scene.colliders[i]) and
+    /// compiles the two programs. InvalidArgument when the counts differ; the texture and
+    /// program errors of the gpu library otherwise.
+    static Result<ColliderPass> create(const format::Scene& scene,
+                                       const std::vector<format::ColliderAsset>& colliders);
+
+    /// The opaque surfaces at simulated time `time` [s]: depth test and write on. With
+    /// `glassWalls`, surfaces with more of the same collider behind them are left to drawGlass.
+    void drawOpaque(double time, bool glassWalls) const;
+    /// The glass surfaces, blended over what is drawn, depth test on and depth write off.
+    void drawGlass(double time) const;
+
+    std::size_t count() const { return m_colliders.size(); }
+
+private:
+    struct Collider {
+        gpu::Texture3D sdf;
+        glm::vec3 origin{0.0f}; // grid point (0, 0, 0), local [asset units]
+        glm::vec3 dims{0.0f};   // grid points per axis
+        float voxel = 0.0f;     // [asset units]
+        glm::vec3 colour{0.0f};
+    };
+
+    void draw(const gpu::Program& program, double time, bool glassWalls) const;
+
+    std::vector<format::SceneCollider> m_placements;
+    std::vector<Collider> m_colliders;
+    gpu::Program m_opaque;
+    gpu::Program m_glass;
+};
+
+} // namespace sluice::rt

@@ -1,0 +1,56 @@
+// The screen-space fluid surface (van der Laan, Green and Sainz 2009, "Screen Space Fluid
+// Rendering with Curvature Flow"): the particles' front depth, smoothed with a bilateral filter,
+// their summed thickness, and a shading pass with Fresnel reflection and a refraction-like,
+// thickness-absorbed view of the scene behind.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "GlObjects.h"
+#include "sluice/format/Result.h"
+#include "sluice/gpu/Program.h"
+
+namespace sluice::rt {
+
+/// How the surface is smoothed.
+struct FluidSurfaceParams {
+    std::uint32_t smoothingIterations = 3; ///< bilateral filter passes
+    float filterRadius = 0.0f;             ///< spatial radius of the filter [m]
+    float depthFalloff = 0.0f;             ///< depth difference that weighs e^-1 [m]
+};
+
+/// Owns the fluid's intermediate targets (view depth, its smoothing partner, thickness) at the
+/// renderer's image size. Needs the frame block, the particle buffers and an empty vertex array
+/// bound when drawing.
+class FluidSurfacePass {
+public:
+    static Result<FluidSurfacePass> create();
+
+    /// Reallocates the targets for images of `size` pixels.
+    Result<void> resize(glm::uvec2 size);
+
+    /// Draws the fluid of `particleCount` particles over the opaque scene (`sceneColour`,
+    /// `sceneDepth`, textures of the current size) into `output`, which has a colour and a depth
+    /// attachment: every pixel of `output` is written, colour and depth.
+    void draw(std::uint32_t particleCount, GLuint sceneColour, GLuint sceneDepth, GLuint output,
+              const FluidSurfaceParams& params) const;
+
+private:
+    gpu::Program m_depthProgram;
+    gpu::Program m_thicknessProgram;
+    gpu::Program m_smoothProgram;
+    gpu::Program m_compositeProgram;
+    glm::uvec2 m_size{0};
+    TextureHandle m_depth;     // R32F view depth [m], 0 where there is no fluid
+    TextureHandle m_depthTemp; // R32F, the other half of the separable filter
+    TextureHandle m_zBuffer;   // depth attachment of the depth pass
+    TextureHandle m_thickness; // R32F summed chord length [m]
+    FramebufferHandle m_depthTarget;
+    FramebufferHandle m_depthTempTarget;
+    FramebufferHandle m_smoothTarget; // m_depth without a depth attachment
+    FramebufferHandle m_thicknessTarget;
+};
+
+} // namespace sluice::rt
