@@ -3,14 +3,16 @@
 #   bash cmake/setup.sh demo    installs what is missing, builds, bakes and validates the demo
 #   bash cmake/setup.sh test    installs what is missing, builds, runs the whole test suite
 #   bash cmake/setup.sh asan    the same suite built with AddressSanitizer + UBSan (CI runs it too)
+#   bash cmake/setup.sh fuzz    builds the libFuzzer targets with clang (`fuzz` preset, or
+#                               SLUICE_FUZZ_PRESET) and runs each for SLUICE_FUZZ_SECONDS (60)
 # A second run skips what is already installed and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 mode=${1:-}
 case "$mode" in
-  demo|test|asan) ;;
-  *) echo "usage: bash cmake/setup.sh demo|test|asan" >&2; exit 2 ;;
+  demo|test|asan|fuzz) ;;
+  *) echo "usage: bash cmake/setup.sh demo|test|asan|fuzz" >&2; exit 2 ;;
 esac
 
 # Build tools and libraries (Debian 12 package names).
@@ -19,12 +21,17 @@ packages=(
   libassimp-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libboost-iostreams-dev libeigen3-dev
   libopenvdb-dev libtbb-dev libcereal-dev libcli11-dev libglm-dev libstb-dev libxxhash-dev
   libspdlog-dev libfmt-dev nlohmann-json3-dev
-  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
+  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 # Test data: third-party meshes (assimp's models, CGAL's data set).
 if [ "$mode" != demo ]; then
-  packages+=(assimp-testmodels libcgal-demo)
+  packages+=(assimp-testmodels libcgal-demo xvfb xauth)
+fi
+
+# libFuzzer: clang with its sanitizer runtimes (libclang-rt-dev) and llvm-symbolizer (llvm).
+if [ "$mode" = fuzz ]; then
+  packages+=(clang libclang-rt-dev llvm)
 fi
 
 missing=()
@@ -44,6 +51,14 @@ fi
 jobs=$(nproc)
 preset=dev
 [ "$mode" = asan ] && preset=asan
+if [ "$mode" = fuzz ]; then
+  # SLUICE_FUZZ_PRESET=fuzz-ubsan: the same targets without ASan, several times the executions
+  # per second on the mesh target (docs/reliability.md).
+  fuzz_preset=${SLUICE_FUZZ_PRESET:-fuzz}
+  cmake --preset "$fuzz_preset" >/dev/null
+  cmake --build --preset "$fuzz_preset" -j "$jobs"
+  exec bash tests/fuzz/run.sh --build "build/$fuzz_preset" --seconds "${SLUICE_FUZZ_SECONDS:-60}"
+fi
 cmake --preset "$preset" >/dev/null
 cmake --build --preset "$preset" -j "$jobs"
 

@@ -36,8 +36,9 @@ int exitCodeFor(const Error& error) {
         return kExitNoGlContext;
     case ErrorCode::ShaderCompile:
     case ErrorCode::ShaderLink:
-    case ErrorCode::GpuOutOfMemory:
         return kExitInternal;
+    // A mesh or grid too large for this GPU's free memory is bad input for this machine, like
+    // one too large for its largest storage buffer (SizeOverflow): exit 2, as sluice-play does.
     default:
         return kExitBadInput;
     }

@@ -59,7 +59,8 @@ CLI::Validator finiteNumber(bool allowZero);
 std::string toolVersion();
 
 /// The exit code for an error: kExitNoGlContext for NoGlContext, kExitInternal for failures of
-/// our own GPU code (shader compile/link, GPU memory), kExitBadInput for everything else.
+/// our own GPU code (shader compile/link), kExitBadInput for everything else (GpuOutOfMemory
+/// included: the input is too large for this GPU).
 int exitCodeFor(const Error& error);
 
 /// Prints "sluice-bake <command>: <what>: <detail> [<Code>]" on stderr and returns

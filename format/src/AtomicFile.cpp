@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -78,6 +79,63 @@ std::filesystem::path uniqueTempName(const std::filesystem::path& target) {
     return target.parent_path() / name;
 }
 
+/// Makes a rename in `path`'s folder durable. Best effort: the data is already in place.
+void syncFolder(const std::filesystem::path& path) {
+    const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+    const int dirFd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dirFd >= 0) {
+        ::fsync(dirFd);
+        ::close(dirFd);
+    }
+}
+
+/// The first choice of writeFileAtomic: the bytes go to an unnamed file in the target's folder
+/// (O_TMPFILE), which gets a temporary name only once it is complete and fsync'd, and is then
+/// renamed over the target. A writer killed while writing (SIGKILL, power loss) leaves no file
+/// behind: the unnamed one vanishes with its descriptor. Empty when this file system or kernel
+/// has no O_TMPFILE, or /proc is missing for the link: the caller writes a named file then.
+std::optional<Result<void>> writeUnnamedThenRename(const std::filesystem::path& path,
+                                                   std::span<const std::byte> bytes) {
+    const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+    const int fd = ::open(folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (fd < 0)
+        return std::nullopt;
+    Fd file(fd);
+    int err = 0;
+    if (!writeAll(file.get(), bytes.data(), bytes.size(), err))
+        return fail(ErrorCode::Io, path.string() + ": write failed: " + errnoText(err) +
+                                       " (the previous file, if any, is unchanged)");
+    if (::fsync(file.get()) != 0)
+        return fail(ErrorCode::Io, path.string() + ": fsync failed: " + errnoText(errno) +
+                                       " (the previous file, if any, is unchanged)");
+    // linkat(AT_EMPTY_PATH) needs a capability; the /proc link of the descriptor does not.
+    const std::string procPath = "/proc/self/fd/" + std::to_string(file.get());
+    std::filesystem::path temp;
+    int linked = -1;
+    for (int attempt = 0; attempt < 16 && linked != 0; ++attempt) {
+        temp = uniqueTempName(path);
+        linked = ::linkat(AT_FDCWD, procPath.c_str(), AT_FDCWD, temp.c_str(), AT_SYMLINK_FOLLOW);
+        if (linked != 0 && errno != EEXIST && errno != EINTR)
+            return std::nullopt;
+    }
+    if (linked != 0)
+        return std::nullopt;
+    if (file.close() != 0) {
+        err = errno;
+        ::unlink(temp.c_str());
+        return fail(ErrorCode::Io, path.string() + ": close failed: " + errnoText(err) +
+                                       " (the previous file, if any, is unchanged)");
+    }
+    if (::rename(temp.c_str(), path.c_str()) != 0) {
+        err = errno;
+        ::unlink(temp.c_str());
+        return fail(ErrorCode::Io, path.string() + ": cannot replace it: " + errnoText(err) +
+                                       " (the previous file, if any, is unchanged)");
+    }
+    syncFolder(path);
+    return Result<void>{};
+}
+
 } // namespace
 
 Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const std::byte> bytes) {
@@ -85,7 +143,11 @@ Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const 
         return fail(ErrorCode::InvalidArgument,
                     path.string() + ": not a file path (it names no file)");
 
-    // O_EXCL makes the temporary name ours alone; retry on the (unlikely) collision.
+    if (std::optional<Result<void>> done = writeUnnamedThenRename(path, bytes))
+        return std::move(*done);
+
+    // No unnamed files here: a named temporary file, which a writer killed mid-write leaves
+    // behind. O_EXCL makes the name ours alone; retry on the (unlikely) collision.
     std::filesystem::path temp;
     int fd = -1;
     for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
@@ -127,13 +189,7 @@ Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const 
                                        " (the previous file, if any, is unchanged)");
     }
 
-    // Make the rename itself durable. Best effort: the data is already in place.
-    const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
-    const int dirFd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dirFd >= 0) {
-        ::fsync(dirFd);
-        ::close(dirFd);
-    }
+    syncFolder(path);
     return {};
 }
 

@@ -1,10 +1,12 @@
 // Mesh import through assimp and the mesh diagnostics: welding, transforms, bad files.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -208,6 +210,56 @@ TEST(MeshImport, RejectsHeadersThatDeclareMoreThanTheFileHoldsBeforeAllocating) 
     Result<ImportedMesh> mesh = importMesh(ply, {});
     ASSERT_FALSE(mesh.ok());
     EXPECT_EQ(mesh.error().code, ErrorCode::MeshImport);
+}
+
+TEST(MeshImport, RejectsAnOffCountWithACommentGluedToItBeforeAllocating) {
+    // Found by tests/fuzz (regressions/mesh_import/off-count-glued-to-a-comment): with the
+    // comment glued to the vertex count the face count cannot be read, and the check used to
+    // give up, leaving assimp to reserve memory for 6.7e47 vertices.
+    for (const auto& [name, text] :
+         {std::pair<std::string, std::string>{"glued.off", "OFF\n666666666666666666666666666666"
+                                                           "666666# comment\n0 0 0\n"},
+          {"one-count.off", "OFF\n4000000000\n0 0 0\n"}}) {
+        const fs::path path = writeText("import-off-glued", name, text);
+        Result<ImportedMesh> mesh = importMesh(path, {});
+        ASSERT_FALSE(mesh.ok()) << name;
+        EXPECT_EQ(mesh.error().code, ErrorCode::MeshImport) << mesh.error().message();
+        EXPECT_NE(mesh.error().detail.find("declares"), std::string::npos)
+            << "the header check answers, not assimp: " << mesh.error().detail;
+    }
+}
+
+TEST(MeshImport, RejectsAPlyHeaderWithoutItsEndAtOnce) {
+    // Found by tests/fuzz (regressions/mesh_import/ply-without-end-header): assimp 5.2.5 reads
+    // PLY header lines until "end_header" and loops forever at the end of a file without one,
+    // so a PLY file cut short in its header held the import until the isolation time limit.
+    ImportOptions options;
+    options.limits.timeout = std::chrono::seconds(30); // a regression fails, not hangs 10 min
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                               "property float y\nproperty float z\n";
+    for (const auto& [name, text] :
+         {std::pair<std::string, std::string>{"cut.ply", header},
+          {"cut-in-data.ply", header + "0 0 0\n1 0 0\n"},
+          {"misspelt.ply", header + "end_headr\n0 0 0\n"},
+          {"unknown.extension", header}, // assimp goes by the content then
+          {"upper-case.ply", "PLY\nformat ascii 1.0\nelement vertex 0\n"}}) {
+        const fs::path path = writeText("import-ply-no-end", name, text);
+        const auto start = std::chrono::steady_clock::now();
+        Result<ImportedMesh> mesh = importMesh(path, options);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        ASSERT_FALSE(mesh.ok()) << name;
+        EXPECT_EQ(mesh.error().code, ErrorCode::MeshImport) << mesh.error().message();
+        EXPECT_NE(mesh.error().detail.find("end_header"), std::string::npos) << mesh.error().detail;
+        EXPECT_NE(mesh.error().detail.find(name), std::string::npos) << mesh.error().detail;
+        EXPECT_LT(seconds, 10.0) << name;
+    }
+    // With its end, the same header is read (as the point cloud it is).
+    const fs::path whole =
+        writeText("import-ply-no-end", "whole.ply", header + "end_header\n0 0 0\n1 0 0\n0 1 0\n");
+    Result<ImportedMesh> mesh = importMesh(whole, options);
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_EQ(mesh.error().code, ErrorCode::EmptyMesh) << mesh.error().message();
 }
 
 TEST(MeshImport, RejectsAnEmptyFileAsEmptyMesh) {

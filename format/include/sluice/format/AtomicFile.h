@@ -11,12 +11,15 @@
 
 namespace sluice::format {
 
-/// Writes `bytes` to `path` atomically: the bytes go to a new file with a unique temporary name
-/// (".<name>.tmp-<pid>-<n>-<random>") in the same folder, which is fsync'd and then renamed over
-/// `path`; the folder is fsync'd after the rename. Readers see either the old file or the whole
-/// new one, never a mix. On any failure (folder missing or not writable, disk full, `path` is a
-/// folder, ...) the temporary file is removed, `path` is left as it was, and Io is returned
-/// naming the path and the system's reason. The new file gets mode 0666 minus the umask; a
+/// Writes `bytes` to `path` atomically: the bytes go to an unnamed file in the same folder
+/// (O_TMPFILE), which is fsync'd, linked under a unique temporary name
+/// (".<name>.tmp-<pid>-<n>-<random>") and renamed over `path`; the folder is fsync'd after the
+/// rename. Readers see either the old file or the whole new one, never a mix, and a writer killed
+/// while writing (SIGKILL, power loss) leaves no file behind. Where the file system has no
+/// unnamed files, the bytes go to the named temporary file directly (which a killed writer
+/// leaves behind; a later write never reuses its name). On any failure (folder missing or not
+/// writable, disk full, `path` is a folder, ...) the temporary file is removed, `path` is left
+/// as it was, and Io is returned naming the path and the system's reason. The new file gets mode 0666 minus the umask; a
 /// symbolic link at `path` is replaced by the file, not followed. InvalidArgument if `path`
 /// names no file (empty, or ends in a separator).
 Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const std::byte> bytes);
