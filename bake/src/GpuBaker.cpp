@@ -46,6 +46,9 @@ namespace {
 constexpr std::uint64_t kFirstSlabPoints = std::uint64_t(1) << 18;
 constexpr std::uint64_t kMaxSlabPoints = std::uint64_t(1) << 22;
 constexpr double kSlabSeconds = 0.1;
+/// Solid angles one dispatch of the exact winding number computes at most (but one work group):
+/// a few milliseconds on a GPU, so no dispatch runs long whatever the mesh.
+constexpr std::uint64_t kExactSolidAnglesPerDispatch = std::uint64_t(1) << 26;
 
 std::string mib(std::uint64_t bytes) {
     return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
@@ -280,6 +283,11 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
             timer->end();
     };
     const std::uint64_t maxGroups = options.maxGroupsPerDispatch;
+    // The exact winding number sums every triangle for each point, so its dispatches hold fewer
+    // groups: about kExactSolidAnglesPerDispatch solid angles each, however large the mesh.
+    const std::uint64_t exactGroups = std::clamp<std::uint64_t>(
+        kExactSolidAnglesPerDispatch / (std::uint64_t(shared::kBakeLocalSize) * bvh.triangleCount),
+        1, maxGroups);
     const std::uint32_t local = shared::kBakeLocalSize;
 
     // Coarse points: their nearest triangles, then (where the sign propagates) their signs.
@@ -335,7 +343,7 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
                 p.exactSign.set("itemCount", verified.count);
                 timed(signTimer, [&] {
                     stats.dispatches += p.exactSign.dispatchChunked(
-                        glm::uvec3(gpu::groupCount(verified.count, local), 1, 1), maxGroups);
+                        glm::uvec3(gpu::groupCount(verified.count, local), 1, 1), exactGroups);
                 });
                 glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             }
