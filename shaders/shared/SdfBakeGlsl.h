@@ -91,9 +91,9 @@ float boxDistance2(vec3 p, vec3 lo, vec3 hi) {
 // triangle and shared by every point an invocation owns.
 struct TriangleTerms {
     vec3 a, b, c;
-    vec3 ab, bc, ca;    // edges
-    vec3 n;             // normal (ab x ac), not normalized
-    vec3 mab, mbc, mca; // n x edge: a point is on the inner side of an edge where dot >= 0
+    vec3 ab, bc, ca;     // edges
+    vec3 n;              // normal (ab x ac), not normalized
+    vec3 mab, mbc, mca;  // n x edge: a point is on the inner side of an edge where dot >= 0
     float iab, ibc, ica; // 1 / |edge|^2
     float inn;           // 1 / |n|^2, 0 for a triangle too thin for float
 };
@@ -126,8 +126,8 @@ TriangleTerms triangleTerms(vec3 a, vec3 b, vec3 c) {
 float triangleDistance2(TriangleTerms t, vec3 p) {
     vec3 ap = p - t.a, bp = p - t.b, cp = p - t.c;
     // (ab x ap) . n = ap . (n x ab): the side of each edge p is on.
-    bool inside = t.inn > 0.0 && dot(ap, t.mab) >= 0.0 && dot(bp, t.mbc) >= 0.0 &&
-                  dot(cp, t.mca) >= 0.0;
+    bool inside =
+        t.inn > 0.0 && dot(ap, t.mab) >= 0.0 && dot(bp, t.mbc) >= 0.0 && dot(cp, t.mca) >= 0.0;
     float plane = dot(ap, t.n);
     vec3 eab = ap - t.ab * clamp(dot(ap, t.ab) * t.iab, 0.0, 1.0);
     vec3 ebc = bp - t.bc * clamp(dot(bp, t.bc) * t.ibc, 0.0, 1.0);
@@ -204,8 +204,8 @@ void walkBlock(vec3 q0, vec3 q1, float z[kBakeBlockDepth], inout vec4 best[kBake
         }
         uint countA = linkCount(leafA);
         for (uint i = 0u; i < countA + linkCount(leafB); ++i)
-            blockTriangle(i < countA ? linkIndex(leafA) + i : linkIndex(leafB) + i - countA, q0,
-                          q1, z, best, nearest);
+            blockTriangle(i < countA ? linkIndex(leafA) + i : linkIndex(leafB) + i - countA, q0, q1,
+                          z, best, nearest);
     }
 }
 
