@@ -1,104 +1,98 @@
-// Unsigned distance from every grid point of a z-slab to the nearest triangle, through the BVH.
-// Coordinates are grid-relative voxels (shared/SdfBake.h); writes phi = distance [voxels].
+// Fine distance pass over a z-slab of work groups: the exact unsigned distance of every grid
+// point, and its sign wherever a coarse point's empty ball covers it; blocks with other points
+// are appended to the pending list for sdf_sign.comp. Coordinates are grid-relative voxels
+// (shared/SdfBake.h).
+//
+// Each invocation owns a block of 2 x 2 x 4 grid points: it fetches every node and triangle once
+// for its 16 points (loads are what llvmpipe pays for most), tests node boxes against each
+// point's own best distance (walkBlock, shared/SdfBakeGlsl.h), and starts from the nearest
+// triangles of the 8 coarse points around the block.
 #version 450 core
+#extension GL_ARB_shader_group_vote : enable
 
-#include "shared/SdfBake.h"
+#include "shared/SdfBakeGlsl.h"
 #include "shared/ChunkedDispatch.h"
 
-layout(local_size_x = kBakeLocalSize, local_size_y = kBakeLocalSize,
-       local_size_z = kBakeLocalSize) in;
+layout(local_size_x = kBakeLocalSize) in;
 
-layout(std430, binding = kBakeNodesBinding) readonly buffer Nodes { BvhNode nodes[]; };
-layout(std430, binding = kBakeTrianglesBinding) readonly buffer Triangles {
-    BvhTriangle triangles[];
-};
 layout(std430, binding = kBakeDistanceBinding) writeonly buffer Distances { float phi[]; };
+layout(std430, binding = kBakeCoarseBinding) readonly buffer Coarse { CoarsePoint coarse[]; };
+layout(std430, binding = kBakePendingBinding) buffer Pending {
+    PendingHeader pending;
+    uvec2 pendingBlocks[]; // (block index, mask of its pending points)
+};
 
-uniform uvec3 dims;      // [grid points]
-uniform uint sliceBegin; // first z slice of this slab
-uniform uint sliceEnd;   // one past the last
-uniform uint bvhDepth;   // levels below the root
+uniform uint groupBegin; // first z work group of this slab
+uniform uint propagate;  // 1: take the sign of a covering coarse point (the winding number is an
+                         // integer off the surface); 0: every point is pending
 
-// Squared distance from p to segment (a, b), both relative to p's frame.
-float segmentDistance2(vec3 p, vec3 a, vec3 b) {
-    vec3 ab = b - a, ap = p - a;
-    float t = clamp(dot(ap, ab) / max(dot(ab, ab), 1.0e-30), 0.0, 1.0);
-    vec3 e = ap - ab * t;
-    return dot(e, e);
-}
-
-// Squared distance from p to triangle (a, b, c), without branches: the distance to the plane
-// where p projects inside the triangle, else the nearest of the three edges. The same closest
-// point as Ericson's case analysis (Real-Time Collision Detection, 5.1.5) used by the reference;
-// written branch-free because llvmpipe runs divergent branches inside the BVH walk very slowly.
-// Everything is relative to a corner, so the numbers stay as small as the triangle and its
-// distance to p.
-float pointTriangleDistance2(vec3 p, vec3 a, vec3 b, vec3 c) {
-    vec3 ab = b - a, bc = c - b, ca = a - c;
-    vec3 ap = p - a, bp = p - b, cp = p - c;
-    vec3 n = cross(ab, -ca);
-    bool inside = dot(cross(ab, ap), n) >= 0.0 && dot(cross(bc, bp), n) >= 0.0 &&
-                  dot(cross(ca, cp), n) >= 0.0;
-    float plane = dot(ap, n);
-    float edges = min(segmentDistance2(p, a, b),
-                      min(segmentDistance2(p, b, c), segmentDistance2(p, c, a)));
-    return inside ? plane * plane / dot(n, n) : edges;
-}
-
-float boxDistance2(vec3 p, uint node) {
-    vec3 d = max(max(nodes[node].boxMin.xyz - p, p - nodes[node].boxMax.xyz), vec3(0.0));
-    return dot(d, d);
-}
-
-// Squared distance from p to the nearest triangle: a depth-first walk along the preorder skip
-// links (no stack; llvmpipe runs dynamically indexed local arrays very slowly) that prunes a
-// subtree once its box is no closer than the best triangle so far. min() is exact, so the
-// result does not depend on the visiting order.
-float nearestDistance2(vec3 p) {
-    // A first bound from the leaf reached by always stepping into the child with the nearer box
-    // (first child: the next node; second: `first`), so the walk below prunes from the start.
-    // A for loop bounded by the tree depth, not a while loop on node data: llvmpipe is much
-    // faster with it.
-    uint n = 0u;
-    for (uint level = 0u; level < bvhDepth; ++level) {
-        if (nodes[n].count != 0u)
-            break;
-        uint second = nodes[n].first;
-        n = boxDistance2(p, n + 1u) <= boxDistance2(p, second) ? n + 1u : second;
-    }
-    float best = 3.0e38;
-    uint leafFirst = nodes[n].first;
-    for (uint t = leafFirst; t < leafFirst + nodes[n].count; ++t)
-        best = min(best, pointTriangleDistance2(p, triangles[t].a.xyz, triangles[t].b.xyz,
-                                                triangles[t].c.xyz));
-
-    uint nodeCount = uint(nodes.length());
-    n = 0u;
-    while (n < nodeCount) {
-        uint count = nodes[n].count;
-        if (boxDistance2(p, n) >= best) {
-            n = nodes[n].skip;
-        } else if (count > 0u) {
-            uint first = nodes[n].first;
-            for (uint t = first; t < first + count; ++t)
-                best = min(best, pointTriangleDistance2(p, triangles[t].a.xyz, triangles[t].b.xyz,
-                                                        triangles[t].c.xyz));
-            n = nodes[n].skip;
-        } else {
-            n = n + 1u;
-        }
-    }
-    return best;
-}
+const int kDepth = kBakeBlockDepth;
+const int kPoints = 4 * kDepth;
 
 void main() {
-    uvec3 id = SLUICE_GLOBAL_ID;
-    uint k = id.z + sliceBegin;
-    // Every invocation runs the search (on a clamped point), so all lanes of a SIMD batch leave
-    // the loop together; only those on the grid write.
-    bool onGrid = id.x < dims.x && id.y < dims.y && k < sliceEnd;
-    vec3 p = vec3(min(id.x, dims.x - 1u), min(id.y, dims.y - 1u), min(k, sliceEnd - 1u));
-    float d = sqrt(nearestDistance2(p));
-    if (onGrid)
-        phi[id.x + dims.x * (id.y + dims.y * k)] = d;
+    uvec3 group = gl_WorkGroupID + SLUICE_GROUP_OFFSET_UNIFORM + uvec3(0u, 0u, groupBegin);
+    uvec3 blockInGroup = mortonPosition(gl_LocalInvocationIndex);
+    uvec3 origin = (group * 4u + blockInGroup) * kBakeBlockSize;
+    vec3 q0, q1;
+    float z[kDepth];
+    blockPoints(origin, q0, q1, z);
+    // Points past the grid search as clamped points, so every lane runs the same loops.
+    vec4 best[kDepth]; // squared distances [voxels^2], layer by layer
+    uvec4 nearest[kDepth]; // unused here
+    for (int j = 0; j < kDepth; ++j) {
+        best[j] = vec4(3.0e38);
+        nearest[j] = uvec4(0u);
+    }
+
+    // First bound: the nearest triangles of the coarse points at the corners of the coarse cell
+    // holding the block (blocks are aligned, so a block never straddles two cells); then the walk
+    // prunes almost as well as one that knew the answer.
+    uvec3 cd = coarseDims();
+    uvec3 cell = min(origin, dims - 1u) / uint(kBakeCoarseSpacing);
+    for (int s = 0; s < 8; ++s) {
+        uvec3 cc = min(cell + uvec3(s & 1, (s >> 1) & 1, s >> 2), cd - 1u);
+        blockTriangle(coarse[cc.x + cd.x * (cc.y + cd.y * cc.z)].triangle, q0, q1, z, best,
+                      nearest);
+    }
+    walkBlock(q0, q1, z, best, nearest);
+
+    // Sign: inside the open ball of radius |phi(c)| around a coarse point c there is no surface,
+    // and the winding number of a closed surface only changes across it, so a point in the ball
+    // has c's sign. The margin keeps float rounding of phi(c) on the safe side. (Read only now,
+    // so the walk above needs fewer registers.)
+    vec3 cornerPoint[8];
+    float cornerDistance[8]; // signed [voxels]
+    for (int s = 0; s < 8; ++s) {
+        uvec3 cc = min(cell + uvec3(s & 1, (s >> 1) & 1, s >> 2), cd - 1u);
+        cornerPoint[s] = vec3(coarseGridPoint(cc));
+        cornerDistance[s] = coarse[cc.x + cd.x * (cc.y + cd.y * cc.z)].distance;
+    }
+    uint pendingMask = 0u;
+    float signedDistance[kPoints];
+    for (int k = 0; k < kPoints; ++k) {
+        uvec3 id = origin + blockPointOffset(k);
+        float d = sqrt(best[k >> 2][k & 3]);
+        vec3 p = layerPoint(q0, q1, z[k >> 2], k & 3);
+        float sign = 0.0;
+        for (int s = 0; s < 8; ++s) {
+            float radius = abs(cornerDistance[s]) * (1.0 - 1.0e-5) - 1.0e-3;
+            vec3 r = p - cornerPoint[s];
+            bool covered = propagate != 0u && radius > 0.0 && dot(r, r) < radius * radius;
+            sign = sign == 0.0 && covered ? (cornerDistance[s] < 0.0 ? -1.0 : 1.0) : sign;
+        }
+        bool onGrid = all(lessThan(id, dims));
+        pendingMask |= onGrid && d > 0.0 && sign == 0.0 ? 1u << k : 0u;
+        signedDistance[k] = sign < 0.0 ? -d : d;
+    }
+    // Stores after the loops above (llvmpipe runs them much faster that way).
+    for (int k = 0; k < kPoints; ++k) {
+        uvec3 id = origin + blockPointOffset(k);
+        if (all(lessThan(id, dims)))
+            phi[gridIndex(id)] = signedDistance[k];
+    }
+    atomicAdd(pending.points, uint(bitCount(pendingMask)));
+    uint slot = atomicAdd(pending.count, pendingMask != 0u ? 1u : 0u);
+    uvec3 bd = blockDims(), bi = origin / kBakeBlockSize;
+    if (pendingMask != 0u)
+        pendingBlocks[slot] = uvec2(bi.x + bd.x * (bi.y + bd.y * bi.z), pendingMask);
 }

@@ -1,28 +1,54 @@
-// Sign of every grid point of a z-slab from the fast winding number over the BVH (Barill et al.
-// 2018): exact solid angles for near nodes, the dipole expansion for far ones. Reads the
-// unsigned distance written by sdf_distance.comp and negates it inside.
+// Sign passes: the fast winding number (Barill et al. 2018), negating the unsigned distance where
+// a point is inside. Three variants:
+//   SDF_SIGN_COARSE: one coarse point per invocation (distances in the coarse buffer);
+//   default: one block of the pending list (sdf_distance.comp) per invocation, its points
+//       walked together, so every node and triangle is fetched once for all of them; points
+//       whose value is too near the decision go to the verify list;
+//   SDF_SIGN_EXACT: one point of the verify list per invocation: the exact winding number.
 #version 450 core
+#extension GL_ARB_shader_group_vote : enable
 
-#include "shared/SdfBake.h"
+#include "shared/SdfBakeGlsl.h"
 #include "shared/ChunkedDispatch.h"
 
-layout(local_size_x = kBakeLocalSize, local_size_y = kBakeLocalSize,
-       local_size_z = kBakeLocalSize) in;
+layout(local_size_x = kBakeLocalSize) in;
 
-layout(std430, binding = kBakeNodesBinding) readonly buffer Nodes { BvhNode nodes[]; };
-layout(std430, binding = kBakeTrianglesBinding) readonly buffer Triangles {
-    BvhTriangle triangles[];
-};
+#ifdef SDF_SIGN_COARSE
+layout(std430, binding = kBakeCoarseBinding) buffer Coarse { CoarsePoint coarse[]; };
+#else
 layout(std430, binding = kBakeDistanceBinding) buffer Distances { float phi[]; };
+layout(std430, binding = kBakePendingBinding) readonly buffer Pending {
+    PendingHeader pending;
+    uvec2 pendingBlocks[]; // (block index, mask of its pending points)
+};
+layout(std430, binding = kBakeVerifyBinding) buffer Verify {
+    PendingHeader verify;
+    uint verifyPoints[]; // grid point indices
+};
+#endif
 
-uniform uvec3 dims;      // [grid points]
-uniform uint sliceBegin; // first z slice of this slab
-uniform uint sliceEnd;   // one past the last
-uniform float beta;      // far-field test: |q - center| > beta * radius (Barill et al. sec. 3.2)
-uniform float verifyBand; // an approximate value this close to the decision is recomputed exactly
-uniform uint parity;     // 1: inside where round(w) is odd (closed meshes); 0: inside where w > 0.5
+uniform uint itemCount;     // coarse points, pending blocks or verify points in the list
+uniform uint triangleCount; // for the exact sum
+uniform float beta;         // far-field test: |q - center| > beta * radius (Barill et al. sec. 3.2)
+uniform float verifyBand;   // an approximate value this close to the decision is recomputed exactly
+uniform uint parity;        // 1: inside where round(w) is odd (closed meshes); 0: where w > 0.5
 
-const float kPi = 3.14159265358979;
+// atan(y, x) without branches, to about 2e-7 relative: the argument reduction and polynomial of
+// Cephes' atanf (Moshier 1989). llvmpipe's built-in two-argument atan runs several times slower
+// inside the loops over triangles below.
+float atan2Reduced(float y, float x) {
+    float ax = abs(x), ay = abs(y);
+    float r = min(ax, ay) / max(max(ax, ay), 1.0e-30); // in [0, 1]
+    bool upper = r > 0.41421356;                        // tan(pi / 8)
+    float t = upper ? (r - 1.0) / (r + 1.0) : r;        // atan(r) = pi / 4 + atan(t) when upper
+    float z = t * t;
+    float a = (upper ? 0.78539816 : 0.0) +
+              ((((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z -
+                3.33329491539e-1) * z * t + t);
+    a = ay > ax ? 1.57079633 - a : a;
+    a = x < 0.0 ? 3.14159265 - a : a;
+    return y < 0.0 ? -a : a;
+}
 
 // Signed solid angle of triangle (a, b, c) seen from the origin: Van Oosterom & Strackee 1983,
 // tan(Omega / 2) = a.(b x c) / (|a||b||c| + (a.b)|c| + (b.c)|a| + (c.a)|b|).
@@ -30,35 +56,55 @@ float solidAngle(vec3 a, vec3 b, vec3 c) {
     float la = length(a), lb = length(b), lc = length(c);
     float num = dot(a, cross(b, c));
     float den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-    return 2.0 * atan(num, den);
+    return 2.0 * atan2Reduced(num, den);
 }
 
-// Winding number at p. With `exact`, every triangle is summed; otherwise far nodes contribute
-// their dipole term (p~ - q) . n~ / |p~ - q|^3 (Barill et al. 2018, eq. 14, in units of 4 pi).
-// Walks the preorder skip links, like sdf_distance.comp. The order is fixed per point, so the
-// float sum is the same on every run.
-float windingNumber(vec3 p, bool exact) {
+const float kBakePi = 3.14159265358979;
+
+// Fast winding number at p (Barill et al. 2018): exact solid angles of the triangles of near
+// leaves, and for a node farther than beta times its radius (sec. 3.2) its dipole term
+// (p~ - q) . n~ / |p~ - q|^3 (eq. 14, in units of 4 pi). Walks the preorder links like walkBlock
+// (shared/SdfBakeGlsl.h); the order is fixed per point, so the float sum is the same on every
+// run.
+float fastWindingNumber(vec3 p) {
     float sum = 0.0; // [sr]
-    uint nodeCount = uint(nodes.length());
     uint n = 0u;
     while (n < nodeCount) {
-        vec3 d = nodes[n].center.xyz - p;
-        float dist = length(d);
-        uint count = nodes[n].count;
-        if (!exact && dist > beta * nodes[n].center.w) {
-            sum += dot(d, nodes[n].dipole.xyz) / (dist * dist * dist);
-            n = nodes[n].skip;
-        } else if (count > 0u) {
-            uint first = nodes[n].first;
-            for (uint t = first; t < first + count; ++t)
-                sum += solidAngle(triangles[t].a.xyz - p, triangles[t].b.xyz - p,
-                                  triangles[t].c.xyz - p);
-            n = nodes[n].skip;
-        } else {
-            n = n + 1u;
+        uint leaf = 0u;
+        while (n < nodeCount) {
+            uvec4 c = texelFetch(windingNodes, int(2u * n));
+            uvec4 d = texelFetch(windingNodes, int(2u * n + 1u));
+            vec3 q = uintBitsToFloat(c.xyz) - p;
+            float dist = length(q);
+            bool far = dist > beta * uintBitsToFloat(c.w);
+            sum += far ? dot(q, uintBitsToFloat(d.xyz)) / (dist * dist * dist) : 0.0;
+            if (!far && linkCount(d.w) != 0u) {
+                leaf = d.w;
+                break;
+            }
+            // Near internal node: its first child; far subtree: past it (a leaf's is n + 1).
+            n = !far || linkCount(d.w) != 0u ? n + 1u : linkIndex(d.w);
         }
+        for (uint t = linkIndex(leaf); t < linkIndex(leaf) + linkCount(leaf); ++t) {
+            vec3 a, b, c;
+            fetchTriangle(t, a, b, c);
+            sum += solidAngle(a - p, b - p, c - p);
+        }
+        n = n + 1u;
     }
-    return sum / (4.0 * kPi);
+    return sum / (4.0 * kBakePi);
+}
+
+// Exact generalized winding number at p (Jacobson et al. 2013): every triangle's solid angle,
+// in leaf order. `count` triangles: 0 costs nothing but the loop's first, masked pass.
+float exactWindingNumber(vec3 p, uint count) {
+    float sum = 0.0;
+    for (uint t = 0u; t < count; ++t) {
+        vec3 a, b, c;
+        fetchTriangle(t, a, b, c);
+        sum += solidAngle(a - p, b - p, c - p);
+    }
+    return sum / (4.0 * kBakePi);
 }
 
 // Distance of w from the value where the decision flips (0.5 for winding, the half-integers
@@ -71,20 +117,131 @@ bool isInside(float w) {
     return parity != 0u ? (int(round(abs(w))) & 1) == 1 : w > 0.5;
 }
 
+#if defined(SDF_SIGN_COARSE)
+
 void main() {
-    uvec3 id = SLUICE_GLOBAL_ID;
-    uint k = id.z + sliceBegin;
-    if (id.x >= dims.x || id.y >= dims.y || k >= sliceEnd)
+    uint item = SLUICE_GLOBAL_ID.x;
+    if (item >= itemCount)
         return;
-    uint index = id.x + dims.x * (id.y + dims.y * k);
-    float d = phi[index];
+    uvec3 cd = coarseDims();
+    uvec3 c = uvec3(item % cd.x, (item / cd.x) % cd.y, item / (cd.x * cd.y));
+    vec3 p = vec3(coarseGridPoint(c));
+    float d = coarse[item].distance;
     if (d == 0.0) // on the surface: no sign
         return;
-    vec3 p = vec3(id.x, id.y, k);
-    float w = windingNumber(p, false);
+    float w = fastWindingNumber(p);
     // The far field can be off by a little; near the decision value, pay for the exact sum.
+    float exact = exactWindingNumber(p, margin(w) < verifyBand ? triangleCount : 0u);
     if (margin(w) < verifyBand)
-        w = windingNumber(p, true);
+        w = exact;
     if (isInside(w))
-        phi[index] = -d;
+        coarse[item].distance = -d;
 }
+
+#elif defined(SDF_SIGN_EXACT)
+
+void main() {
+    uint item = SLUICE_GLOBAL_ID.x;
+    if (item >= itemCount)
+        return;
+    uint index = verifyPoints[item];
+    vec3 p = vec3(index % dims.x, (index / dims.x) % dims.y, index / (dims.x * dims.y));
+    if (isInside(exactWindingNumber(p, triangleCount)))
+        phi[index] = -phi[index];
+}
+
+#else
+
+const int kDepth = kBakeBlockDepth;
+const int kPoints = 4 * kDepth;
+
+// Solid angles of one triangle seen from the 4 points of a layer at height z.
+vec4 layerSolidAngles(vec3 a, vec3 b, vec3 c, vec3 q0, vec3 q1, float z) {
+    vec4 omega;
+    for (int k = 0; k < 4; ++k) {
+        vec3 p = layerPoint(q0, q1, z, k);
+        omega[k] = solidAngle(a - p, b - p, c - p);
+    }
+    return omega;
+}
+
+void main() {
+    uint item = SLUICE_GLOBAL_ID.x;
+    if (item >= itemCount)
+        return;
+    uvec2 entry = pendingBlocks[item];
+    uvec3 bd = blockDims();
+    uvec3 origin =
+        uvec3(entry.x % bd.x, (entry.x / bd.x) % bd.y, entry.x / (bd.x * bd.y)) * kBakeBlockSize;
+    vec3 q0, q1;
+    float z[kDepth];
+    blockPoints(origin, q0, q1, z);
+    uint mask = entry.y;
+    vec3 boxLo = q0, boxHi = vec3(q1.xy, z[kDepth - 1]);
+
+    // The fast winding number of the block's points, walked together: a node counts as far
+    // only if it is far from every point of the block (its centroid farther than beta radii from
+    // the block's box), so each point's sum is at least as exact as its own walk would give.
+    vec4 w[kDepth]; // [sr], layer by layer
+    for (int j = 0; j < kDepth; ++j)
+        w[j] = vec4(0.0);
+    uint n = 0u;
+    while (n < nodeCount) {
+        uint leaf = 0u;
+        while (n < nodeCount) {
+            uvec4 c = texelFetch(windingNodes, int(2u * n));
+            uvec4 d = texelFetch(windingNodes, int(2u * n + 1u));
+            vec3 center = uintBitsToFloat(c.xyz);
+            float reach = beta * uintBitsToFloat(c.w);
+            bool far = boxDistance2(center, boxLo, boxHi) > reach * reach;
+            if (far) {
+                // Barill et al. 2018, eq. 14 (first order): (p~ - q) . n~ / |p~ - q|^3.
+                vec3 dipole = uintBitsToFloat(d.xyz);
+                for (int j = 0; j < kDepth; ++j)
+                    for (int k = 0; k < 4; ++k) {
+                        vec3 q = center - layerPoint(q0, q1, z[j], k);
+                        float dist2 = dot(q, q);
+                        w[j][k] += dot(q, dipole) / (dist2 * sqrt(dist2));
+                    }
+            }
+            if (!far && linkCount(d.w) != 0u) {
+                leaf = d.w;
+                break;
+            }
+            // Near internal node: its first child; far subtree: past it (a leaf's is n + 1).
+            n = !far || linkCount(d.w) != 0u ? n + 1u : linkIndex(d.w);
+        }
+        for (uint t = linkIndex(leaf); t < linkIndex(leaf) + linkCount(leaf); ++t) {
+            vec3 a, b, c;
+            fetchTriangle(t, a, b, c);
+            for (int j = 0; j < kDepth; ++j)
+                w[j] += layerSolidAngles(a, b, c, q0, q1, z[j]);
+        }
+        n = n + 1u;
+    }
+
+    // The far field can be off by a little: a point whose value is near the decision goes to
+    // the verify list (SDF_SIGN_EXACT sums every triangle for it); the others are decided here.
+    uint verifyMask = 0u, insideMask = 0u;
+    for (int k = 0; k < kPoints; ++k) {
+        float wk = w[k >> 2][k & 3] / (4.0 * kBakePi);
+        bool verifyPoint = margin(wk) < verifyBand;
+        verifyMask |= verifyPoint ? 1u << k : 0u;
+        insideMask |= !verifyPoint && isInside(wk) ? 1u << k : 0u;
+    }
+    verifyMask &= mask;
+    insideMask &= mask;
+    // Stores after the loop above (llvmpipe runs them much faster that way).
+    for (int k = 0; k < kPoints; ++k)
+        if ((insideMask & (1u << k)) != 0u) {
+            uint index = gridIndex(origin + blockPointOffset(k));
+            phi[index] = -phi[index];
+        }
+    uint slot = atomicAdd(verify.count, uint(bitCount(verifyMask)));
+    for (int k = 0; k < kPoints; ++k)
+        if ((verifyMask & (1u << k)) != 0u)
+            verifyPoints[slot + uint(bitCount(verifyMask & ((1u << k) - 1u)))] =
+                gridIndex(origin + blockPointOffset(k));
+}
+
+#endif

@@ -1,29 +1,33 @@
-// Baking a collider asset on the GPU: CPU BVH, closest-point pass, fast-winding-number sign pass.
+// Baking a collider asset on the GPU: CPU BVH, then coarse, fine and sign passes in GL compute.
 //
-// The soup is prepared exactly as the CGAL reference prepares it (degenerate triangles left out
-// with CGAL's exact collinearity test; a closed soup wound inward turned outward; parity meshes
-// oriented with orient_polygon_soup), then moved into grid-relative voxel coordinates, where
-// grid point (i, j, k) is the float (i, j, k) and every coordinate is no larger than the grid.
-// The grid is processed in z-slabs; each slab runs the distance pass, then the sign pass, each
-// split into dispatches of a bounded number of work groups.
+// The soup is prepared as the CGAL reference prepares it (GpuSoup.h), then moved into
+// grid-relative voxel coordinates, where grid point (i, j, k) is the float (i, j, k) and every
+// coordinate is no larger than the grid.
+//
+// Passes (shaders/sdf_*.comp):
+//   1. coarse distance: the nearest triangle of every 4th grid point along each axis;
+//   2. coarse sign: their fast winding number (closed soups only);
+//   3. fine distance, in z-slabs: exact distances, each invocation a block of 2 x 2 x 4 points
+//      starting from the coarse triangles around it; a point inside a coarse point's empty ball
+//      takes its sign (closed soups), blocks with other points go to a pending list;
+//   4. after each slab, the fast winding number of the pending points, block by block, and the
+//      exact one of the few too near the decision value.
+// Every pass is split into dispatches of a bounded number of work groups; the CPU reads back two
+// counters per slab and nothing else until the end.
 #include "sluice/bake/GpuBaker.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <glm/geometric.hpp>
-
-#include "BoundaryChain.h"
 #include "Bvh.h"
+#include "GpuSoup.h"
 #include "sluice/bake/BakeShaders.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Gl.h"
@@ -33,88 +37,148 @@
 namespace sluice::bake {
 
 namespace {
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
 
-/// Grid points per slab [points]: between two slabs the CPU waits for the GPU and reports
-/// progress, so this bounds the time between progress updates.
-constexpr std::uint64_t kPointsPerSlab = std::uint64_t(1) << 18;
-
-Point toPoint(const glm::dvec3& p) {
-    return Point(p.x, p.y, p.z);
-}
-
-/// True when every edge's uses in one direction cancel its uses in the other: the soup is a
-/// cycle, whose winding number is an integer everywhere off it.
-bool isCycle(const std::vector<std::array<std::size_t, 3>>& polygons) {
-    return boundaryChain(polygons).empty();
-}
-
-struct PreparedSoup {
-    std::vector<glm::dvec3> points;
-    std::vector<std::array<std::size_t, 3>> triangles; ///< non-degenerate, oriented
-    format::SignMethod method = format::SignMethod::Winding;
-};
-
-/// The triangles the bake uses, oriented as the CGAL reference orients them.
-Result<PreparedSoup> prepare(const TriangleSoup& soup, const format::MeshDiagnostics& diagnostics,
-                             SignMode mode) {
-    Result<format::SignMethod> method = chooseSignMethod(diagnostics, mode);
-    if (!method)
-        return method.error();
-    PreparedSoup out;
-    out.method = *method;
-    out.points = soup.positions;
-    std::vector<std::array<std::size_t, 3>> faces; // three distinct corners
-    faces.reserve(soup.triangles.size());
-    for (const glm::uvec3& t : soup.triangles)
-        if (t.x != t.y && t.y != t.z && t.z != t.x)
-            faces.push_back({t.x, t.y, t.z});
-
-    if (out.method == format::SignMethod::Parity) {
-        // As CGAL's Side_of_triangle_mesh needs: one consistent orientation of the closed
-        // surface. Zero-area faces stay in for this (without them a closed mesh has holes).
-        std::vector<Point> points;
-        points.reserve(out.points.size());
-        for (const glm::dvec3& p : out.points)
-            points.push_back(toPoint(p));
-        std::vector<std::array<std::size_t, 3>> oriented = faces;
-        namespace PMP = CGAL::Polygon_mesh_processing;
-        (void)PMP::orient_polygon_soup(points, oriented);
-        if (PMP::is_polygon_soup_a_polygon_mesh(oriented) && isCycle(oriented)) {
-            out.points.clear();
-            for (const Point& p : points)
-                out.points.push_back({p.x(), p.y(), p.z()});
-            faces = std::move(oriented);
-        } else {
-            out.method = format::SignMethod::Winding;
-        }
-    }
-
-    for (const auto& t : faces)
-        if (!CGAL::collinear(toPoint(out.points[t[0]]), toPoint(out.points[t[1]]),
-                             toPoint(out.points[t[2]])))
-            out.triangles.push_back(t);
-    if (out.triangles.empty())
-        return fail(ErrorCode::EmptyMesh, "the mesh has no triangle of non-zero area");
-
-    // A closed soup wound inward would give w = -1 inside; turn it outward, as the reference does.
-    if (isCycle(out.triangles)) {
-        const Box box = soup.bounds();
-        const glm::dvec3 center = 0.5 * (box.lo + box.hi);
-        double volume = 0.0;
-        for (const auto& t : out.triangles)
-            volume += glm::dot(out.points[t[0]] - center,
-                               glm::cross(out.points[t[1]] - center, out.points[t[2]] - center));
-        if (volume < 0.0)
-            for (auto& t : out.triangles)
-                std::swap(t[1], t[2]);
-    }
-    return out;
-}
+/// Slabs of the fine pass: between two slabs the CPU reads back how many points are pending and
+/// reports progress. The first slab has about kFirstSlabPoints points; later ones are sized
+/// from the measured rate to take about kSlabSeconds, up to kMaxSlabPoints (the lists' room),
+/// so a slow device reports progress often and a fast one does not wait on many round trips.
+/// The split does not change a bit of the result.
+constexpr std::uint64_t kFirstSlabPoints = std::uint64_t(1) << 18;
+constexpr std::uint64_t kMaxSlabPoints = std::uint64_t(1) << 22;
+constexpr double kSlabSeconds = 0.1;
+/// Solid angles one dispatch of the exact winding number computes at most (but one work group):
+/// a few milliseconds on a GPU, so no dispatch runs long whatever the mesh.
+constexpr std::uint64_t kExactSolidAnglesPerDispatch = std::uint64_t(1) << 26;
 
 std::string mib(std::uint64_t bytes) {
     return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
+}
+
+/// A buffer texture (samplerBuffer) over the whole of `buffer`, which must outlive it. RAII.
+class BufferTexture {
+public:
+    BufferTexture(const gpu::Buffer& buffer, GLenum format) {
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &m_id);
+        glTextureBuffer(m_id, format, buffer.id());
+    }
+    BufferTexture(const BufferTexture&) = delete;
+    BufferTexture& operator=(const BufferTexture&) = delete;
+    ~BufferTexture() { glDeleteTextures(1, &m_id); }
+    void bind(GLuint unit) const { glBindTextureUnit(unit, m_id); }
+
+private:
+    GLuint m_id = 0;
+};
+
+/// The programs of the bake, compiled from the embedded sources.
+struct BakePrograms {
+    gpu::Program coarse;     ///< sdf_coarse.comp
+    gpu::Program distance;   ///< sdf_distance.comp
+    gpu::Program coarseSign; ///< sdf_sign.comp with SDF_SIGN_COARSE
+    gpu::Program sign;       ///< sdf_sign.comp over the pending list
+    gpu::Program exactSign;  ///< sdf_sign.comp with SDF_SIGN_EXACT, over the verify list
+};
+
+Result<BakePrograms> compilePrograms() {
+    auto compile = [](const char* name,
+                      std::span<const gpu::ShaderDefine> defines = {}) -> Result<gpu::Program> {
+        return gpu::Program::compute(name, shaders::shaderSource(name), defines);
+    };
+    Result<gpu::Program> coarse = compile("sdf_coarse.comp");
+    if (!coarse)
+        return coarse.error();
+    Result<gpu::Program> distance = compile("sdf_distance.comp");
+    if (!distance)
+        return distance.error();
+    const gpu::ShaderDefine coarseDefine[] = {{"SDF_SIGN_COARSE", "1"}};
+    Result<gpu::Program> coarseSign = compile("sdf_sign.comp", coarseDefine);
+    if (!coarseSign)
+        return coarseSign.error();
+    Result<gpu::Program> sign = compile("sdf_sign.comp");
+    if (!sign)
+        return sign.error();
+    const gpu::ShaderDefine exactDefine[] = {{"SDF_SIGN_EXACT", "1"}};
+    Result<gpu::Program> exactSign = compile("sdf_sign.comp", exactDefine);
+    if (!exactSign)
+        return exactSign.error();
+    return BakePrograms{std::move(*coarse), std::move(*distance), std::move(*coarseSign),
+                        std::move(*sign), std::move(*exactSign)};
+}
+
+/// Sizes of the bake's GPU buffers [bytes], known before anything is built.
+struct BakeSizes {
+    glm::uvec3 coarseDims{0};        ///< [coarse points]
+    std::uint32_t slabGroups = 0;    ///< z layers of work groups in the first slab
+    std::uint32_t maxSlabGroups = 0; ///< z layers of work groups the lists have room for
+    std::uint64_t grid = 0;          ///< phi
+    std::uint64_t coarse = 0;        ///< CoarsePoint per coarse point
+    std::uint64_t pending = 0;       ///< PendingHeader + one entry per block of a slab
+    std::uint64_t verify = 0;        ///< PendingHeader + one entry per grid point of a slab
+    std::uint64_t triangles = 0;     ///< triangle texels
+    std::uint64_t nodes = 0;         ///< one of the two node textures (an upper bound)
+
+    std::uint64_t total() const { return grid + coarse + pending + verify + triangles + 2 * nodes; }
+};
+
+BakeSizes bakeSizes(glm::uvec3 dims, std::uint64_t triangles) {
+    BakeSizes sizes;
+    const std::uint32_t spacing = shared::kBakeCoarseSpacing;
+    sizes.coarseDims = (dims + spacing - 2u) / spacing + 1u;
+    const std::uint64_t groupDepth = shared::kBakeGroupDepth;
+    const std::uint64_t groupLayer = std::uint64_t(dims.x) * dims.y * groupDepth;
+    const std::uint64_t groupLayers = (dims.z + groupDepth - 1) / groupDepth;
+    sizes.slabGroups =
+        std::uint32_t(std::clamp<std::uint64_t>(kFirstSlabPoints / groupLayer, 1, groupLayers));
+    sizes.maxSlabGroups = std::uint32_t(
+        std::clamp<std::uint64_t>(kMaxSlabPoints / groupLayer, sizes.slabGroups, groupLayers));
+    sizes.grid = std::uint64_t(dims.x) * dims.y * dims.z * sizeof(float);
+    sizes.coarse = std::uint64_t(sizes.coarseDims.x) * sizes.coarseDims.y * sizes.coarseDims.z *
+                   sizeof(shared::CoarsePoint);
+    // Blocks of a slab: the invocations of its work groups.
+    const std::uint64_t groupsPerLayer =
+        std::uint64_t((dims.x + shared::kBakeGroupEdge - 1) / shared::kBakeGroupEdge) *
+        ((dims.y + shared::kBakeGroupEdge - 1) / shared::kBakeGroupEdge);
+    const std::uint64_t slabBlocks = sizes.maxSlabGroups * groupsPerLayer * shared::kBakeLocalSize;
+    sizes.pending = sizeof(shared::PendingHeader) + slabBlocks * sizeof(glm::uvec2);
+    sizes.verify = sizeof(shared::PendingHeader) +
+                   slabBlocks * 4 * shared::kBakeBlockDepth * sizeof(std::uint32_t);
+    sizes.triangles = 3 * triangles * sizeof(glm::vec4);
+    // buildBvh makes fewer than two nodes per triangle, 2 texels each.
+    sizes.nodes = 4 * triangles * sizeof(glm::uvec4);
+    return sizes;
+}
+
+/// SizeOverflow or GpuOutOfMemory when the bake's buffers cannot exist on this GPU.
+Result<void> checkSizes(const BakeSizes& sizes, const ImportedMesh& mesh, glm::uvec3 dims,
+                        std::uint64_t triangles, gpu::Context& context,
+                        const GpuBakeOptions& options) {
+    const std::uint64_t maxBuffer =
+        options.maxBufferBytes > 0 ? options.maxBufferBytes : context.info().maxSsboBytes;
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    const std::uint64_t maxTextureBytes =
+        std::min(std::uint64_t(maxTexels) * sizeof(glm::vec4),
+                 options.maxBufferBytes > 0 ? options.maxBufferBytes : ~std::uint64_t(0));
+    const std::uint64_t largest = std::max({sizes.grid, sizes.coarse, sizes.pending, sizes.verify});
+    if (largest > maxBuffer)
+        return fail(ErrorCode::SizeOverflow,
+                    mesh.sourceFile + ": a grid of " + std::to_string(dims.x) + " x " +
+                        std::to_string(dims.y) + " x " + std::to_string(dims.z) +
+                        " points needs a " + mib(largest) +
+                        " GPU buffer, over this GPU's largest storage buffer (" + mib(maxBuffer) +
+                        "); use a coarser resolution or --backend cgal");
+    if (triangles >= kBvhMaxTriangles || std::max(sizes.triangles, sizes.nodes) > maxTextureBytes)
+        return fail(ErrorCode::SizeOverflow,
+                    mesh.sourceFile + ": " + std::to_string(triangles) +
+                        " triangles need GPU buffers over this GPU's largest buffer texture (" +
+                        mib(maxTextureBytes) + "); simplify the mesh or use --backend cgal");
+    if (const auto& available = context.info().gpuMemoryAvailableBytes;
+        available && sizes.total() > *available)
+        return fail(ErrorCode::GpuOutOfMemory,
+                    mesh.sourceFile + ": the bake needs " + mib(sizes.total()) +
+                        " of GPU memory and " + mib(*available) +
+                        " are free; use a coarser resolution or --backend cgal");
+    return {};
 }
 
 Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSettings& settings,
@@ -124,7 +188,7 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     if (!grid)
         return grid.error();
     const auto cpuStart = std::chrono::steady_clock::now();
-    Result<PreparedSoup> soup = prepare(mesh.soup, mesh.diagnostics, settings.sign);
+    Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, settings.sign);
     if (!soup)
         return soup.error();
 
@@ -137,112 +201,174 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
         input.push_back({toVoxels(t[0]), toVoxels(t[1]), toVoxels(t[2])});
 
     // Check sizes before building anything big.
-    const std::uint64_t maxBuffer =
-        options.maxBufferBytes > 0 ? options.maxBufferBytes : context.info().maxSsboBytes;
-    const std::uint64_t gridBytes = grid->pointCount() * sizeof(float);
-    const std::uint64_t triangleBytes = input.size() * sizeof(shared::BvhTriangle);
-    // Median splits stop at 2..kBvhLeafSize triangles per leaf, so there are at most n / 2
-    // leaves and fewer than n nodes: an upper bound.
-    const std::uint64_t nodeBytes =
-        std::max<std::uint64_t>(input.size(), 1) * sizeof(shared::BvhNode);
-    if (gridBytes > maxBuffer)
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": a grid of " + std::to_string(grid->dims.x) + " x " +
-                        std::to_string(grid->dims.y) + " x " + std::to_string(grid->dims.z) +
-                        " points needs a " + mib(gridBytes) +
-                        " GPU buffer, over this GPU's largest storage buffer (" + mib(maxBuffer) +
-                        "); use a coarser resolution or --backend cgal");
-    if (triangleBytes > maxBuffer || nodeBytes > maxBuffer)
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": " + std::to_string(input.size()) +
-                        " triangles need GPU buffers over this GPU's largest storage buffer (" +
-                        mib(maxBuffer) + "); simplify the mesh or use --backend cgal");
-    const std::uint64_t totalBytes = gridBytes + triangleBytes + nodeBytes;
-    if (const auto& available = context.info().gpuMemoryAvailableBytes;
-        available && totalBytes > *available)
-        return fail(ErrorCode::GpuOutOfMemory,
-                    mesh.sourceFile + ": the bake needs " + mib(totalBytes) +
-                        " of GPU memory and " + mib(*available) +
-                        " are free; use a coarser resolution or --backend cgal");
+    const glm::uvec3 dims = grid->dims;
+    const BakeSizes sizes = bakeSizes(dims, input.size());
+    if (Result<void> fits = checkSizes(sizes, mesh, dims, input.size(), context, options); !fits)
+        return fits.error();
 
     const Bvh bvh = buildBvh(input);
-    stats.triangles = bvh.triangles.size();
-    stats.nodes = bvh.nodes.size();
+    stats.triangles = bvh.triangleCount;
+    stats.nodes = bvh.nodeCount;
     stats.depth = bvh.depth;
     stats.bvhSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - cpuStart).count();
 
-    Result<gpu::Program> distance =
-        gpu::Program::compute("sdf_distance.comp", shaders::shaderSource("sdf_distance.comp"));
-    if (!distance)
-        return distance.error();
-    Result<gpu::Program> sign =
-        gpu::Program::compute("sdf_sign.comp", shaders::shaderSource("sdf_sign.comp"));
-    if (!sign)
-        return sign.error();
-    Result<gpu::Buffer> nodes = gpu::Buffer::createFrom(bvh.nodes, "bake BVH nodes");
-    if (!nodes)
-        return nodes.error();
+    Result<BakePrograms> programs = compilePrograms();
+    if (!programs)
+        return programs.error();
+    Result<gpu::Buffer> distanceNodes =
+        gpu::Buffer::createFrom(bvh.distanceNodes, "bake BVH boxes");
+    if (!distanceNodes)
+        return distanceNodes.error();
+    Result<gpu::Buffer> windingNodes =
+        gpu::Buffer::createFrom(bvh.windingNodes, "bake BVH dipoles");
+    if (!windingNodes)
+        return windingNodes.error();
     Result<gpu::Buffer> triangles = gpu::Buffer::createFrom(bvh.triangles, "bake triangles");
     if (!triangles)
         return triangles.error();
-    Result<gpu::Buffer> phi = gpu::Buffer::create(gridBytes, "bake distances");
+    Result<gpu::Buffer> phi = gpu::Buffer::create(sizes.grid, "bake distances");
     if (!phi)
         return phi.error();
-    stats.gpuBytes = nodes->size() + triangles->size() + phi->size();
-    nodes->bindStorage(shared::kBakeNodesBinding);
-    triangles->bindStorage(shared::kBakeTrianglesBinding);
+    Result<gpu::Buffer> coarse = gpu::Buffer::create(sizes.coarse, "bake coarse points");
+    if (!coarse)
+        return coarse.error();
+    Result<gpu::Buffer> pending = gpu::Buffer::create(sizes.pending, "bake pending blocks");
+    if (!pending)
+        return pending.error();
+    Result<gpu::Buffer> verify = gpu::Buffer::create(sizes.verify, "bake verify points");
+    if (!verify)
+        return verify.error();
+    stats.gpuBytes = distanceNodes->size() + windingNodes->size() + triangles->size() +
+                     phi->size() + coarse->size() + pending->size() + verify->size();
+    const BufferTexture distanceTexture(*distanceNodes, GL_RGBA32UI);
+    const BufferTexture windingTexture(*windingNodes, GL_RGBA32UI);
+    const BufferTexture triangleTexture(*triangles, GL_RGBA32F);
+    distanceTexture.bind(shared::kBakeDistanceNodesUnit);
+    windingTexture.bind(shared::kBakeWindingNodesUnit);
+    triangleTexture.bind(shared::kBakeTrianglesUnit);
     phi->bindStorage(shared::kBakeDistanceBinding);
+    coarse->bindStorage(shared::kBakeCoarseBinding);
+    pending->bindStorage(shared::kBakePendingBinding);
+    verify->bindStorage(shared::kBakeVerifyBinding);
 
-    const glm::uvec3 dims = grid->dims;
-    for (const gpu::Program* program : {&*distance, &*sign})
+    // The winding number is an integer off a closed surface (a cycle), so a point's sign is that
+    // of any point whose empty ball holds it; an open soup's is not, so every point is pending.
+    const bool propagate = soup->cycle;
+    BakePrograms& p = *programs;
+    for (const gpu::Program* program :
+         {&p.coarse, &p.distance, &p.coarseSign, &p.sign, &p.exactSign}) {
         program->set("dims", dims);
-    distance->set("bvhDepth", bvh.depth);
-    sign->set("beta", float(options.beta));
-    sign->set("verifyBand", float(options.verifyBand));
-    sign->set("parity", std::uint32_t(soup->method == format::SignMethod::Parity ? 1 : 0));
+        program->set("nodeCount", bvh.nodeCount);
+    }
+    p.coarse.set("bvhDepth", bvh.depth);
+    p.distance.set("propagate", std::uint32_t(propagate ? 1 : 0));
+    for (const gpu::Program* program : {&p.coarseSign, &p.sign, &p.exactSign}) {
+        program->set("triangleCount", bvh.triangleCount);
+        program->set("beta", float(options.beta));
+        program->set("verifyBand", float(options.verifyBand));
+        program->set("parity", std::uint32_t(soup->method == format::SignMethod::Parity ? 1 : 0));
+    }
 
     std::optional<gpu::GpuTimer> distanceTimer, signTimer;
     if (options.profile) {
         distanceTimer.emplace();
         signTimer.emplace();
     }
-    // Whole multiples of the group depth per slab, so only the last slab has partial groups.
-    const std::uint64_t slice = std::uint64_t(dims.x) * dims.y;
+    auto timed = [&](std::optional<gpu::GpuTimer>& timer, auto&& pass) {
+        if (timer)
+            timer->begin();
+        pass();
+        if (timer)
+            timer->end();
+    };
+    const std::uint64_t maxGroups = options.maxGroupsPerDispatch;
+    // The exact winding number sums every triangle for each point, so its dispatches hold fewer
+    // groups: about kExactSolidAnglesPerDispatch solid angles each, however large the mesh.
+    const std::uint64_t exactGroups = std::clamp<std::uint64_t>(
+        kExactSolidAnglesPerDispatch / (std::uint64_t(shared::kBakeLocalSize) * bvh.triangleCount),
+        1, maxGroups);
     const std::uint32_t local = shared::kBakeLocalSize;
-    const std::uint32_t slabDepth = std::uint32_t(std::clamp<std::uint64_t>(
-        kPointsPerSlab / slice / local * local, local, (dims.z + local - 1) / local * local));
-    for (std::uint32_t k0 = 0; k0 < dims.z; k0 += slabDepth) {
-        const std::uint32_t k1 = std::min(dims.z, k0 + slabDepth);
-        const glm::uvec3 groups =
-            gpu::groupCount(glm::uvec3(dims.x, dims.y, k1 - k0), glm::uvec3(local));
-        for (const gpu::Program* program : {&*distance, &*sign}) {
-            program->set("sliceBegin", k0);
-            program->set("sliceEnd", k1);
+
+    // Coarse points: their nearest triangles, then (where the sign propagates) their signs.
+    const glm::uvec3 groupSize(shared::kBakeGroupEdge, shared::kBakeGroupEdge,
+                               shared::kBakeGroupDepth); // [points]
+    const glm::uvec3 coarseDims = sizes.coarseDims;
+    const std::uint32_t coarseCount = coarseDims.x * coarseDims.y * coarseDims.z;
+    timed(distanceTimer, [&] {
+        stats.dispatches +=
+            p.coarse.dispatchChunked(gpu::groupCount(coarseDims, groupSize), maxGroups);
+    });
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    if (propagate) {
+        p.coarseSign.set("itemCount", coarseCount);
+        timed(signTimer, [&] {
+            stats.dispatches += p.coarseSign.dispatchChunked(
+                glm::uvec3(gpu::groupCount(coarseCount, local), 1, 1), maxGroups);
+        });
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+
+    // The grid in z-slabs of work groups: the fine distance pass, then the sign of the points
+    // it left pending. Between slabs the CPU reads the pending count and reports progress.
+    const std::uint32_t groupDepth = shared::kBakeGroupDepth;
+    const glm::uvec3 groups = gpu::groupCount(dims, groupSize);
+    const std::uint64_t slice = std::uint64_t(dims.x) * dims.y;
+    std::uint32_t slabGroups = sizes.slabGroups;
+    for (std::uint32_t z0 = 0, z1 = 0; z0 < groups.z; z0 = z1) {
+        const auto slabStart = std::chrono::steady_clock::now();
+        z1 = std::min(groups.z, z0 + slabGroups);
+        const shared::PendingHeader empty{};
+        pending->upload(&empty, sizeof(empty));
+        verify->upload(&empty, sizeof(empty));
+        p.distance.set("groupBegin", z0);
+        timed(distanceTimer, [&] {
+            stats.dispatches +=
+                p.distance.dispatchChunked(glm::uvec3(groups.x, groups.y, z1 - z0), maxGroups);
+        });
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        shared::PendingHeader header{};
+        pending->download(&header, sizeof(header));
+        if (header.count > 0) {
+            p.sign.set("itemCount", header.count);
+            timed(signTimer, [&] {
+                stats.dispatches += p.sign.dispatchChunked(
+                    glm::uvec3(gpu::groupCount(header.count, local), 1, 1), maxGroups);
+            });
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+            // Points whose fast winding number was too near the decision: the exact sum.
+            shared::PendingHeader verified{};
+            verify->download(&verified, sizeof(verified));
+            if (verified.count > 0) {
+                p.exactSign.set("itemCount", verified.count);
+                timed(signTimer, [&] {
+                    stats.dispatches += p.exactSign.dispatchChunked(
+                        glm::uvec3(gpu::groupCount(verified.count, local), 1, 1), exactGroups);
+                });
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            }
+            stats.verifiedPoints += verified.count;
         }
-        if (distanceTimer)
-            distanceTimer->begin();
-        stats.dispatches += distance->dispatchChunked(groups, options.maxGroupsPerDispatch);
-        if (distanceTimer)
-            distanceTimer->end();
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        if (signTimer)
-            signTimer->begin();
-        stats.dispatches += sign->dispatchChunked(groups, options.maxGroupsPerDispatch);
-        if (signTimer)
-            signTimer->end();
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        stats.pendingPoints += header.points;
         if (progress) {
-            glFinish();
+            const std::uint32_t k0 = z0 * groupDepth, k1 = std::min(dims.z, z1 * groupDepth);
             progress->add(std::uint64_t(k1 - k0) * slice);
         }
+        // The next slab: about kSlabSeconds at this slab's rate, growing at most 4 times.
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - slabStart).count();
+        const double scale = std::min(4.0, kSlabSeconds / std::max(seconds, 1e-6));
+        slabGroups = std::uint32_t(
+            std::clamp<double>(std::floor((z1 - z0) * scale), 1.0, double(sizes.maxSlabGroups)));
     }
     const std::vector<float> voxels = phi->download<float>();
     if (distanceTimer) {
         (void)distanceTimer->elapsedNs();
-        (void)signTimer->elapsedNs();
         stats.distanceNs = distanceTimer->totalNs();
-        stats.signNs = signTimer->totalNs();
+        if (signTimer->completed() > 0 || signTimer->pending() > 0) {
+            (void)signTimer->elapsedNs();
+            stats.signNs = signTimer->totalNs();
+        }
     }
 
     format::ColliderAsset asset;
@@ -260,6 +386,8 @@ Result<format::ColliderAsset> bakeGpu(const ImportedMesh& mesh, const BakeSettin
                                       const GpuBakeOptions& options, GpuBakeStats* stats) {
     context.makeCurrent();
     GpuBakeStats local;
+    if (stats)
+        *stats = {};
     // CGAL (orientation) reports broken preconditions and allocation failures by throwing.
     try {
         Result<format::ColliderAsset> asset =

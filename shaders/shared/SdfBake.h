@@ -1,9 +1,26 @@
-// Layouts, bindings and constants of the GPU SDF bake (sdf_distance.comp, sdf_sign.comp).
-// Shared by GLSL and C++ (bake/src/Bvh.cpp builds these structs, GpuBaker.cpp uploads them).
+// Layouts, bindings and constants of the GPU SDF bake (shaders/sdf_*.comp, shared/SdfBakeGlsl.h).
+// Shared by GLSL and C++ (bake/src/Bvh.cpp builds the texel arrays, GpuBaker.cpp uploads them).
+// bake/src/GpuBaker.cpp describes the passes.
 //
 // Coordinates on the GPU are grid-relative and in voxels: (p - grid origin) / voxelSize, so grid
 // point (i, j, k) sits exactly at (i, j, k) and float keeps ~1e-7 relative precision of numbers
 // no larger than the grid, rather than of world coordinates far from the origin.
+//
+// The BVH and the triangles live in buffer textures (texelFetch): on llvmpipe a texel fetch is
+// one vectorized load where an SSBO read is one scalar load per component and lane, and on GPUs
+// it goes through the texture cache. Node texels are integer (RGBA32UI) so that no texture unit
+// flushes a link word that happens to look like a denormal float.
+//
+//   distance nodes (RGBA32UI, floats as bits), 2 texels per node n:
+//       [2n] boxMin.xyz, 0                  [2n + 1] boxMax.xyz, link
+//   winding nodes (RGBA32UI, floats as bits), 2 texels per node n:
+//       [2n] center.xyz, radius             [2n + 1] dipole.xyz, link
+//   triangles (RGBA32F), 3 texels per triangle: a.xyz, b.xyz, c.xyz (w unused)
+//
+// Nodes are in depth-first preorder, so the shaders walk the tree without a stack: an internal
+// node's first child is the next node, and the walk goes on after a subtree at its `skip` node.
+// link = (index << kBvhLinkShift) | count: count 0 marks an internal node whose index is `skip`;
+// count 1..kBvhLeafSize marks a leaf owning triangles [index, index + count), whose skip is n + 1.
 #ifndef SLUICE_SHARED_SDF_BAKE_H
 #define SLUICE_SHARED_SDF_BAKE_H
 
@@ -11,55 +28,72 @@
 
 SLUICE_SHARED_BEGIN
 
-/// Local work-group size of both bake shaders [invocations]: 4 x 4 x 4 grid points, so one
-/// group covers a compact block and its invocations walk similar BVH paths.
-SLUICE_CONST int kBakeLocalSize = 4;
+/// Invocations per work group of every bake pass (1D; the shaders map them to 4 x 4 x 4 in
+/// Morton order, so every 8 consecutive invocations, a SIMD register of lanes on llvmpipe, are a
+/// 2 x 2 x 2 block).
+SLUICE_CONST int kBakeLocalSize = 64;
+
+/// Grid points per invocation of the fine distance pass: a block of 2 x 2 x kBakeBlockDepth, so
+/// every node and triangle an invocation fetches serves 16 points (loads are what llvmpipe pays
+/// for most). Blocks are aligned, so a block lies in one coarse cell.
+SLUICE_CONST int kBakeBlockDepth = 4;
+/// Grid points per work group of the fine distance pass: 4 x 4 x 4 blocks.
+SLUICE_CONST int kBakeGroupEdge = 8;   ///< along x and y
+SLUICE_CONST int kBakeGroupDepth = 16; ///< along z
+
+/// Spacing of the coarse points [grid points]: coarse point (a, b, c) is grid point
+/// min(4 (a, b, c), dims - 1). The coarse pass finds their nearest triangle (the fine pass starts
+/// from those) and their sign (which covers every grid point inside their empty ball).
+SLUICE_CONST int kBakeCoarseSpacing = 4;
+
+/// Texture units (buffer textures).
+SLUICE_CONST int kBakeDistanceNodesUnit = 0; ///< 2 texels per node: box and link
+SLUICE_CONST int kBakeTrianglesUnit = 1;     ///< 3 texels per triangle, in leaf order
+SLUICE_CONST int kBakeWindingNodesUnit = 2;  ///< 2 texels per node: centroid, dipole and link
 
 /// SSBO bindings.
-SLUICE_CONST int kBakeNodesBinding = 0;     ///< BvhNode nodes[]
-SLUICE_CONST int kBakeTrianglesBinding = 1; ///< BvhTriangle triangles[], in leaf order
-SLUICE_CONST int kBakeDistanceBinding = 2;  ///< float phi[] per grid point, x fastest
+SLUICE_CONST int kBakeDistanceBinding = 0; ///< float phi[] per grid point [voxels], x fastest
+SLUICE_CONST int kBakeCoarseBinding = 1;   ///< CoarsePoint coarse[] per coarse point, x fastest
+SLUICE_CONST int kBakePendingBinding = 2;  ///< PendingHeader, then blocks still without a sign
+SLUICE_CONST int kBakeVerifyBinding = 3;   ///< PendingHeader, then points for the exact sum
 
-/// Most triangles in a BVH leaf.
+/// Most triangles in a BVH leaf, and the bits of a link that hold the count.
 SLUICE_CONST int kBvhLeafSize = 4;
+SLUICE_CONST int kBvhLinkShift = 3;
 
-/// One BVH node, std430 (80 bytes). Nodes are stored in depth-first preorder, so the shaders walk
-/// the tree without a stack: an internal node's first child is the next node, and `skip` is the
-/// node after the whole subtree (the node count for the last subtree), where a walk goes on when
-/// it is done with or prunes this node. Leaves own triangles [first, first + count).
-struct BvhNode {
-    vec4 boxMin;  ///< xyz: [voxels] box of the node's triangles; w unused
-    vec4 boxMax;  ///< xyz: [voxels]; w unused
-    vec4 center;  ///< xyz: area-weighted centroid of the triangles [voxels]; w: radius of the
-                  ///< ball around it holding every corner [voxels]
-    vec4 dipole;  ///< xyz: sum of area * unit normal over the triangles [voxels^2] (Barill et
-                  ///< al. 2018, eq. 14, first-order term); w unused
-    uint first;   ///< internal: index of the second child; leaf: first triangle
-    uint count;   ///< 0 for internal nodes; otherwise the number of triangles (1..kBvhLeafSize)
-    uint skip;    ///< the node after this subtree in preorder
-    uint pad;
+/// One coarse point, std430 (8 bytes).
+struct CoarsePoint {
+    float distance; ///< signed distance [voxels]: negative inside, 0 on the surface
+    uint triangle;  ///< index of its nearest triangle (leaf order)
 };
 
-/// One triangle, corners in voxels relative to the grid origin, std430 (48 bytes). Winding order
-/// as in the mesh (turned outward for closed meshes wound inward).
-struct BvhTriangle {
-    vec4 a; ///< xyz corner; w unused
-    vec4 b;
-    vec4 c;
+/// Header of a work list, std430. In the pending list (blocks of the fine pass with points the
+/// sign pass still has to decide) a runtime-sized array of uvec2 follows it: (block index, x
+/// fastest over the grid of blocks; mask of the block's pending points, bit k for point k). In
+/// the verify list (points whose fast winding number is too near the decision) uint grid point
+/// indices follow it.
+struct PendingHeader {
+    uint count;  ///< blocks written (atomicAdd)
+    uint points; ///< pending points in them
+    uint pad1;
+    uint pad2;
 };
 
 SLUICE_SHARED_END
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(sluice::shared::BvhNode) == 80, "std430 size of BvhNode");
-static_assert(offsetof(sluice::shared::BvhNode, center) == 32, "std430 offset of center");
-static_assert(offsetof(sluice::shared::BvhNode, dipole) == 48, "std430 offset of dipole");
-static_assert(offsetof(sluice::shared::BvhNode, first) == 64, "std430 offset of first");
-static_assert(offsetof(sluice::shared::BvhNode, count) == 68, "std430 offset of count");
-static_assert(offsetof(sluice::shared::BvhNode, skip) == 72, "std430 offset of skip");
-static_assert(sizeof(sluice::shared::BvhTriangle) == 48, "std430 size of BvhTriangle");
-static_assert(offsetof(sluice::shared::BvhTriangle, c) == 32, "std430 offset of c");
+static_assert(sizeof(sluice::shared::CoarsePoint) == 8, "std430 size of CoarsePoint");
+static_assert(offsetof(sluice::shared::CoarsePoint, triangle) == 4, "std430 offset of triangle");
+static_assert(sizeof(sluice::shared::PendingHeader) == 16, "std430 size of PendingHeader");
+static_assert(sluice::shared::kBakeGroupEdge == 4 * 2 &&
+                  sluice::shared::kBakeGroupDepth == 4 * sluice::shared::kBakeBlockDepth,
+              "a work group is 4 x 4 x 4 blocks");
+static_assert(sluice::shared::kBakeCoarseSpacing % sluice::shared::kBakeBlockDepth == 0 &&
+                  sluice::shared::kBakeCoarseSpacing % 2 == 0,
+              "aligned blocks never straddle two coarse cells");
+static_assert(sluice::shared::kBvhLeafSize < (1 << sluice::shared::kBvhLinkShift),
+              "a leaf's count fits the link's count bits");
 #endif
 
 #endif // SLUICE_SHARED_SDF_BAKE_H

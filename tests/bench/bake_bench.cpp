@@ -1,15 +1,28 @@
 // Times one mesh baked at several resolutions by the GPU baker, the CGAL reference and OpenVDB's
 // meshToSignedDistanceField (band wide enough to fill the whole grid: the dense equivalent).
 //
-//   bake_bench MESH [RESOLUTION...]     (default resolutions: 64 128)
+//   bake_bench MESH [RESOLUTION...] [--repeat N] [--gpu-only] [--dump DIR]
+//   (default resolutions: 64 128 256)
 //
-// Not a ctest test: it prints a table of seconds, voxels per second and ratios. Say where it ran
-// (llvmpipe on a CPU is not a GPU) when quoting its numbers.
+// --dump DIR writes, per resolution, DIR/grid_RES.txt (origin x y z, voxel size, dims x y z) and
+// DIR/cgal_RES.f32 (the CGAL field, float32 little-endian, x fastest) for peers outside C++
+// (tests/bench/igl_peer.py times libigl on the same points).
+//
+// Not a ctest test: it prints a table of seconds, ratios and voxels per second, then the same as
+// Markdown. Each time is the best of N runs (default 1), in wall-clock seconds and in CPU seconds
+// of the whole process (every thread: llvmpipe's, TBB's), which a busy machine distorts less.
+// Say where it ran (llvmpipe on a CPU is not a GPU) when quoting its numbers.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,14 +47,35 @@ using namespace sluice;
 using namespace sluice::bake;
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
+/// CPU time of the whole process so far, every thread [s].
+double processCpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+           1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
-/// OpenVDB's level set on the bake grid, filled densely (band = the whole grid); returns the
-/// seconds it took and the max |phi_vdb - phi| over the grid [voxels] against `reference`.
-double bakeOpenVdb(const ImportedMesh& mesh, const GridSpec& grid,
-                   const std::vector<float>& reference, double& maxErrorVoxels) {
+/// Wall-clock and CPU seconds of one run.
+struct Timing {
+    double wall = 1e300; ///< [s]
+    double cpu = 1e300;  ///< [s]
+};
+
+/// Runs `work` `repeat` times and keeps the fastest wall time and the least CPU time.
+Timing best(int repeat, const std::function<void()>& work) {
+    Timing t;
+    for (int r = 0; r < repeat; ++r) {
+        const double cpu0 = processCpuSeconds();
+        const auto wall0 = Clock::now();
+        work();
+        t.wall = std::min(t.wall, std::chrono::duration<double>(Clock::now() - wall0).count());
+        t.cpu = std::min(t.cpu, processCpuSeconds() - cpu0);
+    }
+    return t;
+}
+
+/// OpenVDB's level set on the bake grid, filled densely (band = the whole grid).
+openvdb::FloatGrid::Ptr bakeOpenVdb(const ImportedMesh& mesh, const GridSpec& grid) {
     std::vector<openvdb::Vec3s> points;
     points.reserve(mesh.soup.positions.size());
     // Index space of the VDB grid = our grid: world = origin + index * voxelSize.
@@ -54,36 +88,64 @@ double bakeOpenVdb(const ImportedMesh& mesh, const GridSpec& grid,
     auto transform = openvdb::math::Transform::createLinearTransform(grid.voxelSize);
     transform->postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z));
     const float band = float(std::max(grid.dims.x, std::max(grid.dims.y, grid.dims.z)));
-    const auto start = Clock::now();
-    openvdb::FloatGrid::Ptr vdb = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(
-        *transform, points, triangles, {}, band, band);
-    const double seconds = secondsSince(start);
-    openvdb::FloatGrid::ConstAccessor access = vdb->getConstAccessor();
-    maxErrorVoxels = 0.0;
+    return openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(*transform, points,
+                                                                         triangles, {}, band, band);
+}
+
+/// Max |phi_vdb - phi| over the grid [voxels] against `reference`.
+double vdbErrorVoxels(const openvdb::FloatGrid& vdb, const GridSpec& grid,
+                      const std::vector<float>& reference) {
+    openvdb::FloatGrid::ConstAccessor access = vdb.getConstAccessor();
+    double maxError = 0.0;
     for (std::uint32_t k = 0; k < grid.dims.z; ++k)
         for (std::uint32_t j = 0; j < grid.dims.y; ++j)
             for (std::uint32_t i = 0; i < grid.dims.x; ++i) {
                 const float v = access.getValue(openvdb::Coord(int(i), int(j), int(k)));
                 const float r = reference[i + grid.dims.x * (j + std::size_t(grid.dims.y) * k)];
-                maxErrorVoxels = std::max(maxErrorVoxels, std::abs(double(v) - r) / grid.voxelSize);
+                maxError = std::max(maxError, std::abs(double(v) - r) / grid.voxelSize);
             }
-    return seconds;
+    return maxError;
 }
+
+struct Row {
+    std::uint32_t resolution = 0;
+    double points = 0.0;
+    Timing gpu, cgal, vdb;
+    GpuBakeStats stats;
+    double gpuErrorVoxels = -1.0;     ///< max |phi_gpu - phi_cgal|; < 0 when not measured
+    std::uint64_t signMismatches = 0; ///< points where gpu and cgal are non-zero and disagree
+    double vdbErrorVoxels = -1.0;
+};
 
 } // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: bake_bench MESH [RESOLUTION...]\n");
+    std::vector<std::uint32_t> resolutions;
+    const char* meshPath = nullptr;
+    int repeat = 1;
+    bool gpuOnly = false;
+    const char* dumpDir = nullptr;
+    for (int a = 1; a < argc; ++a) {
+        if (std::strcmp(argv[a], "--repeat") == 0 && a + 1 < argc)
+            repeat = std::max(1, std::atoi(argv[++a]));
+        else if (std::strcmp(argv[a], "--dump") == 0 && a + 1 < argc)
+            dumpDir = argv[++a];
+        else if (std::strcmp(argv[a], "--gpu-only") == 0)
+            gpuOnly = true;
+        else if (!meshPath)
+            meshPath = argv[a];
+        else
+            resolutions.push_back(std::uint32_t(std::strtoul(argv[a], nullptr, 10)));
+    }
+    if (!meshPath) {
+        std::fprintf(stderr, "usage: bake_bench MESH [RESOLUTION...] [--repeat N] [--gpu-only] "
+                             "[--dump DIR]\n");
         return 2;
     }
-    std::vector<std::uint32_t> resolutions;
-    for (int a = 2; a < argc; ++a)
-        resolutions.push_back(std::uint32_t(std::strtoul(argv[a], nullptr, 10)));
     if (resolutions.empty())
-        resolutions = {64, 128};
+        resolutions = {64, 128, 256};
 
-    Result<ImportedMesh> mesh = importMesh(argv[1], {});
+    Result<ImportedMesh> mesh = importMesh(meshPath, {});
     if (!mesh) {
         std::fprintf(stderr, "bake_bench: %s\n", mesh.error().message().c_str());
         return 2;
@@ -94,12 +156,20 @@ int main(int argc, char** argv) {
         return 3;
     }
     openvdb::initialize();
-    std::printf("mesh %s: %llu triangles; GPU: %s\n", mesh->sourceFile.c_str(),
+    std::printf("mesh %s: %llu triangles; GPU: %s; best of %d run(s)\n", mesh->sourceFile.c_str(),
                 static_cast<unsigned long long>(mesh->diagnostics.triangles),
-                context->info().renderer.c_str());
-    std::printf("%5s %12s | %9s %9s %9s %9s | %9s | %9s %11s | %8s %8s | %s\n", "res", "points",
-                "gpu s", "bvh s", "dist s", "sign s", "cgal s", "vdb s", "vdb err vx", "cgal/gpu",
-                "vdb/gpu", "gpu voxels/s");
+                context->info().renderer.c_str(), repeat);
+    // Compile the shaders once (llvmpipe compiles on first use; Mesa's shader cache keeps them).
+    {
+        const Timing warm =
+            best(1, [&] { (void)bakeGpu(*mesh, {.grid = {.resolution = 8}}, *context); });
+        std::printf("warm-up bake at resolution 8 (shader compilation): %.3f s\n", warm.wall);
+    }
+    std::printf("%5s %10s | %8s %8s %7s %7s %7s %8s | %8s %8s | %8s %8s | %8s %8s | %9s | %s\n",
+                "res", "points", "gpu s", "gpu cpu", "prep s", "dist s", "sign s", "pending",
+                "cgal s", "cgal cpu", "vdb s", "vdb cpu", "cgal/gpu", "vdb/gpu", "gpu vox/s",
+                "max err vs cgal [voxel]: gpu, vdb; gpu sign mismatches");
+    std::vector<Row> rows;
     for (std::uint32_t resolution : resolutions) {
         const BakeSettings settings{.grid = {.resolution = resolution}};
         Result<GridSpec> grid = gridFor(mesh->soup.bounds(), settings.grid);
@@ -107,34 +177,78 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "bake_bench: %s\n", grid.error().message().c_str());
             return 2;
         }
-        GpuBakeStats stats;
-        auto start = Clock::now();
-        Result<format::ColliderAsset> gpuAsset =
-            bakeGpu(*mesh, settings, *context, nullptr, {.profile = true}, &stats);
-        const double gpuSeconds = secondsSince(start);
-        start = Clock::now();
-        Result<format::ColliderAsset> cgalAsset = bakeCgal(*mesh, settings);
-        const double cgalSeconds = secondsSince(start);
-        if (!gpuAsset || !cgalAsset) {
-            std::fprintf(stderr, "bake_bench: %s\n",
-                         (!gpuAsset ? gpuAsset.error() : cgalAsset.error()).message().c_str());
+        Row row;
+        row.resolution = resolution;
+        row.points = double(grid->pointCount());
+        std::optional<Result<format::ColliderAsset>> gpuAsset, cgalAsset;
+        row.gpu = best(repeat, [&] {
+            gpuAsset = bakeGpu(*mesh, settings, *context, nullptr, {.profile = true}, &row.stats);
+        });
+        if (!*gpuAsset) {
+            std::fprintf(stderr, "bake_bench: %s\n", gpuAsset->error().message().c_str());
             return 4;
         }
-        double gpuError = 0.0;
-        for (std::size_t n = 0; n < gpuAsset->distances.size(); ++n)
-            gpuError = std::max(gpuError,
-                                std::abs(double(gpuAsset->distances[n]) - cgalAsset->distances[n]) /
-                                    grid->voxelSize);
-        double vdbError = 0.0;
-        const double vdbSeconds = bakeOpenVdb(*mesh, *grid, cgalAsset->distances, vdbError);
-        const double points = double(grid->pointCount());
-        std::printf("%5u %12.0f | %9.3f %9.3f %9.3f %9.3f | %9.3f | %9.3f %11.3g | %8.2f %8.2f | "
-                    "%.3g (gpu vs cgal max err %.2g voxel)\n",
-                    resolution, points, gpuSeconds, stats.bvhSeconds, stats.distanceNs * 1e-9,
-                    stats.signNs * 1e-9, cgalSeconds, vdbSeconds, vdbError,
-                    cgalSeconds / gpuSeconds, vdbSeconds / gpuSeconds, points / gpuSeconds,
-                    gpuError);
+        if (!gpuOnly) {
+            row.cgal = best(repeat, [&] { cgalAsset = bakeCgal(*mesh, settings); });
+            if (!*cgalAsset) {
+                std::fprintf(stderr, "bake_bench: %s\n", cgalAsset->error().message().c_str());
+                return 4;
+            }
+            row.gpuErrorVoxels = 0.0;
+            const std::vector<float>& g = (*gpuAsset)->distances;
+            const std::vector<float>& c = (*cgalAsset)->distances;
+            for (std::size_t n = 0; n < g.size(); ++n) {
+                row.gpuErrorVoxels =
+                    std::max(row.gpuErrorVoxels, std::abs(double(g[n]) - c[n]) / grid->voxelSize);
+                row.signMismatches +=
+                    g[n] != 0.0f && c[n] != 0.0f && (g[n] < 0.0f) != (c[n] < 0.0f);
+            }
+            if (dumpDir) {
+                const std::string stem = std::string(dumpDir) + "/";
+                std::ofstream spec(stem + "grid_" + std::to_string(resolution) + ".txt");
+                spec.precision(17);
+                spec << grid->origin.x << ' ' << grid->origin.y << ' ' << grid->origin.z << ' '
+                     << grid->voxelSize << ' ' << grid->dims.x << ' ' << grid->dims.y << ' '
+                     << grid->dims.z << '\n';
+                std::ofstream field(stem + "cgal_" + std::to_string(resolution) + ".f32",
+                                    std::ios::binary);
+                field.write(reinterpret_cast<const char*>(c.data()),
+                            std::streamsize(c.size() * sizeof(float)));
+                if (!spec || !field)
+                    std::fprintf(stderr, "bake_bench: could not write to %s\n", dumpDir);
+            }
+            openvdb::FloatGrid::Ptr vdb;
+            row.vdb = best(repeat, [&] { vdb = bakeOpenVdb(*mesh, *grid); });
+            row.vdbErrorVoxels = vdbErrorVoxels(*vdb, *grid, (*cgalAsset)->distances);
+        }
+        const GpuBakeStats& s = row.stats;
+        std::printf("%5u %10.0f | %8.3f %8.3f %7.3f %7.3f %7.3f %8llu | %8.3f %8.3f | %8.3f %8.3f "
+                    "| %8.2f %8.2f | %9.3g | %.2g, %.2g; %llu\n",
+                    resolution, row.points, row.gpu.wall, row.gpu.cpu, s.bvhSeconds,
+                    s.distanceNs * 1e-9, s.signNs * 1e-9,
+                    static_cast<unsigned long long>(s.pendingPoints), gpuOnly ? 0.0 : row.cgal.wall,
+                    gpuOnly ? 0.0 : row.cgal.cpu, gpuOnly ? 0.0 : row.vdb.wall,
+                    gpuOnly ? 0.0 : row.vdb.cpu, gpuOnly ? 0.0 : row.cgal.wall / row.gpu.wall,
+                    gpuOnly ? 0.0 : row.vdb.wall / row.gpu.wall, row.points / row.gpu.wall,
+                    row.gpuErrorVoxels, row.vdbErrorVoxels,
+                    static_cast<unsigned long long>(row.signMismatches));
         std::fflush(stdout);
+        rows.push_back(row);
     }
+    if (gpuOnly)
+        return 0;
+    std::printf(
+        "\n| resolution | points | gpu s (CPU s) | prepare / distance / sign s | cgal s (CPU s) "
+        "| openvdb s (CPU s) | cgal/gpu | vdb/gpu | gpu voxels/s | gpu max err [voxel] "
+        "| sign mismatches |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (const Row& r : rows)
+        std::printf("| %u | %.0f | %.3f (%.2f) | %.3f / %.3f / %.3f | %.2f (%.2f) | %.2f (%.2f) "
+                    "| %.1f | %.1f | %.2g | %.1e | %llu |\n",
+                    r.resolution, r.points, r.gpu.wall, r.gpu.cpu, r.stats.bvhSeconds,
+                    r.stats.distanceNs * 1e-9, r.stats.signNs * 1e-9, r.cgal.wall, r.cgal.cpu,
+                    r.vdb.wall, r.vdb.cpu, r.cgal.wall / r.gpu.wall, r.vdb.wall / r.gpu.wall,
+                    r.points / r.gpu.wall, r.gpuErrorVoxels,
+                    static_cast<unsigned long long>(r.signMismatches));
     return 0;
 }

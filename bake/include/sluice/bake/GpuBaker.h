@@ -31,14 +31,19 @@ struct GpuBakeOptions {
 
 /// What a GPU bake did, for --verbose and benchmarks.
 struct GpuBakeStats {
-    std::uint64_t triangles = 0;  ///< non-degenerate triangles in the BVH
-    std::uint64_t nodes = 0;      ///< BVH nodes
-    std::uint32_t depth = 0;      ///< BVH levels below the root
-    double bvhSeconds = 0.0;      ///< [s] CPU time to prepare the soup and build the BVH
-    std::uint32_t dispatches = 0; ///< compute dispatches issued, both passes
-    std::uint64_t distanceNs = 0; ///< [ns] GPU time of the distance pass (profile only)
-    std::uint64_t signNs = 0;     ///< [ns] GPU time of the sign pass (profile only)
-    std::uint64_t gpuBytes = 0;   ///< [bytes] GPU buffers allocated
+    std::uint64_t triangles = 0;      ///< non-degenerate triangles in the BVH
+    std::uint64_t nodes = 0;          ///< BVH nodes
+    std::uint32_t depth = 0;          ///< BVH levels below the root
+    double bvhSeconds = 0.0;          ///< [s] CPU time to prepare the soup and build the BVH
+    std::uint32_t dispatches = 0;     ///< compute dispatches issued, every pass
+    std::uint64_t distanceNs = 0;     ///< [ns] GPU time of the distance passes, coarse and fine
+                                      ///< (profile only)
+    std::uint64_t signNs = 0;         ///< [ns] GPU time of the sign passes (profile only)
+    std::uint64_t gpuBytes = 0;       ///< [bytes] GPU buffers allocated
+    std::uint64_t pendingPoints = 0;  ///< grid points whose winding number was computed (the
+                                      ///< others took the sign of a coarse point)
+    std::uint64_t verifiedPoints = 0; ///< of those, points near the decision value that needed
+                                      ///< the exact sum over every triangle
 };
 
 /// Bakes the mesh on the GPU into a collider asset with the same grid and provenance as bakeCgal
@@ -48,7 +53,10 @@ struct GpuBakeStats {
 /// themselves) orients the closed soup consistently (as the CGAL path does) and takes inside
 /// where the winding number rounds to an odd integer, which for a closed oriented surface equals
 /// ray parity; a soup that cannot be oriented into a closed mesh falls back to the winding
-/// number, as on the CGAL path. Deterministic: the same input gives the same bytes.
+/// number, as on the CGAL path. On a closed soup (a cycle, whose winding number is an integer off
+/// the surface) the winding number is only evaluated at every 4th grid point along each axis and
+/// at the points none of their empty balls (radius |phi|) covers; the others take the sign of a
+/// ball that holds them. Deterministic: the same input gives the same bytes.
 /// Needs `context` current. Errors: those of gridFor, EmptyMesh, InvalidArgument (parity on an
 /// open mesh), SizeOverflow (a buffer over the GL limit), GpuOutOfMemory, ShaderCompile/Link.
 Result<format::ColliderAsset> bakeGpu(const ImportedMesh& mesh, const BakeSettings& settings,
