@@ -3,7 +3,7 @@
 #   sluice_bake_colliders(TARGET <name> [ALL]
 #                         [OUTPUT_DIR <dir>]
 #                         [VOXEL_SIZE <world units> | RESOLUTION <voxels>]
-#                         [BACKEND cgal|gpu] [PADDING <voxels>] [SIGN auto|parity|winding]
+#                         [BACKEND auto|gpu|cgal] [PADDING <voxels>] [SIGN auto|parity|winding]
 #                         [STORAGE f32|f16] [SCALE <factor>]
 #                         MESHES <mesh>...)
 #
@@ -11,7 +11,7 @@
 # <OUTPUT_DIR>/<stem>.slc from <mesh> (relative meshes are taken from the current source
 # folder; OUTPUT_DIR defaults to the current binary folder, relative ones are taken from it).
 # The options are those of `sluice-bake bake` (unset ones keep its defaults: RESOLUTION 64,
-# BACKEND cgal, PADDING 3, SIGN auto, STORAGE f32, SCALE 1). A custom target <name> depends on
+# BACKEND auto, PADDING 3, SIGN auto, STORAGE f32, SCALE 1). A custom target <name> depends on
 # every output (ALL adds it to the default build), and its SLUICE_COLLIDERS property lists them.
 #
 # Each step runs `sluice-bake batch` on a one-entry manifest written at configure time (only
@@ -88,7 +88,7 @@ function(sluice_bake_colliders)
     endforeach()
     # The choices of each named option (kept here: a function sees its caller's variables, and
     # find_package(Sluice) may have run in another folder).
-    set(BACKEND_choices cgal gpu)
+    set(BACKEND_choices auto gpu cgal)
     set(SIGN_choices auto parity winding)
     set(STORAGE_choices f32 f16)
     foreach(option IN ITEMS BACKEND SIGN STORAGE)

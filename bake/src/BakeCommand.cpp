@@ -16,16 +16,20 @@
 namespace sluice::bake::cli {
 namespace {
 
-/// Where the distances are computed: the GPU baker (default) or the exact CPU reference.
-enum class Backend { Gpu, Cgal };
+/// Where the distances are computed: the GPU baker, the exact CPU reference, or (the default)
+/// the GPU where a GL 4.5 context opens and the CPU reference otherwise. Both give the same
+/// exact field; the asset records the one that ran.
+enum class Backend { Auto, Gpu, Cgal };
 
 Result<Backend> parseBackend(const std::string& text) {
+    if (text == "auto")
+        return Backend::Auto;
     if (text == "cgal")
         return Backend::Cgal;
     if (text == "gpu")
         return Backend::Gpu;
     return fail(ErrorCode::InvalidArgument,
-                "--backend " + text + ": unknown backend (available: gpu, cgal)");
+                "--backend " + text + ": unknown backend (available: auto, gpu, cgal)");
 }
 
 Result<format::Storage> parseStorage(const std::string& text) {
@@ -79,17 +83,29 @@ int runBake(const BakeArgs& args) {
     std::optional<Result<format::ColliderAsset>> asset;
     GpuBakeStats gpuStats;
     std::string renderer;
-    switch (*backend) {
-    case Backend::Gpu: {
-        Result<gpu::Context> context = gpu::Context::createHeadless();
-        if (!context)
+    std::optional<Result<gpu::Context>> context;
+    if (*backend != Backend::Cgal) {
+        context.emplace(gpu::Context::createHeadless());
+        if (!*context && *backend == Backend::Gpu)
             return reportError(cmd, "no GPU context for --backend gpu (use --backend cgal)",
-                               context.error());
-        renderer = context->info().renderer;
+                               context->error());
+        if (!*context) {
+            // auto: the same exact field from the CPU reference, only slower.
+            std::cerr << "sluice-bake bake: no OpenGL 4.5 context (" << context->error().detail
+                      << "); baking on the CPU with the CGAL backend\n";
+            backend = Backend::Cgal;
+        } else {
+            backend = Backend::Gpu;
+        }
+    }
+    switch (*backend) {
+    case Backend::Auto: break; // resolved above
+    case Backend::Gpu: {
+        renderer = (*context)->info().renderer;
         Progress progress("baking " + mesh->sourceFile + " on the GPU", grid->pointCount(),
                           !args.quiet);
         asset.emplace(
-            bakeGpu(*mesh, settings, *context, &progress, {.profile = args.profile}, &gpuStats));
+            bakeGpu(*mesh, settings, **context, &progress, {.profile = args.profile}, &gpuStats));
         progress.finish();
         break;
     }
@@ -176,8 +192,10 @@ Command addBakeCommand(CLI::App& parent) {
         ->required()
         ->type_name("OUT");
     app->add_option("--backend", args->backend,
-                    "where distances are computed: cgal (the exact CPU reference, all cores) or gpu "
-                    "(OpenGL 4.5 compute, headless; exit 3 if there is no context)")
+                    "where distances are computed: auto (gpu where an OpenGL 4.5 context opens, "
+                    "otherwise cgal), gpu (OpenGL 4.5 compute, headless; exit 3 without a "
+                    "context) or cgal (the exact CPU reference, all cores). All give the same "
+                    "exact field")
         ->capture_default_str();
     CLI::Option* resolution =
         app->add_option("--resolution", args->resolution,

@@ -150,7 +150,11 @@ std::optional<format::ColliderAsset> freshAsset(const BakeArgs& args) {
     const bool byVoxelSize = args.voxelSize > 0.0;
     const bool same = meta.sourceHash == *hash &&
                       meta.sourceFile == fs::path(args.mesh).filename().string() &&
-                      meta.toolVersion == toolVersion() && meta.bake.backend == args.backend &&
+                      meta.toolVersion == toolVersion() &&
+                      // auto takes either backend: both compute the same exact field.
+                      (meta.bake.backend == args.backend ||
+                       (args.backend == "auto" &&
+                        (meta.bake.backend == "gpu" || meta.bake.backend == "cgal"))) &&
                       meta.bake.resolution == (byVoxelSize ? 0u : args.resolution) &&
                       (!byVoxelSize || meta.voxelSize == args.voxelSize) &&
                       meta.bake.padding == args.padding && meta.bake.signMode == args.sign &&
@@ -240,7 +244,7 @@ Outcome process(const Entry& entry, bool force, bool inChild, std::mutex& gpuTur
         }
     }
     std::unique_lock<std::mutex> turn(gpuTurn, std::defer_lock);
-    if (entry.bake.backend == "gpu")
+    if (entry.bake.backend == "gpu" || entry.bake.backend == "auto")
         turn.lock();
     outcome.exitCode = inChild ? bakeInChild(entry.bake) : runBake(entry.bake);
     if (turn.owns_lock())

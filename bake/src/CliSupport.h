@@ -28,7 +28,7 @@ struct Command {
 struct BakeArgs {
     std::string mesh;
     std::string output;
-    std::string backend = "cgal";  ///< "cgal" | "gpu" (gpu is faster but needs GL 4.5)
+    std::string backend = "auto";  ///< "auto" (gpu where GL 4.5 opens, else cgal) | "gpu" | "cgal"
     std::uint32_t resolution = 64; ///< [voxels] along the longest side; unused if voxelSize > 0
     double voxelSize = 0.0;        ///< [world units]
     double padding = 3.0;          ///< [voxels]

@@ -82,15 +82,24 @@ TEST(CliGpuBake, BakesOnTheGpuAndValidatesAgainstTheReference) {
     EXPECT_GT(bake["gpu"]["bvhNodes"].get<int>(), 1);
     EXPECT_GE(bake["gpu"]["distanceSeconds"].get<double>(), 0.0);
 
-    // The default backend is still CGAL (the GPU path is slower on llvmpipe); its asset
-    // records that, and agrees with the GPU one to float precision.
+    // The default backend (auto) bakes on the GPU where a context opens, as here; the CGAL
+    // backend's asset agrees with the GPU one to float precision.
     const fs::path byDefault = dir / "default.slc";
     ASSERT_EQ(runBake("bake '" + mesh.string() + "' -o '" + byDefault.string() +
                           "' --resolution 16 --quiet",
                       out, err),
               kExitOk)
         << readText(err);
-    Result<format::ColliderAsset> cpu = format::readAsset(byDefault);
+    Result<format::ColliderAsset> automatic = format::readAsset(byDefault);
+    ASSERT_TRUE(automatic.ok()) << automatic.error().message();
+    EXPECT_EQ(automatic->meta.bake.backend, "gpu");
+    const fs::path onCpu = dir / "cpu.slc";
+    ASSERT_EQ(runBake("bake '" + mesh.string() + "' -o '" + onCpu.string() +
+                          "' --resolution 16 --backend cgal --quiet",
+                      out, err),
+              kExitOk)
+        << readText(err);
+    Result<format::ColliderAsset> cpu = format::readAsset(onCpu);
     Result<format::ColliderAsset> gpu = format::readAsset(asset);
     ASSERT_TRUE(cpu.ok()) << cpu.error().message();
     ASSERT_TRUE(gpu.ok()) << gpu.error().message();
@@ -124,6 +133,26 @@ TEST(CliGpuBake, WithoutAGlContextExitsThreeAndWritesNothing) {
     EXPECT_EQ(WEXITSTATUS(status), kExitNoGlContext) << readText(err);
     EXPECT_NE(readText(err).find("NoGlContext"), std::string::npos) << readText(err);
     EXPECT_FALSE(fs::exists(dir / "x.slc"));
+}
+
+TEST(CliGpuBake, TheDefaultBakesOnTheCpuWithoutAGlContextAndSaysSo) {
+    const fs::path dir = testmesh::tempDir("cli-auto-none");
+    const fs::path mesh = testmesh::writeTempObj(testmesh::icoSphereSoup({0, 0, 0}, 1.0, 1),
+                                                 "cli-auto-none", "s.obj");
+    const fs::path out = dir / "out.txt", err = dir / "err.txt";
+    const fs::path asset = dir / "x.slc";
+    const std::string command = std::string("SLUICE_EGL_PLATFORM=nowhere '") + SLUICE_BAKE_EXE +
+                                "' bake '" + mesh.string() + "' -o '" + asset.string() +
+                                "' --resolution 8 --quiet >'" + out.string() + "' 2>'" +
+                                err.string() + "'";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    ASSERT_EQ(WEXITSTATUS(status), kExitOk) << readText(err);
+    EXPECT_NE(readText(err).find("baking on the CPU with the CGAL backend"), std::string::npos)
+        << readText(err);
+    Result<format::ColliderAsset> baked = format::readAsset(asset);
+    ASSERT_TRUE(baked.ok()) << baked.error().message();
+    EXPECT_EQ(baked->meta.bake.backend, "cgal");
 }
 
 } // namespace

@@ -229,6 +229,36 @@ TEST(MeshImport, RejectsAnOffCountWithACommentGluedToItBeforeAllocating) {
     }
 }
 
+TEST(MeshImport, JudgesCountsAnywhereInAHeaderNotOnlyItsFirstKilobytes) {
+    // Found by tests/fuzz (regressions/mesh_import/ply-huge-count-deep-in-the-header): the
+    // check read only the first 4 kB, and an element line after them declaring 8.9e24 vertices
+    // made assimp read at the end of the file for ever.
+    ImportOptions options;
+    options.limits.timeout = std::chrono::seconds(30); // a regression fails, not hangs 10 min
+    std::string comments, offComments;
+    while (comments.size() < 8192) {
+        comments += "comment padding the header beyond its first kilobytes\n";
+        offComments += "# padding the header beyond its first kilobytes\n";
+    }
+    for (const auto& [name, text] :
+         {std::pair<std::string, std::string>{
+              "deep.ply", "ply\nformat ascii 1.0\n" + comments +
+                              "element vertex 8888888888888888888888888\nproperty float x\n"
+                              "property float y\nproperty float z\nend_header\n0 0 0\n"},
+          {"deep.off", "OFF\n" + offComments + "4000000000 1 0\n0 0 0\n"}}) {
+        const fs::path path = writeText("import-deep-count", name, text);
+        const auto start = std::chrono::steady_clock::now();
+        Result<ImportedMesh> mesh = importMesh(path, options);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        ASSERT_FALSE(mesh.ok()) << name;
+        EXPECT_EQ(mesh.error().code, ErrorCode::MeshImport) << mesh.error().message();
+        EXPECT_NE(mesh.error().detail.find("declares"), std::string::npos)
+            << "the header check answers, not assimp: " << mesh.error().detail;
+        EXPECT_LT(seconds, 10.0) << name;
+    }
+}
+
 TEST(MeshImport, RejectsAPlyHeaderWithoutItsEndAtOnce) {
     // Found by tests/fuzz (regressions/mesh_import/ply-without-end-header): assimp 5.2.5 reads
     // PLY header lines until "end_header" and loops forever at the end of a file without one,
