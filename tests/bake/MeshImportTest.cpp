@@ -259,6 +259,42 @@ TEST(MeshImport, JudgesCountsAnywhereInAHeaderNotOnlyItsFirstKilobytes) {
     }
 }
 
+TEST(MeshImport, ChecksAnOffBodyAgainstItsHeaderBeforeAssimpReadsIt) {
+    // Found by tests/fuzz: assimp 5.2.5 reads a face's corners past the end of its buffer when
+    // the file does not hold them (tests/reliability/assimp-crashes/). Each case names the line.
+    const std::string cube = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+    for (const auto& [name, text, expected] :
+         {std::tuple<std::string, std::string, std::string>{
+              "corners-missing.off", "OFF\n4 2 0\n" + cube + "3 0 1 2\n691\n",
+              "line 8: the face has 0 of its 691 vertex indices"},
+          {"index-out-of-range.off", "OFF\n4 1 0\n" + cube + "3 0 1 4\n",
+           "line 7: vertex index 4 is not below the vertex count 4"},
+          {"faces-missing.off",
+           "OFF 4 3 0\n# a comment long enough for the declared counts\n" + cube + "3 0 1 2\n",
+           "the file ends after 1 of its 3 faces"},
+          {"vertices-missing.off", "OFF\n# a comment\n5 1 0\n" + cube,
+           "the file ends after 4 of its 5 vertices"},
+          {"short-vertex.off", "OFF\n4 1 0\n0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n",
+           "line 3: a vertex needs three numbers"},
+          {"not-a-count.off", "OFF\n4 1 0\n" + cube + "S0.5 0 1 2\n",
+           "line 7: a face must start with its corner count"}}) {
+        const fs::path path = writeText("import-off-body", name, text);
+        Result<ImportedMesh> mesh = importMesh(path, {});
+        ASSERT_FALSE(mesh.ok()) << name;
+        EXPECT_EQ(mesh.error().code, ErrorCode::MeshImport) << mesh.error().message();
+        EXPECT_NE(mesh.error().detail.find(expected), std::string::npos) << mesh.error().detail;
+        EXPECT_NE(mesh.error().detail.find(name), std::string::npos) << mesh.error().detail;
+    }
+    // Counts on the first line, a comment, colours after the coordinates and after the
+    // indices: a well-formed file still imports.
+    const fs::path good = writeText("import-off-body", "good.off",
+                                    "OFF 4 2 0 # tetra half\n0 0 0 1 1 1\n1 0 0\n0 1 0\n"
+                                    "0 0 1\n3 0 1 2 255 0 0\n3 0 1 3\n");
+    Result<ImportedMesh> mesh = importMesh(good, {});
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message();
+    EXPECT_EQ(mesh->soup.triangles.size(), 2u);
+}
+
 TEST(MeshImport, RejectsAPlyHeaderWithoutItsEndAtOnce) {
     // Found by tests/fuzz (regressions/mesh_import/ply-without-end-header): assimp 5.2.5 reads
     // PLY header lines until "end_header" and loops forever at the end of a file without one,
