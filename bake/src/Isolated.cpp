@@ -6,9 +6,11 @@
 #include <csignal>
 #include <cstring>
 #include <exception>
+#include <mutex>
 #include <string>
 #include <vector>
 
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/resource.h>
@@ -162,10 +164,27 @@ std::string describeDeath(int status) {
     return "stopped without an answer";
 }
 
+/// fork() copies only the calling thread. A thread that holds a lock of the memory allocator
+/// at that instant leaves the child deadlocked in its first allocation. OpenVDB links
+/// log4cplus, whose library starts a pool of worker threads as it is loaded, so every
+/// sluice-bake is multithreaded from its first instruction; under ASan (GCC 12's allocator has
+/// no fork handlers) about one import in 150 hung for good when a pool thread was still
+/// starting up (found by CI). Nothing of ours logs through log4cplus: stop its pool, once,
+/// before the first fork. Looked up at run time, so builds without log4cplus need nothing.
+void stopLog4cplusThreadPool() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        using Shutdown = void (*)();
+        if (void* symbol = ::dlsym(RTLD_DEFAULT, "_ZN9log4cplus18shutdownThreadPoolEv"))
+            reinterpret_cast<Shutdown>(symbol)();
+    });
+}
+
 } // namespace
 
 Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits& limits,
                                  const std::function<Result<TriangleSoup>()>& work) {
+    stopLog4cplusThreadPool();
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0)
         return fail(ErrorCode::Io, what + ": cannot create a pipe for the import process (" +
