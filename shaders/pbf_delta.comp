@@ -20,6 +20,7 @@ layout(std430, binding = kBindStats) buffer Stats {
     PbfStats stats;
     PbfIterationStats iterations[];
 };
+layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
 
 bool converged(uint k) {
     if (k < P.counts.w || P.gravity.w <= 0.0 || iterations[k].particles == 0u)
@@ -34,12 +35,16 @@ void main() {
     uint i = SLUICE_GLOBAL_ID.x;
     if (i >= PBF_COUNT)
         return;
-    bool stop = stats.stopIteration < k || converged(k);
-    if (stop) {
-        // Ping-pong: the output buffer must still hold the positions.
-        predOut[i] = pred[i];
+    if (stats.stopIteration < k)
+        return; // a guard: after the stop this dispatch launches no work group
+    if (converged(k)) {
+        // No update in this iteration: pbf_velocity.comp reads x* from this iteration's input
+        // buffer. The later iterations' lambda and delta dispatches launch no group.
         if (gl_LocalInvocationIndex == 0u)
             atomicMin(stats.stopIteration, k);
+        if (i == 0u)
+            for (uint a = (k + 1u) * P.control.x; a < P.control.w * P.control.x; ++a)
+                args[a].groupsX = 0u;
         return;
     }
 

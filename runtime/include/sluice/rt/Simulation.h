@@ -119,6 +119,12 @@ public:
     /// Of that, the bytes per particle of capacity, colliders and hash table excluded.
     std::uint64_t bytesPerParticle() const;
 
+    /// Work groups that each solver iteration's lambda and delta dispatches launched in the
+    /// last substep, maxIterations of them: 0 for the iterations after the early stop, which
+    /// the GPU skips without the CPU knowing where it stopped. Reads the GPU back (a sync), so
+    /// for tests and profiling between steps.
+    std::vector<std::uint32_t> solveGroups() const;
+
     /// Constants derived from the scene's parameters.
     const PbfConstants& constants() const;
     const format::Scene& scene() const;
