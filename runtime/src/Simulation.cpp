@@ -162,7 +162,9 @@ Result<void> Simulation::Impl::allocate() {
     for (const Alloc& a : allocs)
         total += a.bytes;
     gpuBytes = total;
-    bytesPerParticle = 7 * v4 + 6 * u + v4;
+    // Per particle of capacity: the particle arrays (7 vec4 + omega, 6 uint) and the hash
+    // table's cellCount + cellStart, spread over the capacity and rounded up.
+    bytesPerParticle = 7 * v4 + 6 * u + v4 + (2 * u * tableSize + n - 1) / n;
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {
