@@ -659,8 +659,8 @@ std::uint64_t Simulation::bytesPerParticle() const { return m_impl->bytesPerPart
 std::vector<std::uint32_t> Simulation::solveGroups() const {
     const Impl& s = *m_impl;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    const auto args =
-        s.solveArgs.download<shared::PbfDispatchArgs>(0, std::size_t(s.maxIterations) * s.solveChunks);
+    const auto args = s.solveArgs.download<shared::PbfDispatchArgs>(
+        0, std::size_t(s.maxIterations) * s.solveChunks);
     std::vector<std::uint32_t> groups(s.maxIterations, 0);
     for (std::uint32_t it = 0; it < s.maxIterations; ++it)
         for (std::uint32_t c = 0; c < s.solveChunks; ++c)

@@ -35,7 +35,7 @@ format::Scene collapsingColumn(std::uint32_t minIterations, std::uint32_t maxIte
 }
 
 struct Played {
-    std::vector<unsigned char> bytes; ///< positions, velocities and ids after the last step
+    std::vector<unsigned char> bytes;  ///< positions, velocities and ids after the last step
     std::vector<std::uint32_t> groups; ///< Simulation::solveGroups() after the last step
     std::uint32_t iterations = 0;
     std::uint32_t particles = 0;
@@ -116,8 +116,8 @@ TEST_F(SimulationEarlyStop, StoppingAtIterationKGivesTheBytesOfKFixedIterations)
 // every later iteration launches no work group.
 TEST_F(SimulationEarlyStop, IterationsAfterTheStopLaunchNoWorkGroups) {
     const Played stopped = play(collapsingColumn(2, 8, 10.0f), 2);
-    const std::uint32_t groups = (stopped.particles + shared::kPbfLocalSize - 1) /
-                                 shared::kPbfLocalSize;
+    const std::uint32_t groups =
+        (stopped.particles + shared::kPbfLocalSize - 1) / shared::kPbfLocalSize;
     ASSERT_GT(groups, 0u);
     const std::vector<std::uint32_t> expected = {groups, groups, groups, 0, 0, 0, 0, 0};
     EXPECT_EQ(stopped.groups, expected);
