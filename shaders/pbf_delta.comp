@@ -20,6 +20,7 @@ layout(std430, binding = kBindStats) buffer Stats {
     PbfStats stats;
     PbfIterationStats iterations[];
 };
+layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
 
 bool converged(uint k) {
     if (k < P.counts.w || P.gravity.w <= 0.0 || iterations[k].particles == 0u)
@@ -34,12 +35,16 @@ void main() {
     uint i = SLUICE_GLOBAL_ID.x;
     if (i >= PBF_COUNT)
         return;
-    bool stop = stats.stopIteration < k || converged(k);
-    if (stop) {
-        // Ping-pong: the output buffer must still hold the positions.
-        predOut[i] = pred[i];
+    if (stats.stopIteration < k)
+        return; // a guard: after the stop this dispatch launches no work group
+    if (converged(k)) {
+        // No update in this iteration: pbf_velocity.comp reads x* from this iteration's input
+        // buffer. The later iterations' lambda and delta dispatches launch no group.
         if (gl_LocalInvocationIndex == 0u)
             atomicMin(stats.stopIteration, k);
+        if (i == 0u)
+            for (uint a = (k + 1u) * P.control.x; a < P.control.w * P.control.x; ++a)
+                args[a].groupsX = 0u;
         return;
     }
 
@@ -47,10 +52,26 @@ void main() {
     float li = lambda[i];
     float scorrScale = -P.scorr.x * P.fluid.z;
     vec3 dp = vec3(0.0);
-    PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
-        float scorr = scorrScale * pow(poly6(q2) * P.scorr.z, P.scorr.y);
-        dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
-    PBF_NEIGHBOURS_END
+    // s_corr's (W / W(delta q))^n: pow() is exp2(n log2 w) on llvmpipe, two polynomial
+    // approximations per neighbour. An integer n in [1, 7] (the default is 4) is a product
+    // of w, w^2 and w^4 instead, the same to float rounding. The test is outside the loop so
+    // the loop holds one form only.
+    uint n = uint(P.scorr.y);
+    if (float(n) == P.scorr.y && n >= 1u && n <= 7u) {
+        bool odd = (n & 1u) != 0u, two = (n & 2u) != 0u, four = (n & 4u) != 0u;
+        PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
+            float w = poly6(q2) * P.scorr.z;
+            float w2 = w * w;
+            float wn = (odd ? w : 1.0) * (two ? w2 : 1.0) * (four ? w2 * w2 : 1.0);
+            float scorr = scorrScale * wn;
+            dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
+        PBF_NEIGHBOURS_END
+    } else {
+        PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
+            float scorr = scorrScale * pow(poly6(q2) * P.scorr.z, P.scorr.y);
+            dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
+        PBF_NEIGHBOURS_END
+    }
     // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
     // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
     // pbf_velocity.comp counts what still goes wrong.

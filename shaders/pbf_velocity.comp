@@ -8,7 +8,11 @@
 layout(local_size_x = kPbfLocalSize) in;
 
 layout(std430, binding = kBindPosIn) buffer PosIn { vec4 pos[]; };
-layout(std430, binding = kBindPredIn) readonly buffer PredIn { vec4 pred[]; };
+// x* of the last iteration that updated positions (docs/pbf.md step 4): iteration k writes
+// pred[k % 2]; with no update at all (a stop at k = 0) the substep's start positions.
+layout(std430, binding = kBindPredIn) readonly buffer Pred0 { vec4 pred0[]; };
+layout(std430, binding = kBindPredOther) readonly buffer Pred1 { vec4 pred1[]; };
+layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
 layout(std430, binding = kBindVelIn) readonly buffer VelIn { vec4 velIn[]; };
 layout(std430, binding = kBindVelOut) writeonly buffer VelOut { vec4 velOut[]; };
 layout(std430, binding = kBindStats) buffer Stats { PbfStats stats; };
@@ -18,7 +22,11 @@ void main() {
     if (i >= PBF_COUNT)
         return;
     vec3 x = pos[i].xyz;
-    vec3 xs = pred[i].xyz;
+    uint stop = stats.stopIteration;
+    uint updates = min(stop, P.control.w); // iterations that moved x*
+    vec3 xs = updates == 0u         ? predStart[i].xyz
+              : (updates & 1u) == 1u ? pred0[i].xyz
+                                     : pred1[i].xyz;
     vec3 v = (xs - x) * P.step.y;
     if (!allFinite(xs) || !allFinite(v)) {
         xs = x;

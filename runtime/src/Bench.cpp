@@ -98,7 +98,8 @@ int runBench(const BenchOptions& o) {
         passes[passName(Pass(p))] = m;
     }
     std::printf("  %-16s %12.4f\n  steps/s (GPU median): %.2f   steps/s (wall): %.2f\n"
-                "  particle-iterations/s: %.4g   GPU memory: %llu bytes (%llu per particle)\n",
+                "  particle-iterations/s: %.4g   GPU memory: %llu bytes (%llu per particle of "
+                "capacity, hash table included, colliders not)\n",
                 "step", stepMedian, stepMedian > 0 ? 1e3 / stepMedian : 0.0,
                 wall > 0 ? double(o.steps) / wall : 0.0, throughput,
                 static_cast<unsigned long long>(sim->gpuBytes()),

@@ -12,6 +12,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "PrefixScan.h"
+#include "shared/ChunkedDispatch.h"
 #include "shared/Pbf.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/gpu/GpuTimer.h"
@@ -93,6 +94,9 @@ struct Simulation::Impl {
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
     gpu::Buffer lambdaBuf, cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
     gpu::Buffer colliderBuf, sdfBuf, params;
+    gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
+    std::uint32_t solveChunks = 1;
+    std::vector<shared::PbfDispatchArgs> solveArgsStaging;
     std::vector<gpu::GpuTimer> timers;
     std::array<std::uint64_t, std::size_t(Pass::Count)> drainedNs{}; // totals at the last drain
     std::vector<ParticleState> staging;
@@ -109,6 +113,11 @@ struct Simulation::Impl {
     void dispatch(const gpu::Program& program, std::uint32_t items) const {
         program.dispatchChunked(glm::uvec3(groupsFor(items), 1, 1), kMaxGroupsPerDispatch);
     }
+    std::uint64_t solveArgsBytes(std::uint32_t iterations) const {
+        return std::uint64_t(iterations) * solveChunks * sizeof(shared::PbfDispatchArgs);
+    }
+    void uploadSolveArgs();
+    void dispatchSolve(const gpu::Program& program, std::uint32_t iteration) const;
     void begin(Pass p) {
         if (options.timers)
             timers[std::size_t(p)].begin();
@@ -147,12 +156,15 @@ Result<void> Simulation::Impl::allocate() {
          "colliders"},
         {&sdfBuf, std::max<std::uint64_t>(1, sdfFloats) * u, "sdf"},
         {&params, sizeof(shared::PbfParams), "params"},
+        {&solveArgs, solveArgsBytes(maxIterations), "solve dispatch args"},
     };
     std::uint64_t total = 0;
     for (const Alloc& a : allocs)
         total += a.bytes;
     gpuBytes = total;
-    bytesPerParticle = 7 * v4 + 6 * u + v4;
+    // Per particle of capacity: the particle arrays (7 vec4 + omega, 6 uint) and the hash
+    // table's cellCount + cellStart, spread over the capacity and rounded up.
+    bytesPerParticle = 7 * v4 + 6 * u + v4 + (2 * u * tableSize + n - 1) / n;
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {
@@ -170,6 +182,38 @@ Result<void> Simulation::Impl::allocate() {
     return {};
 }
 
+// The solver's dispatch args for this substep: every iteration launches the groups `count`
+// needs, split like dispatchChunked. A plain upload, no read back: the early stop in
+// pbf_delta.comp zeroes the args of the iterations after it on the GPU.
+void Simulation::Impl::uploadSolveArgs() {
+    const std::uint32_t groups = groupsFor(count);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the last substep's stop wrote them
+    solveArgsStaging.assign(std::size_t(maxIterations) * solveChunks, {0, 1, 1});
+    for (std::uint32_t it = 0; it < maxIterations; ++it)
+        for (std::uint32_t c = 0; c < solveChunks; ++c) {
+            const std::uint64_t first = std::uint64_t(c) * kMaxGroupsPerDispatch;
+            solveArgsStaging[it * solveChunks + c].groupsX = std::uint32_t(
+                first < groups ? std::min<std::uint64_t>(groups - first, kMaxGroupsPerDispatch)
+                               : 0);
+        }
+    solveArgs.upload(solveArgsStaging);
+}
+
+// Lambda or delta of one iteration from its indirect args: a dispatch the early stop has
+// zeroed launches no work group, so an idle iteration costs only the API call.
+void Simulation::Impl::dispatchSolve(const gpu::Program& program, std::uint32_t iteration) const {
+    program.use();
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, solveArgs.id());
+    for (std::uint32_t c = 0; c < solveChunks; ++c) {
+        program.set(shared::kGroupOffsetUniform,
+                    glm::uvec3(std::uint32_t(c * kMaxGroupsPerDispatch), 0, 0));
+        glDispatchComputeIndirect(
+            GLintptr((std::size_t(iteration) * solveChunks + c) * sizeof(shared::PbfDispatchArgs)));
+        if (solveChunks > 1)
+            glFlush();
+    }
+}
+
 void Simulation::Impl::uploadParams() {
     const format::SimulationParams& s = scene.simulation;
     shared::PbfParams p{};
@@ -183,7 +227,7 @@ void Simulation::Impl::uploadParams() {
         p.domainMax = {*scene.domainMax - glm::vec3(k.radius), 0.0f};
     }
     p.counts = {count, tableSize - 1, std::uint32_t(colliderRecords.size()), s.minIterations};
-    p.control = {0, tableSize, options.deterministic ? 1u : 0u, maxIterations};
+    p.control = {solveChunks, tableSize, options.deterministic ? 1u : 0u, maxIterations};
     params.upload(std::span(&p, 1));
 }
 
@@ -234,6 +278,7 @@ void Simulation::Impl::substep() {
         capacityReached = true;
     append(staging);
     uploadParams();
+    uploadSolveArgs();
     uploadColliders(t0, t1);
     // Per-substep counters: no stop yet, empty iteration sums.
     const std::uint32_t noStop = kNoStop, zero = 0;
@@ -299,27 +344,31 @@ void Simulation::Impl::substep() {
 
     // 4. Solver iterations. Iteration k reads x* from predStart (k = 0) or pred[(k - 1) % 2]
     // and writes pred[k % 2]; predStart keeps the substep's start positions, which fix the
-    // neighbour sets.
+    // neighbour sets. The early stop (pbf_delta.comp) zeroes the dispatch args of the later
+    // iterations: the CPU issues every dispatch without knowing where the GPU stopped.
     begin(Pass::Solve);
     predStart.bindStorage(shared::kBindPredStart);
     bindParticles(pos[cur], vel[cur]);
+    solveArgs.bindStorage(shared::kBindSolveArgs);
     const gpu::Buffer* in = &predStart;
     for (std::uint32_t it = 0; it < maxIterations; ++it) {
         in->bindStorage(shared::kBindPredIn);
         lambda.set("iteration", it);
-        dispatch(lambda, count);
+        dispatchSolve(lambda, it);
         barrier();
         pred[it % 2].bindStorage(shared::kBindPredOut);
         delta.set("iteration", it);
-        dispatch(delta, count);
-        barrier();
+        dispatchSolve(delta, it);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
         in = &pred[it % 2];
     }
     end(Pass::Solve);
 
-    // 5. Velocity, x <- x*, non-finite guard; velocities go to the other buffer.
+    // 5. Velocity, x <- x*, non-finite guard; velocities go to the other buffer. The shader
+    // picks, by stats.stopIteration, the buffer the last iteration that ran wrote.
     begin(Pass::Velocity);
-    in->bindStorage(shared::kBindPredIn);
+    pred[0].bindStorage(shared::kBindPredIn);
+    pred[1].bindStorage(shared::kBindPredOther);
     vel[cur].bindStorage(shared::kBindVelIn);
     vel[1 - cur].bindStorage(shared::kBindVelOut);
     dispatch(velocity, count);
@@ -356,6 +405,9 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     impl->capacity = std::max<std::uint32_t>(scene.simulation.capacity, 1);
     impl->maxIterations = std::max<std::uint32_t>(scene.simulation.maxIterations, 1);
     impl->tableSize = std::max<std::uint32_t>(1024, std::bit_ceil(2 * impl->capacity));
+    impl->solveChunks = std::max<std::uint32_t>(
+        1, std::uint32_t((std::uint64_t(groupsFor(impl->capacity)) + kMaxGroupsPerDispatch - 1) /
+                         kMaxGroupsPerDispatch));
     impl->colliderAssets = std::move(colliders);
 
     // Compile every pass.
@@ -565,6 +617,10 @@ Result<void> Simulation::setParameters(const format::SimulationParams& params) {
         const std::uint32_t zero = 0;
         glClearNamedBufferData(stats->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         s.statsBuf = std::move(*stats);
+        auto args = gpu::Buffer::create(s.solveArgsBytes(p.maxIterations), "solve dispatch args");
+        if (!args)
+            return args.error();
+        s.solveArgs = std::move(*args);
     }
     s.maxIterations = p.maxIterations;
     s.scene.simulation = p;
@@ -600,6 +656,17 @@ const gpu::Buffer& Simulation::positionBuffer() const { return m_impl->pos[m_imp
 const gpu::Buffer& Simulation::velocityBuffer() const { return m_impl->vel[m_impl->cur]; }
 std::uint64_t Simulation::gpuBytes() const { return m_impl->gpuBytes; }
 std::uint64_t Simulation::bytesPerParticle() const { return m_impl->bytesPerParticle; }
+std::vector<std::uint32_t> Simulation::solveGroups() const {
+    const Impl& s = *m_impl;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    const auto args = s.solveArgs.download<shared::PbfDispatchArgs>(
+        0, std::size_t(s.maxIterations) * s.solveChunks);
+    std::vector<std::uint32_t> groups(s.maxIterations, 0);
+    for (std::uint32_t it = 0; it < s.maxIterations; ++it)
+        for (std::uint32_t c = 0; c < s.solveChunks; ++c)
+            groups[it] += args[it * s.solveChunks + c].groupsX;
+    return groups;
+}
 const PbfConstants& Simulation::constants() const { return m_impl->k; }
 const format::Scene& Simulation::scene() const { return m_impl->scene; }
 

@@ -39,6 +39,8 @@ SLUICE_CONST uint kBindSdf = 15;       ///< float[] every collider's grid, back 
 SLUICE_CONST uint kBindIdIn = 16;      ///< uint particle id
 SLUICE_CONST uint kBindIdOut = 17;
 SLUICE_CONST uint kBindPredStart = 18; ///< vec4 x* at the substep start: fixes N(i) for the substep
+SLUICE_CONST uint kBindPredOther = 19; ///< vec4 x*: the second ping-pong buffer (velocity pass)
+SLUICE_CONST uint kBindSolveArgs = 20; ///< PbfDispatchArgs[maxIterations * chunks]
 // Prefix scan.
 SLUICE_CONST uint kBindScanData = 0;   ///< uint[] exclusive scan output
 SLUICE_CONST uint kBindScanSums = 1;   ///< uint[] one total per block
@@ -54,7 +56,8 @@ struct PbfParams {
     vec4 domainMin; ///< [m] xyz shrunk by the radius, w = 1 when a domain box is set
     vec4 domainMax; ///< [m] xyz shrunk by the radius
     uvec4 counts;   ///< particle count, hash table mask, collider count, minIterations
-    uvec4 control;  ///< unused, hash table size, deterministic, maxIterations
+    uvec4 control;  ///< solve dispatch chunks per iteration, hash table size, deterministic,
+                    ///< maxIterations
 };
 
 /// One collider on the GPU: its placement at the end of the substep and its grid.
@@ -76,6 +79,15 @@ struct PbfIterationStats {
     uint particles;     ///< particles that contributed
 };
 
+/// Indirect group counts of one solver dispatch (glDispatchComputeIndirect). The CPU writes
+/// maxIterations x chunks of them at each substep start; the early stop zeroes those of the
+/// later iterations, so the idle lambda and delta dispatches launch no work group.
+struct PbfDispatchArgs {
+    uint groupsX;
+    uint groupsY;
+    uint groupsZ;
+};
+
 /// Counters the passes write with atomics; the CPU reads them once per recorded step.
 struct PbfStats {
     uint nonFinite;        ///< particles reset because x* or v went non-finite (this step)
@@ -92,6 +104,7 @@ static_assert(sizeof(sluice::shared::PbfParams) == 9 * 16, "PbfParams is vec4s o
 static_assert(sizeof(sluice::shared::GpuCollider) == 3 * 64 + 4 * 16, "GpuCollider layout");
 static_assert(sizeof(sluice::shared::PbfIterationStats) == 16, "PbfIterationStats layout");
 static_assert(sizeof(sluice::shared::PbfStats) == 16, "PbfStats layout");
+static_assert(sizeof(sluice::shared::PbfDispatchArgs) == 12, "PbfDispatchArgs layout");
 #endif
 
 #endif // SLUICE_SHARED_PBF_H

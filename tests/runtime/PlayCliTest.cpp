@@ -1,5 +1,6 @@
 // sluice-play end to end: the shipped scenes with their build-baked colliders, determinism of
 // statistics and PLY files, and bad scenes failing with exit code 2 and a message that says where.
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -111,6 +112,33 @@ TEST(SluicePlay, PrintsTheStatisticsTableAndTimings) {
     const auto stats = nlohmann::json::parse(testrun::readText(dir / "s.json"));
     EXPECT_GT(stats["timing"]["stepsPerSecond"].get<double>(), 0.0);
     EXPECT_TRUE(stats["timing"]["gpuMsPerStep"].contains("solve"));
+}
+
+// --bench's memory per particle counts the hash table: 152 bytes of particle arrays plus
+// cellCount + cellStart (8 bytes x max(1024, bit_ceil(2 capacity)) buckets) over the capacity.
+TEST(SluicePlay, BenchCountsTheHashTableInTheBytesPerParticle) {
+    const fs::path dir = tempDir("bench");
+    const fs::path scenePath = kAssets / "martin-moyce.json";
+    auto scene = format::readScene(scenePath);
+    ASSERT_TRUE(scene) << scene.error().message();
+    const std::uint64_t capacity = scene->simulation.capacity;
+    ASSERT_GT(capacity, 512u);
+    std::uint64_t buckets = 1024;
+    while (buckets < 2 * capacity)
+        buckets *= 2;
+    const std::uint64_t expected = 152 + (8 * buckets + capacity - 1) / capacity;
+    const auto result = play(dir, {scenePath.string(), "--headless", "--bench", "--warmup", "1",
+                                   "--steps", "2", "--bench-json", (dir / "b.json").string()});
+    ASSERT_EQ(result.code, 0) << shown(result);
+    const auto bench = nlohmann::json::parse(testrun::readText(dir / "b.json"));
+    EXPECT_EQ(bench["bytesPerParticle"].get<std::uint64_t>(), expected);
+    EXPECT_GE(expected, 168u);
+    EXPECT_LE(expected, 184u);
+    EXPECT_NE(result.out.find("(" + std::to_string(expected) +
+                              " per particle of capacity, hash table included"),
+              std::string::npos)
+        << result.out;
+    EXPECT_GE(bench["gpuBytes"].get<std::uint64_t>(), expected * capacity - capacity);
 }
 
 struct BadScene {

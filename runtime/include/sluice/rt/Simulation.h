@@ -116,8 +116,17 @@ public:
 
     /// GPU memory the simulation allocated, colliders included [bytes].
     std::uint64_t gpuBytes() const;
-    /// Of that, the bytes per particle of capacity, colliders and hash table excluded.
+    /// Of that, the bytes per particle of capacity [bytes]: the particle arrays (152) plus the
+    /// hash table (8 bytes x max(1024, bit_ceil(2 capacity)) buckets) divided by the capacity,
+    /// rounded up: 168 to 184 from 512 particles up (the table has at least 1024 buckets).
+    /// Colliders, statistics and parameters are not included.
     std::uint64_t bytesPerParticle() const;
+
+    /// Work groups that each solver iteration's lambda and delta dispatches launched in the
+    /// last substep, maxIterations of them: 0 for the iterations after the early stop, which
+    /// the GPU skips without the CPU knowing where it stopped. Reads the GPU back (a sync), so
+    /// for tests and profiling between steps.
+    std::vector<std::uint32_t> solveGroups() const;
 
     /// Constants derived from the scene's parameters.
     const PbfConstants& constants() const;
