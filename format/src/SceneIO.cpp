@@ -159,8 +159,11 @@ void SceneParser::readSimulation(const rj::Value* value) {
     // Spacing first: other ranges and every default are in units of it.
     floatIn("spacing", p.spacing, closed(1e-4f, 10.0f));
     const float s = p.spacing;
-    if (!floatIn("kernelRadius", p.kernelRadius, closed(s, 4.0f * s),
-                 "1 to 4 times spacing " + formatFloat(s)))
+    // Below 1.5 spacings the rest lattice's nearest neighbours sit at or past h, where the
+    // spiky gradient vanishes: the lambda denominator is 0 and the solver constants infinite
+    // (found by tests/fuzz at h = s).
+    if (!floatIn("kernelRadius", p.kernelRadius, closed(1.5f * s, 4.0f * s),
+                 "1.5 to 4 times spacing " + formatFloat(s)))
         p.kernelRadius = 2.0f * s;
     const float h = p.kernelRadius;
     floatIn("restDensity", p.restDensity, above(0.0f));

@@ -596,8 +596,8 @@ Result<void> Simulation::setParameters(const format::SimulationParams& params) {
     auto bad = [](const std::string& what) {
         return Error{ErrorCode::InvalidArgument, "simulation parameters: " + what};
     };
-    if (p.kernelRadius < p.spacing || p.kernelRadius > 4.0f * p.spacing)
-        return bad("kernelRadius must lie in [spacing, 4 spacing]");
+    if (p.kernelRadius < 1.5f * p.spacing || p.kernelRadius > 4.0f * p.spacing)
+        return bad("kernelRadius must lie in [1.5 spacing, 4 spacing]");
     if (!(p.timeStep > 0.0f) || p.substeps == 0 || p.minIterations == 0 || p.maxIterations == 0)
         return bad("timeStep, substeps and iterations must be > 0");
     if (p.minIterations > p.maxIterations)

@@ -592,7 +592,7 @@ TEST(SceneReader, RejectsOutOfRangeValuesNamingTheRange) {
         {withSimulation(R"("spacing": 0)"), "simulation.spacing: 0 is out of range [0.0001, 10]"},
         {withSimulation(R"("spacing": 11)"), "simulation.spacing: 11 is out of range [0.0001, 10]"},
         {withSimulation(R"("kernelRadius": 0.01)"),
-         "simulation.kernelRadius: 0.01 is out of range [0.02, 0.08] (1 to 4 times spacing 0.02)"},
+         "simulation.kernelRadius: 0.01 is out of range [0.03, 0.08] (1.5 to 4 times spacing 0.02)"},
         {withSimulation(R"("kernelRadius": 0.0801)"),
          "simulation.kernelRadius: 0.0801 is out of range"},
         {withSimulation(R"("restDensity": 0)"),

@@ -93,4 +93,11 @@ for target in "${targets[@]}"; do
   fi
 done
 rm -rf /dev/shm/sluice-fuzz-mesh-* 2>/dev/null || true
+# SLUICE_FUZZ_FINDINGS_FAIL=0 (what CI sets): report findings loudly but exit 0, so a short
+# random run that happens upon a new input does not block unrelated work; the regression inputs
+# replayed by ctest are the gate. Build failures still fail (setup.sh stops before this script).
+if [ "$failed" -ne 0 ] && [ "${SLUICE_FUZZ_FINDINGS_FAIL:-1}" = 0 ]; then
+  echo "fuzz: FINDINGS LEFT above (not failing: SLUICE_FUZZ_FINDINGS_FAIL=0); reproduce, fix, add to tests/fuzz/regressions/"
+  exit 0
+fi
 exit "$failed"
