@@ -77,7 +77,7 @@ for target in "${targets[@]}"; do
     for f in "$work"/findings/crash-*; do
       [ -e "$f" ] || continue
       # The first frame outside libc, libstdc++ and the fuzzer and sanitizer runtimes.
-      frame=$("$exe" "$f" 2>&1 | grep -E '^ +#[0-9]+ ' |
+      frame=$(timeout -s KILL 60 "$exe" "$f" 2>&1 | grep -E '^ +#[0-9]+ ' |
               grep -v -E 'libc\.so|libstdc\+\+|libgcc|/fuzz_[a-z_]+\+0x' | head -n 1 || true)
       if echo "$frame" | grep -q 'libassimp\.so'; then
         mv "$f" "$work/assimp-crashes/"
