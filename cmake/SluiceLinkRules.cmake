@@ -22,7 +22,9 @@ function(_sluice_collect_links target out_var)
 endfunction()
 
 function(sluice_check_link_rules)
-    foreach(pair "sluice_bake;sluice_runtime" "sluice_runtime;sluice_bake")
+    # sluice_play is the runtime program's library (window, capture, command line).
+    foreach(pair "sluice_bake;sluice_runtime" "sluice_runtime;sluice_bake"
+                 "sluice_bake;sluice_play" "sluice_play;sluice_bake")
         list(GET pair 0 from)
         list(GET pair 1 to)
         if(TARGET ${from})

@@ -89,6 +89,27 @@ void syncFolder(const std::filesystem::path& path) {
     }
 }
 
+/// The last steps of both ways of writing: closes `file` (its bytes are written and fsync'd),
+/// renames `temp` over `path` and makes the rename durable. On failure `temp` is removed and
+/// `path` is as it was.
+Result<void> closeAndReplace(Fd& file, const std::filesystem::path& temp,
+                             const std::filesystem::path& path) {
+    if (file.close() != 0) {
+        const int err = errno;
+        ::unlink(temp.c_str());
+        return fail(ErrorCode::Io, path.string() + ": close failed: " + errnoText(err) +
+                                       " (the previous file, if any, is unchanged)");
+    }
+    if (::rename(temp.c_str(), path.c_str()) != 0) {
+        const int err = errno;
+        ::unlink(temp.c_str());
+        return fail(ErrorCode::Io, path.string() + ": cannot replace it: " + errnoText(err) +
+                                       " (the previous file, if any, is unchanged)");
+    }
+    syncFolder(path);
+    return {};
+}
+
 /// The first choice of writeFileAtomic: the bytes go to an unnamed file in the target's folder
 /// (O_TMPFILE), which gets a temporary name only once it is complete and fsync'd, and is then
 /// renamed over the target. A writer killed while writing (SIGKILL, power loss) leaves no file
@@ -120,20 +141,7 @@ std::optional<Result<void>> writeUnnamedThenRename(const std::filesystem::path& 
     }
     if (linked != 0)
         return std::nullopt;
-    if (file.close() != 0) {
-        err = errno;
-        ::unlink(temp.c_str());
-        return fail(ErrorCode::Io, path.string() + ": close failed: " + errnoText(err) +
-                                       " (the previous file, if any, is unchanged)");
-    }
-    if (::rename(temp.c_str(), path.c_str()) != 0) {
-        err = errno;
-        ::unlink(temp.c_str());
-        return fail(ErrorCode::Io, path.string() + ": cannot replace it: " + errnoText(err) +
-                                       " (the previous file, if any, is unchanged)");
-    }
-    syncFolder(path);
-    return Result<void>{};
+    return closeAndReplace(file, temp, path);
 }
 
 } // namespace
@@ -176,21 +184,7 @@ Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const 
         return abandon("write failed", err);
     if (::fsync(file.get()) != 0)
         return abandon("fsync failed", errno);
-    if (file.close() != 0) {
-        err = errno;
-        ::unlink(temp.c_str());
-        return fail(ErrorCode::Io, path.string() + ": close failed: " + errnoText(err) +
-                                       " (the previous file, if any, is unchanged)");
-    }
-    if (::rename(temp.c_str(), path.c_str()) != 0) {
-        err = errno;
-        ::unlink(temp.c_str());
-        return fail(ErrorCode::Io, path.string() + ": cannot replace it: " + errnoText(err) +
-                                       " (the previous file, if any, is unchanged)");
-    }
-
-    syncFolder(path);
-    return {};
+    return closeAndReplace(file, temp, path);
 }
 
 Result<std::vector<std::byte>> readFileBytes(const std::filesystem::path& path,
