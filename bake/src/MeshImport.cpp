@@ -26,6 +26,8 @@
 
 #include "sluice/format/Hash.h"
 
+#include "PlyCheck.h"
+
 namespace sluice::bake {
 
 namespace {
@@ -185,6 +187,12 @@ bool hasPlyEndHeader(const std::string& header) {
     return false;
 }
 
+/// Whether assimp reads a file of extension `ext` (lower case, with its dot) as PLY: it picks
+/// its loader by extension, and by content only for extensions it does not know.
+bool readAsPly(const std::string& ext, bool plyMagic) {
+    return ext == ".ply" || (plyMagic && !Assimp::Importer().IsExtensionSupported(ext));
+}
+
 /// OFF and PLY headers declare their element counts up front, and assimp allocates for them
 /// before reading (a 12-line OFF file asking for 353 billion vertices takes all memory). Returns
 /// an error when the declared elements cannot fit in the file: each vertex needs at least 6
@@ -201,13 +209,10 @@ Result<void> checkDeclaredCounts(const std::filesystem::path& path, std::uintmax
     std::string header(std::size_t(std::min<std::uintmax_t>(fileBytes, kMaxPlyHeaderBytes)), '\0');
     in.read(header.data(), std::streamsize(header.size()));
     header.resize(std::size_t(in.gcount()));
-    // assimp picks its loader by extension, and by content only for extensions it does not know.
     auto lower = [&](std::size_t i) { return std::tolower(static_cast<unsigned char>(header[i])); };
     const bool plyMagic =
         header.size() >= 3 && lower(0) == 'p' && lower(1) == 'l' && lower(2) == 'y';
-    const bool readAsPly =
-        ext == ".ply" || (plyMagic && !Assimp::Importer().IsExtensionSupported(ext));
-    if (readAsPly && plyMagic && !hasPlyEndHeader(header))
+    if (readAsPly(ext, plyMagic) && plyMagic && !hasPlyEndHeader(header))
         return fail(ErrorCode::MeshImport,
                     shown + ": the PLY header has no end_header line" +
                         (fileBytes <= kMaxPlyHeaderBytes ? " (the file is cut short?)"
@@ -353,6 +358,16 @@ Result<void> checkOffBody(const std::filesystem::path& path, const std::string& 
     return {};
 }
 
+/// Whether the file starts with "ply", in any case.
+bool startsWithPly(const std::filesystem::path& path) {
+    char magic[3] = {};
+    std::ifstream in(path, std::ios::binary);
+    in.read(magic, 3);
+    return in.gcount() == 3 && std::tolower(static_cast<unsigned char>(magic[0])) == 'p' &&
+           std::tolower(static_cast<unsigned char>(magic[1])) == 'l' &&
+           std::tolower(static_cast<unsigned char>(magic[2])) == 'y';
+}
+
 /// Whether any mesh has a face of three or more corners, looking only through pointers that
 /// are set (the scene is not validated yet).
 bool hasSurfaceFaces(const aiScene& scene) {
@@ -396,6 +411,9 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
         c = char(std::tolower(static_cast<unsigned char>(c)));
     if (extension == ".off")
         if (Result<void> r = checkOffBody(path, shown); !r)
+            return r.error();
+    if (readAsPly(extension, startsWithPly(path)))
+        if (Result<void> r = detail::checkPlyFile(path, shown); !r)
             return r.error();
 
     Result<std::string> hash = format::hashFileHex(path);

@@ -5,7 +5,9 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -15,6 +17,7 @@
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/PlayCli.h"
 #include "sluice/rt/Simulation.h"
+#include "sluice/rt/render/SceneFraming.h"
 
 namespace sluice::rt {
 namespace {
@@ -32,6 +35,67 @@ int fail(const Error& error) {
     return error.code == ErrorCode::NoGlContext ? kPlayExitNoGlContext : kPlayExitBadInput;
 }
 
+/// Renders the simulation's current state o.renderFrames times after a few unmeasured frames,
+/// waiting for each frame, so that every frame's GPU timers are its own; prints the medians
+/// and returns them as JSON.
+nlohmann::json benchRender(Renderer& renderer, const format::Scene& scene, const Simulation& sim,
+                           const BenchOptions& o, const std::string& glRenderer) {
+    OrbitCamera camera =
+        sceneCamera(scene, renderer.bounds(), float(o.renderSize.x) / float(o.renderSize.y));
+    camera.zoom(o.zoom);
+    constexpr int kWarmupFrames = 3;
+    for (int i = 0; i < kWarmupFrames; ++i)
+        renderer.render(sim, camera, o.render);
+    glFinish();
+    (void)renderer.gpuMilliseconds();
+    (void)renderer.passTimes();
+    std::vector<double> frameMs;
+    std::vector<std::vector<double>> passMs(std::size_t(RenderPass::Count));
+    const auto start = std::chrono::steady_clock::now();
+    for (std::uint32_t i = 0; i < o.renderFrames; ++i) {
+        renderer.render(sim, camera, o.render);
+        glFinish(); // the frame's queries are complete: the latest times are this frame's
+        frameMs.push_back(renderer.gpuMilliseconds().value_or(-1.0));
+        const RenderPassTimes times = renderer.passTimes();
+        for (std::size_t p = 0; p < times.size(); ++p)
+            passMs[p].push_back(times[p]);
+    }
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("  render %ux%u, %s, %u particles, %u frames (each waited for):\n",
+                o.renderSize.x, o.renderSize.y, std::string(surfaceModeName(o.render.surface)).c_str(),
+                sim.particleCount(), o.renderFrames);
+    std::printf("  %-16s %12s\n", "render pass", "median ms");
+    nlohmann::json passes = nlohmann::json::object();
+    for (std::size_t p = 0; p < passMs.size(); ++p) {
+        const double m = median(passMs[p]);
+        std::printf("  %-16s %12.4f\n", renderPassName(RenderPass(p)), m);
+        passes[renderPassName(RenderPass(p))] = m;
+    }
+    const double frame = median(frameMs);
+    std::printf("  %-16s %12.4f   (wall %.4f ms per frame, glFinish included)\n", "frame", frame,
+                1e3 * wall / double(o.renderFrames));
+    // Mesa's software rasterizers bin the draws and rasterize them when something later
+    // flushes them, so a draw's time lands in a later pass's timer or in none (a frame of
+    // spheres reads near 0); compute dispatches are timed right.
+    const bool softwareRaster = glRenderer.find("llvmpipe") != std::string::npos ||
+                                glRenderer.find("softpipe") != std::string::npos;
+    if (softwareRaster)
+        std::printf("  note: %s rasterizes when a later command flushes the draws, so its render "
+                    "timers miss or misplace them; read the wall time per frame\n",
+                    glRenderer.c_str());
+    return {{"width", o.renderSize.x},
+            {"height", o.renderSize.y},
+            {"surface", std::string(surfaceModeName(o.render.surface))},
+            {"colour", std::string(colourModeName(o.render.colour))},
+            {"zoom", o.zoom},
+            {"frames", o.renderFrames},
+            {"medianFrameMs", frame},
+            {"medianPassMs", passes},
+            {"wallMsPerFrame", 1e3 * wall / double(o.renderFrames)},
+            {"gpuTimersCoverDrawing", !softwareRaster}};
+}
+
 } // namespace
 
 int runBench(const BenchOptions& o) {
@@ -44,6 +108,14 @@ int runBench(const BenchOptions& o) {
     auto context = gpu::Context::createHeadless();
     if (!context)
         return fail(context.error());
+    // The renderer uploads the colliders to 3D textures of its own before the solver takes them.
+    std::optional<Renderer> renderer;
+    if (o.renderFrames > 0) {
+        auto created = Renderer::create(*scene, *colliders, o.renderSize);
+        if (!created)
+            return fail(created.error());
+        renderer.emplace(std::move(*created));
+    }
     SimulationOptions options;
     options.deterministic = o.deterministic;
     auto sim = Simulation::create(*scene, std::move(*colliders), options);
@@ -105,8 +177,12 @@ int runBench(const BenchOptions& o) {
                 static_cast<unsigned long long>(sim->gpuBytes()),
                 static_cast<unsigned long long>(sim->bytesPerParticle()));
 
+    nlohmann::json render = nullptr;
+    if (renderer)
+        render = benchRender(*renderer, *scene, *sim, o, context->info().renderer);
+
     if (!o.json.empty()) {
-        const nlohmann::json doc = {
+        nlohmann::json doc = {
             {"tool", std::string("sluice-play ") + SLUICE_VERSION},
             {"scene", scene->path},
             {"renderer", context->info().renderer},
@@ -124,6 +200,8 @@ int runBench(const BenchOptions& o) {
             {"gpuBytes", sim->gpuBytes()},
             {"bytesPerParticle", sim->bytesPerParticle()},
         };
+        if (!render.is_null())
+            doc["render"] = render;
         const std::string text = doc.dump(2) + "\n";
         if (auto ok = format::writeFileAtomic(o.json, std::as_bytes(std::span(text.data(), text.size())));
             !ok)

@@ -4,6 +4,10 @@
 #include <cstdint>
 #include <string>
 
+#include <glm/vec2.hpp>
+
+#include "sluice/rt/render/Renderer.h"
+
 namespace sluice::rt {
 
 struct BenchOptions {
@@ -12,6 +16,13 @@ struct BenchOptions {
     std::uint64_t warmup = 20;  ///< steps run first and not measured
     std::string json;           ///< results file, empty for none
     bool deterministic = false;
+    /// After the steps: frames of the final state rendered and GPU-timed one at a time (0:
+    /// none), at `renderSize` pixels, drawn with `render`, the scene camera's distance times
+    /// `zoom`.
+    std::uint32_t renderFrames = 0;
+    glm::uvec2 renderSize{1920, 1080};
+    RenderSettings render;
+    float zoom = 1.0f;
 };
 
 /// Runs the benchmark and prints its table; returns a sluice-play exit code.

@@ -52,9 +52,10 @@ struct PlayOptions {
     bool bench = false;
     std::string benchJson;
     std::uint64_t warmup = 20;
+    std::uint32_t benchFrames = 0;
     // Rendering and capture (headless and window).
     CaptureOptions capture;
-    std::string size = "1280x720";
+    std::string size; // empty: 1280x720, or 1920x1080 for --bench-frames
     std::string colour = "water";
     std::string surface = "spheres";
     // Window only.
@@ -104,7 +105,7 @@ int playHeadless(const PlayOptions& o) {
                                             ec.message()});
     }
 
-    auto imageSize = parseImageSize(o.size);
+    auto imageSize = parseImageSize(o.size.empty() ? "1280x720" : o.size);
     if (!imageSize)
         return fail(imageSize.error());
     RenderSettings settings;
@@ -267,6 +268,10 @@ int run(int argc, char** argv) {
                  "Benchmark (headless): warm up, then the median step and pass times over --steps");
     app.add_option("--warmup", o.warmup, "Steps run before --bench measures (default 20)");
     app.add_option("--bench-json", o.benchJson, "Write the --bench results to this JSON file");
+    app.add_option("--bench-frames", o.benchFrames,
+                   "With --bench: then render N frames of the final state at --size (default "
+                   "1920x1080), each waited for, and report the median GPU time of every render pass")
+        ->check(CLI::Range(1u, 100000u));
     app.add_option("--frames", o.capture.framesDir,
                    "Write a PNG of every --every-th step into this folder (frame_STEP.png)");
     app.add_option("--every", o.capture.every, "Capture every K steps, from step 0 (default 1)")
@@ -276,7 +281,7 @@ int run(int argc, char** argv) {
     app.add_option("--fps", o.capture.fps,
                    "Frames per second of --video (default: real time, 1 / (every * timeStep))")
         ->check(CLI::PositiveNumber);
-    app.add_option("--size", o.size, "Image size WIDTHxHEIGHT: capture, and the window (1280x720)");
+    app.add_option("--size", o.size, "Image size WIDTHxHEIGHT: capture and the window (1280x720), --bench-frames (1920x1080)");
     app.add_option("--zoom", o.capture.zoom,
                    "The scene camera's distance times this (0.7: closer), window and capture")
         ->check(CLI::Range(0.01f, 100.0f));
@@ -298,6 +303,10 @@ int run(int argc, char** argv) {
         const int code = app.exit(e);
         return code == 0 ? kPlayExitOk : kPlayExitBadInput;
     }
+    if (o.benchFrames > 0 && !o.bench) {
+        std::cerr << "sluice-play: --bench-frames needs --bench\n";
+        return kPlayExitBadInput;
+    }
     if (o.bench) {
         BenchOptions bench;
         bench.scene = o.scene;
@@ -305,6 +314,16 @@ int run(int argc, char** argv) {
         bench.warmup = o.warmup;
         bench.json = o.benchJson;
         bench.deterministic = o.deterministic;
+        bench.renderFrames = o.benchFrames;
+        bench.zoom = o.capture.zoom;
+        if (o.benchFrames > 0) {
+            auto size = parseImageSize(o.size.empty() ? "1920x1080" : o.size);
+            if (!size)
+                return fail(size.error());
+            bench.renderSize = *size;
+            if (auto ok = parseRenderModes(o, bench.render); !ok)
+                return fail(ok.error());
+        }
         return runBench(bench);
     }
     if (!o.headless) {
@@ -317,7 +336,7 @@ int run(int argc, char** argv) {
         viewer.deterministic = o.deterministic;
         viewer.stepsPerFrame = o.stepsPerFrame;
         viewer.quiet = o.quiet;
-        auto size = parseImageSize(o.size);
+        auto size = parseImageSize(o.size.empty() ? "1280x720" : o.size);
         if (!size)
             return fail(size.error());
         viewer.size = *size;

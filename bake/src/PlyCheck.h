@@ -1,0 +1,36 @@
+// A pre-flight walk over a PLY file (header and body) before assimp reads it.
+//
+// Debian's assimp 5.2.5 trusts a PLY file's header: a header that declares an element twice,
+// a property with too few or too many words, or a body that does not hold what the header
+// declares can make its loader write past its own buffers (a heap corruption found by
+// tests/fuzz, open-findings until this check). sluice-bake reads meshes in a child process, so
+// such a file could never take the tool down, but the user deserves the line that is wrong,
+// and the fuzzer a loader that is never handed a file it cannot read.
+//
+// What is checked (https://paulbourke.net/dataformats/ply/ is the format):
+//   - the header: "ply", one "format ascii|binary_little_endian|binary_big_endian 1.0" line,
+//     "element NAME COUNT" with a count below 2^32 and a name not declared before,
+//     "property TYPE NAME" and "property list COUNTTYPE ITEMTYPE NAME" with known types, each
+//     after an element; "comment" and "obj_info" lines, and any other line, are skipped, as
+//     assimp skips them (Blender 2.47 wrote a bare "Created by ..." line);
+//   - the body, element by element: ASCII holds one instance per line with one number per
+//     scalar property and, per list, a count then that many numbers; binary holds the bytes
+//     the header's types and the list counts add up to;
+//   - the vertex indices of "face" and "tristrips" lists are integers below the vertex count
+//     (tristrips may also hold -1, the strip break).
+// Data after the last element is ignored, as assimp ignores it.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "sluice/format/Result.h"
+
+namespace sluice::bake::detail {
+
+/// Checks `path` (read as PLY; its header already known to end with "end_header") and returns
+/// a MeshImport error that starts with `shown` and names the line, element and problem. A file
+/// whose first line is not "ply" is not judged here: success, and assimp says what it is.
+Result<void> checkPlyFile(const std::filesystem::path& path, const std::string& shown);
+
+} // namespace sluice::bake::detail

@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# Measures the GPU floors of the performance and GPU-baker issues on the machine it runs on, and
+# runs every shader through that machine's driver. Made for a bare NVIDIA machine reached with
+# the `run` tool (../shared/device/README.md), after tests/bench/device/pack.sh here:
+#
+#   bash tests/bench/device/run.sh [--quick]
+#
+# Writes into $OUT (default /tmp/sluice-device): gpu.txt, gl-info.txt, one JSON per benchmark,
+# bake.md, shots/ (a picture of every shipped scene in both surface modes), and summary.txt,
+# which states each floor with the measured figure. Needs no Python. --quick: few steps and no
+# 1M-particle scenes, to try the script on llvmpipe.
+#
+# Exit status: 0 when everything ran (whether or not a floor is met: summary.txt says), 1 when
+# something failed to run (its log is in $OUT).
+set -uo pipefail
+cd "$(dirname "$0")/../../.."
+quick=0
+[ "${1:-}" = "--quick" ] && quick=1
+out=${OUT:-/tmp/sluice-device}
+mkdir -p "$out/shots"
+failed=0
+
+# The GL/EGL dispatch libraries and NVIDIA's EGL vendor file, where this is the NVIDIA machine.
+if ls .gl/*.deb >/dev/null 2>&1 && command -v dpkg >/dev/null && [ "$(id -u)" = 0 ] &&
+  { command -v nvidia-smi >/dev/null || [ -e /dev/nvidiactl ]; }; then
+  for f in .gl/*.deb; do dpkg -x "$f" /; done
+  ldconfig
+fi
+vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+[ -f "$vendor" ] && export __EGL_VENDOR_LIBRARY_FILENAMES=$vendor
+pack=/tmp/sluice-pack
+rm -rf "$pack" && mkdir -p "$pack" && tar -xzf .devpack/pack.tar.gz -C "$pack" || exit 1
+export LD_LIBRARY_PATH=$pack/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+bin=$pack/bin
+scenes=.devpack/scenes
+meshes=.devpack/meshes
+
+# One step of the script: its output into $out/NAME.log, a line in the console either way.
+step() {
+  local name=$1; shift
+  local start=$SECONDS
+  if "$@" >"$out/$name.log" 2>&1; then
+    echo "ok    $name ($((SECONDS - start)) s)"
+  else
+    echo "FAIL  $name (exit $?, $((SECONDS - start)) s): see $name.log"; tail -n 5 "$out/$name.log"
+    failed=1
+  fi
+}
+# A number from a JSON file written by sluice-play --bench (one key per line): json FILE KEY.
+json() { awk -v k="\"$2\":" '$1 == k { gsub(/,$/, "", $2); print $2; exit }' "$1"; }
+
+(nvidia-smi -L 2>/dev/null || echo "no nvidia-smi") >"$out/gpu.txt"
+cat .devpack/commit >>"$out/gpu.txt" 2>/dev/null
+step gl-info "$bin/sluice-bake" gl-info
+cp "$out/gl-info.log" "$out/gl-info.txt"
+
+# Every shader through this driver: each shipped scene simulated and checked, pictured in both
+# surface modes (the render passes), and a mesh baked on the GPU and validated against CGAL.
+steps=60
+[ $quick = 1 ] && steps=4
+for scene in "$scenes"/*.json; do
+  name=$(basename "$scene" .json)
+  case $name in *-15k|*-1m|*-1m-4it) continue ;; esac
+  for surface in spheres fluid; do
+    step "shader-$name-$surface" "$bin/sluice-play" "$scene" --headless --check --quiet \
+      --steps $steps --screenshot-at $steps --shots "$out/shots/$surface" --surface $surface \
+      --size 1280x720
+  done
+done
+res=128
+[ $quick = 1 ] && res=32
+step bake-armadillo "$bin/sluice-bake" bake "$meshes/armadillo.off" --backend gpu \
+  --resolution $res -o "$out/armadillo.slc"
+step validate-armadillo "$bin/sluice-bake" validate "$out/armadillo.slc" "$meshes/armadillo.off"
+
+# The solver floors. The 15k scene keeps the shipped adaptive iterations; the 1M scene runs
+# exactly 4 iterations a substep and is then drawn as 1M impostor spheres at 1920x1080.
+if [ $quick = 1 ]; then
+  step bench-15k "$bin/sluice-play" "$scenes/wave-sphere-15k.json" --bench --warmup 2 --steps 3 \
+    --bench-json "$out/wave-sphere-15k.json"
+  step bench-render "$bin/sluice-play" "$scenes/dam-break.json" --bench --warmup 1 --steps 1 \
+    --bench-frames 3 --bench-json "$out/render.json"
+else
+  step bench-15k "$bin/sluice-play" "$scenes/wave-sphere-15k.json" --bench --warmup 300 \
+    --steps 3000 --bench-json "$out/wave-sphere-15k.json"
+  step bench-1m-4it "$bin/sluice-play" "$scenes/dam-break-1m-4it.json" --bench --warmup 30 \
+    --steps 200 --bench-frames 300 --bench-json "$out/dam-break-1m-4it.json"
+  step bench-1m "$bin/sluice-play" "$scenes/dam-break-1m.json" --bench --warmup 30 --steps 200 \
+    --bench-json "$out/dam-break-1m.json"
+  cp "$out/dam-break-1m-4it.json" "$out/render.json" 2>/dev/null
+fi
+
+# The baker floors (and the CPU peers on this machine's cores).
+if [ $quick = 1 ]; then
+  step bench-bake "$bin/bake_bench" "$meshes/armadillo.off" 32 --repeat 1
+else
+  step bench-bake "$bin/bake_bench" "$meshes/armadillo.off" 128 256 --repeat 5
+  step bench-bake-bunny "$bin/bake_bench" "$meshes/bunny00.off" 128 256 --repeat 5
+fi
+cp "$out/bench-bake.log" "$out/bake.md" 2>/dev/null
+
+# The floors, each with its measured figure.
+{
+  echo "GPU: $(head -n 1 "$out/gpu.txt")"
+  echo "GL:  $(grep -m1 '^renderer' "$out/gl-info.txt" 2>/dev/null)"
+  f=$out/wave-sphere-15k.json
+  if [ -f "$f" ]; then
+    echo "15k wave-sphere ($(json "$f" particles) particles, $(json "$f" substeps) substeps," \
+      "$(json "$f" meanIterations) iterations): $(json "$f" stepsPerSecondGpu) steps/s by GPU" \
+      "timers, $(json "$f" stepsPerSecondWall) wall (floor: >= 3000)"
+  fi
+  f=$out/dam-break-1m-4it.json
+  if [ -f "$f" ]; then
+    awk -v s="$(json "$f" medianStepMs)" -v n="$(json "$f" substeps)" -v p="$(json "$f" particles)" \
+      'BEGIN { printf "1M dam break, 4 iterations (%d particles): %.3f ms per substep (full solver step), %.3f ms per %d-substep frame (floor: <= 4 ms per step)\n", p, s / n, s, n }'
+  fi
+  f=$out/render.json
+  if [ -f "$f" ]; then
+    echo "impostor spheres, $(json "$f" particles) particles at $(json "$f" width)x$(json "$f" height):" \
+      "$(json "$f" fluid) ms GPU (floor at 1M, 1920x1080: <= 2 ms), frame $(json "$f" medianFrameMs)" \
+      "ms, wall $(json "$f" wallMsPerFrame) ms per waited-for frame;" \
+      "timers cover drawing: $(json "$f" gpuTimersCoverDrawing)"
+  fi
+  for f in "$out"/wave-sphere-15k.json "$out"/dam-break-1m-4it.json; do
+    [ -f "$f" ] && echo "$(basename "$f" .json): $(json "$f" bytesPerParticle) bytes per particle (floor: <= 200)"
+  done
+  echo "bake (bake_bench, seconds; floors: <= 0.03 s at 128^3, <= 0.2 s at 256^3):"
+  grep -E '^\|' "$out/bench-bake.log" 2>/dev/null
+  grep -E '^\|' "$out/bench-bake-bunny.log" 2>/dev/null
+  grep -E 'max|mismatch' "$out/validate-armadillo.log" 2>/dev/null | head -n 4
+} >"$out/summary.txt"
+cat "$out/summary.txt"
+exit $failed
