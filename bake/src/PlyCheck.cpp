@@ -177,7 +177,9 @@ private:
             }
             if (words.empty())
                 continue;
-            const std::string key = lowered(words[0]);
+            // Keywords in lower case only, as assimp matches them: a line it would skip is
+            // skipped here too, so both see the same elements.
+            const std::string_view key = words[0];
             if (key == "end_header") {
                 // assimp finds the body by the line end after it (found by tests/fuzz: a
                 // vertical tab and binary bytes after end_header crashed its binary reader).
@@ -248,7 +250,7 @@ private:
             return problem("a property before any element");
         Element& element = m_elements.back();
         Property property;
-        if (words.size() >= 2 && lowered(words[1]) == "list") {
+        if (words.size() >= 2 && words[1] == "list") {
             if (words.size() != 5)
                 return problem("\"property list\" needs a count type, a value type and a name");
             const std::optional<Scalar> count = scalarNamed(words[2]);
