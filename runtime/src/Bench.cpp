@@ -30,6 +30,21 @@ double median(std::vector<double> values) {
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+/// Prints the median of every pass's times under a `title` column and returns them as a JSON
+/// object keyed by `nameOf(pass index)`.
+template <typename NameOf>
+nlohmann::json printMedians(const char* title, const std::vector<std::vector<double>>& passMs,
+                            NameOf nameOf) {
+    std::printf("  %-16s %12s\n", title, "median ms");
+    nlohmann::json medians = nlohmann::json::object();
+    for (std::size_t p = 0; p < passMs.size(); ++p) {
+        const double m = median(passMs[p]);
+        std::printf("  %-16s %12.4f\n", nameOf(p), m);
+        medians[nameOf(p)] = m;
+    }
+    return medians;
+}
+
 int fail(const Error& error) {
     std::cerr << "sluice-play: " << error.message() << '\n';
     return error.code == ErrorCode::NoGlContext ? kPlayExitNoGlContext : kPlayExitBadInput;
@@ -65,13 +80,9 @@ nlohmann::json benchRender(Renderer& renderer, const format::Scene& scene, const
     std::printf("  render %ux%u, %s, %u particles, %u frames (each waited for):\n",
                 o.renderSize.x, o.renderSize.y, std::string(surfaceModeName(o.render.surface)).c_str(),
                 sim.particleCount(), o.renderFrames);
-    std::printf("  %-16s %12s\n", "render pass", "median ms");
-    nlohmann::json passes = nlohmann::json::object();
-    for (std::size_t p = 0; p < passMs.size(); ++p) {
-        const double m = median(passMs[p]);
-        std::printf("  %-16s %12.4f\n", renderPassName(RenderPass(p)), m);
-        passes[renderPassName(RenderPass(p))] = m;
-    }
+    const nlohmann::json passes = printMedians("render pass", passMs, [](std::size_t p) {
+        return renderPassName(RenderPass(p));
+    });
     const double frame = median(frameMs);
     std::printf("  %-16s %12.4f   (wall %.4f ms per frame, glFinish included)\n", "frame", frame,
                 1e3 * wall / double(o.renderFrames));
@@ -162,13 +173,8 @@ int runBench(const BenchOptions& o) {
                 "(mean of the last substeps), avg density error %.3f %%\n",
                 scene->path.c_str(), context->info().renderer.c_str(), particles, substeps,
                 avgIterations, 100.0 * errorSum / double(std::max<std::uint64_t>(o.steps, 1)));
-    std::printf("  %-16s %12s\n", "pass", "median ms");
-    nlohmann::json passes = nlohmann::json::object();
-    for (std::size_t p = 0; p < passMs.size(); ++p) {
-        const double m = median(passMs[p]);
-        std::printf("  %-16s %12.4f\n", passName(Pass(p)), m);
-        passes[passName(Pass(p))] = m;
-    }
+    const nlohmann::json passes =
+        printMedians("pass", passMs, [](std::size_t p) { return passName(Pass(p)); });
     std::printf("  %-16s %12.4f\n  steps/s (GPU median): %.2f   steps/s (wall): %.2f\n"
                 "  particle-iterations/s: %.4g   GPU memory: %llu bytes (%llu per particle of "
                 "capacity, hash table included, colliders not)\n",

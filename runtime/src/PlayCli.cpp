@@ -76,7 +76,13 @@ std::string plyName(std::uint64_t step) {
     return name;
 }
 
-Result<void> parseRenderModes(const PlayOptions& o, RenderSettings& settings) {
+/// --size (or `defaultSize` when it is not given), --colour and --surface.
+Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::uvec2& size,
+                            RenderSettings& settings) {
+    auto parsed = parseImageSize(o.size.empty() ? defaultSize : o.size);
+    if (!parsed)
+        return parsed.error();
+    size = *parsed;
     const auto colour = parseColourMode(o.colour);
     if (!colour)
         return fail(ErrorCode::InvalidArgument,
@@ -105,11 +111,9 @@ int playHeadless(const PlayOptions& o) {
                                             ec.message()});
     }
 
-    auto imageSize = parseImageSize(o.size.empty() ? "1280x720" : o.size);
-    if (!imageSize)
-        return fail(imageSize.error());
+    glm::uvec2 imageSize;
     RenderSettings settings;
-    if (auto ok = parseRenderModes(o, settings); !ok)
+    if (auto ok = parseRendering(o, "1280x720", imageSize, settings); !ok)
         return fail(ok.error());
 
     auto context = gpu::Context::createHeadless();
@@ -120,7 +124,7 @@ int playHeadless(const PlayOptions& o) {
     // The renderer uploads the colliders to 3D textures of its own before the solver takes them.
     std::optional<HeadlessCapture> capture;
     if (o.capture.any()) {
-        auto started = HeadlessCapture::start(*scene, *colliders, o.capture, *imageSize, settings);
+        auto started = HeadlessCapture::start(*scene, *colliders, o.capture, imageSize, settings);
         if (!started)
             return fail(started.error());
         capture.emplace(std::move(*started));
@@ -316,14 +320,9 @@ int run(int argc, char** argv) {
         bench.deterministic = o.deterministic;
         bench.renderFrames = o.benchFrames;
         bench.zoom = o.capture.zoom;
-        if (o.benchFrames > 0) {
-            auto size = parseImageSize(o.size.empty() ? "1920x1080" : o.size);
-            if (!size)
-                return fail(size.error());
-            bench.renderSize = *size;
-            if (auto ok = parseRenderModes(o, bench.render); !ok)
+        if (o.benchFrames > 0)
+            if (auto ok = parseRendering(o, "1920x1080", bench.renderSize, bench.render); !ok)
                 return fail(ok.error());
-        }
         return runBench(bench);
     }
     if (!o.headless) {
@@ -336,11 +335,7 @@ int run(int argc, char** argv) {
         viewer.deterministic = o.deterministic;
         viewer.stepsPerFrame = o.stepsPerFrame;
         viewer.quiet = o.quiet;
-        auto size = parseImageSize(o.size.empty() ? "1280x720" : o.size);
-        if (!size)
-            return fail(size.error());
-        viewer.size = *size;
-        if (auto ok = parseRenderModes(o, viewer.settings); !ok)
+        if (auto ok = parseRendering(o, "1280x720", viewer.size, viewer.settings); !ok)
             return fail(ok.error());
         return runViewer(viewer);
     }
