@@ -29,7 +29,7 @@ void main() {
     }
     vel[i] = vec4(v, vel[i].w);
     pred[i] = vec4(x, 0.0);
-    uint bucket = cellHash(cellOf(x));
+    uint bucket = cellBucket(cellOf(x));
     hash[i] = bucket;
     // The rank depends on scheduling; pbf_bucket_sort.comp restores a fixed order when the run
     // must be deterministic.

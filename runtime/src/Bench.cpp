@@ -182,6 +182,12 @@ int runBench(const BenchOptions& o) {
                 wall > 0 ? double(o.steps) / wall : 0.0, throughput,
                 static_cast<unsigned long long>(sim->gpuBytes()),
                 static_cast<unsigned long long>(sim->bytesPerParticle()));
+    const glm::uvec3 grid = sim->neighbourGridCells();
+    const std::string gridText = grid.x > 0 ? "dense " + std::to_string(grid.x) + "x" +
+                                                  std::to_string(grid.y) + "x" +
+                                                  std::to_string(grid.z) + " cells"
+                                            : std::string("hash");
+    std::printf("  neighbour grid: %s\n", gridText.c_str());
 
     nlohmann::json render = nullptr;
     if (renderer)
@@ -205,6 +211,7 @@ int runBench(const BenchOptions& o) {
             {"particleIterationsPerSecond", throughput},
             {"gpuBytes", sim->gpuBytes()},
             {"bytesPerParticle", sim->bytesPerParticle()},
+            {"neighbourGrid", gridText},
         };
         if (!render.is_null())
             doc["render"] = render;

@@ -74,6 +74,8 @@ struct Simulation::Impl {
     SimulationOptions options;
     std::uint32_t capacity = 0;
     std::uint32_t tableSize = 0;
+    /// Buckets in use this substep: the dense grid's cells, or tableSize for the hash.
+    std::uint32_t activeBuckets = 0;
     std::uint32_t maxIterations = 0;
     std::uint32_t count = 0;
     std::uint32_t nextId = 0;
@@ -118,6 +120,9 @@ struct Simulation::Impl {
     }
     void uploadSolveArgs();
     void dispatchSolve(const gpu::Program& program, std::uint32_t iteration) const;
+    /// Cells per axis of the dense grid over the domain box at the current h, or 0 when the
+    /// hash is used (no domain, or more cells than the hash table's buckets).
+    glm::uvec3 denseGridDims() const;
     void begin(Pass p) {
         if (options.timers)
             timers[std::size_t(p)].begin();
@@ -214,6 +219,17 @@ void Simulation::Impl::dispatchSolve(const gpu::Program& program, std::uint32_t 
     }
 }
 
+glm::uvec3 Simulation::Impl::denseGridDims() const {
+    if (!scene.domainMin || !scene.domainMax)
+        return glm::uvec3(0);
+    // A domain 5 h wide in float is 5.0000001 h: that is 5 cells (cellOf clamps into the grid).
+    const glm::dvec3 cells = glm::max(
+        glm::ceil(glm::dvec3(*scene.domainMax - *scene.domainMin) / double(k.h) - 1e-3), 1.0);
+    if (cells.x * cells.y * cells.z > double(tableSize))
+        return glm::uvec3(0);
+    return glm::uvec3(cells);
+}
+
 void Simulation::Impl::uploadParams() {
     const format::SimulationParams& s = scene.simulation;
     shared::PbfParams p{};
@@ -226,8 +242,20 @@ void Simulation::Impl::uploadParams() {
         p.domainMin = {*scene.domainMin + glm::vec3(k.radius), 1.0f};
         p.domainMax = {*scene.domainMax - glm::vec3(k.radius), 0.0f};
     }
+    // A dense grid of h-wide cells over the domain box replaces the hash when it needs no more
+    // buckets than the hash table holds (docs/performance.md, "Done"): no hash collisions, and
+    // the three cells of a row are one contiguous range of sorted particles. h may change
+    // between substeps (setParameters), so this is decided here.
+    const glm::uvec3 dims = denseGridDims();
+    activeBuckets = tableSize;
+    p.gridDims = {0, 0, 0, 0};
+    if (dims.x > 0) {
+        p.gridDims = {dims, 1u};
+        p.gridOrigin = {*scene.domainMin, 0.0f};
+        activeBuckets = dims.x * dims.y * dims.z;
+    }
     p.counts = {count, tableSize - 1, std::uint32_t(colliderRecords.size()), s.minIterations};
-    p.control = {solveChunks, tableSize, options.deterministic ? 1u : 0u, maxIterations};
+    p.control = {solveChunks, activeBuckets, options.deterministic ? 1u : 0u, maxIterations};
     params.upload(std::span(&p, 1));
 }
 
@@ -319,13 +347,13 @@ void Simulation::Impl::substep() {
 
     // 3. Counting sort by bucket and reorder into the other buffers.
     begin(Pass::Sort);
-    scan->exclusive(cellCount, cellStart, tableSize);
+    scan->exclusive(cellCount, cellStart, activeBuckets);
     cellStart.bindStorage(shared::kBindCellStart);
     cellCount.bindStorage(shared::kBindCellCount);
     dispatch(scatter, count);
     barrier();
     if (options.deterministic) {
-        dispatch(bucketSort, tableSize);
+        dispatch(bucketSort, activeBuckets);
         barrier();
     }
     const int nxt = 1 - cur;
@@ -656,6 +684,8 @@ const gpu::Buffer& Simulation::positionBuffer() const { return m_impl->pos[m_imp
 const gpu::Buffer& Simulation::velocityBuffer() const { return m_impl->vel[m_impl->cur]; }
 std::uint64_t Simulation::gpuBytes() const { return m_impl->gpuBytes; }
 std::uint64_t Simulation::bytesPerParticle() const { return m_impl->bytesPerParticle; }
+
+glm::uvec3 Simulation::neighbourGridCells() const { return m_impl->denseGridDims(); }
 std::vector<std::uint32_t> Simulation::solveGroups() const {
     const Impl& s = *m_impl;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);

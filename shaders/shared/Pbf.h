@@ -58,6 +58,9 @@ struct PbfParams {
     uvec4 counts;   ///< particle count, hash table mask, collider count, minIterations
     uvec4 control;  ///< solve dispatch chunks per iteration, hash table size, deterministic,
                     ///< maxIterations
+    vec4 gridOrigin; ///< dense cell grid: its corner [m] xyz (the domain's minimum corner)
+    uvec4 gridDims;  ///< dense cell grid: cells per axis xyz, w = 1 when the grid replaces the
+                     ///< hash (cell (x, y, z) is bucket x + nx (y + ny z)), 0 for the hash
 };
 
 /// One collider on the GPU: its placement at the end of the substep and its grid.
@@ -100,7 +103,7 @@ struct PbfStats {
 SLUICE_SHARED_END
 
 #ifdef __cplusplus
-static_assert(sizeof(sluice::shared::PbfParams) == 9 * 16, "PbfParams is vec4s only");
+static_assert(sizeof(sluice::shared::PbfParams) == 11 * 16, "PbfParams is vec4s only");
 static_assert(sizeof(sluice::shared::GpuCollider) == 3 * 64 + 4 * 16, "GpuCollider layout");
 static_assert(sizeof(sluice::shared::PbfIterationStats) == 16, "PbfIterationStats layout");
 static_assert(sizeof(sluice::shared::PbfStats) == 16, "PbfStats layout");

@@ -30,11 +30,29 @@ vec3 spikyGrad(vec3 x, float q2) {
     return (P.kernel.w * a * a / q) * x;
 }
 
-ivec3 cellOf(vec3 x) { return ivec3(floor(x * P.scorr.w)); }
+// The cells are h wide. With a domain box (P.gridDims.w = 1) they form a dense grid from the
+// domain's corner, and a position outside it counts in the nearest boundary cell (clamping
+// keeps cells of points closer than h at most one apart, so no neighbour is lost); otherwise
+// they are unbounded and hashed into the table of P.counts.y + 1 buckets.
+bool denseGrid() { return P.gridDims.w != 0u; }
+
+ivec3 cellOf(vec3 x) {
+    if (denseGrid())
+        return clamp(ivec3(floor((x - P.gridOrigin.xyz) * P.scorr.w)), ivec3(0),
+                     ivec3(P.gridDims.xyz) - 1);
+    return ivec3(floor(x * P.scorr.w));
+}
 
 uint cellHash(ivec3 c) {
     return ((uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u)) &
            P.counts.y;
+}
+
+// The bucket of cell c: its dense index, or its hash.
+uint cellBucket(ivec3 c) {
+    if (denseGrid())
+        return uint(c.x) + P.gridDims.x * (uint(c.y) + P.gridDims.y * uint(c.z));
+    return cellHash(c);
 }
 
 // Finite test on the bits: compilers may assume isnan() and isinf() are false.
@@ -45,27 +63,43 @@ bool allFinite(vec3 v) {
 
 // Neighbour loop over the sorted particles. The neighbour set is fixed for the substep
 // (docs/pbf.md step 3): j is a neighbour of i when their x* at the substep start, START[],
-// were closer than h; START also chooses the cells visited. A candidate whose own start cell is
-// not the cell being visited came through a hash collision and is skipped, so no neighbour
-// is counted twice. Inside the body: j, xj = POS[j].xyz, d = xi - xj and q2 = |d|^2 from the
+// were closer than h; START also chooses the cells visited. On the dense grid the three cells
+// x - 1 .. x + 1 of a row are adjacent buckets, so their particles are one contiguous range:
+// 9 ranges, no cell test. On the hash, 27 buckets, and a candidate whose own start cell is not
+// the cell being visited came through a hash collision and is skipped, so no neighbour is
+// counted twice. Inside the body: j, xj = POS[j].xyz, d = xi - xj and q2 = |d|^2 from the
 // current positions POS (q2 may reach h as particles move; the kernels are 0 there).
 // Close with PBF_NEIGHBOURS_END.
 #define PBF_NEIGHBOURS_BEGIN(START, POS, i, xi)                                               \
     {                                                                                          \
         vec3 pbfStart_ = START[i].xyz;                                                         \
         ivec3 pbfCell_ = cellOf(pbfStart_);                                                    \
+        bool pbfDense_ = denseGrid();                                                          \
+        ivec3 pbfDims_ = ivec3(P.gridDims.xyz);                                                \
+        int pbfRanges_ = pbfDense_ ? 1 : 3;                                                    \
         for (int dz_ = -1; dz_ <= 1; ++dz_)                                                    \
             for (int dy_ = -1; dy_ <= 1; ++dy_)                                                \
-                for (int dx_ = -1; dx_ <= 1; ++dx_) {                                          \
-                    ivec3 cc_ = pbfCell_ + ivec3(dx_, dy_, dz_);                               \
-                    uint bucket_ = cellHash(cc_);                                              \
-                    uint begin_ = cellStart[bucket_];                                          \
-                    uint end_ = begin_ + cellCount[bucket_];                                   \
+                for (int dx_ = 0; dx_ < pbfRanges_; ++dx_) {                                   \
+                    ivec3 cc_ = pbfCell_ + ivec3(dx_ - 1, dy_, dz_);                           \
+                    uint begin_, end_;                                                         \
+                    if (pbfDense_) {                                                           \
+                        if (cc_.y < 0 || cc_.y >= pbfDims_.y || cc_.z < 0 || cc_.z >= pbfDims_.z) \
+                            continue;                                                          \
+                        ivec3 lo_ = ivec3(max(pbfCell_.x - 1, 0), cc_.y, cc_.z);               \
+                        ivec3 hi_ = ivec3(min(pbfCell_.x + 1, pbfDims_.x - 1), cc_.y, cc_.z);  \
+                        begin_ = cellStart[cellBucket(lo_)];                                   \
+                        uint last_ = cellBucket(hi_);                                          \
+                        end_ = cellStart[last_] + cellCount[last_];                            \
+                    } else {                                                                   \
+                        uint bucket_ = cellHash(cc_);                                          \
+                        begin_ = cellStart[bucket_];                                           \
+                        end_ = begin_ + cellCount[bucket_];                                    \
+                    }                                                                          \
                     for (uint j = begin_; j < end_; ++j) {                                     \
                         if (j == i)                                                            \
                             continue;                                                          \
                         vec3 startJ_ = START[j].xyz;                                           \
-                        if (cellOf(startJ_) != cc_)                                            \
+                        if (!pbfDense_ && cellOf(startJ_) != cc_)                              \
                             continue;                                                          \
                         vec3 d0_ = pbfStart_ - startJ_;                                        \
                         if (dot(d0_, d0_) >= PBF_H2)                                           \

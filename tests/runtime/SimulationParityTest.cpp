@@ -86,10 +86,19 @@ double meanPositionDifference(const std::vector<ParticleState>& a,
     return a.empty() ? 0.0 : sum / double(a.size());
 }
 
-class SimulationParity : public GpuTest {};
+// Both neighbour grids: the domain box as above gives 5 x 50 x 7 cells, fewer than the hash
+// table's 8192 buckets, so the solver uses the dense grid; the same box reaching up to y = 100 m
+// (nothing gets there) needs 5 x 2525 x 7 cells and the solver hashes instead.
+class SimulationParity : public GpuTest, public ::testing::WithParamInterface<bool> {};
 
-TEST_F(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfterTwenty) {
+INSTANTIATE_TEST_SUITE_P(Grids, SimulationParity, ::testing::Values(true, false),
+                         [](const auto& param) { return param.param ? "Dense" : "Hash"; });
+
+TEST_P(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfterTwenty) {
     ParityScene p = parityScene();
+    const bool dense = GetParam();
+    if (!dense)
+        p.scene.domainMax->y = 100.0f;
     std::vector<ref::ReferenceCollider> refColliders;
     for (std::size_t c = 0; c < p.assets.size(); ++c)
         refColliders.push_back({&p.assets[c], p.scene.colliders[c]});
@@ -101,6 +110,10 @@ TEST_F(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfter
     ASSERT_EQ(gpu->particleCount(), cpu.particles().size());
     ASSERT_GT(gpu->particleCount(), 1900u);
     const double h = p.scene.simulation.kernelRadius;
+    if (dense)
+        EXPECT_EQ(gpu->neighbourGridCells(), glm::uvec3(5, 50, 7));
+    else
+        EXPECT_EQ(gpu->neighbourGridCells(), glm::uvec3(0));
 
     // Before stepping: the same particles.
     EXPECT_EQ(maxPositionDifference(gpu->downloadParticles(), cpu.particles()), 0.0);

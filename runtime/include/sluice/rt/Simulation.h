@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/format/Scene.h"
@@ -121,6 +123,12 @@ public:
     /// rounded up: 168 to 184 from 512 particles up (the table has at least 1024 buckets).
     /// Colliders, statistics and parameters are not included.
     std::uint64_t bytesPerParticle() const;
+
+    /// The neighbour grid of the next step: with a domain box whose h-wide cells are no more
+    /// than the hash table's buckets, a dense grid of that many cells per axis (no hash
+    /// collisions, three cells of a row in one range); otherwise (0, 0, 0): the hash. Follows
+    /// kernelRadius changes made through setParameters.
+    glm::uvec3 neighbourGridCells() const;
 
     /// Work groups that each solver iteration's lambda and delta dispatches launched in the
     /// last substep, maxIterations of them: 0 for the iterations after the early stop, which
