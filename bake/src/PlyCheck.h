@@ -16,8 +16,14 @@
 //   - the body, element by element: ASCII holds one instance per line with one number per
 //     scalar property and, per list, a count then that many numbers; binary holds the bytes
 //     the header's types and the list counts add up to;
+//   - "end_header" stands alone on its line (assimp finds the body by that line's end);
+//   - there is something to bake: a "vertex" element with scalar x, y and z, and a "face" or
+//     "tristrips" element of at least one instance with a vertex_indices (or vertex_index)
+//     list; a point cloud is refused as EmptyMesh here, so assimp never reads it;
 //   - the vertex indices of "face" and "tristrips" lists are integers below the vertex count
 //     (tristrips may also hold -1, the strip break).
+// Keywords are matched in lower case only, as assimp matches them, so a line it skips is
+// skipped here too.
 // Data after the last element is ignored, as assimp ignores it.
 #pragma once
 
