@@ -36,7 +36,8 @@ namespace sluice::bake::detail {
 
 /// Checks `path` (read as PLY; its header already known to end with "end_header") and returns
 /// a MeshImport error that starts with `shown` and names the line, element and problem. A file
-/// whose first line is not "ply" is not judged here: success, and assimp says what it is.
+/// that does not start with "ply" (in any case) is not judged here: success, and assimp says
+/// what it is. Whatever follows "ply" on the first line is ignored, as assimp ignores it.
 Result<void> checkPlyFile(const std::filesystem::path& path, const std::string& shown);
 
 } // namespace sluice::bake::detail

@@ -372,6 +372,9 @@ TEST(MeshImport, ChecksAPlyFileAgainstItsHeaderBeforeAssimpReadsIt) {
           {"binary-cut-in-vertices.ply", binaryTetra(false, 3, 40),
            "the file ends inside \"vertex\" 3 of 4"},
           {"binary-index.ply", binaryTetra(true, 7), "\"face\" 3 of 4: vertex index 7"},
+          {"magic-and-more.ply", "plyp\n" + head.substr(4) + "element vertex 3\n" + faces +
+                                     "end_header\n",
+           "line 7: element \"vertex\" is declared twice"},
           {"end-header-and-more.ply",
            "ply\nformat binary_little_endian 1.0\nelement vertex 0\nend_header\v\x01\n",
            "line 4: end_header must end its line"},
