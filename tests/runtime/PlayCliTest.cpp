@@ -4,8 +4,6 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <utility>
-#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -141,54 +139,6 @@ TEST(SluicePlay, BenchCountsTheHashTableInTheBytesPerParticle) {
               std::string::npos)
         << result.out;
     EXPECT_GE(bench["gpuBytes"].get<std::uint64_t>(), expected * capacity - capacity);
-}
-
-// --bench-frames: the final state rendered and timed frame by frame at --size, in the table and
-// the JSON; the render options are checked as for capture.
-TEST(SluicePlay, BenchRendersAndTimesFramesOfTheFinalState) {
-    const fs::path dir = tempDir("bench-render");
-    const fs::path scenePath = kAssets / "drop.json";
-    const auto result =
-        play(dir, {scenePath.string(), "--bench", "--warmup", "1", "--steps", "1",
-                   "--bench-frames", "3", "--size", "200x120", "--surface", "fluid",
-                   "--bench-json", (dir / "b.json").string()});
-    ASSERT_EQ(result.code, 0) << shown(result);
-    EXPECT_NE(result.out.find("render 200x120, fluid,"), std::string::npos) << result.out;
-    const auto bench = nlohmann::json::parse(testrun::readText(dir / "b.json"));
-    ASSERT_TRUE(bench.contains("render")) << bench.dump(2);
-    const auto& render = bench["render"];
-    EXPECT_EQ(render["width"].get<int>(), 200);
-    EXPECT_EQ(render["height"].get<int>(), 120);
-    EXPECT_EQ(render["frames"].get<int>(), 3);
-    EXPECT_EQ(render["surface"].get<std::string>(), "fluid");
-    for (const char* pass : {"backdrop", "colliders", "fluid", "glass"})
-        EXPECT_GE(render["medianPassMs"][pass].get<double>(), 0.0) << pass;
-    EXPECT_GT(render["wallMsPerFrame"].get<double>(), 0.0);
-    // A frame's GPU time is its passes' (each timed inside it) and cannot exceed its wall time.
-    double passes = 0.0;
-    for (const auto& [name, ms] : render["medianPassMs"].items())
-        passes += ms.get<double>();
-    EXPECT_LE(render["medianFrameMs"].get<double>(), render["wallMsPerFrame"].get<double>() * 1.5);
-    EXPECT_LE(passes, render["medianFrameMs"].get<double>() * 1.5 + 0.05);
-    EXPECT_EQ(render["gpuTimersCoverDrawing"].get<bool>(),
-              bench["renderer"].get<std::string>().find("llvmpipe") == std::string::npos);
-
-    // Without --bench, and with a size or surface that cannot be, exit 2 and say why; no JSON.
-    const fs::path none = dir / "none.json";
-    for (const auto& [args, expected] :
-         {std::pair<std::vector<std::string>, std::string>{
-              {"--headless", "--steps", "1", "--bench-frames", "2"}, "--bench-frames needs --bench"},
-          {{"--bench", "--steps", "1", "--bench-frames", "2", "--size", "0x10"}, "--size"},
-          {{"--bench", "--steps", "1", "--bench-frames", "2", "--surface", "smoke"}, "--surface"},
-          {{"--bench", "--steps", "1", "--bench-frames", "0"}, "--bench-frames"}}) {
-        std::vector<std::string> all{scenePath.string()};
-        all.insert(all.end(), args.begin(), args.end());
-        all.insert(all.end(), {"--bench-json", none.string()});
-        const auto bad = play(dir, all);
-        EXPECT_EQ(bad.code, 2) << shown(bad);
-        EXPECT_NE(bad.err.find(expected), std::string::npos) << bad.err;
-        EXPECT_FALSE(fs::exists(none));
-    }
 }
 
 struct BadScene {
