@@ -209,9 +209,7 @@ Result<void> checkDeclaredCounts(const std::filesystem::path& path, std::uintmax
     std::string header(std::size_t(std::min<std::uintmax_t>(fileBytes, kMaxPlyHeaderBytes)), '\0');
     in.read(header.data(), std::streamsize(header.size()));
     header.resize(std::size_t(in.gcount()));
-    auto lower = [&](std::size_t i) { return std::tolower(static_cast<unsigned char>(header[i])); };
-    const bool plyMagic =
-        header.size() >= 3 && lower(0) == 'p' && lower(1) == 'l' && lower(2) == 'y';
+    const bool plyMagic = detail::hasPlyMagic(header);
     if (readAsPly(ext, plyMagic) && plyMagic && !hasPlyEndHeader(header))
         return fail(ErrorCode::MeshImport,
                     shown + ": the PLY header has no end_header line" +
@@ -358,16 +356,6 @@ Result<void> checkOffBody(const std::filesystem::path& path, const std::string& 
     return {};
 }
 
-/// Whether the file starts with "ply", in any case.
-bool startsWithPly(const std::filesystem::path& path) {
-    char magic[3] = {};
-    std::ifstream in(path, std::ios::binary);
-    in.read(magic, 3);
-    return in.gcount() == 3 && std::tolower(static_cast<unsigned char>(magic[0])) == 'p' &&
-           std::tolower(static_cast<unsigned char>(magic[1])) == 'l' &&
-           std::tolower(static_cast<unsigned char>(magic[2])) == 'y';
-}
-
 /// Whether any mesh has a face of three or more corners, looking only through pointers that
 /// are set (the scene is not validated yet).
 bool hasSurfaceFaces(const aiScene& scene) {
@@ -412,7 +400,8 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
     if (extension == ".off")
         if (Result<void> r = checkOffBody(path, shown); !r)
             return r.error();
-    if (readAsPly(extension, startsWithPly(path)))
+    // checkPlyFile reads the magic itself, and passes a file without it.
+    if (readAsPly(extension, /*plyMagic=*/true))
         if (Result<void> r = detail::checkPlyFile(path, shown); !r)
             return r.error();
 

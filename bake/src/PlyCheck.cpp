@@ -29,29 +29,42 @@ enum class Scalar { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 
 std::size_t bytesOf(Scalar s) {
     switch (s) {
     case Scalar::Int8:
-    case Scalar::UInt8: return 1;
+    case Scalar::UInt8:
+        return 1;
     case Scalar::Int16:
-    case Scalar::UInt16: return 2;
+    case Scalar::UInt16:
+        return 2;
     case Scalar::Int32:
     case Scalar::UInt32:
-    case Scalar::Float32: return 4;
-    case Scalar::Float64: return 8;
+    case Scalar::Float32:
+        return 4;
+    case Scalar::Float64:
+        return 8;
     }
     return 0;
 }
 
-bool isInteger(Scalar s) { return s != Scalar::Float32 && s != Scalar::Float64; }
+bool isInteger(Scalar s) {
+    return s != Scalar::Float32 && s != Scalar::Float64;
+}
 
 /// The inclusive range an integer type holds.
 std::pair<double, double> rangeOf(Scalar s) {
     switch (s) {
-    case Scalar::Int8: return {-128.0, 127.0};
-    case Scalar::UInt8: return {0.0, 255.0};
-    case Scalar::Int16: return {-32768.0, 32767.0};
-    case Scalar::UInt16: return {0.0, 65535.0};
-    case Scalar::Int32: return {-2147483648.0, 2147483647.0};
-    case Scalar::UInt32: return {0.0, 4294967295.0};
-    default: return {-HUGE_VAL, HUGE_VAL};
+    case Scalar::Int8:
+        return {-128.0, 127.0};
+    case Scalar::UInt8:
+        return {0.0, 255.0};
+    case Scalar::Int16:
+        return {-32768.0, 32767.0};
+    case Scalar::UInt16:
+        return {0.0, 65535.0};
+    case Scalar::Int32:
+        return {-2147483648.0, 2147483647.0};
+    case Scalar::UInt32:
+        return {0.0, 4294967295.0};
+    default:
+        return {-HUGE_VAL, HUGE_VAL};
     }
 }
 
@@ -91,7 +104,8 @@ struct Element {
     std::vector<Property> properties;
     /// The list of vertex indices, for "face" and "tristrips"; -1 when there is none.
     int indexList = -1;
-    bool strips = false;
+    /// Triangle strips, whose index lists may hold -1 (a strip break).
+    bool strips() const { return name == "tristrips"; }
 };
 
 enum class Encoding { Ascii, LittleEndian, BigEndian };
@@ -112,7 +126,8 @@ std::vector<std::string_view> wordsOf(std::string_view line) {
     return words;
 }
 
-/// Judges one file; every error goes through fail(), which prefixes the file and line.
+/// Judges one file; every error goes through problem() (with the current line) or
+/// problemNoLine(), which prefix the file.
 class PlyChecker {
 public:
     PlyChecker(const std::filesystem::path& path, const std::string& shown)
@@ -126,12 +141,14 @@ public:
         std::ifstream in(m_path, std::ios::binary);
         if (!in)
             return fail(ErrorCode::Io, m_shown + ": cannot open the file for reading");
-        std::string head(std::size_t(std::min<std::uint64_t>(m_fileBytes, kMaxHeaderBytes)),
-                         '\0');
+        std::string head(std::size_t(std::min<std::uint64_t>(m_fileBytes, kMaxHeaderBytes)), '\0');
         in.read(head.data(), std::streamsize(head.size()));
         head.resize(std::size_t(in.gcount()));
-        bool isPly = false;
-        if (Result<void> r = readHeader(head, isPly); !r || !isPly)
+        // assimp takes any file whose first three bytes are "ply" (found by tests/fuzz: "plyp"
+        // on the first line got past a whole-line test into assimp's reader).
+        if (!hasPlyMagic(head))
+            return {}; // not PLY: assimp says what it is
+        if (Result<void> r = readHeader(head); !r)
             return r;
         if (Result<void> r = checkSomethingToBake(); !r)
             return r;
@@ -151,7 +168,7 @@ private:
 
     // --- Header ---------------------------------------------------------------------------
 
-    Result<void> readHeader(const std::string& head, bool& isPly) {
+    Result<void> readHeader(const std::string& head) {
         std::size_t at = 0;
         bool sawFormat = false;
         m_line = 0;
@@ -169,15 +186,7 @@ private:
             const std::vector<std::string_view> words =
                 wordsOf(std::string_view(head).substr(at, end - at));
             at = next;
-            if (m_line == 1) {
-                // assimp takes any file whose first three bytes are "ply" (found by tests/fuzz:
-                // "plyp" on the first line got past a whole-line test into assimp's reader).
-                if (lowered(std::string_view(head).substr(0, 3)) != "ply")
-                    return {}; // not PLY: assimp says what it is
-                isPly = true;
-                continue;
-            }
-            if (words.empty())
+            if (m_line == 1 || words.empty()) // the first line holds the magic (checked)
                 continue;
             // Keywords in lower case only, as assimp matches them: a line it would skip is
             // skipped here too, so both see the same elements.
@@ -232,8 +241,10 @@ private:
         if (words.size() != 3)
             return problem("\"element\" needs a name and a count");
         const std::string count(words[2]);
-        if (count.find_first_not_of("0123456789") != std::string::npos || count.size() > 10 ||
-            std::strtoull(count.c_str(), nullptr, 10) > 0xffffffffull)
+        const bool digits = count.find_first_not_of("0123456789") == std::string::npos;
+        const std::uint64_t value =
+            digits && count.size() <= 10 ? std::strtoull(count.c_str(), nullptr, 10) : ~0ull;
+        if (value > 0xffffffffull)
             return problem("the count of element \"" + std::string(words[1]) +
                            "\" is not a whole number below 2^32");
         for (const Element& e : m_elements)
@@ -241,8 +252,7 @@ private:
                 return problem("element \"" + e.name + "\" is declared twice");
         Element element;
         element.name = std::string(words[1]);
-        element.count = std::strtoull(count.c_str(), nullptr, 10);
-        element.strips = element.name == "tristrips";
+        element.count = value;
         m_elements.push_back(std::move(element));
         return {};
     }
@@ -258,8 +268,7 @@ private:
             const std::optional<Scalar> count = scalarNamed(words[2]);
             const std::optional<Scalar> value = scalarNamed(words[3]);
             if (!count || !value)
-                return problem("unknown type \"" + std::string(count ? words[3] : words[2]) +
-                               "\"");
+                return problem("unknown type \"" + std::string(count ? words[3] : words[2]) + "\"");
             if (!isInteger(*count))
                 return problem("a list count must have an integer type, not \"" +
                                std::string(words[2]) + "\"");
@@ -280,7 +289,7 @@ private:
             if (p.name == property.name)
                 return problem("property \"" + p.name + "\" of element \"" + element.name +
                                "\" is declared twice");
-        const bool indices = (element.name == "face" || element.strips) && property.list &&
+        const bool indices = (element.name == "face" || element.strips()) && property.list &&
                              (property.name == "vertex_indices" || property.name == "vertex_index");
         if (indices) {
             if (!isInteger(property.value))
@@ -295,12 +304,14 @@ private:
     /// A file without vertex positions or faces has nothing to bake: said here, so that
     /// assimp never reads a PLY file sluice-bake would refuse anyway (found by tests/fuzz: a
     /// binary file of no elements crashed assimp's reader).
-    Result<void> checkSomethingToBake() const {
+    Result<void> checkSomethingToBake() {
         const Element* vertices = nullptr;
         bool faces = false;
         for (const Element& e : m_elements) {
-            if (e.name == "vertex")
+            if (e.name == "vertex") {
                 vertices = &e;
+                m_vertexCount = e.count;
+            }
             if (e.indexList >= 0 && e.count > 0)
                 faces = true;
         }
@@ -309,33 +320,26 @@ private:
                                 m_shown + ": no triangles (the PLY header declares no faces)");
         for (const char* axis : {"x", "y", "z"}) {
             const bool found =
-                vertices && std::any_of(vertices->properties.begin(), vertices->properties.end(),
-                                        [&](const Property& p) { return !p.list && p.name == axis; });
+                vertices &&
+                std::any_of(vertices->properties.begin(), vertices->properties.end(),
+                            [&](const Property& p) { return !p.list && p.name == axis; });
             if (!found)
-                return problemNoLine(std::string("the PLY vertex element has no scalar \"") +
-                                     axis + "\" property: no positions to read");
+                return problemNoLine(std::string("the PLY vertex element has no scalar \"") + axis +
+                                     "\" property: no positions to read");
         }
         return {};
     }
 
     // --- Body -----------------------------------------------------------------------------
 
-    std::uint64_t vertexCount() const {
-        for (const Element& e : m_elements)
-            if (e.name == "vertex")
-                return e.count;
-        return 0;
-    }
-
     /// Whether `index` may stand in a vertex-index list of `element`.
     Result<void> checkIndex(const Element& element, double index, std::uint64_t instance) const {
-        if (element.strips && index == -1.0)
+        if (element.strips() && index == -1.0)
             return {};
-        if (!(index >= 0.0 && index < double(vertexCount())))
+        if (!(index >= 0.0 && index < double(m_vertexCount)))
             return problemAt(element, instance,
                              "vertex index " + numberText(index) +
-                                 " is not below the vertex count " +
-                                 std::to_string(vertexCount()));
+                                 " is not below the vertex count " + std::to_string(m_vertexCount));
         return {};
     }
 
@@ -483,18 +487,45 @@ private:
         unsigned char b[8];
         const std::size_t n = bytesOf(s);
         std::memcpy(b, raw, n);
-        const bool swap = (m_encoding == Encoding::BigEndian) != (std::endian::native == std::endian::big);
+        const bool swap =
+            (m_encoding == Encoding::BigEndian) != (std::endian::native == std::endian::big);
         if (swap)
             std::reverse(b, b + n);
         switch (s) {
-        case Scalar::Int8: return double(std::int8_t(b[0]));
-        case Scalar::UInt8: return double(b[0]);
-        case Scalar::Int16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-        case Scalar::UInt16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-        case Scalar::Int32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-        case Scalar::UInt32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-        case Scalar::Float32: { float v; std::memcpy(&v, b, 4); return v; }
-        case Scalar::Float64: { double v; std::memcpy(&v, b, 8); return v; }
+        case Scalar::Int8:
+            return double(std::int8_t(b[0]));
+        case Scalar::UInt8:
+            return double(b[0]);
+        case Scalar::Int16: {
+            std::int16_t v;
+            std::memcpy(&v, b, 2);
+            return v;
+        }
+        case Scalar::UInt16: {
+            std::uint16_t v;
+            std::memcpy(&v, b, 2);
+            return v;
+        }
+        case Scalar::Int32: {
+            std::int32_t v;
+            std::memcpy(&v, b, 4);
+            return v;
+        }
+        case Scalar::UInt32: {
+            std::uint32_t v;
+            std::memcpy(&v, b, 4);
+            return v;
+        }
+        case Scalar::Float32: {
+            float v;
+            std::memcpy(&v, b, 4);
+            return v;
+        }
+        case Scalar::Float64: {
+            double v;
+            std::memcpy(&v, b, 8);
+            return v;
+        }
         }
         return 0;
     }
@@ -559,12 +590,17 @@ private:
     std::size_t m_line = 0, m_bodyFirstLine = 0;
     Encoding m_encoding = Encoding::Ascii;
     std::vector<Element> m_elements;
+    std::uint64_t m_vertexCount = 0; ///< of the "vertex" element, once the header is read
 };
 
 } // namespace
 
 Result<void> checkPlyFile(const std::filesystem::path& path, const std::string& shown) {
     return PlyChecker(path, shown).run();
+}
+
+bool hasPlyMagic(std::string_view start) {
+    return start.size() >= 3 && lowered(start.substr(0, 3)) == "ply";
 }
 
 } // namespace sluice::bake::detail

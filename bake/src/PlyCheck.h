@@ -29,6 +29,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "sluice/format/Result.h"
 
@@ -39,5 +40,9 @@ namespace sluice::bake::detail {
 /// that does not start with "ply" (in any case) is not judged here: success, and assimp says
 /// what it is. Whatever follows "ply" on the first line is ignored, as assimp ignores it.
 Result<void> checkPlyFile(const std::filesystem::path& path, const std::string& shown);
+
+/// Whether `start` (the first bytes of a file) begins with "ply" in any case: what makes
+/// assimp read a file of an extension it does not know as PLY.
+bool hasPlyMagic(std::string_view start);
 
 } // namespace sluice::bake::detail

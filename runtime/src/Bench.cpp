@@ -77,12 +77,11 @@ nlohmann::json benchRender(Renderer& renderer, const format::Scene& scene, const
     }
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("  render %ux%u, %s, %u particles, %u frames (each waited for):\n",
-                o.renderSize.x, o.renderSize.y, std::string(surfaceModeName(o.render.surface)).c_str(),
+    std::printf("  render %ux%u, %s, %u particles, %u frames (each waited for):\n", o.renderSize.x,
+                o.renderSize.y, std::string(surfaceModeName(o.render.surface)).c_str(),
                 sim.particleCount(), o.renderFrames);
-    const nlohmann::json passes = printMedians("render pass", passMs, [](std::size_t p) {
-        return renderPassName(RenderPass(p));
-    });
+    const nlohmann::json passes = printMedians(
+        "render pass", passMs, [](std::size_t p) { return renderPassName(RenderPass(p)); });
     const double frame = median(frameMs);
     std::printf("  %-16s %12.4f   (wall %.4f ms per frame, glFinish included)\n", "frame", frame,
                 1e3 * wall / double(o.renderFrames));

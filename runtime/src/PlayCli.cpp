@@ -273,8 +273,8 @@ int run(int argc, char** argv) {
     app.add_option("--warmup", o.warmup, "Steps run before --bench measures (default 20)");
     app.add_option("--bench-json", o.benchJson, "Write the --bench results to this JSON file");
     app.add_option("--bench-frames", o.benchFrames,
-                   "With --bench: then render N frames of the final state at --size (default "
-                   "1920x1080), each waited for, and report the median GPU time of every render pass")
+                   "With --bench: render N frames of the final state at --size (1920x1080), "
+                   "waiting for each, and report every render pass's median GPU time")
         ->check(CLI::Range(1u, 100000u));
     app.add_option("--frames", o.capture.framesDir,
                    "Write a PNG of every --every-th step into this folder (frame_STEP.png)");
@@ -285,7 +285,9 @@ int run(int argc, char** argv) {
     app.add_option("--fps", o.capture.fps,
                    "Frames per second of --video (default: real time, 1 / (every * timeStep))")
         ->check(CLI::PositiveNumber);
-    app.add_option("--size", o.size, "Image size WIDTHxHEIGHT: capture and the window (1280x720), --bench-frames (1920x1080)");
+    app.add_option(
+        "--size", o.size,
+        "Image size WIDTHxHEIGHT: capture and the window (1280x720), --bench-frames (1920x1080)");
     app.add_option("--zoom", o.capture.zoom,
                    "The scene camera's distance times this (0.7: closer), window and capture")
         ->check(CLI::Range(0.01f, 100.0f));

@@ -74,8 +74,6 @@ struct Simulation::Impl {
     SimulationOptions options;
     std::uint32_t capacity = 0;
     std::uint32_t tableSize = 0;
-    /// Buckets in use this substep: the dense grid's cells, or tableSize for the hash.
-    std::uint32_t activeBuckets = 0;
     std::uint32_t maxIterations = 0;
     std::uint32_t count = 0;
     std::uint32_t nextId = 0;
@@ -123,6 +121,11 @@ struct Simulation::Impl {
     /// Cells per axis of the dense grid over the domain box at the current h, or 0 when the
     /// hash is used (no domain, or more cells than the hash table's buckets).
     glm::uvec3 denseGridDims() const;
+    /// Buckets in use: the dense grid's cells, or tableSize for the hash.
+    std::uint32_t activeBuckets() const {
+        const glm::uvec3 dims = denseGridDims();
+        return dims.x > 0 ? dims.x * dims.y * dims.z : tableSize;
+    }
     void begin(Pass p) {
         if (options.timers)
             timers[std::size_t(p)].begin();
@@ -247,15 +250,13 @@ void Simulation::Impl::uploadParams() {
     // the three cells of a row are one contiguous range of sorted particles. h may change
     // between substeps (setParameters), so this is decided here.
     const glm::uvec3 dims = denseGridDims();
-    activeBuckets = tableSize;
     p.gridDims = {0, 0, 0, 0};
     if (dims.x > 0) {
         p.gridDims = {dims, 1u};
         p.gridOrigin = {*scene.domainMin, 0.0f};
-        activeBuckets = dims.x * dims.y * dims.z;
     }
     p.counts = {count, tableSize - 1, std::uint32_t(colliderRecords.size()), s.minIterations};
-    p.control = {solveChunks, activeBuckets, options.deterministic ? 1u : 0u, maxIterations};
+    p.control = {solveChunks, activeBuckets(), options.deterministic ? 1u : 0u, maxIterations};
     params.upload(std::span(&p, 1));
 }
 
@@ -347,13 +348,13 @@ void Simulation::Impl::substep() {
 
     // 3. Counting sort by bucket and reorder into the other buffers.
     begin(Pass::Sort);
-    scan->exclusive(cellCount, cellStart, activeBuckets);
+    scan->exclusive(cellCount, cellStart, activeBuckets());
     cellStart.bindStorage(shared::kBindCellStart);
     cellCount.bindStorage(shared::kBindCellCount);
     dispatch(scatter, count);
     barrier();
     if (options.deterministic) {
-        dispatch(bucketSort, activeBuckets);
+        dispatch(bucketSort, activeBuckets());
         barrier();
     }
     const int nxt = 1 - cur;
