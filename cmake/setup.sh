@@ -20,7 +20,7 @@ packages=(
   cmake ninja-build g++ pkg-config python3 python3-venv
   libassimp-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libboost-iostreams-dev libeigen3-dev
   libopenvdb-dev libtbb-dev libcereal-dev libcli11-dev libglm-dev libstb-dev libxxhash-dev
-  libspdlog-dev libfmt-dev nlohmann-json3-dev
+  libspdlog-dev libfmt-dev nlohmann-json3-dev rapidjson-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev
 )
