@@ -1,6 +1,8 @@
 // Strict, non-recursive JSON parsing that remembers where it was, and typed reads with paths.
 #include "Json.h"
 
+#include "sluice/format/Suggest.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -257,22 +259,6 @@ std::string describe(const rj::Value& value) {
     return "an unknown value";
 }
 
-std::size_t editDistance(std::string_view a, std::string_view b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j)
-        row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-        std::size_t diagonal = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t up = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-            diagonal = up;
-        }
-    }
-    return row[b.size()];
-}
-
 JsonObject::JsonObject(const rj::Value& value, std::string path,
                        std::initializer_list<std::string_view> keys)
     : m_value(value), m_path(std::move(path)) {
@@ -283,19 +269,10 @@ JsonObject::JsonObject(const rj::Value& value, std::string path,
         const std::string_view key(it->name.GetString(), it->name.GetStringLength());
         if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
             std::string problem = "unknown key \"" + displayKey(key) + "\"";
-            std::string_view best;
-            std::size_t bestDistance = 3;
-            if (key.size() <= kMaxKeyShown) {
-                for (const std::string_view k : keys) {
-                    const std::size_t d = editDistance(key, k);
-                    if (d < bestDistance) {
-                        bestDistance = d;
-                        best = k;
-                    }
-                }
-            }
-            if (!best.empty()) {
-                problem += " (did you mean \"" + std::string(best) + "\"?)";
+            std::vector<std::string> known(keys.begin(), keys.end());
+            const auto best = closestMatch(key, known);
+            if (best) {
+                problem += " (did you mean \"" + *best + "\"?)";
             } else {
                 problem += " (known keys:";
                 for (const std::string_view k : keys)

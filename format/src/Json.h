@@ -69,12 +69,10 @@ std::string formatNumber(double value);
 std::string formatFloat(float value);
 /// "a number", "a string", "an array of 2 elements", "an object", "true", "null", ...
 std::string describe(const rj::Value& value);
-/// Levenshtein distance (insert, delete, substitute, each 1).
-std::size_t editDistance(std::string_view a, std::string_view b);
 
 /// A JSON object whose keys were checked against the keys it may have. The constructor throws
 /// BadMetadata if `value` is not an object, has a key twice, or has a key not in `keys` (the
-/// message suggests the closest known key within edit distance 2, or lists them all).
+/// message suggests the closest known key (closestMatch), or lists them all).
 class JsonObject {
 public:
     JsonObject(const rj::Value& value, std::string path,
