@@ -1,28 +1,30 @@
 #!/usr/bin/env bash
 # The demo: bakes every demo collider with the CGAL backend (only those the build has not
-# already baked, see assets/CMakeLists.txt), validates it against its mesh (storing the figures
-# in the asset) and draws a slice of it; then plays the wave-with-sphere scene: in the viewer
-# window when there is a display, otherwise headless, printing the statistics table and writing
-# PLY frames, an MP4 and a PNG.
+# already baked, see assets/CMakeLists.txt), validates it against its mesh and draws a slice of
+# it; then plays the wave-with-sphere scene: in the viewer window when there is a display,
+# otherwise headless, printing the statistics table and writing PLY frames, an MP4 and a PNG.
 #   bash assets/demo.sh BIN_DIR [OUT_DIR]
-# BIN_DIR holds sluice-bake and sluice-play (build/dev/bin); OUT_DIR defaults to
-# build/dev/assets (the scenes are copied there by the build, next to the colliders).
+# BIN_DIR holds sluice-bake and sluice-play (build/dev/bin). The colliders and scenes are the
+# build's, in BIN_DIR/../assets; the demo only reads them. Everything the demo makes (slices,
+# statistics, PLY frames, video, pictures) goes into OUT_DIR, by default BIN_DIR/../demo
+# (build/dev/demo), never among the build products that the build and the tests read.
 # Called by `bash cmake/setup.sh demo`. Exits 1 if a collider fails validation, 2 on bad usage.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
-root=$(dirname "$here")
 if [ $# -lt 1 ] || [ $# -gt 2 ]; then
   echo "usage: bash assets/demo.sh BIN_DIR [OUT_DIR]" >&2
   exit 2
 fi
 exe="$1/sluice-bake"
-out=${2:-$root/build/dev/assets}
 if [ ! -x "$exe" ]; then
   echo "demo: $exe not found; build first (cmake --preset dev && cmake --build --preset dev)" >&2
   exit 2
 fi
-mkdir -p "$out"
+bin=$(cd "$1" && pwd)
+assets=$(dirname "$bin")/assets # the build's colliders and scenes
+out=${2:-$(dirname "$bin")/demo}
+mkdir -p "$assets" "$out"
 out=$(cd "$out" && pwd) # the manifest below names files by absolute path
 
 # [m] one grid spacing for every collider, as a scene would use: 2.7 voxels across the 2 cm
@@ -34,8 +36,8 @@ meshes=(sphere funnel peashooter tank)
 demo_start=$(date +%s%N)
 
 # One batch for the bakes: the build bakes the same colliders with the same settings into
-# build/<preset>/assets (sluice_bake_colliders in assets/CMakeLists.txt), so there they are
-# fresh and nothing is baked again; anywhere else batch bakes them, on all cores.
+# build/<preset>/assets (sluice_bake_colliders in assets/CMakeLists.txt), so they are fresh and
+# nothing is baked again; a build without them gets them baked there, on all cores.
 json_path() { local p=${1//\\/\\\\}; printf '"%s"' "${p//\"/\\\"}"; }
 manifest=$(mktemp --suffix=.json)
 trap 'rm -f "$manifest"' EXIT
@@ -44,7 +46,7 @@ trap 'rm -f "$manifest"' EXIT
   sep=""
   for name in "${meshes[@]}"; do
     printf '%s  {"mesh": %s, "output": %s, "voxelSize": %s, "backend": "cgal"}' "$sep" \
-      "$(json_path "$here/$name.obj")" "$(json_path "$out/$name.slc")" "$voxel_size"
+      "$(json_path "$here/$name.obj")" "$(json_path "$assets/$name.slc")" "$voxel_size"
     sep=$',\n'
   done
   printf '\n]}\n'
@@ -57,17 +59,17 @@ for name in "${meshes[@]}"; do
   echo
   echo "== $name"
   start=$(date +%s%N)
-  if ! "$exe" validate "$out/$name.slc" "$here/$name.obj" --write --quiet; then
+  if ! "$exe" validate "$assets/$name.slc" "$here/$name.obj" --quiet; then
     failed+=("$name")
   fi
-  "$exe" info "$out/$name.slc" --slice z=0.5 --png "$out/$name-z.png" | tail -n 1
+  "$exe" info "$assets/$name.slc" --slice z=0.5 --png "$out/$name-z.png" | tail -n 1
   end=$(date +%s%N)
   echo "  total      $(( (end - start) / 1000000 )) ms for validate and slice"
 done
 demo_end=$(date +%s%N)
 
 echo
-echo "demo: ${#meshes[@]} colliders in $out ($(( (demo_end - demo_start) / 1000000 )) ms)"
+echo "demo: ${#meshes[@]} colliders in $assets ($(( (demo_end - demo_start) / 1000000 )) ms)"
 if [ ${#failed[@]} -gt 0 ]; then
   echo "demo: validation FAILED for: ${failed[*]}" >&2
   exit 1
@@ -78,10 +80,10 @@ echo "demo: every collider validated against its mesh"
 # when the window cannot open: exit 3), headless: 2 s of it (120 steps of 1/60 s), statistics
 # every 10 steps, a PLY frame every 10 steps, every second step rendered into an MP4 and step 120
 # into a PNG. --check fails the demo if a particle ever ends up inside a collider or non-finite.
-scene="$out/wave-sphere.json"
+scene="$assets/wave-sphere.json" # the build copies it next to the colliders it names
 if [ ! -f "$scene" ]; then
-  scene_src="$here/wave-sphere.json"
-  cp "$scene_src" "$scene"
+  echo "demo: $scene not found; build first (cmake --build --preset dev)" >&2
+  exit 2
 fi
 play="$1/sluice-play"
 echo
