@@ -12,6 +12,7 @@
 
 #include "Bench.h"
 #include "CaptureFrames.h"
+#include "CaptureVideo.h"
 #include "PlayHeadless.h"
 #include "RunOutputs.h"
 #include "SceneChecks.h"
@@ -243,7 +244,25 @@ std::vector<RunOutput> runOutputs(const PlayOptions& o, PlayMode mode) {
     return outputs;
 }
 
-int startBench(const PlayOptions& o, LoadedScene loaded) {
+/// The image size and render settings of a run (--size, --colour, --surface).
+struct Rendering {
+    glm::uvec2 size{0};
+    RenderSettings settings;
+};
+
+/// The rendering flags of `mode`, checked before anything is read or written. A bench without
+/// --bench-frames renders nothing and leaves them unchecked.
+Result<Rendering> parseModeRendering(const PlayOptions& o, PlayMode mode) {
+    Rendering r;
+    if (mode == PlayMode::Bench && o.benchFrames == 0)
+        return r;
+    const char* defaultSize = mode == PlayMode::Bench ? "1920x1080" : "1280x720";
+    if (auto ok = parseRendering(o, defaultSize, r.size, r.settings); !ok)
+        return ok.error();
+    return r;
+}
+
+int startBench(const PlayOptions& o, const Rendering& rendering, LoadedScene loaded) {
     BenchOptions bench;
     bench.steps = o.steps > 0 ? o.steps : 100;
     bench.warmup = o.warmup;
@@ -251,13 +270,14 @@ int startBench(const PlayOptions& o, LoadedScene loaded) {
     bench.deterministic = o.deterministic;
     bench.renderFrames = o.benchFrames;
     bench.zoom = o.capture.zoom;
-    if (o.benchFrames > 0)
-        if (auto ok = parseRendering(o, "1920x1080", bench.renderSize, bench.render); !ok)
-            return reportFailure(ok.error());
+    if (o.benchFrames > 0) {
+        bench.renderSize = rendering.size;
+        bench.render = rendering.settings;
+    }
     return runBench(bench, loaded.scene, std::move(loaded.colliders));
 }
 
-int startWindow(const PlayOptions& o, const LoadedScene& loaded) {
+int startWindow(const PlayOptions& o, const Rendering& rendering, const LoadedScene& loaded) {
     ViewerOptions viewer;
     viewer.scene = o.scene;
     viewer.capture = o.capture;
@@ -268,15 +288,15 @@ int startWindow(const PlayOptions& o, const LoadedScene& loaded) {
     viewer.deterministic = o.deterministic;
     viewer.stepsPerFrame = o.stepsPerFrame;
     viewer.quiet = o.quiet;
-    if (auto ok = parseRendering(o, "1280x720", viewer.size, viewer.settings); !ok)
-        return reportFailure(ok.error());
+    viewer.size = rendering.size;
+    viewer.settings = rendering.settings;
     if (!o.quiet)
         for (const std::string& line : describeColliders(loaded.scene, loaded.colliders))
             std::cout << "sluice-play: " << line << '\n';
     return runViewer(viewer);
 }
 
-int startHeadless(const PlayOptions& o, LoadedScene loaded) {
+int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene loaded) {
     HeadlessOptions headless;
     headless.steps = o.steps;
     headless.statsEvery = o.statsEvery;
@@ -287,13 +307,20 @@ int startHeadless(const PlayOptions& o, LoadedScene loaded) {
     headless.check = o.check;
     headless.quiet = o.quiet;
     headless.capture = o.capture;
-    if (auto ok = parseRendering(o, "1280x720", headless.imageSize, headless.render); !ok)
-        return reportFailure(ok.error());
+    headless.imageSize = rendering.size;
+    headless.render = rendering.settings;
     return playHeadless(headless, loaded.scene, std::move(loaded.colliders));
 }
 
-/// After the command line: reads the scene, warns, prepares the outputs, runs `mode`.
+/// After the command line: checks the rendering flags and ffmpeg, reads the scene, warns,
+/// prepares the outputs, runs `mode`. Nothing is written before the outputs are prepared.
 int play(const CLI::App& app, const PlayOptions& o, PlayMode mode) {
+    const auto rendering = parseModeRendering(o, mode);
+    if (!rendering)
+        return reportFailure(rendering.error());
+    if (mode != PlayMode::Bench && !o.capture.video.empty())
+        if (auto ffmpeg = findFfmpeg(); !ffmpeg)
+            return reportFailure(ffmpeg.error());
     std::vector<PlayWarning> warnings;
     checkOptionUse(app, o, mode, warnings);
     checkScreenshotStep(o, mode, warnings);
@@ -308,14 +335,15 @@ int play(const CLI::App& app, const PlayOptions& o, PlayMode mode) {
         return reportFailure(ok.error());
     switch (mode) {
     case PlayMode::Bench:
-        return startBench(o, std::move(*loaded));
+        return startBench(o, *rendering, std::move(*loaded));
     case PlayMode::Window:
-        return startWindow(o, *loaded);
+        return startWindow(o, *rendering, *loaded);
     case PlayMode::Headless:
-        return startHeadless(o, std::move(*loaded));
+        return startHeadless(o, *rendering, std::move(*loaded));
     }
     return kPlayExitInternal;
 }
+
 int run(int argc, char** argv) {
     CLI::App app{"sluice-play: plays a Sluice fluid scene (Position Based Fluids on the GPU).",
                  "sluice-play"};

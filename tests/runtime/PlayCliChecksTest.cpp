@@ -208,6 +208,16 @@ TEST(SluicePlayChecks, AnOutputThatIsAFolderFailsBeforeTheRunAndNothingIsWritten
     EXPECT_FALSE(fs::exists(dir / "ply"));
 }
 
+TEST(SluicePlayChecks, ABadSizeFailsBeforeAnyFolderIsCreated) {
+    const fs::path dir = tempDir("bad-size");
+    const fs::path scene = writeScene(dir, "small.json", kSmallScene);
+    const auto run = play(dir, {scene.string(), "--headless", "--steps", "1", "--frames",
+                                (dir / "png").string(), "--size", "0x10"});
+    EXPECT_EQ(run.code, 2) << shown(run);
+    EXPECT_NE(run.err.find("--size 0x10"), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(dir / "png"));
+}
+
 TEST(SluicePlayChecks, BenchJsonGoesIntoAFolderCreatedFirst) {
     const fs::path dir = tempDir("bench-json-folder");
     const fs::path scene = writeScene(dir, "small.json", kSmallScene);
