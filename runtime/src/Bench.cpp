@@ -12,8 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "SceneChecks.h"
 #include "sluice/format/AtomicFile.h"
-#include "sluice/format/SceneIO.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/PlayCli.h"
 #include "sluice/rt/Simulation.h"
@@ -43,11 +43,6 @@ nlohmann::json printMedians(const char* title, const std::vector<std::vector<dou
         medians[nameOf(p)] = m;
     }
     return medians;
-}
-
-int fail(const Error& error) {
-    std::cerr << "sluice-play: " << error.message() << '\n';
-    return error.code == ErrorCode::NoGlContext ? kPlayExitNoGlContext : kPlayExitBadInput;
 }
 
 /// Renders the simulation's current state o.renderFrames times after a few unmeasured frames,
@@ -106,119 +101,168 @@ nlohmann::json benchRender(Renderer& renderer, const format::Scene& scene, const
             {"gpuTimersCoverDrawing", !softwareRaster}};
 }
 
-} // namespace
+/// What the measured steps gave.
+struct StepFigures {
+    std::vector<double> stepMs;              ///< GPU time of each measured step [ms]
+    std::vector<std::vector<double>> passMs; ///< per pass, each measured step [ms]
+    std::uint64_t iterations = 0;            ///< solver iterations of last substeps, summed
+    double errorSum = 0.0;                   ///< average density errors, summed
+    double wallSeconds = 0.0;                ///< the measured steps, without per-step waits
+};
 
-int runBench(const BenchOptions& o) {
-    auto scene = format::readScene(o.scene);
-    if (!scene)
-        return fail(scene.error());
-    auto colliders = loadSceneColliders(*scene);
-    if (!colliders)
-        return fail(colliders.error());
-    auto context = gpu::Context::createHeadless();
-    if (!context)
-        return fail(context.error());
-    // The renderer uploads the colliders to 3D textures of its own before the solver takes them.
-    std::optional<Renderer> renderer;
-    if (o.renderFrames > 0) {
-        auto created = Renderer::create(*scene, *colliders, o.renderSize);
-        if (!created)
-            return fail(created.error());
-        renderer.emplace(std::move(*created));
-    }
-    SimulationOptions options;
-    options.deterministic = o.deterministic;
-    auto sim = Simulation::create(*scene, std::move(*colliders), options);
-    if (!sim)
-        return fail(sim.error());
+/// The renderer of --bench-frames, created before the solver takes the colliders (it uploads
+/// them to 3D textures of its own); none when no frames are asked for.
+Result<std::optional<Renderer>>
+createRenderer(const BenchOptions& o, const format::Scene& scene,
+               const std::vector<format::ColliderAsset>& colliders) {
+    if (o.renderFrames == 0)
+        return std::optional<Renderer>{};
+    auto created = Renderer::create(scene, colliders, o.renderSize);
+    if (!created)
+        return created.error();
+    return std::optional<Renderer>(std::move(*created));
+}
 
+/// Warm-up steps, then the measured ones. Each measured step is drained before the next, so
+/// the GPU times are per step; the wall time of the whole run is measured separately, without
+/// per-step waits.
+StepFigures measureSteps(Simulation& sim, const BenchOptions& o) {
     for (std::uint64_t i = 0; i < o.warmup; ++i)
-        sim->step();
-    sim->drainPassTimes();
-
-    // Each measured step is drained before the next, so the GPU times are per step; the wall
-    // time of the whole run is measured separately, without per-step waits.
-    std::vector<double> stepMs;
-    std::vector<std::vector<double>> passMs(std::size_t(Pass::Count));
-    std::uint64_t iterations = 0;
-    double errorSum = 0.0;
+        sim.step();
+    sim.drainPassTimes();
+    StepFigures f;
+    f.passMs.resize(std::size_t(Pass::Count));
     const auto start = std::chrono::steady_clock::now();
     for (std::uint64_t i = 0; i < o.steps; ++i) {
-        sim->step();
-        const PassTimes times = sim->drainPassTimes();
+        sim.step();
+        const PassTimes times = sim.drainPassTimes();
         double total = 0.0;
         for (std::size_t p = 0; p < times.size(); ++p) {
-            passMs[p].push_back(times[p]);
+            f.passMs[p].push_back(times[p]);
             total += std::max(times[p], 0.0);
         }
-        stepMs.push_back(total);
-        const StepStats stats = sim->readStats();
-        iterations += stats.iterations;
-        errorSum += stats.avgDensityError;
+        f.stepMs.push_back(total);
+        const StepStats stats = sim.readStats();
+        f.iterations += stats.iterations;
+        f.errorSum += stats.avgDensityError;
     }
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    f.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return f;
+}
 
-    const std::uint32_t particles = sim->particleCount();
-    const double stepMedian = median(stepMs);
-    const double substeps = scene->simulation.substeps;
-    const double avgIterations = double(iterations) / double(std::max<std::uint64_t>(o.steps, 1));
+/// The figures derived from the measured steps, as printed and written.
+struct StepSummary {
+    std::uint32_t particles = 0;
+    double stepMedian = 0.0; ///< [ms]
+    double substeps = 0.0;
+    double avgIterations = 0.0; ///< mean iterations of the last substeps
+    double avgError = 0.0;      ///< mean average density error
+    double throughput = 0.0;    ///< particle-iterations per second of median GPU step time
+    double stepsPerSecondWall = 0.0;
+    std::string grid; ///< "dense 50x25x10 cells" or "hash"
+};
+
+StepSummary summarize(const Simulation& sim, const format::Scene& scene, const BenchOptions& o,
+                      const StepFigures& f) {
+    StepSummary s;
+    const double steps = double(std::max<std::uint64_t>(o.steps, 1));
+    s.particles = sim.particleCount();
+    s.stepMedian = median(f.stepMs);
+    s.substeps = scene.simulation.substeps;
+    s.avgIterations = double(f.iterations) / steps;
+    s.avgError = f.errorSum / steps;
     // Particle-iterations per second: particles x substeps x iterations of the last substep,
     // per second of median GPU step time.
-    const double throughput =
-        stepMedian > 0.0 ? particles * substeps * avgIterations / (stepMedian * 1e-3) : 0.0;
+    s.throughput = s.stepMedian > 0.0
+                       ? s.particles * s.substeps * s.avgIterations / (s.stepMedian * 1e-3)
+                       : 0.0;
+    s.stepsPerSecondWall = f.wallSeconds > 0 ? double(o.steps) / f.wallSeconds : 0.0;
+    const glm::uvec3 grid = sim.neighbourGridCells();
+    s.grid = grid.x > 0 ? "dense " + std::to_string(grid.x) + "x" + std::to_string(grid.y) + "x" +
+                              std::to_string(grid.z) + " cells"
+                        : std::string("hash");
+    return s;
+}
 
-    std::printf("sluice-play --bench %s\n  GL: %s\n  %u particles, %g substeps, %.2f iterations "
+/// Prints the step table; returns the per-pass medians as JSON.
+nlohmann::json printSteps(const Simulation& sim, const format::Scene& scene,
+                          const std::string& glRenderer, const std::vector<std::string>& colliders,
+                          const StepFigures& f, const StepSummary& s) {
+    std::printf("sluice-play --bench %s\n", scene.path.c_str());
+    for (const std::string& line : colliders)
+        std::printf("  %s\n", line.c_str());
+    std::printf("  GL: %s\n  %u particles, %g substeps, %.2f iterations "
                 "(mean of the last substeps), avg density error %.3f %%\n",
-                scene->path.c_str(), context->info().renderer.c_str(), particles, substeps,
-                avgIterations, 100.0 * errorSum / double(std::max<std::uint64_t>(o.steps, 1)));
+                glRenderer.c_str(), s.particles, s.substeps, s.avgIterations, 100.0 * s.avgError);
     const nlohmann::json passes =
-        printMedians("pass", passMs, [](std::size_t p) { return passName(Pass(p)); });
+        printMedians("pass", f.passMs, [](std::size_t p) { return passName(Pass(p)); });
     std::printf("  %-16s %12.4f\n  steps/s (GPU median): %.2f   steps/s (wall): %.2f\n"
                 "  particle-iterations/s: %.4g   GPU memory: %llu bytes (%llu per particle of "
                 "capacity, hash table included, colliders not)\n",
-                "step", stepMedian, stepMedian > 0 ? 1e3 / stepMedian : 0.0,
-                wall > 0 ? double(o.steps) / wall : 0.0, throughput,
-                static_cast<unsigned long long>(sim->gpuBytes()),
-                static_cast<unsigned long long>(sim->bytesPerParticle()));
-    const glm::uvec3 grid = sim->neighbourGridCells();
-    const std::string gridText = grid.x > 0 ? "dense " + std::to_string(grid.x) + "x" +
-                                                  std::to_string(grid.y) + "x" +
-                                                  std::to_string(grid.z) + " cells"
-                                            : std::string("hash");
-    std::printf("  neighbour grid: %s\n", gridText.c_str());
+                "step", s.stepMedian, s.stepMedian > 0 ? 1e3 / s.stepMedian : 0.0,
+                s.stepsPerSecondWall, s.throughput, static_cast<unsigned long long>(sim.gpuBytes()),
+                static_cast<unsigned long long>(sim.bytesPerParticle()));
+    std::printf("  neighbour grid: %s\n", s.grid.c_str());
+    return passes;
+}
 
+Result<void> writeBenchJson(const BenchOptions& o, const format::Scene& scene,
+                            const std::string& glRenderer, const Simulation& sim,
+                            const StepSummary& s, const nlohmann::json& passes,
+                            const nlohmann::json& render) {
+    nlohmann::json doc = {
+        {"tool", std::string("sluice-play ") + SLUICE_VERSION},
+        {"scene", scene.path},
+        {"renderer", glRenderer},
+        {"particles", s.particles},
+        {"substeps", s.substeps},
+        {"meanIterations", s.avgIterations},
+        {"avgDensityError", s.avgError},
+        {"warmupSteps", o.warmup},
+        {"measuredSteps", o.steps},
+        {"medianStepMs", s.stepMedian},
+        {"medianPassMs", passes},
+        {"stepsPerSecondGpu", s.stepMedian > 0 ? 1e3 / s.stepMedian : 0.0},
+        {"stepsPerSecondWall", s.stepsPerSecondWall},
+        {"particleIterationsPerSecond", s.throughput},
+        {"gpuBytes", sim.gpuBytes()},
+        {"bytesPerParticle", sim.bytesPerParticle()},
+        {"neighbourGrid", s.grid},
+    };
+    if (!render.is_null())
+        doc["render"] = render;
+    const std::string text = doc.dump(2) + "\n";
+    return format::writeFileAtomic(o.json, std::as_bytes(std::span(text.data(), text.size())));
+}
+
+} // namespace
+
+int runBench(const BenchOptions& o, const format::Scene& scene,
+             std::vector<format::ColliderAsset> colliders) {
+    const std::vector<std::string> colliderLines = describeColliders(scene, colliders);
+    auto context = gpu::Context::createHeadless();
+    if (!context)
+        return reportFailure(context.error());
+    auto renderer = createRenderer(o, scene, colliders);
+    if (!renderer)
+        return reportFailure(renderer.error());
+    SimulationOptions options;
+    options.deterministic = o.deterministic;
+    auto sim = Simulation::create(scene, std::move(colliders), options);
+    if (!sim)
+        return reportFailure(sim.error());
+
+    const std::string& glRenderer = context->info().renderer;
+    const StepFigures figures = measureSteps(*sim, o);
+    const StepSummary summary = summarize(*sim, scene, o, figures);
+    const nlohmann::json passes =
+        printSteps(*sim, scene, glRenderer, colliderLines, figures, summary);
     nlohmann::json render = nullptr;
-    if (renderer)
-        render = benchRender(*renderer, *scene, *sim, o, context->info().renderer);
-
-    if (!o.json.empty()) {
-        nlohmann::json doc = {
-            {"tool", std::string("sluice-play ") + SLUICE_VERSION},
-            {"scene", scene->path},
-            {"renderer", context->info().renderer},
-            {"particles", particles},
-            {"substeps", substeps},
-            {"meanIterations", avgIterations},
-            {"avgDensityError", errorSum / double(std::max<std::uint64_t>(o.steps, 1))},
-            {"warmupSteps", o.warmup},
-            {"measuredSteps", o.steps},
-            {"medianStepMs", stepMedian},
-            {"medianPassMs", passes},
-            {"stepsPerSecondGpu", stepMedian > 0 ? 1e3 / stepMedian : 0.0},
-            {"stepsPerSecondWall", wall > 0 ? double(o.steps) / wall : 0.0},
-            {"particleIterationsPerSecond", throughput},
-            {"gpuBytes", sim->gpuBytes()},
-            {"bytesPerParticle", sim->bytesPerParticle()},
-            {"neighbourGrid", gridText},
-        };
-        if (!render.is_null())
-            doc["render"] = render;
-        const std::string text = doc.dump(2) + "\n";
-        if (auto ok = format::writeFileAtomic(o.json, std::as_bytes(std::span(text.data(), text.size())));
-            !ok)
-            return fail(ok.error());
-    }
+    if (*renderer)
+        render = benchRender(**renderer, scene, *sim, o, glRenderer);
+    if (!o.json.empty())
+        if (auto ok = writeBenchJson(o, scene, glRenderer, *sim, summary, passes, render); !ok)
+            return reportFailure(ok.error());
     return kPlayExitOk;
 }
 

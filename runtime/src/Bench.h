@@ -3,15 +3,17 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Scene.h"
 #include "sluice/rt/render/Renderer.h"
 
 namespace sluice::rt {
 
 struct BenchOptions {
-    std::string scene;          ///< scene file
     std::uint64_t steps = 100;  ///< measured steps
     std::uint64_t warmup = 20;  ///< steps run first and not measured
     std::string json;           ///< results file, empty for none
@@ -25,7 +27,9 @@ struct BenchOptions {
     float zoom = 1.0f;
 };
 
-/// Runs the benchmark and prints its table; returns a sluice-play exit code.
-int runBench(const BenchOptions& options);
+/// Runs the benchmark on `scene` with its loaded `colliders` (one per scene collider) and
+/// prints its table; returns a sluice-play exit code (PlayCli.h).
+int runBench(const BenchOptions& options, const format::Scene& scene,
+             std::vector<format::ColliderAsset> colliders);
 
 } // namespace sluice::rt

@@ -2,25 +2,22 @@
 // capture, and the hand-over to the viewer window.
 #include "sluice/rt/PlayCli.h"
 
-#include <chrono>
-#include <cstdio>
 #include <exception>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "Bench.h"
 #include "CaptureFrames.h"
-#include "CaptureHeadless.h"
-#include "StatsReport.h"
+#include "CaptureVideo.h"
+#include "PlayHeadless.h"
+#include "RunOutputs.h"
+#include "SceneChecks.h"
 #include "Viewer.h"
-#include "sluice/format/AtomicFile.h"
 #include "sluice/format/SceneIO.h"
-#include "sluice/gpu/Context.h"
-#include "sluice/rt/PlyWriter.h"
 #include "sluice/rt/Simulation.h"
 #include "sluice/rt/render/Renderer.h"
 
@@ -36,7 +33,12 @@ constexpr const char* kExitCodeHelp = R"(Exit codes:
 
 Without --headless, sluice-play opens a window (GLFW): drag to orbit, right or middle drag to
 pan, wheel to zoom; F1 lists the keys. --frames, --video and --screenshot-at capture in
-both modes (headless through EGL into an offscreen framebuffer).)";
+both modes (headless through EGL into an offscreen framebuffer).
+
+Before the first step sluice-play warns on stderr about likely mistakes: fluid outside the
+domain box or in a collider, a collider far from the scene's scale, a --screenshot-at after
+the last step, options that do nothing in the chosen mode. --strict makes them errors (exit 2).
+Output files and folders are checked, and their folders created, before any work starts.)";
 
 struct PlayOptions {
     std::string scene;
@@ -49,6 +51,7 @@ struct PlayOptions {
     bool deterministic = false;
     bool check = false;
     bool quiet = false;
+    bool strict = false;
     bool bench = false;
     std::string benchJson;
     std::uint64_t warmup = 20;
@@ -62,19 +65,9 @@ struct PlayOptions {
     std::uint64_t maxFrames = 0;
     bool noVsync = false;
     bool noPanel = false;
+    bool screenshotPanel = false;
     std::uint32_t stepsPerFrame = 1;
 };
-
-int fail(const Error& error) {
-    std::cerr << "sluice-play: " << error.message() << '\n';
-    return playExitCode(error);
-}
-
-std::string plyName(std::uint64_t step) {
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%06llu.ply", static_cast<unsigned long long>(step));
-    return name;
-}
 
 /// --size (or `defaultSize` when it is not given), --colour and --surface.
 Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::uvec2& size,
@@ -96,154 +89,259 @@ Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::
     return {};
 }
 
-int playHeadless(const PlayOptions& o) {
-    auto scene = format::readScene(o.scene);
+/// The three ways sluice-play runs.
+enum class PlayMode { Headless, Window, Bench };
+
+const char* modeWords(PlayMode mode) {
+    switch (mode) {
+    case PlayMode::Headless:
+        return "in a --headless run";
+    case PlayMode::Window:
+        return "in the window";
+    case PlayMode::Bench:
+        return "with --bench";
+    }
+    return "";
+}
+
+/// An option and the modes it does something in.
+struct OptionUse {
+    const char* name;
+    bool headless;
+    bool window;
+    bool bench;
+};
+
+constexpr OptionUse kOptionUses[] = {
+    {"--steps", true, false, true},
+    {"--stats-every", true, false, false},
+    {"--stats-json", true, false, false},
+    {"--dump-ply", true, false, false},
+    {"--dump-every", true, false, false},
+    {"--check", true, false, false},
+    {"--quiet", true, true, false},
+    {"--warmup", false, false, true},
+    {"--bench-json", false, false, true},
+    {"--frames", true, true, false},
+    {"--every", true, true, false},
+    {"--video", true, true, false},
+    {"--fps", true, true, false},
+    {"--screenshot-at", true, true, false},
+    {"--shots", true, true, false},
+    {"--max-frames", false, true, false},
+    {"--no-vsync", false, true, false},
+    {"--no-panel", false, true, false},
+    {"--steps-per-frame", false, true, false},
+    {"--screenshot-panel", false, true, false},
+};
+
+bool usedIn(const OptionUse& use, PlayMode mode) {
+    return mode == PlayMode::Headless ? use.headless
+           : mode == PlayMode::Window ? use.window
+                                      : use.bench;
+}
+
+PlayWarning unusedOption(const std::string& option, const std::string& why) {
+    return {"unused-option", option + " does nothing " + why};
+}
+
+/// Options given that do nothing in `mode`, or nothing without another option.
+void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
+                    std::vector<PlayWarning>& out) {
+    const auto given = [&](const char* name) { return app.count(name) > 0; };
+    for (const OptionUse& use : kOptionUses)
+        if (given(use.name) && !usedIn(use, mode))
+            out.push_back(unusedOption(use.name, modeWords(mode)));
+    if (mode == PlayMode::Headless && given("--dump-every") && o.plyDir.empty())
+        out.push_back(unusedOption("--dump-every", "without --dump-ply"));
+    if (mode != PlayMode::Bench && given("--every") && !o.capture.frames())
+        out.push_back(unusedOption("--every", "without --frames or --video"));
+    if (mode != PlayMode::Bench && given("--fps") && o.capture.video.empty())
+        out.push_back(unusedOption("--fps", "without --video"));
+    if (mode == PlayMode::Headless && given("--shots") && !o.capture.screenshotAt)
+        out.push_back(unusedOption("--shots", "in a --headless run without --screenshot-at"));
+    const bool renders = mode == PlayMode::Window ||
+                         (mode == PlayMode::Headless && o.capture.any()) ||
+                         (mode == PlayMode::Bench && o.benchFrames > 0);
+    const char* renderWhy = mode == PlayMode::Bench
+                                ? "with --bench without --bench-frames"
+                                : "in a --headless run without --frames, --video or "
+                                  "--screenshot-at";
+    for (const char* name : {"--size", "--colour", "--surface", "--zoom"})
+        if (given(name) && !renders)
+            out.push_back(unusedOption(name, renderWhy));
+}
+
+/// A --screenshot-at step the run never reaches.
+void checkScreenshotStep(const PlayOptions& o, PlayMode mode, std::vector<PlayWarning>& out) {
+    if (!o.capture.screenshotAt)
+        return;
+    const std::uint64_t at = *o.capture.screenshotAt;
+    std::uint64_t last = 0;
+    std::string limit;
+    if (mode == PlayMode::Headless) {
+        last = o.steps;
+        limit = "--steps " + std::to_string(o.steps);
+    } else if (mode == PlayMode::Window && o.maxFrames > 0) {
+        // Frame f shows step f * stepsPerFrame; the last frame is maxFrames - 1.
+        last = (o.maxFrames - 1) * o.stepsPerFrame;
+        limit = "--max-frames " + std::to_string(o.maxFrames) + " shows steps up to " +
+                std::to_string(last);
+    } else {
+        return;
+    }
+    if (at > last)
+        out.push_back({"screenshot-after-end", "--screenshot-at " + std::to_string(at) +
+                                                   " is after the last step (" + limit +
+                                                   "): no screenshot would be written"});
+}
+
+/// The scene and its colliders, read once, before any GL work.
+struct LoadedScene {
+    format::Scene scene;
+    std::vector<format::ColliderAsset> colliders;
+};
+
+Result<LoadedScene> loadScene(const std::string& path) {
+    auto scene = format::readScene(path);
     if (!scene)
-        return fail(scene.error());
+        return scene.error();
     auto colliders = loadSceneColliders(*scene);
     if (!colliders)
-        return fail(colliders.error());
-    if (!o.plyDir.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(o.plyDir, ec);
-        if (ec)
-            return fail({ErrorCode::Io, o.plyDir + ": cannot create the PLY folder: " +
-                                            ec.message()});
-    }
+        return colliders.error();
+    return LoadedScene{std::move(*scene), std::move(*colliders)};
+}
 
-    glm::uvec2 imageSize;
+/// Prints the warnings on stderr; with --strict any of them stops the run before the first
+/// step: the exit code then.
+std::optional<int> reportWarnings(const std::vector<PlayWarning>& warnings, bool strict) {
+    for (const PlayWarning& warning : warnings)
+        std::cerr << warningLine(warning) << '\n';
+    if (!strict || warnings.empty())
+        return std::nullopt;
+    if (warnings.size() == 1)
+        std::cerr << "sluice-play: --strict turned the warning above into an error";
+    else
+        std::cerr << "sluice-play: --strict turned the " << warnings.size()
+                  << " warnings above into errors";
+    std::cerr << "; nothing was run\n";
+    return kPlayExitBadInput;
+}
+
+/// The files and folders a run in `mode` writes.
+std::vector<RunOutput> runOutputs(const PlayOptions& o, PlayMode mode) {
+    if (mode == PlayMode::Bench)
+        return {{"--bench-json", o.benchJson, false}};
+    std::vector<RunOutput> outputs = {{"--frames", o.capture.framesDir, true},
+                                      {"--video", o.capture.video, false}};
+    // Headless runs write into --shots only for --screenshot-at; the window's P key uses it too.
+    if (mode == PlayMode::Window || o.capture.screenshotAt)
+        outputs.push_back({"--shots", o.capture.shotsDir, true});
+    if (mode == PlayMode::Headless) {
+        outputs.push_back({"--stats-json", o.statsJson, false});
+        outputs.push_back({"--dump-ply", o.plyDir, true});
+    }
+    return outputs;
+}
+
+/// The image size and render settings of a run (--size, --colour, --surface).
+struct Rendering {
+    glm::uvec2 size{0};
     RenderSettings settings;
-    if (auto ok = parseRendering(o, "1280x720", imageSize, settings); !ok)
-        return fail(ok.error());
+};
 
-    auto context = gpu::Context::createHeadless();
-    if (!context)
-        return fail(context.error());
-    SimulationOptions simOptions;
-    simOptions.deterministic = o.deterministic;
-    // The renderer uploads the colliders to 3D textures of its own before the solver takes them.
-    std::optional<HeadlessCapture> capture;
-    if (o.capture.any()) {
-        auto started = HeadlessCapture::start(*scene, *colliders, o.capture, imageSize, settings);
-        if (!started)
-            return fail(started.error());
-        capture.emplace(std::move(*started));
-    }
-    auto sim = Simulation::create(*scene, std::move(*colliders), simOptions);
-    if (!sim)
-        return fail(sim.error());
+/// The rendering flags of `mode`, checked before anything is read or written. A bench without
+/// --bench-frames renders nothing and leaves them unchecked.
+Result<Rendering> parseModeRendering(const PlayOptions& o, PlayMode mode) {
+    Rendering r;
+    if (mode == PlayMode::Bench && o.benchFrames == 0)
+        return r;
+    const char* defaultSize = mode == PlayMode::Bench ? "1920x1080" : "1280x720";
+    if (auto ok = parseRendering(o, defaultSize, r.size, r.settings); !ok)
+        return ok.error();
+    return r;
+}
 
-    const std::uint64_t every =
-        o.statsEvery > 0 ? o.statsEvery : std::max<std::uint64_t>(1, o.steps / 20);
-    if (!o.quiet) {
-        std::cout << "scene " << scene->path << ": " << sim->particleCount() << " particles ("
-                  << sim->capacity() << " capacity), " << scene->colliders.size()
-                  << " colliders, " << scene->simulation.substeps << " substeps of "
-                  << sim->constants().dt * 1e3 << " ms, up to " << scene->simulation.maxIterations
-                  << " iterations\n"
-                  << "GL: " << context->info().renderer << "\n\n"
-                  << statsTableHeader();
+int startBench(const PlayOptions& o, const Rendering& rendering, LoadedScene loaded) {
+    BenchOptions bench;
+    bench.steps = o.steps > 0 ? o.steps : 100;
+    bench.warmup = o.warmup;
+    bench.json = o.benchJson;
+    bench.deterministic = o.deterministic;
+    bench.renderFrames = o.benchFrames;
+    bench.zoom = o.capture.zoom;
+    if (o.benchFrames > 0) {
+        bench.renderSize = rendering.size;
+        bench.render = rendering.settings;
     }
+    return runBench(bench, loaded.scene, std::move(loaded.colliders));
+}
 
-    nlohmann::json steps = nlohmann::json::array();
-    bool dirty = false;
-    bool capacityReported = false;
-    auto dump = [&](std::uint64_t step) -> Result<void> {
-        if (o.plyDir.empty() || step % o.dumpEvery != 0)
-            return {};
-        const auto particles = sim->downloadParticles();
-        return writePly(std::filesystem::path(o.plyDir) / plyName(step), particles);
-    };
-    if (auto ok = dump(0); !ok)
-        return fail(ok.error());
-    auto captureStep = [&](std::uint64_t step) -> Result<void> {
-        return capture ? capture->afterStep(*sim, step) : Result<void>{};
-    };
-    if (auto ok = captureStep(0); !ok)
-        return fail(ok.error());
+int startWindow(const PlayOptions& o, const Rendering& rendering, const LoadedScene& loaded) {
+    ViewerOptions viewer;
+    viewer.scene = o.scene;
+    viewer.capture = o.capture;
+    viewer.maxFrames = o.maxFrames;
+    viewer.vsync = !o.noVsync;
+    viewer.panel = !o.noPanel;
+    viewer.screenshotPanel = o.screenshotPanel;
+    viewer.deterministic = o.deterministic;
+    viewer.stepsPerFrame = o.stepsPerFrame;
+    viewer.quiet = o.quiet;
+    viewer.size = rendering.size;
+    viewer.settings = rendering.settings;
+    if (!o.quiet)
+        for (const std::string& line : describeColliders(loaded.scene, loaded.colliders))
+            std::cout << "sluice-play: " << line << '\n';
+    return runViewer(viewer);
+}
 
-    const auto start = std::chrono::steady_clock::now();
-    for (std::uint64_t step = 1; step <= o.steps; ++step) {
-        sim->step();
-        if (step % every == 0 || step == o.steps) {
-            const StepStats stats = sim->readStats();
-            const PassTimes times = sim->passTimes();
-            double gpuMs = 0.0;
-            for (double t : times)
-                gpuMs += t > 0.0 ? t : 0.0;
-            if (!o.quiet)
-                std::cout << statsTableRow(stats, gpuMs > 0.0 ? gpuMs : -1.0);
-            steps.push_back(statsJson(stats));
-            if (stats.nonFinite > 0) {
-                std::cerr << "sluice-play: step " << stats.step << ": " << stats.nonFinite
-                          << " particles went non-finite and were reset to their last position\n";
-                dirty = true;
-            }
-            if (stats.insideColliders > 0)
-                dirty = true;
-        }
-        if (auto ok = dump(step); !ok)
-            return fail(ok.error());
-        if (auto ok = captureStep(step); !ok)
-            return fail(ok.error());
-        // The capacity flag is cheap to read (CPU side); report it once.
-        if (!capacityReported && sim->particleCount() == sim->capacity() &&
-            !scene->emitters.empty()) {
-            std::cerr << "sluice-play: step " << step << ": particle capacity "
-                      << sim->capacity() << " reached; emitters stop adding particles\n";
-            capacityReported = true;
-        }
-    }
-    if (capture) {
-        if (auto ok = capture->finish(); !ok)
-            return fail(ok.error());
-    }
-    glFinish();
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const PassTimes times = sim->passTimes();
-    const double stepsPerSecond = wall > 0.0 ? double(o.steps) / wall : 0.0;
+int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene loaded) {
+    HeadlessOptions headless;
+    headless.steps = o.steps;
+    headless.statsEvery = o.statsEvery;
+    headless.statsJson = o.statsJson;
+    headless.plyDir = o.plyDir;
+    headless.dumpEvery = o.dumpEvery;
+    headless.deterministic = o.deterministic;
+    headless.check = o.check;
+    headless.quiet = o.quiet;
+    headless.capture = o.capture;
+    headless.imageSize = rendering.size;
+    headless.render = rendering.settings;
+    return playHeadless(headless, loaded.scene, std::move(loaded.colliders));
+}
 
-    if (!o.quiet) {
-        std::cout << "\n" << o.steps << " steps in " << wall << " s wall: " << stepsPerSecond
-                  << " steps/s (" << context->info().renderer << ")\nGPU ms per step:";
-        for (std::size_t p = 0; p < times.size(); ++p)
-            if (times[p] >= 0.0)
-                std::cout << "  " << passName(Pass(p)) << " " << times[p];
-        std::cout << "\n";
-        if (capture)
-            capture->report(std::cout);
+/// After the command line: checks the rendering flags and ffmpeg, reads the scene, warns,
+/// prepares the outputs, runs `mode`. Nothing is written before the outputs are prepared.
+int play(const CLI::App& app, const PlayOptions& o, PlayMode mode) {
+    const auto rendering = parseModeRendering(o, mode);
+    if (!rendering)
+        return reportFailure(rendering.error());
+    if (mode != PlayMode::Bench && !o.capture.video.empty())
+        if (auto ffmpeg = findFfmpeg(); !ffmpeg)
+            return reportFailure(ffmpeg.error());
+    std::vector<PlayWarning> warnings;
+    checkOptionUse(app, o, mode, warnings);
+    checkScreenshotStep(o, mode, warnings);
+    auto loaded = loadScene(o.scene);
+    if (!loaded)
+        return reportFailure(loaded.error());
+    for (PlayWarning& warning : checkScene(loaded->scene, loaded->colliders))
+        warnings.push_back(std::move(warning));
+    if (auto stop = reportWarnings(warnings, o.strict))
+        return *stop;
+    if (auto ok = prepareRunOutputs(runOutputs(o, mode)); !ok)
+        return reportFailure(ok.error());
+    switch (mode) {
+    case PlayMode::Bench:
+        return startBench(o, *rendering, std::move(*loaded));
+    case PlayMode::Window:
+        return startWindow(o, *rendering, *loaded);
+    case PlayMode::Headless:
+        return startHeadless(o, *rendering, std::move(*loaded));
     }
-
-    if (!o.statsJson.empty()) {
-        nlohmann::json doc = {
-            {"tool", std::string("sluice-play ") + SLUICE_VERSION},
-            {"scene", scene->path},
-            {"name", scene->name},
-            {"deterministic", o.deterministic},
-            {"parameters", parametersJson(scene->simulation, sim->constants())},
-            {"capacity", sim->capacity()},
-            {"steps", steps},
-        };
-        // Timings differ run to run; a deterministic run leaves them out so its file is
-        // byte-identical every time.
-        if (!o.deterministic)
-            doc["timing"] = {{"renderer", context->info().renderer},
-                             {"wallSeconds", wall},
-                             {"stepsPerSecond", stepsPerSecond},
-                             {"gpuMsPerStep", passTimesJson(times)}};
-        const std::string text = doc.dump(2) + "\n";
-        auto ok = format::writeFileAtomic(
-            o.statsJson, std::as_bytes(std::span(text.data(), text.size())));
-        if (!ok)
-            return fail(ok.error());
-    }
-    if (o.check && dirty) {
-        std::cerr << "sluice-play: --check: particles went non-finite or ended inside a "
-                     "collider (see the table)\n";
-        return kPlayExitCheckFailed;
-    }
-    return kPlayExitOk;
+    return kPlayExitInternal;
 }
 
 int run(int argc, char** argv) {
@@ -303,6 +401,12 @@ int run(int argc, char** argv) {
                    "Write one PNG of step N (NAME-STEP.png), as the window's P key does");
     app.add_option("--shots", o.capture.shotsDir,
                    "Folder of screenshots: --screenshot-at and the window's P key (default: .)");
+    app.add_flag("--screenshot-panel", o.screenshotPanel,
+                 "Window: screenshots (P, --screenshot-at) include the panel, for bug reports; "
+                 "the O key toggles it");
+    app.add_flag("--strict", o.strict,
+                 "Treat every warning (scene checks, options that do nothing) as an error: "
+                 "exit 2 before the first step");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -313,39 +417,14 @@ int run(int argc, char** argv) {
         std::cerr << "sluice-play: --bench-frames needs --bench\n";
         return kPlayExitBadInput;
     }
-    if (o.bench) {
-        BenchOptions bench;
-        bench.scene = o.scene;
-        bench.steps = o.steps > 0 ? o.steps : 100;
-        bench.warmup = o.warmup;
-        bench.json = o.benchJson;
-        bench.deterministic = o.deterministic;
-        bench.renderFrames = o.benchFrames;
-        bench.zoom = o.capture.zoom;
-        if (o.benchFrames > 0)
-            if (auto ok = parseRendering(o, "1920x1080", bench.renderSize, bench.render); !ok)
-                return fail(ok.error());
-        return runBench(bench);
-    }
-    if (!o.headless) {
-        ViewerOptions viewer;
-        viewer.scene = o.scene;
-        viewer.capture = o.capture;
-        viewer.maxFrames = o.maxFrames;
-        viewer.vsync = !o.noVsync;
-        viewer.panel = !o.noPanel;
-        viewer.deterministic = o.deterministic;
-        viewer.stepsPerFrame = o.stepsPerFrame;
-        viewer.quiet = o.quiet;
-        if (auto ok = parseRendering(o, "1280x720", viewer.size, viewer.settings); !ok)
-            return fail(ok.error());
-        return runViewer(viewer);
-    }
-    if (o.steps == 0) {
+    if (!o.bench && o.headless && o.steps == 0) {
         std::cerr << "sluice-play: --headless needs --steps N\n";
         return kPlayExitBadInput;
     }
-    return playHeadless(o);
+    return play(app, o,
+                o.bench      ? PlayMode::Bench
+                : o.headless ? PlayMode::Headless
+                             : PlayMode::Window);
 }
 
 } // namespace
@@ -357,6 +436,11 @@ int playExitCode(const Error& error) {
     case ErrorCode::ShaderLink: return kPlayExitInternal;
     default: return kPlayExitBadInput;
     }
+}
+
+int reportFailure(const Error& error) {
+    std::cerr << "sluice-play: " << error.message() << '\n';
+    return playExitCode(error);
 }
 
 int runPlay(int argc, char** argv) {

@@ -65,6 +65,7 @@ public:
     ViewerApp(GLFWwindow* window, const ViewerOptions& options, ViewerSession session)
         : m_window(window), m_options(options), m_session(std::move(session)) {
         m_ui.showPanel = options.panel;
+        m_ui.screenshotPanel = options.screenshotPanel;
         m_ui.stepsPerFrame = std::int32_t(options.stepsPerFrame);
         m_ui.render = options.settings;
         m_ui.params = m_session->scene().simulation;
@@ -197,6 +198,8 @@ private:
             glViewport(0, 0, width, height);
         }
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        if (m_panelShotPending && width > 0 && height > 0)
+            requestWindowScreenshot(glm::uvec2(width, height));
         glfwSwapBuffers(m_window);
         writeReadbacks(false);
 
@@ -302,11 +305,14 @@ private:
             purpose.capture = true;
             m_lastCaptured = step;
         }
-        purpose.screenshot = m_actions.screenshot;
+        bool screenshot = m_actions.screenshot;
         if (m_options.capture.screenshotAt == step && !m_shotAtTaken) {
-            purpose.screenshot = true;
+            screenshot = true;
             m_shotAtTaken = true;
         }
+        // A screenshot with the panel reads the window's back buffer once the panel is drawn.
+        purpose.screenshot = screenshot && !m_ui.screenshotPanel;
+        m_panelShotPending = screenshot && m_ui.screenshotPanel;
         if (m_recording && step != m_lastRecorded) {
             if (m_session->renderer().size() == m_recordSize) {
                 purpose.record = true;
@@ -323,6 +329,15 @@ private:
         const Renderer& renderer = m_session->renderer();
         m_readback.request(renderer.outputFramebuffer(), renderer.size(), step);
         m_purposes.push_back(purpose);
+    }
+
+    // Queues a copy of the window's back buffer (scene, panel and help) as a screenshot.
+    void requestWindowScreenshot(glm::uvec2 size) {
+        m_readback.request(0, size, m_session->steps());
+        ReadbackPurpose purpose;
+        purpose.screenshot = true;
+        m_purposes.push_back(purpose);
+        m_panelShotPending = false;
     }
 
     // Writes the frames whose readback finished; `wait` for all of them.
@@ -406,6 +421,7 @@ private:
     ViewerInput m_input;
     bool m_failed = false;
     bool m_shotAtTaken = false;
+    bool m_panelShotPending = false; // this frame's screenshot waits for the panel
 };
 
 // ImGui's context and backends for one window (RAII).

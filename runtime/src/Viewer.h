@@ -19,6 +19,7 @@ struct ViewerOptions {
     glm::uvec2 size{1280, 720}; ///< initial window size [pixels]
     bool vsync = true;
     bool panel = true; ///< start with the panel shown
+    bool screenshotPanel = false; ///< screenshots include the panel (the O key toggles it)
     bool deterministic = false;
     bool quiet = false;
     std::uint64_t maxFrames = 0; ///< close after this many frames; 0: when the user does

@@ -59,6 +59,11 @@ void ViewerInput::key(int key, int action, int mods, ViewerUi& ui, ViewerActions
     case GLFW_KEY_G:
         ui.render.glassWalls = !ui.render.glassWalls;
         break;
+    case GLFW_KEY_O:
+        ui.screenshotPanel = !ui.screenshotPanel;
+        ui.status =
+            ui.screenshotPanel ? "screenshots include the panel" : "screenshots without the panel";
+        break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q:
         actions.quit = true;

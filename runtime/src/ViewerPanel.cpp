@@ -8,6 +8,24 @@
 namespace sluice::rt {
 namespace {
 
+// The labels beside sliders; the widest one sets the panel's width.
+constexpr const char* kSliderLabels[] = {
+    "steps per frame",   "min iterations",    "max iterations",
+    "target error",      "relaxation (eps)",  "s_corr k",
+    "s_corr n",          "s_corr dq [m]",     "XSPH c",
+    "vorticity [m/s]",   "gravity [m/s2]",    "time step [ms]",
+    "substeps",          "speed range [m/s]", "error range",
+    "smoothing passes",  "filter radius [r]", "absorption [1/m]",
+    "refraction [px/m]",
+};
+
+float widestLabel() {
+    float widest = 0.0f;
+    for (const char* label : kSliderLabels)
+        widest = std::max(widest, ImGui::CalcTextSize(label).x);
+    return widest;
+}
+
 // True when the widget just finished an edit (slider released, text committed): parameters are
 // applied then, not on every drag frame, since applying rebuilds the simulation.
 bool edited() {
@@ -15,15 +33,17 @@ bool edited() {
 }
 
 void statistics(const ViewerFigures& f) {
-    ImGui::Text("%s: %u particles (capacity %u)", f.sceneName.c_str(), f.particles, f.capacity);
-    ImGui::Text("step %llu, t = %.3f s", static_cast<unsigned long long>(f.steps), f.time);
-    ImGui::Text("%.1f steps/s, frame %.2f ms", f.stepsPerSecond, f.frameMs);
+    // Wrapped: the panel is narrow in small windows.
+    ImGui::TextWrapped("%s: %u particles (capacity %u)", f.sceneName.c_str(), f.particles,
+                       f.capacity);
+    ImGui::TextWrapped("step %llu, t = %.3f s", static_cast<unsigned long long>(f.steps), f.time);
+    ImGui::TextWrapped("%.1f steps/s, frame %.2f ms", f.stepsPerSecond, f.frameMs);
     if (f.renderGpuMs)
-        ImGui::Text("render GPU %.2f ms", *f.renderGpuMs);
+        ImGui::TextWrapped("render GPU %.2f ms", *f.renderGpuMs);
     if (f.fluid)
-        ImGui::Text("density error avg %.3f %%, max %.2f %%; max speed %.2f m/s",
-                    100.0 * f.fluid->avgDensityError, 100.0 * f.fluid->maxDensityError,
-                    f.fluid->maxSpeed);
+        ImGui::TextWrapped("density error avg %.3f %%, max %.2f %%; max speed %.2f m/s",
+                           100.0 * f.fluid->avgDensityError, 100.0 * f.fluid->maxDensityError,
+                           f.fluid->maxSpeed);
     if (ImGui::BeginTable("passes", 2, ImGuiTableFlags_SizingStretchProp)) {
         double total = 0.0;
         for (std::size_t p = 0; p < f.passMs.size(); ++p) {
@@ -144,22 +164,43 @@ const char* viewerKeyHelp() {
            "M               spheres / fluid surface\n"
            "G               glass walls on / off\n"
            "P, F12          screenshot (PNG in the current folder)\n"
+           "O               screenshots with / without the panel\n"
            "V               start / stop recording (MP4, needs ffmpeg)\n"
            "Tab             show / hide the panel\n"
            "F1, H           this help\n"
            "Esc, Q          quit";
 }
 
+PanelLayout panelLayout(float labelWidth, float fontSize, glm::vec2 display) {
+    constexpr float kMargin = 10.0f;   // [pixels] from the window's edges
+    constexpr float kSliderEms = 9.0f; // [font sizes] a slider's width when there is room
+    constexpr float kChromeEms = 3.0f; // [font sizes] padding, label spacing, scroll bar
+    constexpr float kMinSliderEms = 3.0f;
+    PanelLayout layout;
+    layout.position = {kMargin, kMargin};
+    const float wanted = labelWidth + (kSliderEms + kChromeEms) * fontSize;
+    layout.width = std::min(wanted, kPanelMaxWidthFraction * display.x);
+    layout.maxHeight = std::max(display.y - 2.0f * kMargin, 4.0f * fontSize);
+    layout.itemWidth =
+        std::max(layout.width - labelWidth - kChromeEms * fontSize, kMinSliderEms * fontSize);
+    return layout;
+}
+
 void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& actions) {
     const ImGuiIO& io = ImGui::GetIO();
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(360, std::max(200.0f, io.DisplaySize.y - 20.0f)),
-                             ImGuiCond_FirstUseEver);
+    const PanelLayout layout = panelLayout(widestLabel(), ImGui::GetFontSize(),
+                                           glm::vec2(io.DisplaySize.x, io.DisplaySize.y));
+    ImGui::SetNextWindowPos(ImVec2(layout.position.x, layout.position.y), ImGuiCond_FirstUseEver);
+    // Fixed width, following the window; as tall as the contents up to the window's height
+    // (then it scrolls). The title bar's arrow collapses it, Tab hides it.
+    ImGui::SetNextWindowSizeConstraints(ImVec2(layout.width, 0.0f),
+                                        ImVec2(layout.width, layout.maxHeight));
     ImGui::SetNextWindowBgAlpha(0.8f);
-    if (!ImGui::Begin("Sluice", &ui.showPanel)) {
+    if (!ImGui::Begin("Sluice", &ui.showPanel, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::End();
         return;
     }
+    ImGui::PushItemWidth(layout.itemWidth);
     if (ImGui::Button(ui.paused ? "Run" : "Pause"))
         ui.paused = !ui.paused;
     ImGui::SameLine();
@@ -167,7 +208,7 @@ void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& 
     ImGui::SameLine();
     actions.reset |= ImGui::Button("Reset");
     ImGui::SameLine();
-    actions.reload |= ImGui::Button("Reload scene");
+    actions.reload |= ImGui::Button("Reload");
     ImGui::SameLine();
     actions.frame |= ImGui::Button("Frame");
     ImGui::SliderInt("steps per frame", &ui.stepsPerFrame, 1, 8);
@@ -184,9 +225,11 @@ void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& 
         actions.screenshot |= ImGui::Button("Screenshot");
         ImGui::SameLine();
         actions.toggleRecording |= ImGui::Button(ui.recording ? "Stop recording" : "Record");
+        ImGui::Checkbox("panel in screenshots", &ui.screenshotPanel);
     }
     if (!ui.status.empty())
         ImGui::TextWrapped("%s", ui.status.c_str());
+    ImGui::PopItemWidth();
     ImGui::End();
 }
 

@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include <glm/vec2.hpp>
+
 #include "sluice/format/Scene.h"
 #include "sluice/rt/Simulation.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
@@ -32,6 +34,7 @@ struct ViewerUi {
     bool showPanel = true;
     bool showHelp = false;
     bool recording = false;
+    bool screenshotPanel = false; ///< screenshots include the panel (and the help overlay)
     std::int32_t stepsPerFrame = 1;
     RenderSettings render;
     format::SimulationParams params; ///< the values being edited
@@ -54,6 +57,24 @@ struct ViewerFigures {
     std::optional<FluidStats> fluid;
     bool hasEmitters = false;
 };
+
+/// The panel's widest share of the window's width.
+inline constexpr float kPanelMaxWidthFraction = 0.30f;
+
+/// Where the panel goes in the window [pixels].
+struct PanelLayout {
+    glm::vec2 position{10.0f, 10.0f}; ///< top-left corner
+    float width = 0.0f;               ///< fixed width
+    float maxHeight = 0.0f;           ///< the panel fits its contents up to this height
+    float itemWidth = 0.0f;           ///< width of a slider beside its label
+};
+
+/// The panel's layout in a window of `display` pixels, for labels up to `labelWidth` pixels wide
+/// in a font `fontSize` pixels tall: the widest label, a slider 9 font sizes wide and 3 font
+/// sizes of padding and scroll bar, capped at kPanelMaxWidthFraction of the window's width
+/// (the sliders shrink first, so labels are never cut while the window is wider than about
+/// three labels).
+PanelLayout panelLayout(float labelWidth, float fontSize, glm::vec2 display);
 
 /// Draws the panel (inside an ImGui frame) and records the user's requests in `actions`.
 void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& actions);

@@ -1,12 +1,15 @@
 // The viewer window under Xvfb (skipped where xvfb-run is missing): a fixed number of frames and
 // a clean exit, its screenshot against the headless render of the same step, its --frames
-// capture, and the message and exit code when there is no display at all.
+// capture, screenshots with the panel, and the message and exit code when there is no display
+// at all.
+#include <algorithm>
 #include <cstdlib>
 
 #include <gtest/gtest.h>
 
 #include "CaptureFrames.h"
 #include "RenderTestSupport.h"
+#include "ViewerPanel.h"
 
 namespace sluice::rt {
 namespace {
@@ -18,10 +21,12 @@ bool haveXvfb() {
     return std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
 }
 
-// Runs `args` of sluice-play in `dir` (the working folder) under a new Xvfb server.
-testrun::RunResult playInWindow(const fs::path& dir, const std::vector<std::string>& args) {
+// Runs `args` of sluice-play in `dir` (the working folder) under a new Xvfb server whose screen
+// is `screen` (WIDTHxHEIGHT) pixels.
+testrun::RunResult playInWindow(const fs::path& dir, const std::vector<std::string>& args,
+                                const std::string& screen = "640x480") {
     std::string command =
-        "cd " + quote(dir.string()) + " && xvfb-run -a -s '-screen 0 640x480x24' ";
+        "cd " + quote(dir.string()) + " && xvfb-run -a -s '-screen 0 " + screen + "x24' ";
     if (!glDriverPreload().empty())
         command += "env " + quote("LD_PRELOAD=" + glDriverPreload()) + " ";
     command += quote(SLUICE_PLAY_EXE);
@@ -80,6 +85,51 @@ TEST(ViewerWindow, ScreenshotMatchesTheHeadlessRenderOfTheSameStep) {
         EXPECT_LE(diff.meanChannel, 0.5) << surface;
         EXPECT_LE(diff.maxChannel, 16) << surface;
     }
+}
+
+TEST(ViewerWindow, ScreenshotWithThePanelDiffersFromThePlainOneOnlyInsideThePanel) {
+    if (!haveXvfb())
+        GTEST_SKIP() << "xvfb-run is not installed (Debian: apt-get install xvfb)";
+    const fs::path dir = tempDir("panel-screenshot");
+    const std::string scene = (kAssets / "martin-moyce.json").string();
+    Image shots[2];
+    for (int panel = 0; panel < 2; ++panel) {
+        std::vector<std::string> args = {scene,
+                                         "--max-frames",
+                                         "3",
+                                         "--size",
+                                         "960x540",
+                                         "--no-vsync",
+                                         "--deterministic",
+                                         "--screenshot-at",
+                                         "1",
+                                         "--shots",
+                                         panel ? "with" : "without"};
+        if (panel)
+            args.push_back("--screenshot-panel");
+        const auto run = playInWindow(dir, args, "1024x768");
+        ASSERT_EQ(run.code, 0) << testrun::shown(run);
+        shots[panel] = readPng(dir / (panel ? "with" : "without") / "martin-moyce-000001.png");
+        ASSERT_EQ(shots[panel].width, 960u) << testrun::shown(run);
+        ASSERT_EQ(shots[panel].height, 540u);
+    }
+    // The differing pixels: the panel, 10 pixels from the top-left corner, at most 30 % of the
+    // window's width wide.
+    glm::uvec2 lo{960, 540}, hi{0, 0};
+    std::size_t differing = 0;
+    for (std::uint32_t y = 0; y < 540; ++y)
+        for (std::uint32_t x = 0; x < 960; ++x)
+            if (pixelDiffers(shots[0], shots[1], x, y)) {
+                lo = glm::min(lo, glm::uvec2(x, y));
+                hi = glm::max(hi, glm::uvec2(x, y));
+                ++differing;
+            }
+    ASSERT_GT(differing, 20000u) << "the panel is missing from the screenshot";
+    EXPECT_GE(lo.x, 10u);
+    EXPECT_GE(lo.y, 10u);
+    EXPECT_LT(hi.x, 10u + std::uint32_t(kPanelMaxWidthFraction * 960.0f));
+    EXPECT_LE(hi.x - lo.x + 1, std::uint32_t(kPanelMaxWidthFraction * 960.0f));
+    EXPECT_GT(hi.x - lo.x + 1, 200u); // the labels and sliders fit
 }
 
 TEST(ViewerWindow, WithoutADisplayItSaysHowToRunHeadlessAndExitsThree) {

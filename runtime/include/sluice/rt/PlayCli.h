@@ -15,6 +15,9 @@ inline constexpr int kPlayExitInternal = 4;    ///< an unexpected internal failu
 /// (files, scenes, assets, arguments, a missing ffmpeg) 2.
 int playExitCode(const Error& error);
 
+/// Prints "sluice-play: MESSAGE" on stderr and returns playExitCode(error).
+int reportFailure(const Error& error);
+
 /// Runs sluice-play with the given arguments; returns the process exit code. Never throws.
 int runPlay(int argc, char** argv);
 

@@ -1,0 +1,212 @@
+// The headless run loop: statistics rows, PLY dumps and captured frames after each step, then
+// the timing summary and the statistics file.
+#include "PlayHeadless.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <span>
+
+#include <nlohmann/json.hpp>
+
+#include "CaptureHeadless.h"
+#include "SceneChecks.h"
+#include "StatsReport.h"
+#include "sluice/format/AtomicFile.h"
+#include "sluice/gpu/Context.h"
+#include "sluice/rt/PlayCli.h"
+#include "sluice/rt/PlyWriter.h"
+#include "sluice/rt/Simulation.h"
+
+namespace sluice::rt {
+namespace {
+
+std::string plyName(std::uint64_t step) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06llu.ply", static_cast<unsigned long long>(step));
+    return name;
+}
+
+/// Everything one headless run keeps between steps.
+struct HeadlessRun {
+    const HeadlessOptions& options;
+    const format::Scene& scene;
+    const gpu::Context& context;
+    Simulation sim;
+    std::optional<HeadlessCapture> capture;
+    std::uint64_t statsEvery = 1;                   ///< a statistics row every this many steps
+    nlohmann::json steps = nlohmann::json::array(); ///< the recorded statistics
+    bool dirty = false;            ///< a particle went non-finite or ended inside a collider
+    bool capacityReported = false; ///< the full-capacity message was printed
+    double wallSeconds = 0.0;      ///< the steps' wall time, capture included [s]
+    PassTimes passTimes{};         ///< GPU time per pass after the last step [ms]
+};
+
+/// Creates the capture (if any) and the simulation. The renderer uploads the colliders to 3D
+/// textures of its own before the solver takes them.
+Result<HeadlessRun> startRun(const HeadlessOptions& o, const format::Scene& scene,
+                             std::vector<format::ColliderAsset> colliders,
+                             const gpu::Context& context) {
+    std::optional<HeadlessCapture> capture;
+    if (o.capture.any()) {
+        auto started = HeadlessCapture::start(scene, colliders, o.capture, o.imageSize, o.render);
+        if (!started)
+            return started.error();
+        capture.emplace(std::move(*started));
+    }
+    SimulationOptions simOptions;
+    simOptions.deterministic = o.deterministic;
+    auto sim = Simulation::create(scene, std::move(colliders), simOptions);
+    if (!sim)
+        return sim.error();
+    const std::uint64_t every =
+        o.statsEvery > 0 ? o.statsEvery : std::max<std::uint64_t>(1, o.steps / 20);
+    return HeadlessRun{o, scene, context, std::move(*sim), std::move(capture), every};
+}
+
+void printStartup(const HeadlessRun& run, const std::vector<std::string>& colliderLines) {
+    const Simulation& sim = run.sim;
+    std::cout << "scene " << run.scene.path << ": " << sim.particleCount() << " particles ("
+              << sim.capacity() << " capacity), " << run.scene.colliders.size() << " colliders, "
+              << run.scene.simulation.substeps << " substeps of " << sim.constants().dt * 1e3
+              << " ms, up to " << run.scene.simulation.maxIterations << " iterations\n";
+    for (const std::string& line : colliderLines)
+        std::cout << "  " << line << '\n';
+    std::cout << "GL: " << run.context.info().renderer << "\n\n" << statsTableHeader();
+}
+
+/// The PLY file and the captured frame of step `step`, where they are due.
+Result<void> writeStepOutputs(HeadlessRun& run, std::uint64_t step) {
+    const HeadlessOptions& o = run.options;
+    if (!o.plyDir.empty() && step % o.dumpEvery == 0) {
+        const auto particles = run.sim.downloadParticles();
+        if (auto ok = writePly(std::filesystem::path(o.plyDir) / plyName(step), particles); !ok)
+            return ok;
+    }
+    return run.capture ? run.capture->afterStep(run.sim, step) : Result<void>{};
+}
+
+/// A statistics row of step `step` (printed and kept for the JSON file), where one is due.
+void recordStats(HeadlessRun& run, std::uint64_t step) {
+    if (step % run.statsEvery != 0 && step != run.options.steps)
+        return;
+    const StepStats stats = run.sim.readStats();
+    double gpuMs = 0.0;
+    for (double t : run.sim.passTimes())
+        gpuMs += t > 0.0 ? t : 0.0;
+    if (!run.options.quiet)
+        std::cout << statsTableRow(stats, gpuMs > 0.0 ? gpuMs : -1.0);
+    run.steps.push_back(statsJson(stats));
+    if (stats.nonFinite > 0) {
+        std::cerr << "sluice-play: step " << stats.step << ": " << stats.nonFinite
+                  << " particles went non-finite and were reset to their last position\n";
+        run.dirty = true;
+    }
+    if (stats.insideColliders > 0)
+        run.dirty = true;
+}
+
+/// Says once that the emitters ran out of capacity (a cheap CPU-side flag).
+void reportCapacity(HeadlessRun& run, std::uint64_t step) {
+    if (run.capacityReported || run.scene.emitters.empty() ||
+        run.sim.particleCount() != run.sim.capacity())
+        return;
+    std::cerr << "sluice-play: step " << step << ": particle capacity " << run.sim.capacity()
+              << " reached; emitters stop adding particles\n";
+    run.capacityReported = true;
+}
+
+/// Steps 1..steps with their statistics and outputs; step 0's outputs first.
+Result<void> runSteps(HeadlessRun& run) {
+    if (auto ok = writeStepOutputs(run, 0); !ok)
+        return ok;
+    const auto start = std::chrono::steady_clock::now();
+    for (std::uint64_t step = 1; step <= run.options.steps; ++step) {
+        run.sim.step();
+        recordStats(run, step);
+        if (auto ok = writeStepOutputs(run, step); !ok)
+            return ok;
+        reportCapacity(run, step);
+    }
+    if (run.capture) {
+        if (auto ok = run.capture->finish(); !ok)
+            return ok;
+    }
+    glFinish();
+    run.wallSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    run.passTimes = run.sim.passTimes();
+    return {};
+}
+
+double stepsPerSecond(const HeadlessRun& run) {
+    return run.wallSeconds > 0.0 ? double(run.options.steps) / run.wallSeconds : 0.0;
+}
+
+void printSummary(const HeadlessRun& run) {
+    const PassTimes& times = run.passTimes;
+    std::cout << "\n"
+              << run.options.steps << " steps in " << run.wallSeconds
+              << " s wall: " << stepsPerSecond(run) << " steps/s (" << run.context.info().renderer
+              << ")\nGPU ms per step:";
+    for (std::size_t p = 0; p < times.size(); ++p)
+        if (times[p] >= 0.0)
+            std::cout << "  " << passName(Pass(p)) << " " << times[p];
+    std::cout << "\n";
+    if (run.capture)
+        run.capture->report(std::cout);
+}
+
+Result<void> writeStatsFile(HeadlessRun& run) {
+    const HeadlessOptions& o = run.options;
+    nlohmann::json doc = {
+        {"tool", std::string("sluice-play ") + SLUICE_VERSION},
+        {"scene", run.scene.path},
+        {"name", run.scene.name},
+        {"deterministic", o.deterministic},
+        {"parameters", parametersJson(run.scene.simulation, run.sim.constants())},
+        {"capacity", run.sim.capacity()},
+        {"steps", run.steps},
+    };
+    // Timings differ run to run; a deterministic run leaves them out so its file is
+    // byte-identical every time.
+    if (!o.deterministic)
+        doc["timing"] = {{"renderer", run.context.info().renderer},
+                         {"wallSeconds", run.wallSeconds},
+                         {"stepsPerSecond", stepsPerSecond(run)},
+                         {"gpuMsPerStep", passTimesJson(run.passTimes)}};
+    const std::string text = doc.dump(2) + "\n";
+    return format::writeFileAtomic(o.statsJson, std::as_bytes(std::span(text.data(), text.size())));
+}
+
+} // namespace
+
+int playHeadless(const HeadlessOptions& o, const format::Scene& scene,
+                 std::vector<format::ColliderAsset> colliders) {
+    const std::vector<std::string> colliderLines = describeColliders(scene, colliders);
+    auto context = gpu::Context::createHeadless();
+    if (!context)
+        return reportFailure(context.error());
+    auto run = startRun(o, scene, std::move(colliders), *context);
+    if (!run)
+        return reportFailure(run.error());
+    if (!o.quiet)
+        printStartup(*run, colliderLines);
+    if (auto ok = runSteps(*run); !ok)
+        return reportFailure(ok.error());
+    if (!o.quiet)
+        printSummary(*run);
+    if (!o.statsJson.empty())
+        if (auto ok = writeStatsFile(*run); !ok)
+            return reportFailure(ok.error());
+    if (o.check && run->dirty) {
+        std::cerr << "sluice-play: --check: particles went non-finite or ended inside a "
+                     "collider (see the table)\n";
+        return kPlayExitCheckFailed;
+    }
+    return kPlayExitOk;
+}
+
+} // namespace sluice::rt

@@ -1,0 +1,196 @@
+// Scene sanity checks: particles of every block and emitter against the domain box and the
+// colliders' distance fields, and each collider's size against the particle spacing.
+#include "SceneChecks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+
+#include "sluice/format/SdfSampler.h"
+#include "sluice/rt/SceneSetup.h"
+
+namespace sluice::rt {
+namespace {
+
+/// Slack on the domain test [spacings]: a block whose first particle sits exactly a radius
+/// from the wall (martin-moyce.json) is inside, whatever float rounding says.
+constexpr double kDomainSlack = 1e-3;
+
+/// "0.123" with a few significant digits.
+std::string number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
+
+std::string vec(const glm::dvec3& v) {
+    return "(" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + ")";
+}
+
+/// A group of starting particles with the JSON path and the time they appear.
+struct Spawn {
+    std::string where; ///< "fluid[0]" or "emitters[1]"
+    std::vector<glm::vec3> points;
+    float time = 0.0f; ///< [s] when they appear (colliders are posed at this time)
+};
+
+/// The particles of every fluid block and the first disc of every emitter.
+std::vector<Spawn> spawns(const format::Scene& scene) {
+    std::vector<Spawn> out;
+    format::Scene single = scene;
+    for (std::size_t b = 0; b < scene.blocks.size(); ++b) {
+        single.blocks = {scene.blocks[b]};
+        Spawn spawn{"fluid[" + std::to_string(b) + "]", {}, 0.0f};
+        for (const ParticleState& p : fillBlocks(single))
+            spawn.points.push_back(p.position);
+        out.push_back(std::move(spawn));
+    }
+    for (std::size_t e = 0; e < scene.emitters.size(); ++e) {
+        const format::Emitter& emitter = scene.emitters[e];
+        Spawn spawn{"emitters[" + std::to_string(e) + "]", {}, emitter.start};
+        for (const glm::vec3& offset : emitterDisc(emitter, scene.simulation.spacing))
+            spawn.points.push_back(emitter.position + offset);
+        out.push_back(std::move(spawn));
+    }
+    return out;
+}
+
+void checkDomain(const format::Scene& scene, const std::vector<Spawn>& groups,
+                 std::vector<PlayWarning>& out) {
+    if (!scene.domainMin || !scene.domainMax)
+        return;
+    const double s = scene.simulation.spacing;
+    const glm::dvec3 lo = glm::dvec3(*scene.domainMin) + 0.5 * s - kDomainSlack * s;
+    const glm::dvec3 hi = glm::dvec3(*scene.domainMax) - 0.5 * s + kDomainSlack * s;
+    for (const Spawn& group : groups) {
+        std::size_t outside = 0;
+        for (const glm::vec3& p : group.points)
+            for (int a = 0; a < 3; ++a)
+                if (p[a] < lo[a] || p[a] > hi[a]) {
+                    ++outside;
+                    break;
+                }
+        if (outside == 0)
+            continue;
+        out.push_back({"outside-domain",
+                       scene.path + ": " + group.where + ": " + std::to_string(outside) + " of " +
+                           std::to_string(group.points.size()) +
+                           " particles start outside the domain box " + vec(*scene.domainMin) +
+                           " to " + vec(*scene.domainMax) +
+                           " and would be pushed onto its walls; move it inside \"domain\" or "
+                           "enlarge the domain"});
+    }
+}
+
+void checkColliderOverlap(const format::Scene& scene,
+                          const std::vector<format::ColliderAsset>& colliders,
+                          const std::vector<Spawn>& groups, std::vector<PlayWarning>& out) {
+    const double radius = 0.5 * scene.simulation.spacing;
+    for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
+        const format::SdfSampler sdf(colliders[c]);
+        for (const Spawn& group : groups) {
+            const ColliderPose pose = colliderPose(scene.colliders[c], group.time);
+            std::size_t inside = 0;
+            std::size_t near = 0;
+            for (const glm::vec3& p : group.points) {
+                const double phi = double(sdf.value(glm::dvec3(pose.toLocal(p)))) * pose.scale;
+                inside += phi < 0.0 ? 1 : 0;
+                near += phi < radius ? 1 : 0;
+            }
+            if (near == 0)
+                continue;
+            out.push_back({"fluid-in-collider",
+                           scene.path + ": " + group.where + ": " + std::to_string(near) + " of " +
+                               std::to_string(group.points.size()) + " particles start inside (" +
+                               std::to_string(inside) + ") or within a particle radius (" +
+                               number(radius) + " m) of colliders[" + std::to_string(c) + "] (" +
+                               scene.colliders[c].asset +
+                               "); the solver will throw them out of it on the first step. Move "
+                               "the fluid or the collider apart"});
+        }
+    }
+}
+
+void checkColliderScale(const format::Scene& scene,
+                        const std::vector<format::ColliderAsset>& colliders,
+                        std::vector<PlayWarning>& out) {
+    const double s = scene.simulation.spacing;
+    for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
+        const glm::dvec3 size = colliderWorldSize(scene.colliders[c], colliders[c]);
+        const double side = std::max({size.x, size.y, size.z});
+        const std::string where = scene.path + ": colliders[" + std::to_string(c) + "] (" +
+                                  scene.colliders[c].asset + "): ";
+        const std::string measured = number(size.x) + " x " + number(size.y) + " x " +
+                                     number(size.z) + " m, " + number(side / s) +
+                                     " times the particle spacing (" + number(s) + " m)";
+        if (side > kColliderMaxSpacings * s)
+            out.push_back({"collider-scale",
+                           where + measured + ", more than " + number(kColliderMaxSpacings) +
+                               ": was the mesh modelled in centimetres (FBX often is)? Re-bake it "
+                               "with `sluice-bake bake --scale 0.01` or set \"scale\" on the "
+                               "collider in the scene"});
+        else if (side < kColliderMinSpacings * s)
+            out.push_back(
+                {"collider-scale", where + measured +
+                                       ": particles are larger than the collider. Re-bake "
+                                       "it with a larger `sluice-bake bake --scale` or "
+                                       "set a larger \"scale\" on the collider in the scene"});
+    }
+}
+
+} // namespace
+
+glm::dvec3 colliderWorldSize(const format::SceneCollider& collider,
+                             const format::ColliderAsset& asset) {
+    const format::ColliderMeta& m = asset.meta;
+    glm::uvec3 lo{std::numeric_limits<std::uint32_t>::max()};
+    glm::uvec3 hi{0};
+    bool any = false;
+    for (std::uint32_t k = 0; k < m.dims.z; ++k)
+        for (std::uint32_t j = 0; j < m.dims.y; ++j)
+            for (std::uint32_t i = 0; i < m.dims.x; ++i)
+                if (asset.distances[asset.index(i, j, k)] <= 0.0f) {
+                    lo = glm::min(lo, glm::uvec3(i, j, k));
+                    hi = glm::max(hi, glm::uvec3(i, j, k));
+                    any = true;
+                }
+    glm::dvec3 local;
+    if (any) {
+        // The surface lies up to a voxel beyond the outermost inside points on each side.
+        local = (glm::dvec3(hi - lo) + 1.0) * m.voxelSize;
+    } else {
+        const glm::dvec3 grid = glm::dvec3(m.dims - 1u) * m.voxelSize;
+        local = glm::max(grid - 2.0 * m.bake.padding * m.voxelSize, glm::dvec3(m.voxelSize));
+    }
+    return local * double(collider.scale);
+}
+
+std::vector<PlayWarning> checkScene(const format::Scene& scene,
+                                    const std::vector<format::ColliderAsset>& colliders) {
+    std::vector<PlayWarning> out;
+    const std::vector<Spawn> groups = spawns(scene);
+    checkDomain(scene, groups, out);
+    checkColliderOverlap(scene, colliders, groups, out);
+    checkColliderScale(scene, colliders, out);
+    return out;
+}
+
+std::vector<std::string> describeColliders(const format::Scene& scene,
+                                           const std::vector<format::ColliderAsset>& colliders) {
+    std::vector<std::string> lines;
+    for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
+        const glm::dvec3 size = colliderWorldSize(scene.colliders[c], colliders[c]);
+        lines.push_back("colliders[" + std::to_string(c) + "] " + scene.colliders[c].asset + ": " +
+                        number(size.x) + " x " + number(size.y) + " x " + number(size.z) +
+                        " m (scale " + number(scene.colliders[c].scale) + ")");
+    }
+    return lines;
+}
+
+std::string warningLine(const PlayWarning& warning) {
+    return "sluice-play: warning: " + warning.text + " [" + warning.kind + "]";
+}
+
+} // namespace sluice::rt

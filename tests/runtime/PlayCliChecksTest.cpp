@@ -1,0 +1,254 @@
+// sluice-play's checks before a run, end to end: scene warnings and --strict, options that do
+// nothing, and output paths checked and their folders created before any step.
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "ProgramRun.h"
+
+namespace sluice::rt {
+namespace {
+
+namespace fs = std::filesystem;
+using testrun::runProgram;
+using testrun::shown;
+
+const fs::path kAssets = SLUICE_BUILD_ASSETS_DIR; // scenes and baked colliders, side by side
+
+fs::path tempDir(const std::string& name) {
+    const fs::path dir = fs::path(SLUICE_TEST_TMP) / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+testrun::RunResult play(const fs::path& dir, const std::vector<std::string>& args) {
+    return runProgram(SLUICE_PLAY_EXE, dir, args);
+}
+
+/// Writes `json` as `name` in `dir`; "{assets}" becomes the build's assets folder.
+fs::path writeScene(const fs::path& dir, const std::string& name, std::string json) {
+    const std::string token = "{assets}";
+    for (std::size_t at; (at = json.find(token)) != std::string::npos;)
+        json.replace(at, token.size(), kAssets.string());
+    const fs::path path = dir / name;
+    std::ofstream(path, std::ios::binary) << json;
+    return path;
+}
+
+// 64 particles in a 0.5 m domain: nothing to warn about, quick on llvmpipe.
+constexpr const char* kSmallScene = R"({"simulation": {"spacing": 0.05},
+    "fluid": [{"box": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}}],
+    "domain": {"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}})";
+
+// The small scene plus a ball of water at (5, 5, 5), far outside the domain.
+constexpr const char* kBallOutside = R"({"simulation": {"spacing": 0.05},
+    "fluid": [{"box": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}},
+              {"sphere": {"center": [5, 5, 5], "radius": 0.1}}],
+    "domain": {"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}})";
+
+TEST(SluicePlayChecks, WarnsAboutABallOutsideTheDomainAndStillRuns) {
+    const fs::path dir = tempDir("ball-outside");
+    const fs::path scene = writeScene(dir, "ball.json", kBallOutside);
+    const auto run = play(dir, {scene.string(), "--headless", "--steps", "1", "--quiet"});
+    ASSERT_EQ(run.code, 0) << shown(run);
+    EXPECT_NE(run.err.find("sluice-play: warning: " + scene.string() +
+                           ": fluid[1]: 19 of 19 particles start outside the domain box"),
+              std::string::npos)
+        << run.err;
+    EXPECT_NE(run.err.find("[outside-domain]\n"), std::string::npos) << run.err;
+}
+
+TEST(SluicePlayChecks, StrictStopsBeforeTheFirstStepAndWritesNothing) {
+    const fs::path dir = tempDir("strict");
+    const fs::path scene = writeScene(dir, "ball.json", kBallOutside);
+    const auto run =
+        play(dir, {scene.string(), "--headless", "--steps", "1", "--strict", "--stats-json",
+                   (dir / "out/s.json").string(), "--dump-ply", (dir / "ply").string()});
+    EXPECT_EQ(run.code, 2) << shown(run);
+    EXPECT_NE(run.err.find("[outside-domain]"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("sluice-play: --strict turned the warning above into an error; "
+                           "nothing was run"),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(run.out, ""); // no start-up line, no table
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    EXPECT_FALSE(fs::exists(dir / "ply"));
+}
+
+struct SceneMistake {
+    const char* name;
+    const char* json;
+    const char* expectInError;
+};
+
+void PrintTo(const SceneMistake& mistake, std::ostream* out) {
+    *out << mistake.name;
+}
+
+class SluicePlaySceneMistake : public ::testing::TestWithParam<SceneMistake> {};
+
+TEST_P(SluicePlaySceneMistake, IsAnErrorWithStrict) {
+    const SceneMistake& mistake = GetParam();
+    const fs::path dir = tempDir(std::string("mistake-") + mistake.name);
+    const fs::path scene = writeScene(dir, "scene.json", mistake.json);
+    const auto run = play(dir, {scene.string(), "--headless", "--steps", "1", "--strict"});
+    EXPECT_EQ(run.code, 2) << shown(run);
+    EXPECT_NE(run.err.find(mistake.expectInError), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("--strict turned the"), std::string::npos) << run.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, SluicePlaySceneMistake,
+    ::testing::Values(
+        SceneMistake{"fluidInCollider",
+                     R"({"fluid": [{"box": {"min": [-0.2, -0.2, -0.2], "max": [0.2, 0.2, 0.2]}}],
+                         "colliders": [{"asset": "{assets}/sphere.slc", "scale": 0.4}]})",
+                     "scene.json: fluid[0]: "},
+        SceneMistake{"emitterOutsideDomain",
+                     R"({"emitters": [{"position": [0.2, 0.9, 0.2], "direction": [0, -1, 0],
+                         "radius": 0.04, "speed": 1, "stop": 1}],
+                         "domain": {"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}})",
+                     "scene.json: emitters[0]: "},
+        SceneMistake{"colliderInCentimetres",
+                     R"({"fluid": [{"box": {"min": [60, 0, 0], "max": [60.1, 0.1, 0.1]}}],
+                         "colliders": [{"asset": "{assets}/sphere.slc", "scale": 100}]})",
+                     "`sluice-bake bake --scale 0.01`"}),
+    [](const auto& paramInfo) { return std::string(paramInfo.param.name); });
+
+struct OptionMistake {
+    const char* name;
+    std::vector<std::string> args; // after the scene
+    const char* expectInError;
+};
+
+void PrintTo(const OptionMistake& mistake, std::ostream* out) {
+    *out << mistake.name;
+}
+
+class SluicePlayOptionMistake : public ::testing::TestWithParam<OptionMistake> {};
+
+TEST_P(SluicePlayOptionMistake, IsWarnedAndAnErrorWithStrict) {
+    const OptionMistake& mistake = GetParam();
+    const fs::path dir = tempDir(std::string("option-") + mistake.name);
+    std::vector<std::string> args = {writeScene(dir, "small.json", kSmallScene).string()};
+    args.insert(args.end(), mistake.args.begin(), mistake.args.end());
+    args.push_back("--strict");
+    const auto run = play(dir, args);
+    EXPECT_EQ(run.code, 2) << shown(run);
+    EXPECT_NE(run.err.find(std::string("sluice-play: warning: ") + mistake.expectInError),
+              std::string::npos)
+        << run.err;
+    EXPECT_NE(run.err.find("nothing was run"), std::string::npos) << run.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Options, SluicePlayOptionMistake,
+    ::testing::Values(
+        OptionMistake{"maxFramesHeadless",
+                      {"--headless", "--steps", "1", "--max-frames", "5"},
+                      "--max-frames does nothing in a --headless run [unused-option]"},
+        OptionMistake{"screenshotAfterEnd",
+                      {"--headless", "--steps", "2", "--screenshot-at", "5"},
+                      "--screenshot-at 5 is after the last step (--steps 2): no screenshot "
+                      "would be written [screenshot-after-end]"},
+        OptionMistake{"screenshotAfterMaxFrames",
+                      {"--max-frames", "3", "--screenshot-at", "3"},
+                      "--screenshot-at 3 is after the last step (--max-frames 3 shows steps up "
+                      "to 2)"},
+        OptionMistake{"statsJsonInWindow",
+                      {"--stats-json", "s.json"},
+                      "--stats-json does nothing in the window [unused-option]"},
+        OptionMistake{"framesWithBench",
+                      {"--bench", "--frames", "f"},
+                      "--frames does nothing with --bench [unused-option]"},
+        OptionMistake{"dumpEveryWithoutDumpPly",
+                      {"--headless", "--steps", "1", "--dump-every", "2"},
+                      "--dump-every does nothing without --dump-ply [unused-option]"}),
+    [](const auto& paramInfo) { return std::string(paramInfo.param.name); });
+
+TEST(SluicePlayChecks, ShippedSceneStartsWithoutWarningsAndPrintsColliderSizes) {
+    const fs::path dir = tempDir("shipped-strict");
+    const auto run =
+        play(dir, {(kAssets / "drop.json").string(), "--headless", "--steps", "1", "--strict"});
+    ASSERT_EQ(run.code, 0) << shown(run);
+    EXPECT_EQ(run.err, "");
+    EXPECT_NE(run.out.find("  colliders[0] tank.slc: 0.8"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find(" m (scale 1)\n"), std::string::npos) << run.out;
+}
+
+TEST(SluicePlayChecks, CreatesMissingOutputFoldersBeforeTheRun) {
+    const fs::path dir = tempDir("create-outputs");
+    const fs::path scene = writeScene(dir, "small.json", kSmallScene);
+    const auto run =
+        play(dir, {scene.string(), "--headless", "--steps", "1", "--quiet", "--stats-json",
+                   (dir / "a/b/s.json").string(), "--dump-ply", (dir / "c/ply").string(),
+                   "--frames", (dir / "d/png").string(), "--size", "64x36"});
+    ASSERT_EQ(run.code, 0) << shown(run);
+    EXPECT_TRUE(fs::is_regular_file(dir / "a/b/s.json"));
+    EXPECT_TRUE(fs::is_regular_file(dir / "c/ply/frame_000001.ply"));
+    EXPECT_TRUE(fs::is_regular_file(dir / "d/png/frame_000001.png"));
+}
+
+TEST(SluicePlayChecks, AnOutputThatIsAFolderFailsBeforeTheRunAndNothingIsWritten) {
+    const fs::path dir = tempDir("output-is-folder");
+    const fs::path scene = writeScene(dir, "small.json", kSmallScene);
+    fs::create_directories(dir / "taken");
+    const auto run = play(dir, {scene.string(), "--headless", "--steps", "1", "--dump-ply",
+                                (dir / "ply").string(), "--stats-json", (dir / "taken").string()});
+    EXPECT_EQ(run.code, 2) << shown(run);
+    EXPECT_NE(run.err.find("--stats-json " + (dir / "taken").string() + ": is a folder"),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(run.out, "");
+    EXPECT_FALSE(fs::exists(dir / "ply"));
+}
+
+TEST(SluicePlayChecks, ABadSizeFailsBeforeAnyFolderIsCreated) {
+    const fs::path dir = tempDir("bad-size");
+    const fs::path scene = writeScene(dir, "small.json", kSmallScene);
+    const auto run = play(dir, {scene.string(), "--headless", "--steps", "1", "--frames",
+                                (dir / "png").string(), "--size", "0x10"});
+    EXPECT_EQ(run.code, 2) << shown(run);
+    EXPECT_NE(run.err.find("--size 0x10"), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(dir / "png"));
+}
+
+TEST(SluicePlayChecks, BenchJsonGoesIntoAFolderCreatedFirst) {
+    const fs::path dir = tempDir("bench-json-folder");
+    const fs::path scene = writeScene(dir, "small.json", kSmallScene);
+    const auto run = play(dir, {scene.string(), "--bench", "--warmup", "0", "--steps", "1",
+                                "--bench-json", (dir / "results/b.json").string()});
+    ASSERT_EQ(run.code, 0) << shown(run);
+    EXPECT_TRUE(fs::is_regular_file(dir / "results/b.json"));
+    fs::create_directories(dir / "taken");
+    const auto taken = play(dir, {scene.string(), "--bench", "--warmup", "0", "--steps", "1",
+                                  "--bench-json", (dir / "taken").string()});
+    EXPECT_EQ(taken.code, 2) << shown(taken);
+    EXPECT_EQ(taken.out, ""); // stopped before the benchmark
+}
+
+TEST(SluicePlayChecks, WindowOutputsAreCheckedBeforeTheWindowOpens) {
+    const fs::path dir = tempDir("window-outputs");
+    const fs::path scene = writeScene(dir, "small.json", kSmallScene);
+    std::ofstream(dir / "frames") << "a file";
+    // Without a display the window would exit 3; the path is refused first.
+    const std::string command =
+        "env -u DISPLAY -u WAYLAND_DISPLAY " + testrun::quote(SLUICE_PLAY_EXE) + " " +
+        testrun::quote(scene.string()) + " --frames " + testrun::quote((dir / "frames").string()) +
+        " 2>" + testrun::quote((dir / "err.txt").string());
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 2);
+    const std::string err = testrun::readText(dir / "err.txt");
+    EXPECT_NE(err.find("--frames " + (dir / "frames").string() + ": is a file; give a folder"),
+              std::string::npos)
+        << err;
+}
+
+} // namespace
+} // namespace sluice::rt
