@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <span>
 #include <string>
@@ -110,6 +111,12 @@ struct Simulation::Impl {
     void substep();
     void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;
     void barrier() const { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
+    /// Sets `bytes` of the statistics buffer from byte `offset` on to the uint `value`, on the
+    /// GPU (offsets from offsetof(shared::PbfStats, ...)).
+    void fillStats(std::size_t offset, std::size_t bytes, std::uint32_t value) const {
+        glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, GLintptr(offset), GLsizeiptr(bytes),
+                                  GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
+    }
     void dispatch(const gpu::Program& program, std::uint32_t items) const {
         program.dispatchChunked(glm::uvec3(groupsFor(items), 1, 1), kMaxGroupsPerDispatch);
     }
@@ -236,27 +243,47 @@ glm::uvec3 Simulation::Impl::denseGridDims() const {
 void Simulation::Impl::uploadParams() {
     const format::SimulationParams& s = scene.simulation;
     shared::PbfParams p{};
-    p.kernel = {k.h, k.h * k.h, k.poly6, k.spikyGrad};
-    p.fluid = {k.volume, k.epsilon, k.lambdaRef, k.radius};
-    p.scorr = {s.scorrK, s.scorrN, k.wDeltaQ > 0.0f ? 1.0f / k.wDeltaQ : 0.0f, 1.0f / k.h};
-    p.step = {k.dt, 1.0f / k.dt, s.xsph, s.vorticity};
-    p.gravity = {s.gravity, s.targetDensityError};
+    p.h = k.h;
+    p.h2 = k.h * k.h;
+    p.poly6Coeff = k.poly6;
+    p.spikyGradCoeff = k.spikyGrad;
+    p.volume = k.volume;
+    p.epsilon = k.epsilon;
+    p.lambdaRef = k.lambdaRef;
+    p.radius = k.radius;
+    p.scorrK = s.scorrK;
+    p.scorrN = s.scorrN;
+    p.invWDeltaQ = k.wDeltaQ > 0.0f ? 1.0f / k.wDeltaQ : 0.0f;
+    p.invH = 1.0f / k.h;
+    p.dt = k.dt;
+    p.invDt = 1.0f / k.dt;
+    p.xsph = s.xsph;
+    p.vorticity = s.vorticity;
+    p.gravity = s.gravity;
+    p.targetDensityError = s.targetDensityError;
     if (scene.domainMin && scene.domainMax) {
-        p.domainMin = {*scene.domainMin + glm::vec3(k.radius), 1.0f};
-        p.domainMax = {*scene.domainMax - glm::vec3(k.radius), 0.0f};
+        p.domainMin = *scene.domainMin + glm::vec3(k.radius);
+        p.domainMax = *scene.domainMax - glm::vec3(k.radius);
+        p.hasDomain = 1;
     }
     // A dense grid of h-wide cells over the domain box replaces the hash when it needs no more
     // buckets than the hash table holds (docs/performance.md, "Done"): no hash collisions, and
     // the three cells of a row are one contiguous range of sorted particles. h may change
     // between substeps (setParameters), so this is decided here.
     const glm::uvec3 dims = denseGridDims();
-    p.gridDims = {0, 0, 0, 0};
     if (dims.x > 0) {
-        p.gridDims = {dims, 1u};
-        p.gridOrigin = {*scene.domainMin, 0.0f};
+        p.gridDims = dims;
+        p.gridOrigin = *scene.domainMin;
+        p.denseGrid = 1;
     }
-    p.counts = {count, tableSize - 1, std::uint32_t(colliderRecords.size()), s.minIterations};
-    p.control = {solveChunks, activeBuckets(), options.deterministic ? 1u : 0u, maxIterations};
+    p.particleCount = count;
+    p.hashMask = tableSize - 1;
+    p.colliderCount = std::uint32_t(colliderRecords.size());
+    p.minIterations = s.minIterations;
+    p.solveChunks = solveChunks;
+    p.activeBuckets = activeBuckets();
+    p.deterministic = options.deterministic ? 1u : 0u;
+    p.maxIterations = maxIterations;
     params.upload(std::span(&p, 1));
 }
 
@@ -271,7 +298,7 @@ void Simulation::Impl::uploadColliders(double t0, double t1) {
         r.worldToGrid = glm::inverse(world);
         r.rotation = glm::mat4_cast(now.rotation);
         r.motion = poseMatrix(before) * r.worldToGrid;
-        r.boxMax.w = now.scale;
+        r.scale = now.scale;
     }
     colliderBuf.upload(colliderRecords);
 }
@@ -310,12 +337,9 @@ void Simulation::Impl::substep() {
     uploadSolveArgs();
     uploadColliders(t0, t1);
     // Per-substep counters: no stop yet, empty iteration sums.
-    const std::uint32_t noStop = kNoStop, zero = 0;
-    glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, 12, 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                              &noStop);
-    glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, kStatsHeaderBytes,
-                              statsBuf.size() - kStatsHeaderBytes, GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &zero);
+    fillStats(offsetof(shared::PbfStats, stopIteration), sizeof(std::uint32_t), kNoStop);
+    fillStats(kStatsHeaderBytes, statsBuf.size() - kStatsHeaderBytes, 0);
+    const std::uint32_t zero = 0;
     glClearNamedBufferSubData(cellCount.id(), GL_R32UI, 0, cellCount.size(), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &zero);
     end(Pass::Emit);
@@ -468,17 +492,19 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     std::uint64_t offset = 0;
     for (const format::ColliderAsset& a : impl->colliderAssets) {
         shared::GpuCollider r{};
-        r.origin = {glm::vec3(a.meta.origin), float(a.meta.voxelSize)};
-        r.boxMax = {glm::vec3(a.meta.origin + glm::dvec3(a.meta.dims - glm::uvec3(1)) *
-                                                  a.meta.voxelSize),
-                    1.0f};
-        r.dims = {a.meta.dims, std::uint32_t(offset)};
+        r.origin = glm::vec3(a.meta.origin);
+        r.voxelSize = float(a.meta.voxelSize);
+        r.boxMax =
+            glm::vec3(a.meta.origin + glm::dvec3(a.meta.dims - glm::uvec3(1)) * a.meta.voxelSize);
+        r.scale = 1.0f;
+        r.dims = a.meta.dims;
+        r.sdfOffset = std::uint32_t(offset);
         impl->sdfBuf.upload(a.distances, offset * sizeof(float));
         offset += a.pointCount();
         impl->colliderRecords.push_back(r);
     }
     for (std::size_t c = 0; c < impl->colliderRecords.size(); ++c)
-        impl->colliderRecords[c].material.x = scene.colliders[c].friction;
+        impl->colliderRecords[c].friction = scene.colliders[c].friction;
 
     const std::size_t ring = 8 + 2 * std::size_t(std::max(1u, scene.simulation.substeps));
     for (std::size_t p = 0; p < std::size_t(Pass::Count); ++p)
@@ -508,17 +534,15 @@ void Simulation::step() {
     for (auto& timer : s.timers)
         timer.poll();
     s.capacityReached = false;
-    const std::uint32_t zero = 0;
-    glClearNamedBufferSubData(s.statsBuf.id(), GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                              &zero);
+    s.fillStats(offsetof(shared::PbfStats, nonFinite), sizeof(std::uint32_t), 0);
     const std::uint32_t substeps = std::max(1u, s.scene.simulation.substeps);
     for (std::uint32_t i = 0; i < substeps; ++i)
         s.substep();
 
     // Step statistics: max speed and particles inside colliders, from the final state.
     s.begin(Pass::Stats);
-    glClearNamedBufferSubData(s.statsBuf.id(), GL_R32UI, 4, 8, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                              &zero);
+    s.fillStats(offsetof(shared::PbfStats, insideColliders), sizeof(std::uint32_t), 0);
+    s.fillStats(offsetof(shared::PbfStats, maxSpeedBits), sizeof(std::uint32_t), 0);
     if (s.count > 0) {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
@@ -541,20 +565,24 @@ StepStats Simulation::readStats() {
     out.time = s.time;
     out.particles = s.count;
     out.capacityReached = s.capacityReached;
-    std::vector<std::uint32_t> raw(s.statsBuf.size() / 4);
-    s.statsBuf.download(raw.data(), s.statsBuf.size());
-    out.nonFinite = raw[0];
-    out.insideColliders = raw[1];
-    out.maxSpeed = std::bit_cast<float>(raw[2]);
-    const std::uint32_t stop = raw[3];
+    // PbfStats, then PbfIterationStats[maxIterations]: one readback, then the parts by offset.
+    std::vector<std::byte> raw(s.statsBuf.size());
+    s.statsBuf.download(raw.data(), raw.size());
+    shared::PbfStats header{};
+    std::memcpy(&header, raw.data(), sizeof(header));
+    out.nonFinite = header.nonFinite;
+    out.insideColliders = header.insideColliders;
+    out.maxSpeed = std::bit_cast<float>(header.maxSpeedBits);
+    const std::uint32_t stop = header.stopIteration;
     out.iterations = stop == kNoStop ? s.maxIterations : stop;
     const std::uint32_t slot = std::min(stop, s.maxIterations - 1);
-    const std::uint32_t* it = raw.data() + kStatsHeaderBytes / 4 + 4 * slot;
-    if (it[3] > 0) {
-        const double sum = (double(it[1]) * 4294967296.0 + double(it[0])) /
+    shared::PbfIterationStats it{};
+    std::memcpy(&it, raw.data() + kStatsHeaderBytes + slot * sizeof(it), sizeof(it));
+    if (it.particles > 0) {
+        const double sum = (double(it.errorHi) * 4294967296.0 + double(it.errorLo)) /
                            double(shared::kErrorFixedScale);
-        out.avgDensityError = sum / double(it[3]);
-        out.maxDensityError = std::bit_cast<float>(it[2]);
+        out.avgDensityError = sum / double(it.particles);
+        out.maxDensityError = std::bit_cast<float>(it.errorMaxBits);
     }
     return out;
 }
