@@ -62,8 +62,8 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
             collider.resolvedPath.empty() ? collider.asset : collider.resolvedPath;
         auto asset = format::readAsset(path);
         if (!asset)
-            return Error{asset.error().code, scene.path + ": colliders[" + std::to_string(c) +
-                                                 "]: " + asset.error().detail};
+            return fail(asset.error().code, scene.path + ": colliders[" + std::to_string(c) +
+                                                "]: " + asset.error().detail);
         assets.push_back(std::move(*asset));
     }
     return assets;
@@ -108,7 +108,15 @@ struct Simulation::Impl {
     void uploadParams();
     void uploadColliders(double t0, double t1);
     void append(const std::vector<ParticleState>& particles);
+    /// One substep: the passes below, in the order of docs/pbf.md.
     void substep();
+    void emit(double t0, double t1);
+    void bindSharedBuffers() const;
+    void predictPositions();
+    void sortIntoBuckets();
+    void solve();
+    void updateVelocities();
+    void applyVorticityAndXsph();
     void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;
     void barrier() const { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
     /// Sets `bytes` of the statistics buffer from byte `offset` on to the uint `value`, on the
@@ -184,14 +192,15 @@ Result<void> Simulation::Impl::allocate() {
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {
         if (maxSsbo > 0 && a.bytes > std::uint64_t(maxSsbo))
-            return Error{ErrorCode::GpuOutOfMemory,
-                         scene.path + ": the " + a.label + " buffer needs " +
-                             std::to_string(a.bytes) + " bytes, more than this GL allows in one "
-                             "storage block (" + std::to_string(maxSsbo) +
-                             "); lower simulation.capacity or coarsen the colliders"};
+            return fail(ErrorCode::GpuOutOfMemory,
+                        scene.path + ": the " + a.label + " buffer needs " +
+                            std::to_string(a.bytes) +
+                            " bytes, more than this GL allows in one storage block (" +
+                            std::to_string(maxSsbo) +
+                            "); lower simulation.capacity or coarsen the colliders");
         auto buffer = gpu::Buffer::create(a.bytes, a.label);
         if (!buffer)
-            return Error{buffer.error().code, scene.path + ": " + buffer.error().detail};
+            return fail(buffer.error().code, scene.path + ": " + buffer.error().detail);
         *a.buffer = std::move(*buffer);
     }
     return {};
@@ -324,10 +333,26 @@ void Simulation::Impl::bindParticles(const gpu::Buffer& posIn, const gpu::Buffer
     velIn.bindStorage(shared::kBindVelIn);
 }
 
+// One substep: the passes of docs/pbf.md, "One substep at time t", in order. The neighbour
+// sort (step 3) counts into buckets in the predict pass and sorts after it.
 void Simulation::Impl::substep() {
     const double t0 = time;
     const double t1 = time + k.dt;
+    emit(t0, t1);
+    if (count > 0) {
+        bindSharedBuffers();
+        predictPositions();
+        sortIntoBuckets();
+        solve();
+        updateVelocities();
+        applyVorticityAndXsph();
+    }
+    time = t1;
+}
 
+// Step 1, and what the substep's passes read: parameters, solve args, collider poses and
+// cleared per-substep counters.
+void Simulation::Impl::emit(double t0, double t1) {
     begin(Pass::Emit);
     staging.clear();
     if (emittersOn && !emitters.emit(float(t0), count, capacity, nextId, staging))
@@ -336,20 +361,19 @@ void Simulation::Impl::substep() {
     uploadParams();
     uploadSolveArgs();
     uploadColliders(t0, t1);
-    // Per-substep counters: no stop yet, empty iteration sums.
+    // Per-substep counters: no stop yet, empty iteration sums, empty buckets.
     fillStats(offsetof(shared::PbfStats, stopIteration), sizeof(std::uint32_t), kNoStop);
     fillStats(kStatsHeaderBytes, statsBuf.size() - kStatsHeaderBytes, 0);
     const std::uint32_t zero = 0;
     glClearNamedBufferSubData(cellCount.id(), GL_R32UI, 0, cellCount.size(), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &zero);
     end(Pass::Emit);
-    if (count == 0) {
-        time = t1;
-        return;
-    }
+}
+
+// The buffers whose binding no pass of the substep changes.
+void Simulation::Impl::bindSharedBuffers() const {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT |
                     GL_BUFFER_UPDATE_BARRIER_BIT);
-
     params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
     statsBuf.bindStorage(shared::kBindStats);
     colliderBuf.bindStorage(shared::kBindColliders);
@@ -361,16 +385,21 @@ void Simulation::Impl::substep() {
     sortedToOld.bindStorage(shared::kBindSortedToOld);
     lambdaBuf.bindStorage(shared::kBindLambda);
     omega.bindStorage(shared::kBindOmega);
+}
 
-    // 2. Predict and count into buckets.
+// Step 2: x* into pred[0], and each particle counted into its bucket.
+void Simulation::Impl::predictPositions() {
     begin(Pass::Predict);
     bindParticles(pos[cur], vel[cur]);
     pred[0].bindStorage(shared::kBindPredOut);
     dispatch(predict, count);
     barrier();
     end(Pass::Predict);
+}
 
-    // 3. Counting sort by bucket and reorder into the other buffers.
+// Step 3: counting sort by bucket, then every particle reordered into the other buffers (x* of
+// the sorted order into predStart).
+void Simulation::Impl::sortIntoBuckets() {
     begin(Pass::Sort);
     scan->exclusive(cellCount, cellStart, activeBuckets());
     cellStart.bindStorage(shared::kBindCellStart);
@@ -394,11 +423,13 @@ void Simulation::Impl::substep() {
     barrier();
     cur = nxt;
     end(Pass::Sort);
+}
 
-    // 4. Solver iterations. Iteration k reads x* from predStart (k = 0) or pred[(k - 1) % 2]
-    // and writes pred[k % 2]; predStart keeps the substep's start positions, which fix the
-    // neighbour sets. The early stop (pbf_delta.comp) zeroes the dispatch args of the later
-    // iterations: the CPU issues every dispatch without knowing where the GPU stopped.
+// Step 4: the solver iterations. Iteration k reads x* from predStart (k = 0) or
+// pred[(k - 1) % 2] and writes pred[k % 2]; predStart keeps the substep's start positions,
+// which fix the neighbour sets. The early stop (pbf_delta.comp) zeroes the dispatch args of the
+// later iterations: the CPU issues every dispatch without knowing where the GPU stopped.
+void Simulation::Impl::solve() {
     begin(Pass::Solve);
     predStart.bindStorage(shared::kBindPredStart);
     bindParticles(pos[cur], vel[cur]);
@@ -416,9 +447,11 @@ void Simulation::Impl::substep() {
         in = &pred[it % 2];
     }
     end(Pass::Solve);
+}
 
-    // 5. Velocity, x <- x*, non-finite guard; velocities go to the other buffer. The shader
-    // picks, by stats.stopIteration, the buffer the last iteration that ran wrote.
+// Step 5: velocity, x <- x*, non-finite guard; velocities go to the other buffer. The shader
+// picks, by stats.stopIteration, the buffer the last iteration that ran wrote.
+void Simulation::Impl::updateVelocities() {
     begin(Pass::Velocity);
     pred[0].bindStorage(shared::kBindPredIn);
     pred[1].bindStorage(shared::kBindPredOther);
@@ -427,8 +460,10 @@ void Simulation::Impl::substep() {
     dispatch(velocity, count);
     barrier();
     end(Pass::Velocity);
+}
 
-    // 6. Vorticity confinement and XSPH, back into vel[cur].
+// Step 6: vorticity confinement and XSPH, back into vel[cur].
+void Simulation::Impl::applyVorticityAndXsph() {
     begin(Pass::Vorticity);
     const bool withVorticity = scene.simulation.vorticity > 0.0f;
     vel[1 - cur].bindStorage(shared::kBindVelIn);
@@ -441,17 +476,16 @@ void Simulation::Impl::substep() {
     dispatch(confine, count);
     barrier();
     end(Pass::Vorticity);
-    time = t1;
 }
 
 Result<Simulation> Simulation::create(const format::Scene& scene,
                                       std::vector<format::ColliderAsset> colliders,
                                       const SimulationOptions& options) {
     if (colliders.size() != scene.colliders.size())
-        return Error{ErrorCode::InvalidArgument,
-                     scene.path + ": " + std::to_string(scene.colliders.size()) +
-                         " colliders in the scene but " + std::to_string(colliders.size()) +
-                         " assets given"};
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": " + std::to_string(scene.colliders.size()) +
+                        " colliders in the scene but " + std::to_string(colliders.size()) +
+                        " assets given");
     auto impl = std::make_unique<Impl>(scene);
     impl->options = options;
     impl->k = deriveConstants(scene.simulation);
@@ -512,10 +546,9 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
 
     std::vector<ParticleState> initial = fillBlocks(scene);
     if (initial.size() > impl->capacity)
-        return Error{ErrorCode::InvalidArgument,
-                     scene.path + ": the fluid blocks hold " + std::to_string(initial.size()) +
-                         " particles but simulation.capacity is " +
-                         std::to_string(impl->capacity)};
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": the fluid blocks hold " + std::to_string(initial.size()) +
+                        " particles but simulation.capacity is " + std::to_string(impl->capacity));
     impl->nextId = std::uint32_t(initial.size());
     impl->append(initial);
     const std::uint32_t zero = 0;
@@ -649,9 +682,9 @@ Result<void> Simulation::setParameters(const format::SimulationParams& params) {
                             p.gravity.x, p.gravity.y, p.gravity.z};
     for (float v : values)
         if (!std::isfinite(v))
-            return Error{ErrorCode::NonFinite, "simulation parameters: a value is not finite"};
+            return fail(ErrorCode::NonFinite, "simulation parameters: a value is not finite");
     auto bad = [](const std::string& what) {
-        return Error{ErrorCode::InvalidArgument, "simulation parameters: " + what};
+        return fail(ErrorCode::InvalidArgument, "simulation parameters: " + what);
     };
     if (p.kernelRadius < 1.5f * p.spacing || p.kernelRadius > 4.0f * p.spacing)
         return bad("kernelRadius must lie in [1.5 spacing, 4 spacing]");
@@ -695,9 +728,9 @@ bool Simulation::emittersEnabled() const { return m_impl->emittersOn; }
 Result<void> Simulation::setParticles(const std::vector<ParticleState>& particles) {
     Impl& s = *m_impl;
     if (particles.size() > s.capacity)
-        return Error{ErrorCode::InvalidArgument,
-                     std::to_string(particles.size()) + " particles do not fit the capacity " +
-                         std::to_string(s.capacity)};
+        return fail(ErrorCode::InvalidArgument, std::to_string(particles.size()) +
+                                                    " particles do not fit the capacity " +
+                                                    std::to_string(s.capacity));
     s.count = 0;
     s.append(particles);
     for (const ParticleState& p : particles)
