@@ -699,17 +699,18 @@ Result<void> Simulation::setParameters(const format::SimulationParams& params) {
         return bad("targetDensityError, relaxation, scorrK, xsph and vorticity must be >= 0, "
                    "scorrN >= 1");
     if (p.maxIterations > s.maxIterations) {
-        // The per-iteration statistics slots grow with the cap.
+        // The per-iteration statistics slots and the solve args grow with the cap. Both are
+        // allocated before either replaces its buffer, so a failure leaves nothing changed.
         auto stats = gpu::Buffer::create(
             kStatsHeaderBytes + p.maxIterations * sizeof(shared::PbfIterationStats), "stats");
         if (!stats)
             return stats.error();
-        const std::uint32_t zero = 0;
-        glClearNamedBufferData(stats->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-        s.statsBuf = std::move(*stats);
         auto args = gpu::Buffer::create(s.solveArgsBytes(p.maxIterations), "solve dispatch args");
         if (!args)
             return args.error();
+        const std::uint32_t zero = 0;
+        glClearNamedBufferData(stats->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        s.statsBuf = std::move(*stats);
         s.solveArgs = std::move(*args);
     }
     s.maxIterations = p.maxIterations;
