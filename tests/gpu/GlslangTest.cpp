@@ -28,7 +28,7 @@ namespace {
 
 /// One program as the code builds it: its stages' embedded file names and its defines.
 struct ProgramCase {
-    const char* name;                  ///< test name suffix
+    const char* name;                             ///< test name suffix
     std::string_view (*source)(std::string_view); ///< the library's embedded-shader lookup
     std::vector<std::string> stages;   ///< file names, one per stage (extension gives the stage)
     std::vector<ShaderDefine> defines; ///< as passed to Program::compute / Program::graphics
@@ -39,9 +39,15 @@ void PrintTo(const ProgramCase& program, std::ostream* out) {
     *out << program.name;
 }
 
-std::string_view gpuSource(std::string_view name) { return gpu::shaders::shaderSource(name); }
-std::string_view runtimeSource(std::string_view name) { return rt::shaders::shaderSource(name); }
-std::string_view bakeSource(std::string_view name) { return bake::shaders::shaderSource(name); }
+std::string_view gpuSource(std::string_view name) {
+    return gpu::shaders::shaderSource(name);
+}
+std::string_view runtimeSource(std::string_view name) {
+    return rt::shaders::shaderSource(name);
+}
+std::string_view bakeSource(std::string_view name) {
+    return bake::shaders::shaderSource(name);
+}
 
 ProgramCase compute(const char* name, decltype(ProgramCase::source) source, const char* file,
                     std::vector<ShaderDefine> defines = {}) {
