@@ -22,7 +22,7 @@ packages=(
   libopenvdb-dev libtbb-dev libcereal-dev libcli11-dev libglm-dev libstb-dev libxxhash-dev
   libspdlog-dev libfmt-dev nlohmann-json3-dev rapidjson-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev ffmpeg
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev glslang-tools
 )
 # Test data: third-party meshes (assimp's models, CGAL's data set).
 if [ "$mode" != demo ]; then

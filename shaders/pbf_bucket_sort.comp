@@ -12,7 +12,7 @@ layout(std430, binding = kBindSortedToOld) buffer SortedToOld { uint sortedToOld
 
 void main() {
     uint b = SLUICE_GLOBAL_ID.x;
-    if (b >= P.control.y)
+    if (b >= P.activeBuckets)
         return;
     uint n = cellCount[b];
     if (n < 2u)

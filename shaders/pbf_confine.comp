@@ -1,4 +1,4 @@
-// Vorticity confinement and XSPH viscosity (Macklin & Müller 2013, eq. 16, 17; docs/pbf.md 6),
+// Vorticity confinement and XSPH viscosity (Macklin & Mueller 2013, eq. 16, 17; docs/pbf.md 6),
 // both from the velocities of pbf_velocity.comp, written to the other velocity buffer.
 #version 450 core
 
@@ -34,6 +34,6 @@ void main() {
     eta *= PBF_VOLUME;
     float etaLen = length(eta);
     vec3 n = etaLen >= 1e-12 ? eta / etaLen : vec3(0.0);
-    vec3 v = vi + PBF_DT * P.step.w * cross(n, wi) + P.step.z * PBF_VOLUME * blend;
+    vec3 v = vi + PBF_DT * P.vorticity * cross(n, wi) + P.xsph * PBF_VOLUME * blend;
     velOut[i] = vec4(v, vel[i].w);
 }

@@ -1,5 +1,5 @@
 // PBF solve, second half of iteration k (docs/pbf.md 4.2-4.4): the early stop, the position
-// correction with s_corr (Macklin & Müller 2013, eq. 10, 11), collisions and the domain box.
+// correction with s_corr (Macklin & Mueller 2013, eq. 10, 11), collisions and the domain box.
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
@@ -23,11 +23,11 @@ layout(std430, binding = kBindStats) buffer Stats {
 layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
 
 bool converged(uint k) {
-    if (k < P.counts.w || P.gravity.w <= 0.0 || iterations[k].particles == 0u)
+    if (k < P.minIterations || P.targetDensityError <= 0.0 || iterations[k].particles == 0u)
         return false;
     float sum = (float(iterations[k].errorHi) * 4294967296.0 + float(iterations[k].errorLo)) /
                 kErrorFixedScale;
-    return sum / float(iterations[k].particles) <= P.gravity.w;
+    return sum / float(iterations[k].particles) <= P.targetDensityError;
 }
 
 void main() {
@@ -43,24 +43,24 @@ void main() {
         if (gl_LocalInvocationIndex == 0u)
             atomicMin(stats.stopIteration, k);
         if (i == 0u)
-            for (uint a = (k + 1u) * P.control.x; a < P.control.w * P.control.x; ++a)
+            for (uint a = (k + 1u) * P.solveChunks; a < P.maxIterations * P.solveChunks; ++a)
                 args[a].groupsX = 0u;
         return;
     }
 
     vec3 xi = pred[i].xyz;
     float li = lambda[i];
-    float scorrScale = -P.scorr.x * P.fluid.z;
+    float scorrScale = -P.scorrK * P.lambdaRef;
     vec3 dp = vec3(0.0);
     // s_corr's (W / W(delta q))^n: pow() is exp2(n log2 w) on llvmpipe, two polynomial
     // approximations per neighbour. An integer n in [1, 7] (the default is 4) is a product
     // of w, w^2 and w^4 instead, the same to float rounding. The test is outside the loop so
     // the loop holds one form only.
-    uint n = uint(P.scorr.y);
-    if (float(n) == P.scorr.y && n >= 1u && n <= 7u) {
+    uint n = uint(P.scorrN);
+    if (float(n) == P.scorrN && n >= 1u && n <= 7u) {
         bool odd = (n & 1u) != 0u, two = (n & 2u) != 0u, four = (n & 4u) != 0u;
         PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
-            float w = poly6(q2) * P.scorr.z;
+            float w = poly6(q2) * P.invWDeltaQ;
             float w2 = w * w;
             float wn = (odd ? w : 1.0) * (two ? w2 : 1.0) * (four ? w2 * w2 : 1.0);
             float scorr = scorrScale * wn;
@@ -68,7 +68,7 @@ void main() {
         PBF_NEIGHBOURS_END
     } else {
         PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
-            float scorr = scorrScale * pow(poly6(q2) * P.scorr.z, P.scorr.y);
+            float scorr = scorrScale * pow(poly6(q2) * P.invWDeltaQ, P.scorrN);
             dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END
     }

@@ -1,5 +1,5 @@
 // PBF solve, first half of iteration k (docs/pbf.md 4.1): density, constraint and lambda
-// (Macklin & Müller 2013, eq. 1, 7, 8), plus the iteration's density-error sum and maximum.
+// (Macklin & Mueller 2013, eq. 1, 7, 8), plus the iteration's density-error sum and maximum.
 #version 450 core
 
 #include "shared/PbfGlsl.h"
@@ -43,7 +43,7 @@ void main() {
             gradSq += dot(g, g);
         PBF_NEIGHBOURS_END
         c = max(PBF_VOLUME * density - 1.0, 0.0); // rho / rho0 - 1, compression only
-        lambda[i] = -c / (gradSq + dot(gradSum, gradSum) + P.fluid.y);
+        lambda[i] = -c / (gradSq + dot(gradSum, gradSum) + P.epsilon);
         vel[i].w = c; // kept for the statistics and for colouring by density error
     }
 

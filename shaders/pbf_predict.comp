@@ -18,7 +18,7 @@ void main() {
     uint i = SLUICE_GLOBAL_ID.x;
     if (i >= PBF_COUNT)
         return;
-    vec3 v = vel[i].xyz + PBF_DT * P.gravity.xyz;
+    vec3 v = vel[i].xyz + PBF_DT * P.gravity;
     vec3 x = pos[i].xyz + PBF_DT * v;
     if (!allFinite(x) || !allFinite(v)) {
         // Keep NaN and infinity out of the neighbour search: the particle stays where it was,

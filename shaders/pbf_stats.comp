@@ -19,7 +19,7 @@ void main() {
     float speed = length(vel[i].xyz);
     if (!isnan(speed))
         atomicMax(stats.maxSpeedBits, floatBitsToUint(speed));
-    for (uint c = 0u; c < P.counts.z; ++c) {
+    for (uint c = 0u; c < P.colliderCount; ++c) {
         vec3 normal;
         if (colliderDistance(c, x, normal) < -0.5 * PBF_RADIUS) {
             atomicAdd(stats.insideColliders, 1u);

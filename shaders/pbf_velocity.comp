@@ -23,11 +23,11 @@ void main() {
         return;
     vec3 x = pos[i].xyz;
     uint stop = stats.stopIteration;
-    uint updates = min(stop, P.control.w); // iterations that moved x*
+    uint updates = min(stop, P.maxIterations); // iterations that moved x*
     vec3 xs = updates == 0u         ? predStart[i].xyz
               : (updates & 1u) == 1u ? pred0[i].xyz
                                      : pred1[i].xyz;
-    vec3 v = (xs - x) * P.step.y;
+    vec3 v = (xs - x) * P.invDt;
     if (!allFinite(xs) || !allFinite(v)) {
         xs = x;
         v = vec3(0.0);

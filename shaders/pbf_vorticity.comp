@@ -1,4 +1,4 @@
-// Vorticity omega_i = curl v by SPH (Macklin & Müller 2013, eq. 15), for the confinement pass.
+// Vorticity omega_i = curl v by SPH (Macklin & Mueller 2013, eq. 15), for the confinement pass.
 #version 450 core
 
 #include "shared/PbfGlsl.h"

@@ -181,6 +181,253 @@ Result<void> checkSizes(const BakeSizes& sizes, const ImportedMesh& mesh, glm::u
     return {};
 }
 
+/// The soup's triangles in grid-relative voxel coordinates: the float (i, j, k) is grid point
+/// (i, j, k) exactly.
+std::vector<BvhInputTriangle> voxelTriangles(const GpuSoup& soup, const GridSpec& grid) {
+    std::vector<BvhInputTriangle> input;
+    input.reserve(soup.triangles.size());
+    const double inverseVoxel = 1.0 / grid.voxelSize;
+    auto toVoxels = [&](std::size_t v) { return (soup.points[v] - grid.origin) * inverseVoxel; };
+    for (const auto& t : soup.triangles)
+        input.push_back({toVoxels(t[0]), toVoxels(t[1]), toVoxels(t[2])});
+    return input;
+}
+
+/// The bake's GPU buffers.
+struct BakeBuffers {
+    gpu::Buffer distanceNodes; ///< BVH boxes and links (texels)
+    gpu::Buffer windingNodes;  ///< BVH dipoles and links (texels)
+    gpu::Buffer triangles;     ///< triangle corners in leaf order (texels)
+    gpu::Buffer phi;           ///< distance per grid point [voxels]
+    gpu::Buffer coarse;        ///< CoarsePoint per coarse point
+    gpu::Buffer pending;       ///< PendingHeader, then the blocks of a slab still without a sign
+    gpu::Buffer verify;        ///< PendingHeader, then the points of a slab for the exact sum
+
+    std::uint64_t bytes() const {
+        return distanceNodes.size() + windingNodes.size() + triangles.size() + phi.size() +
+               coarse.size() + pending.size() + verify.size();
+    }
+};
+
+Result<BakeBuffers> createBuffers(const Bvh& bvh, const BakeSizes& sizes) {
+    BakeBuffers b;
+    struct Upload {
+        gpu::Buffer* buffer;
+        Result<gpu::Buffer> created;
+    };
+    Upload uploads[] = {
+        {&b.distanceNodes, gpu::Buffer::createFrom(bvh.distanceNodes, "bake BVH boxes")},
+        {&b.windingNodes, gpu::Buffer::createFrom(bvh.windingNodes, "bake BVH dipoles")},
+        {&b.triangles, gpu::Buffer::createFrom(bvh.triangles, "bake triangles")},
+    };
+    for (Upload& u : uploads) {
+        if (!u.created)
+            return u.created.error();
+        *u.buffer = std::move(*u.created);
+    }
+    struct Alloc {
+        gpu::Buffer* buffer;
+        std::uint64_t bytes;
+        const char* label;
+    };
+    const Alloc allocs[] = {
+        {&b.phi, sizes.grid, "bake distances"},
+        {&b.coarse, sizes.coarse, "bake coarse points"},
+        {&b.pending, sizes.pending, "bake pending blocks"},
+        {&b.verify, sizes.verify, "bake verify points"},
+    };
+    for (const Alloc& a : allocs) {
+        Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
+        if (!buffer)
+            return buffer.error();
+        *a.buffer = std::move(*buffer);
+    }
+    return b;
+}
+
+/// The BVH and triangles as buffer textures on their units, and the storage buffers on their
+/// bindings, for the passes of one bake. `buffers` must outlive it.
+struct BoundBuffers {
+    explicit BoundBuffers(const BakeBuffers& buffers)
+        : distanceTexture(buffers.distanceNodes, GL_RGBA32UI),
+          windingTexture(buffers.windingNodes, GL_RGBA32UI),
+          triangleTexture(buffers.triangles, GL_RGBA32F) {
+        distanceTexture.bind(shared::kBakeDistanceNodesUnit);
+        windingTexture.bind(shared::kBakeWindingNodesUnit);
+        triangleTexture.bind(shared::kBakeTrianglesUnit);
+        buffers.phi.bindStorage(shared::kBakeDistanceBinding);
+        buffers.coarse.bindStorage(shared::kBakeCoarseBinding);
+        buffers.pending.bindStorage(shared::kBakePendingBinding);
+        buffers.verify.bindStorage(shared::kBakeVerifyBinding);
+    }
+    BufferTexture distanceTexture, windingTexture, triangleTexture;
+};
+
+/// The uniforms that stay the same for the whole bake. `propagate`: the fine pass may take the
+/// sign of a coarse point whose empty ball holds a grid point.
+void setBakeUniforms(const BakePrograms& p, const Bvh& bvh, glm::uvec3 dims, bool propagate,
+                     format::SignMethod method, const GpuBakeOptions& options) {
+    for (const gpu::Program* program :
+         {&p.coarse, &p.distance, &p.coarseSign, &p.sign, &p.exactSign}) {
+        program->set("dims", dims);
+        program->set("nodeCount", bvh.nodeCount);
+    }
+    p.coarse.set("bvhDepth", bvh.depth);
+    p.distance.set("propagate", std::uint32_t(propagate ? 1 : 0));
+    for (const gpu::Program* program : {&p.coarseSign, &p.sign, &p.exactSign}) {
+        program->set("triangleCount", bvh.triangleCount);
+        program->set("beta", float(options.beta));
+        program->set("verifyBand", float(options.verifyBand));
+        program->set("parity", std::uint32_t(method == format::SignMethod::Parity ? 1 : 0));
+    }
+}
+
+/// What the passes of one bake share: their programs, the dispatch limits, the timers (profile
+/// only) and the statistics they add to.
+struct BakePasses {
+    const BakePrograms& programs;
+    GpuBakeStats& stats;
+    std::uint64_t maxGroups = 0;   ///< work groups per dispatch
+    std::uint64_t exactGroups = 0; ///< work groups per dispatch of the exact winding number
+    std::optional<gpu::GpuTimer> distanceTimer, signTimer;
+
+    /// A distance pass over `groups` work groups, timed with the distance passes.
+    void distance(const gpu::Program& program, glm::uvec3 groups) {
+        timed(distanceTimer,
+              [&] { stats.dispatches += program.dispatchChunked(groups, maxGroups); });
+    }
+    /// A sign pass over `items` list entries, `groupsPerDispatch` work groups per dispatch,
+    /// timed with the sign passes.
+    void sign(const gpu::Program& program, std::uint32_t items, std::uint64_t groupsPerDispatch) {
+        program.set("itemCount", items);
+        const std::uint32_t local = shared::kBakeLocalSize;
+        const glm::uvec3 groups(gpu::groupCount(items, local), 1, 1);
+        timed(signTimer,
+              [&] { stats.dispatches += program.dispatchChunked(groups, groupsPerDispatch); });
+    }
+
+private:
+    template <class Pass> static void timed(std::optional<gpu::GpuTimer>& timer, Pass&& pass) {
+        if (timer)
+            timer->begin();
+        pass();
+        if (timer)
+            timer->end();
+    }
+};
+
+BakePasses makePasses(const BakePrograms& programs, GpuBakeStats& stats,
+                      const GpuBakeOptions& options, std::uint32_t triangleCount) {
+    BakePasses passes{programs, stats};
+    passes.maxGroups = options.maxGroupsPerDispatch;
+    // The exact winding number sums every triangle for each point, so its dispatches hold fewer
+    // groups: about kExactSolidAnglesPerDispatch solid angles each, however large the mesh.
+    passes.exactGroups = std::clamp<std::uint64_t>(
+        kExactSolidAnglesPerDispatch / (std::uint64_t(shared::kBakeLocalSize) * triangleCount), 1,
+        passes.maxGroups);
+    if (options.profile) {
+        passes.distanceTimer.emplace();
+        passes.signTimer.emplace();
+    }
+    return passes;
+}
+
+/// Grid points per work group of the distance passes.
+const glm::uvec3 kGroupPoints(shared::kBakeGroupEdge, shared::kBakeGroupEdge,
+                              shared::kBakeGroupDepth);
+
+/// Passes 1 and 2: the coarse points' nearest triangles, then (where the sign propagates) their
+/// signs.
+void runCoarsePasses(BakePasses& passes, glm::uvec3 coarseDims, bool propagate) {
+    passes.distance(passes.programs.coarse, gpu::groupCount(coarseDims, kGroupPoints));
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    if (propagate) {
+        passes.sign(passes.programs.coarseSign, coarseDims.x * coarseDims.y * coarseDims.z,
+                    passes.maxGroups);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+}
+
+/// Pass 4 for the slab just computed: the fast winding number of its pending blocks, then the
+/// exact one of the points too near the decision. Reads back the two list headers.
+void signPendingPoints(BakePasses& passes, const BakeBuffers& buffers) {
+    shared::PendingHeader header{};
+    buffers.pending.download(&header, sizeof(header));
+    if (header.count > 0) {
+        passes.sign(passes.programs.sign, header.count, passes.maxGroups);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        shared::PendingHeader verified{};
+        buffers.verify.download(&verified, sizeof(verified));
+        if (verified.count > 0) {
+            passes.sign(passes.programs.exactSign, verified.count, passes.exactGroups);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        passes.stats.verifiedPoints += verified.count;
+    }
+    passes.stats.pendingPoints += header.points;
+}
+
+/// Work-group layers of the slab after one of `done` layers that took `seconds`: about
+/// kSlabSeconds at its rate, growing at most 4 times, within [1, maxSlabGroups].
+std::uint32_t nextSlabGroups(std::uint32_t done, double seconds, std::uint32_t maxSlabGroups) {
+    const double scale = std::min(4.0, kSlabSeconds / std::max(seconds, 1e-6));
+    return std::uint32_t(std::clamp<double>(std::floor(done * scale), 1.0, double(maxSlabGroups)));
+}
+
+/// Passes 3 and 4 over the grid in z-slabs of work groups: the fine distance pass, then the
+/// sign of the points it left pending. Between slabs the CPU reads the pending count and
+/// reports progress.
+void runSlabs(BakePasses& passes, BakeBuffers& buffers, const BakeSizes& sizes, glm::uvec3 dims,
+              Progress* progress) {
+    const glm::uvec3 groups = gpu::groupCount(dims, kGroupPoints);
+    const std::uint64_t slice = std::uint64_t(dims.x) * dims.y;
+    std::uint32_t slabGroups = sizes.slabGroups;
+    for (std::uint32_t z0 = 0, z1 = 0; z0 < groups.z; z0 = z1) {
+        const auto slabStart = std::chrono::steady_clock::now();
+        z1 = std::min(groups.z, z0 + slabGroups);
+        const shared::PendingHeader empty{};
+        buffers.pending.upload(&empty, sizeof(empty));
+        buffers.verify.upload(&empty, sizeof(empty));
+        passes.programs.distance.set("groupBegin", z0);
+        passes.distance(passes.programs.distance, glm::uvec3(groups.x, groups.y, z1 - z0));
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        signPendingPoints(passes, buffers);
+        if (progress) {
+            const std::uint32_t groupDepth = shared::kBakeGroupDepth;
+            const std::uint32_t k0 = z0 * groupDepth, k1 = std::min(dims.z, z1 * groupDepth);
+            progress->add(std::uint64_t(k1 - k0) * slice);
+        }
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - slabStart).count();
+        slabGroups = nextSlabGroups(z1 - z0, seconds, sizes.maxSlabGroups);
+    }
+}
+
+/// The GPU time of the passes into the statistics (profile only; waits for the queries).
+void readPassTimes(BakePasses& passes) {
+    if (!passes.distanceTimer)
+        return;
+    (void)passes.distanceTimer->elapsedNs();
+    passes.stats.distanceNs = passes.distanceTimer->totalNs();
+    if (passes.signTimer->completed() > 0 || passes.signTimer->pending() > 0) {
+        (void)passes.signTimer->elapsedNs();
+        passes.stats.signNs = passes.signTimer->totalNs();
+    }
+}
+
+/// The asset of the baked grid, `voxels` in grid-relative voxel units.
+format::ColliderAsset makeAsset(const ImportedMesh& mesh, const GridSpec& grid,
+                                const BakeSettings& settings, format::SignMethod method,
+                                const std::vector<float>& voxels) {
+    format::ColliderAsset asset;
+    asset.meta = bakeProvenance(mesh, grid, settings, "gpu", method);
+    // Voxels to world units in double, so the only float rounding is the GPU's and the last one.
+    asset.distances.resize(voxels.size());
+    std::transform(voxels.begin(), voxels.end(), asset.distances.begin(),
+                   [&](float v) { return float(double(v) * grid.voxelSize); });
+    return asset;
+}
+
 Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSettings& settings,
                                           gpu::Context& context, Progress* progress,
                                           const GpuBakeOptions& options, GpuBakeStats& stats) {
@@ -191,14 +438,7 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, settings.sign);
     if (!soup)
         return soup.error();
-
-    // Grid-relative voxel coordinates: the float (i, j, k) is grid point (i, j, k) exactly.
-    std::vector<BvhInputTriangle> input;
-    input.reserve(soup->triangles.size());
-    const double inverseVoxel = 1.0 / grid->voxelSize;
-    auto toVoxels = [&](std::size_t v) { return (soup->points[v] - grid->origin) * inverseVoxel; };
-    for (const auto& t : soup->triangles)
-        input.push_back({toVoxels(t[0]), toVoxels(t[1]), toVoxels(t[2])});
+    const std::vector<BvhInputTriangle> input = voxelTriangles(*soup, *grid);
 
     // Check sizes before building anything big.
     const glm::uvec3 dims = grid->dims;
@@ -216,168 +456,22 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     Result<BakePrograms> programs = compilePrograms();
     if (!programs)
         return programs.error();
-    Result<gpu::Buffer> distanceNodes =
-        gpu::Buffer::createFrom(bvh.distanceNodes, "bake BVH boxes");
-    if (!distanceNodes)
-        return distanceNodes.error();
-    Result<gpu::Buffer> windingNodes =
-        gpu::Buffer::createFrom(bvh.windingNodes, "bake BVH dipoles");
-    if (!windingNodes)
-        return windingNodes.error();
-    Result<gpu::Buffer> triangles = gpu::Buffer::createFrom(bvh.triangles, "bake triangles");
-    if (!triangles)
-        return triangles.error();
-    Result<gpu::Buffer> phi = gpu::Buffer::create(sizes.grid, "bake distances");
-    if (!phi)
-        return phi.error();
-    Result<gpu::Buffer> coarse = gpu::Buffer::create(sizes.coarse, "bake coarse points");
-    if (!coarse)
-        return coarse.error();
-    Result<gpu::Buffer> pending = gpu::Buffer::create(sizes.pending, "bake pending blocks");
-    if (!pending)
-        return pending.error();
-    Result<gpu::Buffer> verify = gpu::Buffer::create(sizes.verify, "bake verify points");
-    if (!verify)
-        return verify.error();
-    stats.gpuBytes = distanceNodes->size() + windingNodes->size() + triangles->size() +
-                     phi->size() + coarse->size() + pending->size() + verify->size();
-    const BufferTexture distanceTexture(*distanceNodes, GL_RGBA32UI);
-    const BufferTexture windingTexture(*windingNodes, GL_RGBA32UI);
-    const BufferTexture triangleTexture(*triangles, GL_RGBA32F);
-    distanceTexture.bind(shared::kBakeDistanceNodesUnit);
-    windingTexture.bind(shared::kBakeWindingNodesUnit);
-    triangleTexture.bind(shared::kBakeTrianglesUnit);
-    phi->bindStorage(shared::kBakeDistanceBinding);
-    coarse->bindStorage(shared::kBakeCoarseBinding);
-    pending->bindStorage(shared::kBakePendingBinding);
-    verify->bindStorage(shared::kBakeVerifyBinding);
+    Result<BakeBuffers> buffers = createBuffers(bvh, sizes);
+    if (!buffers)
+        return buffers.error();
+    stats.gpuBytes = buffers->bytes();
+    const BoundBuffers bound(*buffers);
 
     // The winding number is an integer off a closed surface (a cycle), so a point's sign is that
     // of any point whose empty ball holds it; an open soup's is not, so every point is pending.
     const bool propagate = soup->cycle;
-    BakePrograms& p = *programs;
-    for (const gpu::Program* program :
-         {&p.coarse, &p.distance, &p.coarseSign, &p.sign, &p.exactSign}) {
-        program->set("dims", dims);
-        program->set("nodeCount", bvh.nodeCount);
-    }
-    p.coarse.set("bvhDepth", bvh.depth);
-    p.distance.set("propagate", std::uint32_t(propagate ? 1 : 0));
-    for (const gpu::Program* program : {&p.coarseSign, &p.sign, &p.exactSign}) {
-        program->set("triangleCount", bvh.triangleCount);
-        program->set("beta", float(options.beta));
-        program->set("verifyBand", float(options.verifyBand));
-        program->set("parity", std::uint32_t(soup->method == format::SignMethod::Parity ? 1 : 0));
-    }
-
-    std::optional<gpu::GpuTimer> distanceTimer, signTimer;
-    if (options.profile) {
-        distanceTimer.emplace();
-        signTimer.emplace();
-    }
-    auto timed = [&](std::optional<gpu::GpuTimer>& timer, auto&& pass) {
-        if (timer)
-            timer->begin();
-        pass();
-        if (timer)
-            timer->end();
-    };
-    const std::uint64_t maxGroups = options.maxGroupsPerDispatch;
-    // The exact winding number sums every triangle for each point, so its dispatches hold fewer
-    // groups: about kExactSolidAnglesPerDispatch solid angles each, however large the mesh.
-    const std::uint64_t exactGroups = std::clamp<std::uint64_t>(
-        kExactSolidAnglesPerDispatch / (std::uint64_t(shared::kBakeLocalSize) * bvh.triangleCount),
-        1, maxGroups);
-    const std::uint32_t local = shared::kBakeLocalSize;
-
-    // Coarse points: their nearest triangles, then (where the sign propagates) their signs.
-    const glm::uvec3 groupSize(shared::kBakeGroupEdge, shared::kBakeGroupEdge,
-                               shared::kBakeGroupDepth); // [points]
-    const glm::uvec3 coarseDims = sizes.coarseDims;
-    const std::uint32_t coarseCount = coarseDims.x * coarseDims.y * coarseDims.z;
-    timed(distanceTimer, [&] {
-        stats.dispatches +=
-            p.coarse.dispatchChunked(gpu::groupCount(coarseDims, groupSize), maxGroups);
-    });
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    if (propagate) {
-        p.coarseSign.set("itemCount", coarseCount);
-        timed(signTimer, [&] {
-            stats.dispatches += p.coarseSign.dispatchChunked(
-                glm::uvec3(gpu::groupCount(coarseCount, local), 1, 1), maxGroups);
-        });
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    }
-
-    // The grid in z-slabs of work groups: the fine distance pass, then the sign of the points
-    // it left pending. Between slabs the CPU reads the pending count and reports progress.
-    const std::uint32_t groupDepth = shared::kBakeGroupDepth;
-    const glm::uvec3 groups = gpu::groupCount(dims, groupSize);
-    const std::uint64_t slice = std::uint64_t(dims.x) * dims.y;
-    std::uint32_t slabGroups = sizes.slabGroups;
-    for (std::uint32_t z0 = 0, z1 = 0; z0 < groups.z; z0 = z1) {
-        const auto slabStart = std::chrono::steady_clock::now();
-        z1 = std::min(groups.z, z0 + slabGroups);
-        const shared::PendingHeader empty{};
-        pending->upload(&empty, sizeof(empty));
-        verify->upload(&empty, sizeof(empty));
-        p.distance.set("groupBegin", z0);
-        timed(distanceTimer, [&] {
-            stats.dispatches +=
-                p.distance.dispatchChunked(glm::uvec3(groups.x, groups.y, z1 - z0), maxGroups);
-        });
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        shared::PendingHeader header{};
-        pending->download(&header, sizeof(header));
-        if (header.count > 0) {
-            p.sign.set("itemCount", header.count);
-            timed(signTimer, [&] {
-                stats.dispatches += p.sign.dispatchChunked(
-                    glm::uvec3(gpu::groupCount(header.count, local), 1, 1), maxGroups);
-            });
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-            // Points whose fast winding number was too near the decision: the exact sum.
-            shared::PendingHeader verified{};
-            verify->download(&verified, sizeof(verified));
-            if (verified.count > 0) {
-                p.exactSign.set("itemCount", verified.count);
-                timed(signTimer, [&] {
-                    stats.dispatches += p.exactSign.dispatchChunked(
-                        glm::uvec3(gpu::groupCount(verified.count, local), 1, 1), exactGroups);
-                });
-                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-            }
-            stats.verifiedPoints += verified.count;
-        }
-        stats.pendingPoints += header.points;
-        if (progress) {
-            const std::uint32_t k0 = z0 * groupDepth, k1 = std::min(dims.z, z1 * groupDepth);
-            progress->add(std::uint64_t(k1 - k0) * slice);
-        }
-        // The next slab: about kSlabSeconds at this slab's rate, growing at most 4 times.
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - slabStart).count();
-        const double scale = std::min(4.0, kSlabSeconds / std::max(seconds, 1e-6));
-        slabGroups = std::uint32_t(
-            std::clamp<double>(std::floor((z1 - z0) * scale), 1.0, double(sizes.maxSlabGroups)));
-    }
-    const std::vector<float> voxels = phi->download<float>();
-    if (distanceTimer) {
-        (void)distanceTimer->elapsedNs();
-        stats.distanceNs = distanceTimer->totalNs();
-        if (signTimer->completed() > 0 || signTimer->pending() > 0) {
-            (void)signTimer->elapsedNs();
-            stats.signNs = signTimer->totalNs();
-        }
-    }
-
-    format::ColliderAsset asset;
-    asset.meta = bakeProvenance(mesh, *grid, settings, "gpu", soup->method);
-    // Voxels to world units in double, so the only float rounding is the GPU's and the last one.
-    asset.distances.resize(voxels.size());
-    std::transform(voxels.begin(), voxels.end(), asset.distances.begin(),
-                   [&](float v) { return float(double(v) * grid->voxelSize); });
-    return asset;
+    setBakeUniforms(*programs, bvh, dims, propagate, soup->method, options);
+    BakePasses passes = makePasses(*programs, stats, options, bvh.triangleCount);
+    runCoarsePasses(passes, sizes.coarseDims, propagate);
+    runSlabs(passes, *buffers, sizes, dims, progress);
+    const std::vector<float> voxels = buffers->phi.download<float>();
+    readPassTimes(passes);
+    return makeAsset(mesh, *grid, settings, soup->method, voxels);
 }
 } // namespace
 

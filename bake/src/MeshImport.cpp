@@ -3,10 +3,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <exception>
 #include <fstream>
 #include <mutex>
@@ -167,116 +165,26 @@ private:
     std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> m_index;
 };
 
-/// Whether `header` (the start of a PLY file) has its "end_header" line. Debian's assimp 5.2.5
-/// reads header lines until it finds one and loops forever at the end of a file without it (a
-/// PLY file cut short inside its header hangs the importer; found by tests/fuzz).
-bool hasPlyEndHeader(const std::string& header) {
-    for (std::size_t at = header.find("end_header"); at != std::string::npos;
-         at = header.find("end_header", at + 1)) {
-        std::size_t lineStart = at;
-        while (lineStart > 0 && (header[lineStart - 1] == ' ' || header[lineStart - 1] == '\t'))
-            --lineStart;
-        const bool atLineStart =
-            lineStart == 0 || header[lineStart - 1] == '\n' || header[lineStart - 1] == '\r';
-        const std::size_t end = at + 10;
-        const bool tokenEnds =
-            end == header.size() || std::isspace(static_cast<unsigned char>(header[end])) != 0;
-        if (atLineStart && tokenEnds)
-            return true;
-    }
-    return false;
+/// Whether assimp may read a file of extension `ext` (lower case, with its dot) as PLY: it
+/// picks its loader by extension, and by content ("ply" first) only for extensions it does not
+/// know, so those files may be PLY too (detail::checkPlyFile looks at the content).
+bool mayBeReadAsPly(const std::string& ext) {
+    return ext == ".ply" || !Assimp::Importer().IsExtensionSupported(ext);
 }
 
-/// Whether assimp reads a file of extension `ext` (lower case, with its dot) as PLY: it picks
-/// its loader by extension, and by content only for extensions it does not know.
-bool readAsPly(const std::string& ext, bool plyMagic) {
-    return ext == ".ply" || (plyMagic && !Assimp::Importer().IsExtensionSupported(ext));
-}
-
-/// OFF and PLY headers declare their element counts up front, and assimp allocates for them
-/// before reading (a 12-line OFF file asking for 353 billion vertices takes all memory). Returns
-/// an error when the declared elements cannot fit in the file: each vertex needs at least 6
-/// bytes as text ("0 0 0\n") or 3 binary, each face 8 as text ("3 0 1 2\n") or 4 binary. Also
-/// an error: a file assimp would read as PLY whose header has no end_header line within its
-/// first 1 MiB.
-Result<void> checkDeclaredCounts(const std::filesystem::path& path, std::uintmax_t fileBytes,
-                                 const std::string& shown) {
-    constexpr std::size_t kMaxPlyHeaderBytes = std::size_t(1) << 20;
-    std::string ext = path.extension().string();
-    for (char& c : ext)
-        c = char(std::tolower(static_cast<unsigned char>(c)));
-    std::ifstream in(path, std::ios::binary);
-    std::string header(std::size_t(std::min<std::uintmax_t>(fileBytes, kMaxPlyHeaderBytes)), '\0');
-    in.read(header.data(), std::streamsize(header.size()));
-    header.resize(std::size_t(in.gcount()));
-    const bool plyMagic = detail::hasPlyMagic(header);
-    if (readAsPly(ext, plyMagic) && plyMagic && !hasPlyEndHeader(header))
-        return fail(ErrorCode::MeshImport,
-                    shown + ": the PLY header has no end_header line" +
-                        (fileBytes <= kMaxPlyHeaderBytes ? " (the file is cut short?)"
-                                                         : " in its first 1 MiB"));
-    if (ext != ".off" && ext != ".ply")
-        return {};
-    // The whole header, up to its first 1 MiB: an element line after the first few kB still
-    // counts (found by tests/fuzz: a PLY declaring 8.9e24 vertices on its 276th header line made
-    // assimp read at the end of the file for ever).
-    std::istringstream lines(header);
-    std::string line;
-    double vertices = 0, faces = 0;
-    bool binary = false, counted = false;
-    if (ext == ".off") {
-        // "OFF" (or COFF, NOFF, ...), maybe with the counts on the same line; '#' comments.
-        std::string word;
-        lines >> word;
-        if (word.size() < 3 || word.compare(word.size() - 3, 3, "OFF") != 0)
-            return {};
-        while (lines >> word && word[0] == '#')
-            std::getline(lines, line);
-        std::string rest;
-        std::getline(lines, rest);
-        // A count is judged even when the next one cannot be read: a comment glued to it
-        // ("4000000000# big") still makes assimp reserve for it (found by tests/fuzz).
-        std::istringstream counts(word + " " + rest);
-        counted = bool(counts >> vertices);
-        if (counted && !(counts >> faces))
-            faces = 0;
-    } else {
-        while (std::getline(lines, line) && line.rfind("end_header", 0) != 0) {
-            std::istringstream words(line);
-            std::string key, name;
-            double count = 0;
-            words >> key;
-            if (key == "format")
-                binary = line.find("binary") != std::string::npos;
-            if (key == "element" && (words >> name >> count)) {
-                vertices += name == "vertex" ? count : 0;
-                faces += name == "face" ? count : 0;
-                counted = true;
-            }
-        }
-    }
-    if (!counted)
-        return {}; // let assimp say what is wrong with it
-    const double needed = binary ? vertices * 3 + faces * 4 : vertices * 6 + faces * 8;
-    if (needed > double(fileBytes)) {
-        char text[160];
-        std::snprintf(text, sizeof text,
-                      ": the header declares %.0f vertices and %.0f faces, more than its %.0f "
-                      "bytes can hold",
-                      vertices, faces, double(fileBytes));
-        return fail(ErrorCode::MeshImport, shown + text);
-    }
-    return {};
-}
-
-/// Checks the body of an OFF file against its header before assimp reads it: the vertex lines
-/// (three numbers each, and whatever colour or normal follows) and every face line, whose
-/// corner count must be followed on the same line by that many vertex indices, each below the
-/// vertex count. Debian's assimp 5.2.5 reads a face's corners past the end of its buffer when
-/// the file does not hold them (a SEGV; found by tests/fuzz, and contained by the isolated
-/// import, but a user deserves the line number). Files with the header's counts on the first
-/// line and '#' comments are read as assimp does; binary OFF is left to assimp.
-Result<void> checkOffBody(const std::filesystem::path& path, const std::string& shown) {
+/// Checks an OFF file against its header before assimp reads it.
+///
+/// First the declared counts: assimp allocates for them before reading (a 12-line OFF file
+/// asking for 353 billion vertices takes all memory), so they must fit in the file, each
+/// vertex needing at least 6 bytes ("0 0 0\n") and each face 8 ("3 0 1 2\n"). Then the body:
+/// the vertex lines (three numbers each, and whatever colour or normal follows) and every face
+/// line, whose corner count must be followed on the same line by that many vertex indices, each
+/// below the vertex count. Debian's assimp 5.2.5 reads a face's corners past the end of its
+/// buffer when the file does not hold them (a SEGV; found by tests/fuzz, and contained by the
+/// isolated import, but a user deserves the line number). Files with the header's counts on
+/// the first line and '#' comments are read as assimp does; binary OFF is left to assimp.
+Result<void> checkOffFile(const std::filesystem::path& path, std::uintmax_t fileBytes,
+                          const std::string& shown) {
     std::ifstream in(path, std::ios::binary);
     std::string line;
     std::size_t lineNumber = 0;
@@ -303,18 +211,31 @@ Result<void> checkOffBody(const std::filesystem::path& path, const std::string& 
     if (magic.size() < 3 || magic.compare(magic.size() - 3, 3, "OFF") != 0 ||
         magic.find("BINARY") != std::string::npos)
         return {}; // not OFF text: assimp says what it is
+    // The counts follow the magic on its line, or stand on the next one.
     double vertexCount = 0, faceCount = 0;
-    if (!(first >> vertexCount)) {
+    std::istringstream nextCounts;
+    std::istream* counts = &first;
+    bool vertexCountRead = bool(first >> vertexCount);
+    if (!vertexCountRead) {
         if (!nextLine(text))
             return fail(ErrorCode::MeshImport, shown + ": the OFF header has no counts");
-        std::istringstream counts(text);
-        if (!(counts >> vertexCount >> faceCount))
-            return fail(ErrorCode::MeshImport, shown + ": line " + std::to_string(lineNumber) +
-                                                   ": the OFF counts cannot be read");
-    } else if (!(first >> faceCount)) {
+        nextCounts.str(text);
+        counts = &nextCounts;
+        vertexCountRead = bool(nextCounts >> vertexCount);
+    }
+    const bool faceCountRead = vertexCountRead && bool(*counts >> faceCount);
+    // The size test comes first, and judges a vertex count without a face count after it (found
+    // by tests/fuzz: "4000000000# big" still makes assimp reserve for the vertices).
+    if (vertexCountRead) {
+        const double faces = faceCountRead ? faceCount : 0.0;
+        if (vertexCount * 6 + faces * 8 > double(fileBytes))
+            return fail(ErrorCode::MeshImport,
+                        shown + ": " +
+                            detail::declaresMoreThanTheFileHolds(vertexCount, faces, fileBytes));
+    }
+    if (!faceCountRead)
         return fail(ErrorCode::MeshImport, shown + ": line " + std::to_string(lineNumber) +
                                                ": the OFF counts cannot be read");
-    }
     if (!(vertexCount >= 0 && faceCount >= 0 && vertexCount < 4.3e9 && faceCount < 4.3e9))
         return fail(ErrorCode::MeshImport, shown + ": the OFF counts are out of range");
     const auto vertices = std::uint64_t(vertexCount), faces = std::uint64_t(faceCount);
@@ -392,16 +313,13 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
     if (bytes > kMaxFileBytes)
         return fail(ErrorCode::SizeOverflow, shown + ": the file is larger than 4 GiB");
 
-    if (Result<void> r = checkDeclaredCounts(path, bytes, shown); !r)
-        return r.error();
-    std::string extension = path.extension().string();
-    for (char& c : extension)
-        c = char(std::tolower(static_cast<unsigned char>(c)));
+    // Pre-flight checks of what assimp trusts in OFF and PLY files. checkPlyFile reads the
+    // magic itself, and passes a file without it.
+    const std::string extension = detail::lowered(path.extension().string());
     if (extension == ".off")
-        if (Result<void> r = checkOffBody(path, shown); !r)
+        if (Result<void> r = checkOffFile(path, bytes, shown); !r)
             return r.error();
-    // checkPlyFile reads the magic itself, and passes a file without it.
-    if (readAsPly(extension, /*plyMagic=*/true))
+    if (mayBeReadAsPly(extension))
         if (Result<void> r = detail::checkPlyFile(path, shown); !r)
             return r.error();
 

@@ -3,7 +3,7 @@
 // Debian's assimp 5.2.5 trusts a PLY file's header: a header that declares an element twice,
 // a property with too few or too many words, or a body that does not hold what the header
 // declares can make its loader write past its own buffers (a heap corruption found by
-// tests/fuzz, open-findings until this check). sluice-bake reads meshes in a child process, so
+// tests/fuzz before this check existed). sluice-bake reads meshes in a child process, so
 // such a file could never take the tool down, but the user deserves the line that is wrong,
 // and the fuzzer a loader that is never handed a file it cannot read.
 //
@@ -16,7 +16,10 @@
 //   - the body, element by element: ASCII holds one instance per line with one number per
 //     scalar property and, per list, a count then that many numbers; binary holds the bytes
 //     the header's types and the list counts add up to;
-//   - "end_header" stands alone on its line (assimp finds the body by that line's end);
+//   - the header has an "end_header" line within its first 1 MiB, alone on its line (assimp
+//     finds the body by that line's end, and loops for ever without one);
+//   - the declared "vertex" and "face" counts fit in the file's size (assimp allocates for
+//     them before reading);
 //   - there is something to bake: a "vertex" element with scalar x, y and z, and a "face" or
 //     "tristrips" element of at least one instance with a vertex_indices (or vertex_index)
 //     list; a point cloud is refused as EmptyMesh here, so assimp never reads it;
@@ -27,6 +30,7 @@
 // Data after the last element is ignored, as assimp ignores it.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -35,7 +39,7 @@
 
 namespace sluice::bake::detail {
 
-/// Checks `path` (read as PLY; its header already known to end with "end_header") and returns
+/// Checks `path` (a file assimp reads as PLY) and returns
 /// a MeshImport error that starts with `shown` and names the line, element and problem. A file
 /// that does not start with "ply" (in any case) is not judged here: success, and assimp says
 /// what it is. Whatever follows "ply" on the first line is ignored, as assimp ignores it.
@@ -44,5 +48,12 @@ Result<void> checkPlyFile(const std::filesystem::path& path, const std::string& 
 /// Whether `start` (the first bytes of a file) begins with "ply" in any case: what makes
 /// assimp read a file of an extension it does not know as PLY.
 bool hasPlyMagic(std::string_view start);
+
+/// `text` with ASCII letters in lower case (keywords, file extensions).
+std::string lowered(std::string_view text);
+
+/// The message for a header (PLY or OFF) whose declared elements cannot fit in its file:
+/// "the header declares V vertices and F faces, more than its N bytes can hold".
+std::string declaresMoreThanTheFileHolds(double vertices, double faces, std::uint64_t fileBytes);
 
 } // namespace sluice::bake::detail

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <span>
 #include <string>
@@ -61,8 +62,8 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
             collider.resolvedPath.empty() ? collider.asset : collider.resolvedPath;
         auto asset = format::readAsset(path);
         if (!asset)
-            return Error{asset.error().code, scene.path + ": colliders[" + std::to_string(c) +
-                                                 "]: " + asset.error().detail};
+            return fail(asset.error().code, scene.path + ": colliders[" + std::to_string(c) +
+                                                "]: " + asset.error().detail);
         assets.push_back(std::move(*asset));
     }
     return assets;
@@ -107,9 +108,23 @@ struct Simulation::Impl {
     void uploadParams();
     void uploadColliders(double t0, double t1);
     void append(const std::vector<ParticleState>& particles);
+    /// One substep: the passes below, in the order of docs/pbf.md.
     void substep();
+    void emit(double t0, double t1);
+    void bindSharedBuffers() const;
+    void predictPositions();
+    void sortIntoBuckets();
+    void solve();
+    void updateVelocities();
+    void applyVorticityAndXsph();
     void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;
     void barrier() const { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
+    /// Sets `bytes` of the statistics buffer from byte `offset` on to the uint `value`, on the
+    /// GPU (offsets from offsetof(shared::PbfStats, ...)).
+    void fillStats(std::size_t offset, std::size_t bytes, std::uint32_t value) const {
+        glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, GLintptr(offset), GLsizeiptr(bytes),
+                                  GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
+    }
     void dispatch(const gpu::Program& program, std::uint32_t items) const {
         program.dispatchChunked(glm::uvec3(groupsFor(items), 1, 1), kMaxGroupsPerDispatch);
     }
@@ -177,14 +192,15 @@ Result<void> Simulation::Impl::allocate() {
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {
         if (maxSsbo > 0 && a.bytes > std::uint64_t(maxSsbo))
-            return Error{ErrorCode::GpuOutOfMemory,
-                         scene.path + ": the " + a.label + " buffer needs " +
-                             std::to_string(a.bytes) + " bytes, more than this GL allows in one "
-                             "storage block (" + std::to_string(maxSsbo) +
-                             "); lower simulation.capacity or coarsen the colliders"};
+            return fail(ErrorCode::GpuOutOfMemory,
+                        scene.path + ": the " + a.label + " buffer needs " +
+                            std::to_string(a.bytes) +
+                            " bytes, more than this GL allows in one storage block (" +
+                            std::to_string(maxSsbo) +
+                            "); lower simulation.capacity or coarsen the colliders");
         auto buffer = gpu::Buffer::create(a.bytes, a.label);
         if (!buffer)
-            return Error{buffer.error().code, scene.path + ": " + buffer.error().detail};
+            return fail(buffer.error().code, scene.path + ": " + buffer.error().detail);
         *a.buffer = std::move(*buffer);
     }
     return {};
@@ -236,27 +252,47 @@ glm::uvec3 Simulation::Impl::denseGridDims() const {
 void Simulation::Impl::uploadParams() {
     const format::SimulationParams& s = scene.simulation;
     shared::PbfParams p{};
-    p.kernel = {k.h, k.h * k.h, k.poly6, k.spikyGrad};
-    p.fluid = {k.volume, k.epsilon, k.lambdaRef, k.radius};
-    p.scorr = {s.scorrK, s.scorrN, k.wDeltaQ > 0.0f ? 1.0f / k.wDeltaQ : 0.0f, 1.0f / k.h};
-    p.step = {k.dt, 1.0f / k.dt, s.xsph, s.vorticity};
-    p.gravity = {s.gravity, s.targetDensityError};
+    p.h = k.h;
+    p.h2 = k.h * k.h;
+    p.poly6Coeff = k.poly6;
+    p.spikyGradCoeff = k.spikyGrad;
+    p.volume = k.volume;
+    p.epsilon = k.epsilon;
+    p.lambdaRef = k.lambdaRef;
+    p.radius = k.radius;
+    p.scorrK = s.scorrK;
+    p.scorrN = s.scorrN;
+    p.invWDeltaQ = k.wDeltaQ > 0.0f ? 1.0f / k.wDeltaQ : 0.0f;
+    p.invH = 1.0f / k.h;
+    p.dt = k.dt;
+    p.invDt = 1.0f / k.dt;
+    p.xsph = s.xsph;
+    p.vorticity = s.vorticity;
+    p.gravity = s.gravity;
+    p.targetDensityError = s.targetDensityError;
     if (scene.domainMin && scene.domainMax) {
-        p.domainMin = {*scene.domainMin + glm::vec3(k.radius), 1.0f};
-        p.domainMax = {*scene.domainMax - glm::vec3(k.radius), 0.0f};
+        p.domainMin = *scene.domainMin + glm::vec3(k.radius);
+        p.domainMax = *scene.domainMax - glm::vec3(k.radius);
+        p.hasDomain = 1;
     }
     // A dense grid of h-wide cells over the domain box replaces the hash when it needs no more
     // buckets than the hash table holds (docs/performance.md, "Done"): no hash collisions, and
     // the three cells of a row are one contiguous range of sorted particles. h may change
     // between substeps (setParameters), so this is decided here.
     const glm::uvec3 dims = denseGridDims();
-    p.gridDims = {0, 0, 0, 0};
     if (dims.x > 0) {
-        p.gridDims = {dims, 1u};
-        p.gridOrigin = {*scene.domainMin, 0.0f};
+        p.gridDims = dims;
+        p.gridOrigin = *scene.domainMin;
+        p.denseGrid = 1;
     }
-    p.counts = {count, tableSize - 1, std::uint32_t(colliderRecords.size()), s.minIterations};
-    p.control = {solveChunks, activeBuckets(), options.deterministic ? 1u : 0u, maxIterations};
+    p.particleCount = count;
+    p.hashMask = tableSize - 1;
+    p.colliderCount = std::uint32_t(colliderRecords.size());
+    p.minIterations = s.minIterations;
+    p.solveChunks = solveChunks;
+    p.activeBuckets = activeBuckets();
+    p.deterministic = options.deterministic ? 1u : 0u;
+    p.maxIterations = maxIterations;
     params.upload(std::span(&p, 1));
 }
 
@@ -271,7 +307,7 @@ void Simulation::Impl::uploadColliders(double t0, double t1) {
         r.worldToGrid = glm::inverse(world);
         r.rotation = glm::mat4_cast(now.rotation);
         r.motion = poseMatrix(before) * r.worldToGrid;
-        r.boxMax.w = now.scale;
+        r.scale = now.scale;
     }
     colliderBuf.upload(colliderRecords);
 }
@@ -297,10 +333,26 @@ void Simulation::Impl::bindParticles(const gpu::Buffer& posIn, const gpu::Buffer
     velIn.bindStorage(shared::kBindVelIn);
 }
 
+// One substep: the passes of docs/pbf.md, "One substep at time t", in order. The neighbour
+// sort (step 3) counts into buckets in the predict pass and sorts after it.
 void Simulation::Impl::substep() {
     const double t0 = time;
     const double t1 = time + k.dt;
+    emit(t0, t1);
+    if (count > 0) {
+        bindSharedBuffers();
+        predictPositions();
+        sortIntoBuckets();
+        solve();
+        updateVelocities();
+        applyVorticityAndXsph();
+    }
+    time = t1;
+}
 
+// Step 1, and what the substep's passes read: parameters, solve args, collider poses and
+// cleared per-substep counters.
+void Simulation::Impl::emit(double t0, double t1) {
     begin(Pass::Emit);
     staging.clear();
     if (emittersOn && !emitters.emit(float(t0), count, capacity, nextId, staging))
@@ -309,23 +361,19 @@ void Simulation::Impl::substep() {
     uploadParams();
     uploadSolveArgs();
     uploadColliders(t0, t1);
-    // Per-substep counters: no stop yet, empty iteration sums.
-    const std::uint32_t noStop = kNoStop, zero = 0;
-    glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, 12, 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                              &noStop);
-    glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, kStatsHeaderBytes,
-                              statsBuf.size() - kStatsHeaderBytes, GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &zero);
+    // Per-substep counters: no stop yet, empty iteration sums, empty buckets.
+    fillStats(offsetof(shared::PbfStats, stopIteration), sizeof(std::uint32_t), kNoStop);
+    fillStats(kStatsHeaderBytes, statsBuf.size() - kStatsHeaderBytes, 0);
+    const std::uint32_t zero = 0;
     glClearNamedBufferSubData(cellCount.id(), GL_R32UI, 0, cellCount.size(), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &zero);
     end(Pass::Emit);
-    if (count == 0) {
-        time = t1;
-        return;
-    }
+}
+
+// The buffers whose binding no pass of the substep changes.
+void Simulation::Impl::bindSharedBuffers() const {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT |
                     GL_BUFFER_UPDATE_BARRIER_BIT);
-
     params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
     statsBuf.bindStorage(shared::kBindStats);
     colliderBuf.bindStorage(shared::kBindColliders);
@@ -337,16 +385,21 @@ void Simulation::Impl::substep() {
     sortedToOld.bindStorage(shared::kBindSortedToOld);
     lambdaBuf.bindStorage(shared::kBindLambda);
     omega.bindStorage(shared::kBindOmega);
+}
 
-    // 2. Predict and count into buckets.
+// Step 2: x* into pred[0], and each particle counted into its bucket.
+void Simulation::Impl::predictPositions() {
     begin(Pass::Predict);
     bindParticles(pos[cur], vel[cur]);
     pred[0].bindStorage(shared::kBindPredOut);
     dispatch(predict, count);
     barrier();
     end(Pass::Predict);
+}
 
-    // 3. Counting sort by bucket and reorder into the other buffers.
+// Step 3: counting sort by bucket, then every particle reordered into the other buffers (x* of
+// the sorted order into predStart).
+void Simulation::Impl::sortIntoBuckets() {
     begin(Pass::Sort);
     scan->exclusive(cellCount, cellStart, activeBuckets());
     cellStart.bindStorage(shared::kBindCellStart);
@@ -370,11 +423,13 @@ void Simulation::Impl::substep() {
     barrier();
     cur = nxt;
     end(Pass::Sort);
+}
 
-    // 4. Solver iterations. Iteration k reads x* from predStart (k = 0) or pred[(k - 1) % 2]
-    // and writes pred[k % 2]; predStart keeps the substep's start positions, which fix the
-    // neighbour sets. The early stop (pbf_delta.comp) zeroes the dispatch args of the later
-    // iterations: the CPU issues every dispatch without knowing where the GPU stopped.
+// Step 4: the solver iterations. Iteration k reads x* from predStart (k = 0) or
+// pred[(k - 1) % 2] and writes pred[k % 2]; predStart keeps the substep's start positions,
+// which fix the neighbour sets. The early stop (pbf_delta.comp) zeroes the dispatch args of the
+// later iterations: the CPU issues every dispatch without knowing where the GPU stopped.
+void Simulation::Impl::solve() {
     begin(Pass::Solve);
     predStart.bindStorage(shared::kBindPredStart);
     bindParticles(pos[cur], vel[cur]);
@@ -392,9 +447,11 @@ void Simulation::Impl::substep() {
         in = &pred[it % 2];
     }
     end(Pass::Solve);
+}
 
-    // 5. Velocity, x <- x*, non-finite guard; velocities go to the other buffer. The shader
-    // picks, by stats.stopIteration, the buffer the last iteration that ran wrote.
+// Step 5: velocity, x <- x*, non-finite guard; velocities go to the other buffer. The shader
+// picks, by stats.stopIteration, the buffer the last iteration that ran wrote.
+void Simulation::Impl::updateVelocities() {
     begin(Pass::Velocity);
     pred[0].bindStorage(shared::kBindPredIn);
     pred[1].bindStorage(shared::kBindPredOther);
@@ -403,8 +460,10 @@ void Simulation::Impl::substep() {
     dispatch(velocity, count);
     barrier();
     end(Pass::Velocity);
+}
 
-    // 6. Vorticity confinement and XSPH, back into vel[cur].
+// Step 6: vorticity confinement and XSPH, back into vel[cur].
+void Simulation::Impl::applyVorticityAndXsph() {
     begin(Pass::Vorticity);
     const bool withVorticity = scene.simulation.vorticity > 0.0f;
     vel[1 - cur].bindStorage(shared::kBindVelIn);
@@ -417,17 +476,16 @@ void Simulation::Impl::substep() {
     dispatch(confine, count);
     barrier();
     end(Pass::Vorticity);
-    time = t1;
 }
 
 Result<Simulation> Simulation::create(const format::Scene& scene,
                                       std::vector<format::ColliderAsset> colliders,
                                       const SimulationOptions& options) {
     if (colliders.size() != scene.colliders.size())
-        return Error{ErrorCode::InvalidArgument,
-                     scene.path + ": " + std::to_string(scene.colliders.size()) +
-                         " colliders in the scene but " + std::to_string(colliders.size()) +
-                         " assets given"};
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": " + std::to_string(scene.colliders.size()) +
+                        " colliders in the scene but " + std::to_string(colliders.size()) +
+                        " assets given");
     auto impl = std::make_unique<Impl>(scene);
     impl->options = options;
     impl->k = deriveConstants(scene.simulation);
@@ -468,17 +526,19 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     std::uint64_t offset = 0;
     for (const format::ColliderAsset& a : impl->colliderAssets) {
         shared::GpuCollider r{};
-        r.origin = {glm::vec3(a.meta.origin), float(a.meta.voxelSize)};
-        r.boxMax = {glm::vec3(a.meta.origin + glm::dvec3(a.meta.dims - glm::uvec3(1)) *
-                                                  a.meta.voxelSize),
-                    1.0f};
-        r.dims = {a.meta.dims, std::uint32_t(offset)};
+        r.origin = glm::vec3(a.meta.origin);
+        r.voxelSize = float(a.meta.voxelSize);
+        r.boxMax =
+            glm::vec3(a.meta.origin + glm::dvec3(a.meta.dims - glm::uvec3(1)) * a.meta.voxelSize);
+        r.scale = 1.0f;
+        r.dims = a.meta.dims;
+        r.sdfOffset = std::uint32_t(offset);
         impl->sdfBuf.upload(a.distances, offset * sizeof(float));
         offset += a.pointCount();
         impl->colliderRecords.push_back(r);
     }
     for (std::size_t c = 0; c < impl->colliderRecords.size(); ++c)
-        impl->colliderRecords[c].material.x = scene.colliders[c].friction;
+        impl->colliderRecords[c].friction = scene.colliders[c].friction;
 
     const std::size_t ring = 8 + 2 * std::size_t(std::max(1u, scene.simulation.substeps));
     for (std::size_t p = 0; p < std::size_t(Pass::Count); ++p)
@@ -486,10 +546,9 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
 
     std::vector<ParticleState> initial = fillBlocks(scene);
     if (initial.size() > impl->capacity)
-        return Error{ErrorCode::InvalidArgument,
-                     scene.path + ": the fluid blocks hold " + std::to_string(initial.size()) +
-                         " particles but simulation.capacity is " +
-                         std::to_string(impl->capacity)};
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": the fluid blocks hold " + std::to_string(initial.size()) +
+                        " particles but simulation.capacity is " + std::to_string(impl->capacity));
     impl->nextId = std::uint32_t(initial.size());
     impl->append(initial);
     const std::uint32_t zero = 0;
@@ -508,17 +567,15 @@ void Simulation::step() {
     for (auto& timer : s.timers)
         timer.poll();
     s.capacityReached = false;
-    const std::uint32_t zero = 0;
-    glClearNamedBufferSubData(s.statsBuf.id(), GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                              &zero);
+    s.fillStats(offsetof(shared::PbfStats, nonFinite), sizeof(std::uint32_t), 0);
     const std::uint32_t substeps = std::max(1u, s.scene.simulation.substeps);
     for (std::uint32_t i = 0; i < substeps; ++i)
         s.substep();
 
     // Step statistics: max speed and particles inside colliders, from the final state.
     s.begin(Pass::Stats);
-    glClearNamedBufferSubData(s.statsBuf.id(), GL_R32UI, 4, 8, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                              &zero);
+    s.fillStats(offsetof(shared::PbfStats, insideColliders), sizeof(std::uint32_t), 0);
+    s.fillStats(offsetof(shared::PbfStats, maxSpeedBits), sizeof(std::uint32_t), 0);
     if (s.count > 0) {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
@@ -541,20 +598,24 @@ StepStats Simulation::readStats() {
     out.time = s.time;
     out.particles = s.count;
     out.capacityReached = s.capacityReached;
-    std::vector<std::uint32_t> raw(s.statsBuf.size() / 4);
-    s.statsBuf.download(raw.data(), s.statsBuf.size());
-    out.nonFinite = raw[0];
-    out.insideColliders = raw[1];
-    out.maxSpeed = std::bit_cast<float>(raw[2]);
-    const std::uint32_t stop = raw[3];
+    // PbfStats, then PbfIterationStats[maxIterations]: one readback, then the parts by offset.
+    std::vector<std::byte> raw(s.statsBuf.size());
+    s.statsBuf.download(raw.data(), raw.size());
+    shared::PbfStats header{};
+    std::memcpy(&header, raw.data(), sizeof(header));
+    out.nonFinite = header.nonFinite;
+    out.insideColliders = header.insideColliders;
+    out.maxSpeed = std::bit_cast<float>(header.maxSpeedBits);
+    const std::uint32_t stop = header.stopIteration;
     out.iterations = stop == kNoStop ? s.maxIterations : stop;
     const std::uint32_t slot = std::min(stop, s.maxIterations - 1);
-    const std::uint32_t* it = raw.data() + kStatsHeaderBytes / 4 + 4 * slot;
-    if (it[3] > 0) {
-        const double sum = (double(it[1]) * 4294967296.0 + double(it[0])) /
+    shared::PbfIterationStats it{};
+    std::memcpy(&it, raw.data() + kStatsHeaderBytes + slot * sizeof(it), sizeof(it));
+    if (it.particles > 0) {
+        const double sum = (double(it.errorHi) * 4294967296.0 + double(it.errorLo)) /
                            double(shared::kErrorFixedScale);
-        out.avgDensityError = sum / double(it[3]);
-        out.maxDensityError = std::bit_cast<float>(it[2]);
+        out.avgDensityError = sum / double(it.particles);
+        out.maxDensityError = std::bit_cast<float>(it.errorMaxBits);
     }
     return out;
 }
@@ -621,9 +682,9 @@ Result<void> Simulation::setParameters(const format::SimulationParams& params) {
                             p.gravity.x, p.gravity.y, p.gravity.z};
     for (float v : values)
         if (!std::isfinite(v))
-            return Error{ErrorCode::NonFinite, "simulation parameters: a value is not finite"};
+            return fail(ErrorCode::NonFinite, "simulation parameters: a value is not finite");
     auto bad = [](const std::string& what) {
-        return Error{ErrorCode::InvalidArgument, "simulation parameters: " + what};
+        return fail(ErrorCode::InvalidArgument, "simulation parameters: " + what);
     };
     if (p.kernelRadius < 1.5f * p.spacing || p.kernelRadius > 4.0f * p.spacing)
         return bad("kernelRadius must lie in [1.5 spacing, 4 spacing]");
@@ -638,17 +699,18 @@ Result<void> Simulation::setParameters(const format::SimulationParams& params) {
         return bad("targetDensityError, relaxation, scorrK, xsph and vorticity must be >= 0, "
                    "scorrN >= 1");
     if (p.maxIterations > s.maxIterations) {
-        // The per-iteration statistics slots grow with the cap.
+        // The per-iteration statistics slots and the solve args grow with the cap. Both are
+        // allocated before either replaces its buffer, so a failure leaves nothing changed.
         auto stats = gpu::Buffer::create(
             kStatsHeaderBytes + p.maxIterations * sizeof(shared::PbfIterationStats), "stats");
         if (!stats)
             return stats.error();
-        const std::uint32_t zero = 0;
-        glClearNamedBufferData(stats->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-        s.statsBuf = std::move(*stats);
         auto args = gpu::Buffer::create(s.solveArgsBytes(p.maxIterations), "solve dispatch args");
         if (!args)
             return args.error();
+        const std::uint32_t zero = 0;
+        glClearNamedBufferData(stats->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        s.statsBuf = std::move(*stats);
         s.solveArgs = std::move(*args);
     }
     s.maxIterations = p.maxIterations;
@@ -667,9 +729,9 @@ bool Simulation::emittersEnabled() const { return m_impl->emittersOn; }
 Result<void> Simulation::setParticles(const std::vector<ParticleState>& particles) {
     Impl& s = *m_impl;
     if (particles.size() > s.capacity)
-        return Error{ErrorCode::InvalidArgument,
-                     std::to_string(particles.size()) + " particles do not fit the capacity " +
-                         std::to_string(s.capacity)};
+        return fail(ErrorCode::InvalidArgument, std::to_string(particles.size()) +
+                                                    " particles do not fit the capacity " +
+                                                    std::to_string(s.capacity));
     s.count = 0;
     s.append(particles);
     for (const ParticleState& p : particles)

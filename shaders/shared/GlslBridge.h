@@ -6,11 +6,13 @@
 //     C++, nothing in GLSL);
 //   - constants are `SLUICE_CONST int kName = 3;` and work as GLSL layout qualifiers
 //     (binding = kName, local_size_x = kName);
-//   - std430 structs use scalars (int, uint, float), vec2, vec4, ivec4, uvec4 and mat4, never
-//     vec3 (16-byte aligned in std430, 12 bytes in C++); C++ aligns glm vectors to 4 bytes, so
-//     order members to put each vec2 at a multiple of 8 and each vec4/mat4 at a multiple of 16,
-//     and give every struct C++ static_asserts on size and offsets in an `#ifdef __cplusplus`
-//     block;
+//   - std430 structs use scalars (int, uint, float), vec2, vec3, uvec3, vec4, ivec4, uvec4 and
+//     mat4, each field with its own name and meaning (no value hidden in a vector's .w); C++
+//     aligns glm vectors to 4 bytes where GLSL aligns vec2 to 8 and vec3/vec4/mat4 to 16, so
+//     put each vec2 at a multiple of 8, each vec3/vec4/mat4 at a multiple of 16, and follow
+//     every vec3 with a 4-byte scalar (GLSL packs it into the vec3's row, as C++ does); name
+//     padding (pad0, pad1, ...). Give every struct C++ static_asserts on its size and on the
+//     offsets of its fields in an `#ifdef __cplusplus` block;
 //   - functions shared by both languages are `SLUICE_FUNC float f(uint i) { ... }`, using only
 //     operations spelled the same in both (float(x) casts, sin, sqrt, min, max, abs, dot);
 //   - C++-only includes go inside `#ifdef __cplusplus` with angle brackets: quoted includes are
@@ -27,10 +29,12 @@
 #include <glm/glm.hpp>
 
 namespace sluice::shared {
-// GLSL type names for shared declarations. glm's vec4/mat4 have the std430 layout of their
-// GLSL counterparts (16 and 64 bytes, tightly packed floats).
+// GLSL type names for shared declarations. glm's vectors and mat4 hold the same tightly packed
+// floats as their GLSL counterparts; only their alignment differs (see the rules above).
 using uint = std::uint32_t;
 using vec2 = glm::vec2;
+using vec3 = glm::vec3;
+using uvec3 = glm::uvec3;
 using vec4 = glm::vec4;
 using ivec4 = glm::ivec4;
 using uvec4 = glm::uvec4;

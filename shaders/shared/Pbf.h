@@ -46,33 +46,72 @@ SLUICE_CONST uint kBindScanData = 0;   ///< uint[] exclusive scan output
 SLUICE_CONST uint kBindScanSums = 1;   ///< uint[] one total per block
 SLUICE_CONST uint kBindScanInput = 2;  ///< uint[] input of scan_block (may be the output)
 
-/// Everything a pass needs to know, one uniform block (std140 and std430 agree: vec4s only).
+/// Everything a pass needs to know, one uniform block. std140 and std430 agree on it: scalars
+/// and 16-byte aligned vec3s, each vec3 followed by a scalar that fills its row. Offsets [bytes]
+/// on the left are checked below.
+// clang-format off
 struct PbfParams {
-    vec4 kernel;    ///< h [m], h^2, poly6 coefficient, spiky gradient coefficient
-    vec4 fluid;     ///< V = m / rho0 [m^3], epsilon [1/m^2], lambdaRef [m^2], particle radius [m]
-    vec4 scorr;     ///< k, n, 1 / W(delta q), 1 / h (cell size inverse)
-    vec4 step;      ///< dt [s], 1 / dt, xsph c, vorticity epsilon [m/s]
-    vec4 gravity;   ///< [m/s^2] xyz, targetDensityError in w
-    vec4 domainMin; ///< [m] xyz shrunk by the radius, w = 1 when a domain box is set
-    vec4 domainMax; ///< [m] xyz shrunk by the radius
-    uvec4 counts;   ///< particle count, hash table mask, collider count, minIterations
-    uvec4 control;  ///< solve dispatch chunks per iteration, hash table size, deterministic,
-                    ///< maxIterations
-    vec4 gridOrigin; ///< dense cell grid: its corner [m] xyz (the domain's minimum corner)
-    uvec4 gridDims;  ///< dense cell grid: cells per axis xyz, w = 1 when the grid replaces the
-                     ///< hash (cell (x, y, z) is bucket x + nx (y + ny z)), 0 for the hash
+    // Kernel.
+    /*   0 */ float h;              ///< kernel radius [m]
+    /*   4 */ float h2;             ///< h^2 [m^2]
+    /*   8 */ float poly6Coeff;     ///< poly6 coefficient 315 / (64 pi h^9) [1/m^9]
+    /*  12 */ float spikyGradCoeff; ///< spiky gradient coefficient -45 / (pi h^6) [1/m^6]
+    // Fluid.
+    /*  16 */ float volume;    ///< particle volume V = m / rho0 [m^3]
+    /*  20 */ float epsilon;   ///< lambda relaxation: relaxation * sRest [1/m^2]
+    /*  24 */ float lambdaRef; ///< 1 / (sRest + epsilon) [m^2]
+    /*  28 */ float radius;    ///< particle radius [m]
+    // Tensile instability correction s_corr (Macklin & Mueller 2013, eq. 13).
+    /*  32 */ float scorrK;     ///< k
+    /*  36 */ float scorrN;     ///< n
+    /*  40 */ float invWDeltaQ; ///< 1 / W(delta q) [m^3], 0 when W(delta q) is 0
+    /*  44 */ float invH;       ///< 1 / h: inverse cell size of the neighbour grid [1/m]
+    // Step.
+    /*  48 */ float dt;        ///< substep [s]
+    /*  52 */ float invDt;     ///< 1 / dt [1/s]
+    /*  56 */ float xsph;      ///< XSPH viscosity c
+    /*  60 */ float vorticity; ///< vorticity confinement epsilon [m/s]
+    /*  64 */ vec3 gravity;             ///< [m/s^2]
+    /*  76 */ float targetDensityError; ///< early stop: mean C_i at or below it; 0 never stops
+    // Domain box, shrunk by the particle radius.
+    /*  80 */ vec3 domainMin; ///< [m]
+    /*  92 */ uint hasDomain; ///< 1 when a domain box is set, 0 otherwise
+    /*  96 */ vec3 domainMax; ///< [m]
+    /* 108 */ uint pad0;
+    // Counts.
+    /* 112 */ uint particleCount; ///< particles now live
+    /* 116 */ uint hashMask;      ///< hash table size - 1 (the size is a power of two)
+    /* 120 */ uint colliderCount; ///< GpuCollider records bound
+    /* 124 */ uint minIterations; ///< solver iterations before the early stop may end them
+    // Solver control.
+    /* 128 */ uint solveChunks;   ///< indirect dispatches per lambda or delta pass
+    /* 132 */ uint activeBuckets; ///< buckets in use: dense grid cells, or the hash table size
+    /* 136 */ uint deterministic; ///< 1: restore a fixed order inside each bucket after the sort
+    /* 140 */ uint maxIterations; ///< solver iterations at most
+    // Dense cell grid over the domain box, when it replaces the hash.
+    /* 144 */ vec3 gridOrigin; ///< its minimum corner (the domain's) [m]
+    /* 156 */ uint pad1;
+    /* 160 */ uvec3 gridDims;  ///< cells per axis; cell (x, y, z) is bucket x + nx (y + ny z)
+    /* 172 */ uint denseGrid;  ///< 1 when the dense grid replaces the hash, 0 for the hash
 };
 
-/// One collider on the GPU: its placement at the end of the substep and its grid.
+/// One collider on the GPU: its placement at the end of the substep and its grid. std430.
 struct GpuCollider {
-    mat4 worldToGrid;   ///< world [m] -> collider local [asset units]: (R^T (x - p)) / s
-    mat4 rotation;      ///< R (upper 3x3), local gradient -> world normal
-    mat4 motion;        ///< T(t) T(t + dt)^-1: where a world point riding the collider came from
-    vec4 origin;        ///< grid origin (local) xyz, voxel size in w
-    vec4 boxMax;        ///< grid far corner origin + (dims - 1) * voxel (local) xyz, scale in w
-    uvec4 dims;         ///< grid points per axis xyz, offset of the first value in the SDF buffer
-    vec4 material;      ///< friction [0, 1], unused yzw
+    /*   0 */ mat4 worldToGrid; ///< world [m] -> collider local [asset units]: (R^T (x - p)) / s
+    /*  64 */ mat4 rotation;    ///< R (upper 3x3), local gradient -> world normal
+    /* 128 */ mat4 motion; ///< T(t) T(t + dt)^-1: where a world point riding the collider came from
+    /* 192 */ vec3 origin;      ///< grid origin (local) [asset units]
+    /* 204 */ float voxelSize;  ///< grid spacing (local) [asset units]
+    /* 208 */ vec3 boxMax;      ///< grid far corner origin + (dims - 1) voxelSize (local)
+    /* 220 */ float scale;      ///< uniform scale s of the placement (local -> world)
+    /* 224 */ uvec3 dims;       ///< grid points per axis
+    /* 236 */ uint sdfOffset;   ///< index of the grid's first value in the SDF buffer [floats]
+    /* 240 */ float friction;   ///< share of the tangential slip removed on contact, [0, 1]
+    /* 244 */ uint pad0;
+    /* 248 */ uint pad1;
+    /* 252 */ uint pad2;
 };
+// clang-format on
 
 /// Per-iteration density-error accumulators of the current substep.
 struct PbfIterationStats {
@@ -103,11 +142,53 @@ struct PbfStats {
 SLUICE_SHARED_END
 
 #ifdef __cplusplus
-static_assert(sizeof(sluice::shared::PbfParams) == 11 * 16, "PbfParams is vec4s only");
-static_assert(sizeof(sluice::shared::GpuCollider) == 3 * 64 + 4 * 16, "GpuCollider layout");
-static_assert(sizeof(sluice::shared::PbfIterationStats) == 16, "PbfIterationStats layout");
-static_assert(sizeof(sluice::shared::PbfStats) == 16, "PbfStats layout");
-static_assert(sizeof(sluice::shared::PbfDispatchArgs) == 12, "PbfDispatchArgs layout");
+#include <cstddef>
+#define SLUICE_PBF_AT(type, field, offset)                                                         \
+    static_assert(offsetof(sluice::shared::type, field) == (offset), "std430 offset of " #field)
+SLUICE_PBF_AT(PbfParams, h, 0);
+SLUICE_PBF_AT(PbfParams, spikyGradCoeff, 12);
+SLUICE_PBF_AT(PbfParams, volume, 16);
+SLUICE_PBF_AT(PbfParams, radius, 28);
+SLUICE_PBF_AT(PbfParams, scorrK, 32);
+SLUICE_PBF_AT(PbfParams, invH, 44);
+SLUICE_PBF_AT(PbfParams, dt, 48);
+SLUICE_PBF_AT(PbfParams, vorticity, 60);
+SLUICE_PBF_AT(PbfParams, gravity, 64);
+SLUICE_PBF_AT(PbfParams, targetDensityError, 76);
+SLUICE_PBF_AT(PbfParams, domainMin, 80);
+SLUICE_PBF_AT(PbfParams, hasDomain, 92);
+SLUICE_PBF_AT(PbfParams, domainMax, 96);
+SLUICE_PBF_AT(PbfParams, pad0, 108);
+SLUICE_PBF_AT(PbfParams, particleCount, 112);
+SLUICE_PBF_AT(PbfParams, minIterations, 124);
+SLUICE_PBF_AT(PbfParams, solveChunks, 128);
+SLUICE_PBF_AT(PbfParams, maxIterations, 140);
+SLUICE_PBF_AT(PbfParams, gridOrigin, 144);
+SLUICE_PBF_AT(PbfParams, pad1, 156);
+SLUICE_PBF_AT(PbfParams, gridDims, 160);
+SLUICE_PBF_AT(PbfParams, denseGrid, 172);
+static_assert(sizeof(sluice::shared::PbfParams) == 176, "std140/std430 size of PbfParams");
+SLUICE_PBF_AT(GpuCollider, rotation, 64);
+SLUICE_PBF_AT(GpuCollider, motion, 128);
+SLUICE_PBF_AT(GpuCollider, origin, 192);
+SLUICE_PBF_AT(GpuCollider, voxelSize, 204);
+SLUICE_PBF_AT(GpuCollider, boxMax, 208);
+SLUICE_PBF_AT(GpuCollider, scale, 220);
+SLUICE_PBF_AT(GpuCollider, dims, 224);
+SLUICE_PBF_AT(GpuCollider, sdfOffset, 236);
+SLUICE_PBF_AT(GpuCollider, friction, 240);
+SLUICE_PBF_AT(GpuCollider, pad2, 252);
+static_assert(sizeof(sluice::shared::GpuCollider) == 256, "std430 size of GpuCollider");
+SLUICE_PBF_AT(PbfIterationStats, errorHi, 4);
+SLUICE_PBF_AT(PbfIterationStats, errorMaxBits, 8);
+SLUICE_PBF_AT(PbfIterationStats, particles, 12);
+static_assert(sizeof(sluice::shared::PbfIterationStats) == 16, "std430 size of PbfIterationStats");
+SLUICE_PBF_AT(PbfStats, insideColliders, 4);
+SLUICE_PBF_AT(PbfStats, maxSpeedBits, 8);
+SLUICE_PBF_AT(PbfStats, stopIteration, 12);
+static_assert(sizeof(sluice::shared::PbfStats) == 16, "std430 size of PbfStats");
+static_assert(sizeof(sluice::shared::PbfDispatchArgs) == 12, "std430 size of PbfDispatchArgs");
+#undef SLUICE_PBF_AT
 #endif
 
 #endif // SLUICE_SHARED_PBF_H

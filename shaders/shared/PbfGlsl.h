@@ -10,42 +10,41 @@
 
 layout(std140, binding = kBindParams) uniform PbfParamsBlock { PbfParams P; };
 
-#define PBF_H (P.kernel.x)
-#define PBF_H2 (P.kernel.y)
-#define PBF_VOLUME (P.fluid.x)
-#define PBF_RADIUS (P.fluid.w)
-#define PBF_DT (P.step.x)
-#define PBF_COUNT (P.counts.x)
+#define PBF_H (P.h)
+#define PBF_H2 (P.h2)
+#define PBF_VOLUME (P.volume)
+#define PBF_RADIUS (P.radius)
+#define PBF_DT (P.dt)
+#define PBF_COUNT (P.particleCount)
 
-// Müller et al. 2003: poly6 W(q) from q^2, and the spiky gradient of x (both 0 outside h).
+// Mueller et al. 2003: poly6 W(q) from q^2, and the spiky gradient of x (both 0 outside h).
 float poly6(float q2) {
     float a = PBF_H2 - q2;
-    return q2 < PBF_H2 ? P.kernel.z * a * a * a : 0.0;
+    return q2 < PBF_H2 ? P.poly6Coeff * a * a * a : 0.0;
 }
 vec3 spikyGrad(vec3 x, float q2) {
     if (q2 >= PBF_H2 || q2 <= 0.0)
         return vec3(0.0);
     float q = sqrt(q2);
     float a = PBF_H - q;
-    return (P.kernel.w * a * a / q) * x;
+    return (P.spikyGradCoeff * a * a / q) * x;
 }
 
-// The cells are h wide. With a domain box (P.gridDims.w = 1) they form a dense grid from the
+// The cells are h wide. With a domain box (P.denseGrid = 1) they form a dense grid from the
 // domain's corner, and a position outside it counts in the nearest boundary cell (clamping
 // keeps cells of points closer than h at most one apart, so no neighbour is lost); otherwise
-// they are unbounded and hashed into the table of P.counts.y + 1 buckets.
-bool denseGrid() { return P.gridDims.w != 0u; }
+// they are unbounded and hashed into the table of P.hashMask + 1 buckets.
+bool denseGrid() { return P.denseGrid != 0u; }
 
 ivec3 cellOf(vec3 x) {
     if (denseGrid())
-        return clamp(ivec3(floor((x - P.gridOrigin.xyz) * P.scorr.w)), ivec3(0),
-                     ivec3(P.gridDims.xyz) - 1);
-    return ivec3(floor(x * P.scorr.w));
+        return clamp(ivec3(floor((x - P.gridOrigin) * P.invH)), ivec3(0), ivec3(P.gridDims) - 1);
+    return ivec3(floor(x * P.invH));
 }
 
 uint cellHash(ivec3 c) {
     return ((uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u)) &
-           P.counts.y;
+           P.hashMask;
 }
 
 // The bucket of cell c: its dense index, or its hash.
@@ -75,7 +74,7 @@ bool allFinite(vec3 v) {
         vec3 pbfStart_ = START[i].xyz;                                                         \
         ivec3 pbfCell_ = cellOf(pbfStart_);                                                    \
         bool pbfDense_ = denseGrid();                                                          \
-        ivec3 pbfDims_ = ivec3(P.gridDims.xyz);                                                \
+        ivec3 pbfDims_ = ivec3(P.gridDims);                                                    \
         int pbfRanges_ = pbfDense_ ? 1 : 3;                                                    \
         for (int dz_ = -1; dz_ <= 1; ++dz_)                                                    \
             for (int dy_ = -1; dy_ <= 1; ++dy_)                                                \
@@ -121,11 +120,11 @@ float sdfAt(uint base, uvec3 dims, uvec3 p) { return sdf[base + p.x + dims.x * (
 // phi and its gradient in collider c's local frame, exactly format::SdfSampler's rule:
 // trilinear inside the grid box, phi(clamp(q)) + |q - clamp(q)| outside.
 void sampleCollider(uint c, vec3 q, out float phi, out vec3 grad) {
-    vec3 lo = colliders[c].origin.xyz;
-    float voxel = colliders[c].origin.w;
-    uvec3 dims = colliders[c].dims.xyz;
-    uint base = colliders[c].dims.w;
-    vec3 qc = clamp(q, lo, colliders[c].boxMax.xyz);
+    vec3 lo = colliders[c].origin;
+    float voxel = colliders[c].voxelSize;
+    uvec3 dims = colliders[c].dims;
+    uint base = colliders[c].sdfOffset;
+    vec3 qc = clamp(q, lo, colliders[c].boxMax);
     vec3 g = (qc - lo) / voxel;
     vec3 cellLo = clamp(floor(g), vec3(0.0), vec3(dims) - 2.0);
     vec3 t = clamp(g - cellLo, 0.0, 1.0);
@@ -164,13 +163,13 @@ float colliderDistance(uint c, vec3 x, out vec3 normal) {
     vec3 gradLocal;
     sampleCollider(c, q, phiLocal, gradLocal);
     normal = mat3(colliders[c].rotation) * gradLocal;
-    return colliders[c].boxMax.w * phiLocal;
+    return colliders[c].scale * phiLocal;
 }
 
 // docs/pbf.md "Collision": push out to the particle radius along the SDF normal, then remove
 // `friction` of the tangential slip relative to the collider. xOld is x at the substep start.
 vec3 collide(vec3 x, vec3 xOld) {
-    uint n = P.counts.z;
+    uint n = P.colliderCount;
     for (uint c = 0u; c < n; ++c) {
         vec3 normal;
         float phi = colliderDistance(c, x, normal);
@@ -182,14 +181,14 @@ vec3 collide(vec3 x, vec3 xOld) {
         vec3 carried = x - (colliders[c].motion * vec4(x, 1.0)).xyz;
         vec3 slip = (x - xOld) - carried;
         vec3 tangential = slip - dot(slip, normal) * normal;
-        x -= colliders[c].material.x * tangential;
+        x -= colliders[c].friction * tangential;
     }
     return x;
 }
 #endif // PBF_WITH_COLLIDERS
 
 vec3 clampToDomain(vec3 x) {
-    return P.domainMin.w > 0.5 ? clamp(x, P.domainMin.xyz, P.domainMax.xyz) : x;
+    return P.hasDomain != 0u ? clamp(x, P.domainMin, P.domainMax) : x;
 }
 
 #endif // !__cplusplus

@@ -85,6 +85,9 @@ SLUICE_SHARED_END
 #include <cstddef>
 static_assert(sizeof(sluice::shared::CoarsePoint) == 8, "std430 size of CoarsePoint");
 static_assert(offsetof(sluice::shared::CoarsePoint, triangle) == 4, "std430 offset of triangle");
+static_assert(offsetof(sluice::shared::PendingHeader, points) == 4, "std430 offset of points");
+static_assert(offsetof(sluice::shared::PendingHeader, pad1) == 8, "std430 offset of pad1");
+static_assert(offsetof(sluice::shared::PendingHeader, pad2) == 12, "std430 offset of pad2");
 static_assert(sizeof(sluice::shared::PendingHeader) == 16, "std430 size of PendingHeader");
 static_assert(sluice::shared::kBakeGroupEdge == 4 * 2 &&
                   sluice::shared::kBakeGroupDepth == 4 * sluice::shared::kBakeBlockDepth,

@@ -11,7 +11,6 @@
 #include "GpuTest.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Context.h"
-#include "sluice/gpu/ExitCodes.h"
 #include "sluice/gpu/Gl.h"
 #include "sluice/gpu/GpuShaders.h"
 
@@ -266,10 +265,6 @@ TEST(DebugOutput, AssertNoDebugErrorsFailsOnARecordedError) {
 
     provokeGlError(*buffer);
     EXPECT_THROW(context->assertNoDebugErrors(), std::runtime_error);
-}
-
-TEST(ExitCodes, NoGlContextExitsWithThree) {
-    EXPECT_EQ(kExitNoGlContext, 3);
 }
 
 } // namespace

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -274,6 +275,57 @@ TEST_F(SimulationPhysics, ParametersChangeBetweenStepsAndBadOnesChangeNothing) {
     EXPECT_FALSE(sim->setParameters(bad));
     EXPECT_EQ(sim->parameters().kernelRadius, p.kernelRadius);
     EXPECT_EQ(sim->parameters().maxIterations, 12u);
+}
+
+TEST_F(SimulationPhysics, RejectedParametersNameTheirCodeAndChangeNothing) {
+    format::Scene scene = testscene::smallScene({4, 4, 4}, 0.02f, 2);
+    auto sim = Simulation::create(scene, {});
+    ASSERT_TRUE(sim) << sim.error().message();
+    const format::SimulationParams before = sim->parameters();
+    const std::size_t iterationsBefore = sim->solveGroups().size();
+
+    // 1.2 spacings: inside [spacing, 4 spacing] but below the 1.5 spacings the reader asks for.
+    // The larger maxIterations would grow the buffers if the call went on.
+    format::SimulationParams narrow = before;
+    narrow.kernelRadius = 1.2f * before.spacing;
+    narrow.maxIterations = before.maxIterations + 8;
+    auto rejected = sim->setParameters(narrow);
+    ASSERT_FALSE(rejected);
+    EXPECT_EQ(rejected.error().code, ErrorCode::InvalidArgument) << rejected.error().message();
+
+    format::SimulationParams wide = before;
+    wide.kernelRadius = 4.5f * before.spacing;
+    rejected = sim->setParameters(wide);
+    ASSERT_FALSE(rejected);
+    EXPECT_EQ(rejected.error().code, ErrorCode::InvalidArgument);
+
+    format::SimulationParams notFinite = before;
+    notFinite.gravity.y = std::numeric_limits<float>::infinity();
+    notFinite.maxIterations = before.maxIterations + 8;
+    rejected = sim->setParameters(notFinite);
+    ASSERT_FALSE(rejected);
+    EXPECT_EQ(rejected.error().code, ErrorCode::NonFinite) << rejected.error().message();
+    notFinite = before;
+    notFinite.timeStep = std::nanf("");
+    rejected = sim->setParameters(notFinite);
+    ASSERT_FALSE(rejected);
+    EXPECT_EQ(rejected.error().code, ErrorCode::NonFinite);
+
+    const format::SimulationParams& after = sim->parameters();
+    EXPECT_EQ(after.kernelRadius, before.kernelRadius);
+    EXPECT_EQ(after.maxIterations, before.maxIterations);
+    EXPECT_EQ(after.timeStep, before.timeStep);
+    EXPECT_EQ(after.gravity, before.gravity);
+    EXPECT_EQ(sim->constants().h, before.kernelRadius);
+    EXPECT_EQ(sim->solveGroups().size(), iterationsBefore);
+
+    // The bounds themselves are accepted.
+    format::SimulationParams edge = before;
+    edge.kernelRadius = 1.5f * before.spacing;
+    edge.scorrDeltaQ = std::min(edge.scorrDeltaQ, 0.5f * edge.kernelRadius);
+    EXPECT_TRUE(sim->setParameters(edge));
+    edge.kernelRadius = 4.0f * before.spacing;
+    EXPECT_TRUE(sim->setParameters(edge));
 }
 
 TEST_F(SimulationPhysics, EmittersSwitchedOffAddNothing) {

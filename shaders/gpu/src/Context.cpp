@@ -176,9 +176,8 @@ void Context::makeCurrent() const {
     egl.display = m_display;
     egl.context = m_context;
     egl.surface = m_surface;
-    std::string why;
-    const bool ok = makeEglContextCurrent(egl, why);
-    SLUICE_ASSERT(ok, why.c_str());
+    const Result<void> current = makeEglContextCurrent(egl);
+    SLUICE_ASSERT(current, current ? "" : current.error().detail.c_str());
     setCurrentDebugState(m_debug.get());
 }
 

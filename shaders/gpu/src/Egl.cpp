@@ -133,21 +133,26 @@ Result<Settings> resolveSettings(const ContextOptions& options) {
     return settings;
 }
 
+/// An EGL or GL setup failure: every one of them means "no usable context here".
+Error noContext(std::string detail) {
+    return fail(ErrorCode::NoGlContext, std::move(detail));
+}
+
 /// Initializes `display` unless another context already did.
-bool acquireDisplay(EGLDisplay display, std::string& why) {
+Result<void> acquireDisplay(EGLDisplay display) {
     std::lock_guard lock(g_displayMutex);
     int& users = g_displayUsers[display];
     if (users == 0) {
         EGLint major = 0;
         EGLint minor = 0;
         if (eglInitialize(display, &major, &minor) != EGL_TRUE) {
-            why = "eglInitialize failed: " + lastEglError();
+            Error error = noContext("eglInitialize failed: " + lastEglError());
             g_displayUsers.erase(display);
-            return false;
+            return error;
         }
     }
     ++users;
-    return true;
+    return {};
 }
 
 void releaseDisplay(EGLDisplay display) {
@@ -162,8 +167,8 @@ void releaseDisplay(EGLDisplay display) {
     }
 }
 
-/// GL 4.5 core with a compiling compute shader, on the current context; empty if so.
-std::string verifyGl() {
+/// Checks the current context: GL 4.5 core, and a compute shader compiles.
+Result<void> verifyGl() {
     GLint major = 0;
     GLint minor = 0;
     GLint profile = 0;
@@ -175,31 +180,31 @@ std::string verifyGl() {
     std::string what =
         std::string("'") + (version ? version : "?") + "' on '" + (renderer ? renderer : "?") + "'";
     if (major < 4 || (major == 4 && minor < 5))
-        return "GL " + what + " is older than 4.5";
+        return noContext("GL " + what + " is older than 4.5");
     if ((profile & GL_CONTEXT_CORE_PROFILE_BIT) == 0)
-        return "GL " + what + " is not a core profile";
+        return noContext("GL " + what + " is not a core profile");
     auto program = Program::compute("context check", R"(
         layout(local_size_x = 32) in;
         layout(std430, binding = 0) buffer Data { float data[]; };
         void main() { data[gl_GlobalInvocationID.x] *= 2.0; }
     )");
     if (!program)
-        return "GL " + what + " cannot compile a compute shader: " + program.error().detail;
+        return noContext("GL " + what +
+                         " cannot compile a compute shader: " + program.error().detail);
     return {};
 }
 
-/// Creates and verifies a context on one display; on failure cleans up and says why.
-std::string tryDisplay(EGLDisplay display, const Settings& settings, EglContext& out) {
+/// Creates and verifies a context on one display into `out`; on failure cleans up and says why.
+Result<void> tryDisplay(EGLDisplay display, const Settings& settings, EglContext& out) {
     if (display == EGL_NO_DISPLAY)
-        return "eglGetPlatformDisplayEXT failed: " + lastEglError();
-    std::string why;
-    if (!acquireDisplay(display, why))
-        return why;
+        return noContext("eglGetPlatformDisplayEXT failed: " + lastEglError());
+    if (auto acquired = acquireDisplay(display); !acquired)
+        return acquired.error();
     out = EglContext{};
     out.display = display;
     auto failWith = [&](std::string reason) {
         destroyEglContext(out);
-        return reason;
+        return noContext(std::move(reason));
     };
 
     // Reload EGL for this display: its version decides which core functions exist, and its
@@ -257,12 +262,12 @@ std::string tryDisplay(EGLDisplay display, const Settings& settings, EglContext&
             return failWith("no EGL_KHR_surfaceless_context and eglCreatePbufferSurface failed: " +
                             lastEglError());
     }
-    if (!makeEglContextCurrent(out, why))
-        return failWith(why);
+    if (auto current = makeEglContextCurrent(out); !current)
+        return failWith(current.error().detail);
     if (gladLoadGL(&loadGlFunction) == 0)
         return failWith("could not load the OpenGL functions through eglGetProcAddress");
-    if (std::string problem = verifyGl(); !problem.empty())
-        return failWith(problem);
+    if (auto verified = verifyGl(); !verified)
+        return failWith(verified.error().detail);
     return {};
 }
 
@@ -326,15 +331,15 @@ void tryDevicePlatform(const Settings& settings, const ClientExtensions& client,
         EGLDisplay display = eglGetPlatformDisplayEXT(
             EGL_PLATFORM_DEVICE_EXT, devices[static_cast<std::size_t>(index)], nullptr);
         EglContext egl;
-        std::string why = tryDisplay(display, settings, egl);
-        if (why.empty()) {
+        Result<void> made = tryDisplay(display, settings, egl);
+        if (made) {
             egl.platform = "device";
             egl.deviceIndex = index;
             egl.deviceName = name;
             found = std::move(egl);
             return;
         }
-        tried.push_back(label + ": " + why);
+        tried.push_back(label + ": " + made.error().detail);
     }
 }
 
@@ -347,9 +352,8 @@ void trySurfacelessPlatform(const Settings& settings, const ClientExtensions& cl
     EGLDisplay display =
         eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     EglContext egl;
-    std::string why = tryDisplay(display, settings, egl);
-    if (!why.empty()) {
-        tried.push_back("surfaceless platform: " + why);
+    if (Result<void> made = tryDisplay(display, settings, egl); !made) {
+        tried.push_back("surfaceless platform: " + made.error().detail);
         return;
     }
     egl.platform = "surfaceless";
@@ -398,12 +402,11 @@ Result<EglContext> createEglContext(const ContextOptions& options) {
     return fail(ErrorCode::NoGlContext, std::move(detail));
 }
 
-bool makeEglContextCurrent(const EglContext& egl, std::string& why) {
+Result<void> makeEglContextCurrent(const EglContext& egl) {
     if (eglMakeCurrent(egl.display, egl.surface, egl.surface, egl.context) == EGL_TRUE)
-        return true;
-    why = std::string("eglMakeCurrent failed: ") + lastEglError() +
-          (egl.surface == EGL_NO_SURFACE ? " (without a surface)" : "");
-    return false;
+        return {};
+    return noContext(std::string("eglMakeCurrent failed: ") + lastEglError() +
+                     (egl.surface == EGL_NO_SURFACE ? " (without a surface)" : ""));
 }
 
 void destroyEglContext(EglContext& egl) {

@@ -27,7 +27,7 @@ Result<EglContext> createEglContext(const ContextOptions& options);
 /// the display when no other EglContext uses it. Leaves `egl` empty.
 void destroyEglContext(EglContext& egl);
 
-/// Makes `egl` current on this thread; false (with the EGL error in `why`) if that fails.
-bool makeEglContextCurrent(const EglContext& egl, std::string& why);
+/// Makes `egl` current on this thread; NoGlContext with the EGL error if that fails.
+Result<void> makeEglContextCurrent(const EglContext& egl);
 
 } // namespace sluice::gpu

@@ -29,7 +29,7 @@ struct GpuBakeOptions {
     bool profile = false;
 };
 
-/// What a GPU bake did, for --verbose and benchmarks.
+/// What a GPU bake did, for sluice-bake --profile and benchmarks.
 struct GpuBakeStats {
     std::uint64_t triangles = 0;      ///< non-degenerate triangles in the BVH
     std::uint64_t nodes = 0;          ///< BVH nodes

@@ -87,9 +87,12 @@ public:
 
     /// Changes the simulation parameters from the next step on (the viewer's live panel).
     /// `spacing`, `restDensity` and `capacity` keep their values: they fix the particle mass and
-    /// size the buffers. Fails with InvalidArgument (nothing changed) for values the scene reader
-    /// would reject: non-finite numbers, kernelRadius outside [spacing, 4 spacing], zero
-    /// substeps or iterations, minIterations > maxIterations, scorrDeltaQ >= kernelRadius.
+    /// size the buffers. Fails, with nothing changed, for values the scene reader would reject:
+    /// NonFinite for a non-finite number; InvalidArgument for kernelRadius outside
+    /// [1.5 spacing, 4 spacing], a timeStep <= 0, zero substeps or iterations, minIterations >
+    /// maxIterations, scorrDeltaQ outside [0, kernelRadius), a negative targetDensityError,
+    /// relaxation, scorrK, xsph or vorticity, or scorrN < 1. A larger maxIterations grows two
+    /// small GPU buffers; if that allocation fails, its error is returned (GpuOutOfMemory).
     Result<void> setParameters(const format::SimulationParams& params);
 
     /// Current parameters (the scene's, or the last setParameters).
@@ -98,10 +101,6 @@ public:
     /// Turns every emitter on or off (off: no new particles; the schedule keeps its place).
     void setEmittersEnabled(bool enabled);
     bool emittersEnabled() const;
-
-    /// Replaces every particle (a restored snapshot, or a test's hand-made state). Fails with
-    /// InvalidArgument when there are more than capacity() of them.
-    Result<void> setParticles(const std::vector<ParticleState>& particles);
 
     /// Particles now live.
     std::uint32_t particleCount() const;
@@ -130,15 +129,26 @@ public:
     /// kernelRadius changes made through setParameters.
     glm::uvec3 neighbourGridCells() const;
 
-    /// Work groups that each solver iteration's lambda and delta dispatches launched in the
-    /// last substep, maxIterations of them: 0 for the iterations after the early stop, which
-    /// the GPU skips without the CPU knowing where it stopped. Reads the GPU back (a sync), so
-    /// for tests and profiling between steps.
-    std::vector<std::uint32_t> solveGroups() const;
-
     /// Constants derived from the scene's parameters.
     const PbfConstants& constants() const;
     const format::Scene& scene() const;
+
+    /// @name For tests only
+    /// Hooks for the test suites to set up and inspect the solver's internal state; the
+    /// runtime and its programs do not call them, and they may change with the solver.
+    /// @{
+
+    /// Replaces every particle with a hand-made state. Fails with InvalidArgument when there
+    /// are more than capacity() of them.
+    Result<void> setParticles(const std::vector<ParticleState>& particles);
+
+    /// Work groups that each solver iteration's lambda and delta dispatches launched in the
+    /// last substep, maxIterations of them: 0 for the iterations after the early stop, which
+    /// the GPU skips without the CPU knowing where it stopped. Reads the GPU back (a sync), so
+    /// between steps only.
+    std::vector<std::uint32_t> solveGroups() const;
+
+    /// @}
 
 private:
     struct Impl;

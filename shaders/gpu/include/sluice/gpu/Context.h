@@ -57,7 +57,7 @@ struct ContextInfo {
     std::optional<std::uint64_t> gpuMemoryTotalBytes;
     std::optional<std::uint64_t> gpuMemoryAvailableBytes;
 
-    /// Multi-line human-readable summary, for logs and --gpu-info.
+    /// Multi-line human-readable summary, for logs and `sluice-bake gl-info`.
     std::string describe() const;
 };
 

@@ -60,9 +60,6 @@ public:
     /// glUseProgram.
     void use() const;
 
-    /// Whether an active (not optimized away) uniform of this name exists; array uniforms
-    /// answer to "name" and "name[0]".
-    bool hasUniform(std::string_view name) const;
     /// Uniform setters by name (glProgramUniform*, locations cached at link time). Unknown or
     /// optimized-away names are ignored, as GL ignores location -1.
     void set(std::string_view name, float value) const;
@@ -88,6 +85,16 @@ public:
     /// number of dispatches issued. Precondition: maxGroupsPerDispatch > 0; the shader declares
     /// the offset uniform if more than one dispatch is needed.
     std::uint32_t dispatchChunked(glm::uvec3 groups, std::uint64_t maxGroupsPerDispatch) const;
+
+    /// @name For tests only
+    /// Inspection hooks for the test suites; the libraries and programs do not call them.
+    /// @{
+
+    /// Whether an active (not optimized away) uniform of this name exists; array uniforms
+    /// answer to "name" and "name[0]".
+    bool hasUniform(std::string_view name) const;
+
+    /// @}
 
 private:
     static Result<Program> link(std::string_view name, std::span<const GLuint> shaders,

@@ -1,0 +1,148 @@
+// Every shader program, as the programs assemble it, through the Khronos reference compiler.
+//
+// Mesa compiles and runs every shader in the other tests; glslangValidator (Debian glslang-tools)
+// checks the same text against the GLSL 4.50 specification, so what Mesa tolerates and a stricter
+// driver rejects fails here. Each case takes the embedded source (shared headers inlined, exactly
+// the string the program passes to the driver), adds its defines with assembleShaderSource, and
+// validates it; a graphics program's two stages are also linked, which checks their interface.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "ProgramRun.h"
+#include "TempDir.h"
+#include "sluice/bake/BakeShaders.h"
+#include "sluice/gpu/GpuShaders.h"
+#include "sluice/gpu/Program.h"
+#include "sluice/rt/RuntimeShaders.h"
+
+namespace sluice::gpu {
+namespace {
+
+/// One program as the code builds it: its stages' embedded file names and its defines.
+struct ProgramCase {
+    const char* name;                             ///< test name suffix
+    std::string_view (*source)(std::string_view); ///< the library's embedded-shader lookup
+    std::vector<std::string> stages;   ///< file names, one per stage (extension gives the stage)
+    std::vector<ShaderDefine> defines; ///< as passed to Program::compute / Program::graphics
+};
+
+/// What gtest prints for a case: its name.
+void PrintTo(const ProgramCase& program, std::ostream* out) {
+    *out << program.name;
+}
+
+std::string_view gpuSource(std::string_view name) {
+    return gpu::shaders::shaderSource(name);
+}
+std::string_view runtimeSource(std::string_view name) {
+    return rt::shaders::shaderSource(name);
+}
+std::string_view bakeSource(std::string_view name) {
+    return bake::shaders::shaderSource(name);
+}
+
+ProgramCase compute(const char* name, decltype(ProgramCase::source) source, const char* file,
+                    std::vector<ShaderDefine> defines = {}) {
+    return {name, source, {file}, std::move(defines)};
+}
+
+ProgramCase graphics(const char* name, const char* vertex, const char* fragment,
+                     std::vector<ShaderDefine> defines = {}) {
+    return {name, runtimeSource, {vertex, fragment}, std::move(defines)};
+}
+
+/// Every program the libraries build, with the define combinations their code uses:
+/// SelfTest.cpp, Simulation.cpp, PrefixScan.cpp, FluidStatsProbe.cpp, Renderer.cpp,
+/// FluidSurfacePass.cpp, ColliderPass.cpp and GpuBaker.cpp (compilePrograms).
+std::vector<ProgramCase> allPrograms() {
+    return {
+        compute("GpuSelfTest", gpuSource, "gpu_selftest.comp"),
+        compute("PbfPredict", runtimeSource, "pbf_predict.comp"),
+        compute("PbfScatter", runtimeSource, "pbf_scatter.comp"),
+        compute("PbfBucketSort", runtimeSource, "pbf_bucket_sort.comp"),
+        compute("PbfReorder", runtimeSource, "pbf_reorder.comp"),
+        compute("PbfLambda", runtimeSource, "pbf_lambda.comp"),
+        compute("PbfDelta", runtimeSource, "pbf_delta.comp"),
+        compute("PbfVelocity", runtimeSource, "pbf_velocity.comp"),
+        compute("PbfVorticity", runtimeSource, "pbf_vorticity.comp"),
+        compute("PbfConfine", runtimeSource, "pbf_confine.comp"),
+        compute("PbfStats", runtimeSource, "pbf_stats.comp"),
+        compute("ScanBlock", runtimeSource, "scan_block.comp"),
+        compute("ScanAdd", runtimeSource, "scan_add.comp"),
+        compute("RenderStats", runtimeSource, "render_stats.comp"),
+        graphics("RenderParticles", "render_particles.vert", "render_particles.frag"),
+        graphics("RenderParticlesFluidDepth", "render_particles.vert", "render_particles.frag",
+                 {{"SLUICE_FLUID_DEPTH", "1"}}),
+        graphics("RenderParticlesThickness", "render_particles.vert", "render_particles.frag",
+                 {{"SLUICE_THICKNESS", "1"}}),
+        graphics("RenderBackdrop", "render_fullscreen.vert", "render_backdrop.frag"),
+        graphics("RenderFluidSmooth", "render_fullscreen.vert", "render_fluid_smooth.frag"),
+        graphics("RenderFluidComposite", "render_fullscreen.vert", "render_fluid_composite.frag"),
+        graphics("RenderCollider", "render_collider.vert", "render_collider.frag"),
+        graphics("RenderColliderGlass", "render_collider.vert", "render_collider.frag",
+                 {{"SLUICE_GLASS", "1"}}),
+        compute("SdfCoarse", bakeSource, "sdf_coarse.comp"),
+        compute("SdfDistance", bakeSource, "sdf_distance.comp"),
+        compute("SdfSign", bakeSource, "sdf_sign.comp"),
+        compute("SdfSignCoarse", bakeSource, "sdf_sign.comp", {{"SDF_SIGN_COARSE", "1"}}),
+        compute("SdfSignExact", bakeSource, "sdf_sign.comp", {{"SDF_SIGN_EXACT", "1"}}),
+    };
+}
+
+class ReferenceCompiler : public ::testing::TestWithParam<ProgramCase> {};
+
+TEST_P(ReferenceCompiler, AcceptsTheProgramAsAssembled) {
+    const std::string validator = SLUICE_GLSLANG_VALIDATOR;
+    ASSERT_FALSE(validator.empty())
+        << "glslangValidator was not found when the build was configured: install Debian's "
+           "glslang-tools (bash cmake/setup.sh test does) and configure again";
+    const ProgramCase& program = GetParam();
+    test::TempDir dir;
+    std::vector<std::string> args;
+    if (program.stages.size() > 1)
+        args.push_back("-l"); // link the stages: their interfaces must match
+    for (const std::string& stage : program.stages) {
+        const std::string_view source = program.source(stage);
+        ASSERT_FALSE(source.empty()) << stage << " is not embedded in the library that builds it";
+        const std::filesystem::path path = dir / stage;
+        {
+            std::ofstream out(path, std::ios::binary);
+            out << assembleShaderSource(source, program.defines);
+            ASSERT_TRUE(out.good()) << "cannot write " << path;
+        }
+        args.push_back(path.string());
+    }
+    const testrun::RunResult run = testrun::runProgram(validator, dir.path(), args);
+    EXPECT_EQ(run.code, 0) << testrun::shown(run);
+}
+
+std::string caseName(const ::testing::TestParamInfo<ProgramCase>& param) {
+    return param.param.name;
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryProgram, ReferenceCompiler, ::testing::ValuesIn(allPrograms()),
+                         caseName);
+
+TEST(ReferenceCompilerCases, CoverEveryShaderFile) {
+    std::set<std::string> covered;
+    for (const ProgramCase& program : allPrograms())
+        covered.insert(program.stages.begin(), program.stages.end());
+    for (const auto& entry : std::filesystem::directory_iterator(SLUICE_SHADER_DIR)) {
+        const std::string ext = entry.path().extension().string();
+        if (ext == ".comp" || ext == ".vert" || ext == ".frag") {
+            EXPECT_TRUE(covered.count(entry.path().filename().string()))
+                << entry.path().filename() << " has no case in GlslangTest.cpp";
+        }
+    }
+}
+
+} // namespace
+} // namespace sluice::gpu
