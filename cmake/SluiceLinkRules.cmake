@@ -1,4 +1,4 @@
-# Enforces the module rule from STYLE.md: bake and runtime never link each other.
+# Enforces the module rule: bake and runtime never link each other (a game embeds the runtime
 # Walks each library's LINK_LIBRARIES transitively at configure time; a violation stops the build.
 
 function(_sluice_collect_links target out_var)

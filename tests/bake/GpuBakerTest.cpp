@@ -1,6 +1,6 @@
 // The GPU baker against the CGAL reference at every grid point, on analytic and real meshes.
 //
-// Limits (the issue's): max |phi - phi_ref| <= 1e-3 voxel wherever the signs agree; no sign
+// Limits: max |phi - phi_ref| <= 1e-3 voxel wherever the signs agree; no sign
 // mismatch on closed meshes; on open or self-intersecting ones (reference: the exact generalized
 // winding number) at most 0.1 % mismatches, none farther than 1 voxel from the surface.
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Error values for untrusted input: Result<T> holds either a T or an Error (STYLE.md, "Errors").
+// Error values for untrusted input: Result<T> holds either a T or an Error naming what failed.
 #pragma once
 
 #include <string>

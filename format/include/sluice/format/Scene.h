@@ -14,7 +14,7 @@ namespace sluice::format {
 /// a larger version is rejected with UnsupportedVersion.
 inline constexpr int kSceneVersion = 1;
 
-/// Largest particle capacity a scene may ask for (issue 4 documents the limit).
+/// Largest particle capacity a scene may ask for (docs/limits.md).
 inline constexpr std::uint32_t kMaxSceneParticles = 1u << 24;
 
 /// Most colliders in one scene.
@@ -89,7 +89,7 @@ struct SceneCollider {
     std::vector<ColliderKey> keys;      ///< keyframes; when present they replace the velocities
 };
 
-/// The camera sluice-play renders from (issue 6).
+/// The camera sluice-play renders from.
 struct Camera {
     glm::vec3 position{2.0f, 1.5f, 2.0f}; ///< [m]
     glm::vec3 target{0.0f};               ///< [m]
