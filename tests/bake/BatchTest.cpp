@@ -98,7 +98,8 @@ TEST(Batch, ASecondRunWithNothingChangedBakesNothing) {
     const BatchFolder f("batch-second-run");
     RunResult run = f.batch();
     ASSERT_EQ(run.code, kExitOk) << shown(run);
-    EXPECT_NE(run.out.find("3 baked, 0 fresh, 0 failed"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("3 colliders: 3 baked, 0 fresh, 0 failed"), std::string::npos)
+        << run.out;
     const FileState a = stateOf(f.dir / "a.slc"), c = stateOf(f.dir / "out" / "c.slc");
 
     run = f.batch();
@@ -357,6 +358,11 @@ TEST(Batch, CreatesTheFoldersOfItsOutputsAndDepfile) {
     ASSERT_EQ(run.code, kExitOk) << shown(run);
     EXPECT_TRUE(format::readAsset(f.dir / "new" / "deeper" / "a.slc").ok());
     EXPECT_TRUE(fs::is_regular_file(depfile));
+    // One collider, said so in the totals.
+    const RunResult again = runBake(f.dir, {"batch", f.manifest.string()});
+    ASSERT_EQ(again.code, kExitOk) << shown(again);
+    EXPECT_NE(again.out.find("\n1 collider: 0 baked, 1 fresh, 0 failed in "), std::string::npos)
+        << again.out;
 }
 
 TEST(Batch, AnOutputFolderThatCannotBeCreatedFailsBeforeAnyBake) {
