@@ -73,8 +73,9 @@ void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vd
     }
     std::cout << "  validation    " << v.pointsChecked << " points: error max "
               << num(v.maxError, 3) << ", mean " << num(v.meanError, 3) << ", rms "
-              << num(v.rmsError, 3) << " voxels; " << v.signMismatches
-              << " sign mismatches; |grad phi| median " << num(v.eikonalMedian, 4) << ", p99 "
+              << num(v.rmsError, 3) << " voxels; "
+              << plural(v.signMismatches, "sign mismatch", "sign mismatches")
+              << "; |grad phi| median " << num(v.eikonalMedian, 4) << ", p99 "
               << num(v.eikonalP99, 4) << ", " << num(100.0 * v.eikonalOutsideShare, 3)
               << " % outside [0.5, 1.5]\n";
 }

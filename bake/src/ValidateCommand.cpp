@@ -140,7 +140,7 @@ int runValidate(const ValidateArgs& args) {
                   << "  distance   max " << num(f.maxError, 3) << "  mean " << num(f.meanError, 3)
                   << "  rms " << num(f.rmsError, 3) << " voxels   limit " << num(maxError, 3)
                   << "  " << verdict(errorOk) << '\n'
-                  << "  sign       " << f.signMismatches << " mismatches of "
+                  << "  sign       " << plural(f.signMismatches, "mismatch", "mismatches") << " of "
                   << report->signComparedPoints << " compared points ("
                   << num(report->signMismatchPercent, 3) << " %)   limit "
                   << num(args.maxSignErrors, 3) << " %  " << verdict(signOk) << '\n'

@@ -4,7 +4,6 @@
 // CLI11, which the format library itself does not link.
 #pragma once
 
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -25,7 +24,6 @@ namespace detail {
 inline bool readDouble(const std::string& text, double& value) {
     if (text.empty())
         return false;
-    errno = 0;
     char* end = nullptr;
     value = std::strtod(text.c_str(), &end);
     return end == text.c_str() + text.size();
