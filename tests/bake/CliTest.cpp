@@ -319,7 +319,10 @@ TEST(Cli, BadGridArgumentsExitTwoAndWriteNothing) {
 /// on stderr.
 void expectParseError(const std::vector<std::string>& args, const std::string& message,
                       const std::string& command = "sluice-bake") {
-    const fs::path dir = testmesh::tempDir("cli-parse-errors");
+    // A folder per test: ctest runs the tests of this file side by side.
+    const fs::path dir =
+        testmesh::tempDir(std::string("cli-parse-errors-") +
+                          ::testing::UnitTest::GetInstance()->current_test_info()->name());
     const RunResult run = runBake(dir, args);
     EXPECT_EQ(run.code, kExitBadInput) << shown(run);
     EXPECT_EQ(run.out, "") << shown(run);
