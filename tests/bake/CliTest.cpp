@@ -380,6 +380,8 @@ TEST(Cli, AMissingArgumentIsNamed) {
     expectParseError({"bake", "x.obj"}, "sluice-bake bake: missing --output", "sluice-bake bake");
     expectParseError({"bake", "-o", "x.slc"}, "sluice-bake bake: missing MESH", "sluice-bake bake");
     expectParseError({"info"}, "sluice-bake info: missing ASSET", "sluice-bake info");
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "--resolution"},
+                     "sluice-bake bake: --resolution needs a value", "sluice-bake bake");
 }
 
 TEST(Cli, BakeCreatesTheOutputsFolder) {

@@ -63,8 +63,9 @@ TEST(PlayCliErrors, NonNumbersAndOutOfRangeValuesAreSaidPlainly) {
     expectParseError({"scene.json", "--warmup", "abc"}, "sluice-play: --warmup abc: not a number");
 }
 
-TEST(PlayCliErrors, AMissingSceneIsNamed) {
+TEST(PlayCliErrors, AMissingSceneOrValueIsNamed) {
     expectParseError({"--headless"}, "sluice-play: missing scene");
+    expectParseError({"scene.json", "--steps"}, "sluice-play: --steps needs a value");
 }
 
 TEST(PlayCliErrors, HelpAndVersionStillExitZero) {

@@ -140,6 +140,14 @@ inline std::string parseErrorMessage(const CLI::App& app, const CLI::ParseError&
             return what.substr(prefix.size(), equals - prefix.size()) + " " +
                    what.substr(equals + 3) + ": not a number";
     }
+    // "--resolution: 1 required UINT:INT in [1 - 4096] missing": an option given no value.
+    if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr) {
+        const std::size_t colon = what.find(": ");
+        const std::string suffix = " missing";
+        if (colon != std::string::npos && what.size() > suffix.size() &&
+            what.compare(what.size() - suffix.size(), suffix.size(), suffix) == 0)
+            return what.substr(0, colon) + " needs a value";
+    }
     if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
         const std::string suffix = " is required";
         if (what.size() > suffix.size() &&
@@ -156,7 +164,8 @@ inline std::string parseErrorMessage(const CLI::App& app, const CLI::ParseError&
 ///   "PROGRAM[ SUBCOMMAND]: message (see PROGRAM[ SUBCOMMAND] --help)",
 /// and returns `badInputCode`. The messages: "unknown command 'bkae' (did you mean 'bake'?)",
 /// "unknown option '--resolutoin' (did you mean '--resolution'?)", "--resolution abc: not a
-/// number", "--resolution 0: expected a whole number from 1 to 4096", "missing --output".
+/// number", "--resolution 0: expected a whole number from 1 to 4096", "missing --output",
+/// "--resolution needs a value".
 inline int reportParseError(CLI::App& app, const CLI::ParseError& e, std::string_view program,
                             int badInputCode) {
     if (dynamic_cast<const CLI::Success*>(&e) != nullptr)
