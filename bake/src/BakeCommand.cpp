@@ -44,141 +44,201 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+constexpr std::string_view kCmd = "bake";
+
+/// One bake on its way from arguments to a written asset; each step fills in its part.
+struct BakeJob {
+    Backend backend = Backend::Auto; ///< Gpu or Cgal once openBackend ran
+    BakeSettings settings;
+    std::optional<ImportedMesh> mesh;
+    Box meshBox;              ///< [world units] the scaled mesh's bounding box
+    std::uint64_t points = 0; ///< [grid points] of the grid to bake
+    std::optional<gpu::Context> context;
+    std::string renderer;
+    GpuBakeStats gpuStats;
+    std::optional<format::ColliderAsset> asset;
+    std::size_t bytes = 0; ///< [bytes] of the written file
+    double importSeconds = 0.0;
+    double bakeSeconds = 0.0;
+};
+
+/// Every argument is checked, and OUT's folder created, before the mesh is read, so mistakes
+/// fail fast. An OUT not ending in .slc is written anyway, with a warning.
+int checkArguments(const BakeArgs& args, BakeJob& job) {
+    Result<Backend> backend = parseBackend(args.backend);
+    if (!backend)
+        return reportBadInput(kCmd, backend.error().detail);
+    Result<SignMode> sign = parseSignMode(args.sign);
+    if (!sign)
+        return reportBadInput(kCmd, "--sign " + args.sign + ": " + sign.error().detail);
+    Result<format::Storage> storage = parseStorage(args.storage);
+    if (!storage)
+        return reportBadInput(kCmd, storage.error().detail);
+    if (Result<void> out = prepareOutputPath(args.output); !out)
+        return reportFileError(kCmd, "cannot write", args.output, out.error());
+    if (!hasExtension(args.output, ".slc"))
+        std::cerr << "sluice-bake bake: warning: '" << args.output
+                  << "' does not end in .slc; it will hold a collider asset all the same\n";
+
+    job.backend = *backend;
+    job.settings.grid.resolution = args.voxelSize > 0.0 ? 0 : args.resolution;
+    job.settings.grid.voxelSize = args.voxelSize;
+    job.settings.grid.padding = args.padding;
+    job.settings.sign = *sign;
+    job.settings.storage = *storage;
+    job.settings.scale = args.scale;
+    return kExitOk;
+}
+
+/// Reads the mesh at its scale and lays the grid over it.
+int importAndPlan(const BakeArgs& args, BakeJob& job) {
+    const auto start = std::chrono::steady_clock::now();
+    Result<ImportedMesh> mesh = loadMesh(args.mesh, args.scale);
+    if (!mesh)
+        return reportFileError(kCmd, "cannot read mesh", args.mesh, mesh.error());
+    job.importSeconds = secondsSince(start);
+    job.meshBox = mesh->soup.bounds();
+    Result<GridSpec> grid = gridFor(job.meshBox, job.settings.grid);
+    if (!grid)
+        return reportFileError(kCmd, "cannot bake", args.mesh, grid.error());
+    job.points = grid->pointCount();
+    job.mesh = std::move(*mesh);
+    return kExitOk;
+}
+
+/// Resolves auto to gpu where a GL 4.5 context opens, else to cgal; gpu without a context fails.
+int openBackend(BakeJob& job) {
+    if (job.backend == Backend::Cgal)
+        return kExitOk;
+    Result<gpu::Context> context = gpu::Context::createHeadless();
+    if (!context && job.backend == Backend::Gpu)
+        return reportError(kCmd, "no GPU context for --backend gpu (use --backend cgal)",
+                           context.error());
+    if (!context) {
+        // auto: the same exact field from the CPU reference, only slower.
+        std::cerr << "sluice-bake bake: no OpenGL 4.5 context (" << context.error().detail
+                  << "); baking on the CPU with the CGAL backend\n";
+        job.backend = Backend::Cgal;
+        return kExitOk;
+    }
+    job.backend = Backend::Gpu;
+    job.context.emplace(std::move(*context));
+    job.renderer = job.context->info().renderer;
+    return kExitOk;
+}
+
+/// Computes the field on the chosen backend, with a progress bar unless --quiet.
+int bakeField(const BakeArgs& args, BakeJob& job) {
+    const auto start = std::chrono::steady_clock::now();
+    const ImportedMesh& mesh = *job.mesh;
+    std::optional<Result<format::ColliderAsset>> asset;
+    if (job.backend == Backend::Gpu) {
+        Progress progress("baking " + mesh.sourceFile + " on the GPU", job.points, !args.quiet);
+        asset.emplace(bakeGpu(mesh, job.settings, *job.context, &progress,
+                              {.profile = args.profile}, &job.gpuStats));
+        progress.finish();
+    } else {
+        Progress progress("baking " + mesh.sourceFile, job.points, !args.quiet);
+        asset.emplace(bakeCgal(mesh, job.settings, &progress));
+        progress.finish();
+    }
+    if (!asset->ok())
+        return reportFileError(kCmd, "cannot bake", args.mesh, asset->error());
+    job.bakeSeconds = secondsSince(start);
+    job.asset.emplace(std::move(asset->value()));
+    return kExitOk;
+}
+
+/// Encodes first and writes atomically after: a failed bake or encode leaves OUT untouched.
+int writeOutput(const BakeArgs& args, BakeJob& job) {
+    Result<format::EncodedAsset> encoded = format::encodeAsset(*job.asset);
+    if (!encoded)
+        return reportFileError(kCmd, "cannot encode the asset for", args.output, encoded.error());
+    job.asset->meta.quantizationError = encoded->quantizationError;
+    if (Result<void> written = format::writeFileAtomic(args.output, encoded->bytes); !written)
+        return reportFileError(kCmd, "cannot write", args.output, written.error());
+    job.bytes = encoded->bytes.size();
+    return kExitOk;
+}
+
+/// [grid points / s] of the bake.
+double pointsPerSecond(const BakeJob& job) {
+    return job.bakeSeconds > 0.0 ? double(job.asset->pointCount()) / job.bakeSeconds : 0.0;
+}
+
+void printJson(const BakeArgs& args, const BakeJob& job) {
+    const glm::dvec3 size = job.meshBox.hi - job.meshBox.lo;
+    nlohmann::ordered_json out = {{"output", args.output},
+                                  {"mesh", args.mesh},
+                                  {"bytes", job.bytes},
+                                  {"meshBoxSize", {size.x, size.y, size.z}},
+                                  {"importSeconds", job.importSeconds},
+                                  {"bakeSeconds", job.bakeSeconds},
+                                  {"pointsPerSecond", pointsPerSecond(job)},
+                                  {"asset", toJson(job.asset->meta)}};
+    if (job.backend == Backend::Gpu) {
+        const GpuBakeStats& gpu = job.gpuStats;
+        out["gpu"] = {{"renderer", job.renderer},     {"triangles", gpu.triangles},
+                      {"bvhNodes", gpu.nodes},        {"bvhDepth", gpu.depth},
+                      {"bvhSeconds", gpu.bvhSeconds}, {"dispatches", gpu.dispatches},
+                      {"gpuBytes", gpu.gpuBytes}};
+        if (args.profile) {
+            out["gpu"]["distanceSeconds"] = gpu.distanceNs * 1e-9;
+            out["gpu"]["signSeconds"] = gpu.signNs * 1e-9;
+        }
+    }
+    std::cout << out.dump(2) << '\n';
+}
+
+void printSummary(const BakeArgs& args, const BakeJob& job) {
+    const format::ColliderMeta& meta = job.asset->meta;
+    const glm::dvec3 size = job.meshBox.hi - job.meshBox.lo;
+    std::cout << "baked " << args.mesh << " -> " << args.output << " (" << job.bytes << " bytes)\n"
+              << "  mesh box " << num(size.x) << " x " << num(size.y) << " x " << num(size.z)
+              << " world units\n"
+              << "  grid     " << describeDims(meta.dims) << ", voxel size " << num(meta.voxelSize)
+              << " world units\n"
+              << "  origin   (" << num(meta.origin.x) << ", " << num(meta.origin.y) << ", "
+              << num(meta.origin.z) << ") world units\n"
+              << "  sign     " << signMethodName(meta.bake.signUsed) << " (requested "
+              << meta.bake.signMode << ")\n"
+              << "  mesh     " << describeMesh(meta.mesh) << '\n'
+              << "  storage  " << storageName(meta.storage);
+    if (meta.storage == format::Storage::F16)
+        std::cout << ", quantization error " << num(meta.quantizationError, 3) << " world units ("
+                  << num(meta.quantizationError / meta.voxelSize, 3) << " voxels)";
+    std::cout << "\n  time     import " << num(job.importSeconds, 3) << " s, bake "
+              << num(job.bakeSeconds, 3) << " s (" << num(pointsPerSecond(job), 3)
+              << " voxels/s)\n";
+    if (job.backend == Backend::Gpu) {
+        const GpuBakeStats& gpu = job.gpuStats;
+        std::cout << "  gpu      " << job.renderer << ", BVH of " << plural(gpu.nodes, "node")
+                  << " (depth " << gpu.depth << ") in " << num(gpu.bvhSeconds, 3) << " s, "
+                  << plural(gpu.dispatches, "dispatch", "dispatches") << '\n';
+        if (args.profile)
+            std::cout << "  passes   distance " << num(gpu.distanceNs * 1e-6, 4) << " ms, sign "
+                      << num(gpu.signNs * 1e-6, 4) << " ms (GPU time)\n";
+    }
+}
+
 } // namespace
 
 int runBake(const BakeArgs& args) {
-    constexpr std::string_view cmd = "bake";
-    // Every argument is checked before the mesh is read, so mistakes fail fast.
-    Result<Backend> backend = parseBackend(args.backend);
-    if (!backend)
-        return reportBadInput(cmd, backend.error().detail);
-    Result<SignMode> sign = parseSignMode(args.sign);
-    if (!sign)
-        return reportBadInput(cmd, "--sign " + args.sign + ": " + sign.error().detail);
-    Result<format::Storage> storage = parseStorage(args.storage);
-    if (!storage)
-        return reportBadInput(cmd, storage.error().detail);
-    if (Result<void> out = checkOutputPath(args.output); !out)
-        return reportFileError(cmd, "cannot write", args.output, out.error());
-
-    BakeSettings settings;
-    settings.grid.resolution = args.voxelSize > 0.0 ? 0 : args.resolution;
-    settings.grid.voxelSize = args.voxelSize;
-    settings.grid.padding = args.padding;
-    settings.sign = *sign;
-    settings.storage = *storage;
-    settings.scale = args.scale;
-
-    const auto importStart = std::chrono::steady_clock::now();
-    Result<ImportedMesh> mesh = loadMesh(args.mesh, args.scale);
-    if (!mesh)
-        return reportFileError(cmd, "cannot read mesh", args.mesh, mesh.error());
-    const double importSeconds = secondsSince(importStart);
-
-    Result<GridSpec> grid = gridFor(mesh->soup.bounds(), settings.grid);
-    if (!grid)
-        return reportFileError(cmd, "cannot bake", args.mesh, grid.error());
-
-    const auto bakeStart = std::chrono::steady_clock::now();
-    std::optional<Result<format::ColliderAsset>> asset;
-    GpuBakeStats gpuStats;
-    std::string renderer;
-    std::optional<Result<gpu::Context>> context;
-    if (*backend != Backend::Cgal) {
-        context.emplace(gpu::Context::createHeadless());
-        if (!*context && *backend == Backend::Gpu)
-            return reportError(cmd, "no GPU context for --backend gpu (use --backend cgal)",
-                               context->error());
-        if (!*context) {
-            // auto: the same exact field from the CPU reference, only slower.
-            std::cerr << "sluice-bake bake: no OpenGL 4.5 context (" << context->error().detail
-                      << "); baking on the CPU with the CGAL backend\n";
-            backend = Backend::Cgal;
-        } else {
-            backend = Backend::Gpu;
-        }
-    }
-    switch (*backend) {
-    case Backend::Auto: break; // resolved above
-    case Backend::Gpu: {
-        renderer = (*context)->info().renderer;
-        Progress progress("baking " + mesh->sourceFile + " on the GPU", grid->pointCount(),
-                          !args.quiet);
-        asset.emplace(
-            bakeGpu(*mesh, settings, **context, &progress, {.profile = args.profile}, &gpuStats));
-        progress.finish();
-        break;
-    }
-    case Backend::Cgal: {
-        Progress progress("baking " + mesh->sourceFile, grid->pointCount(), !args.quiet);
-        asset.emplace(bakeCgal(*mesh, settings, &progress));
-        progress.finish();
-        break;
-    }
-    }
-    if (!asset->ok())
-        return reportFileError(cmd, "cannot bake", args.mesh, asset->error());
-    const double bakeSeconds = secondsSince(bakeStart);
-    format::ColliderAsset& result = asset->value();
-
-    // Encode first and write atomically after: a failed bake or encode leaves OUT untouched.
-    Result<format::EncodedAsset> encoded = format::encodeAsset(result);
-    if (!encoded)
-        return reportFileError(cmd, "cannot encode the asset for", args.output, encoded.error());
-    result.meta.quantizationError = encoded->quantizationError;
-    if (Result<void> written = format::writeFileAtomic(args.output, encoded->bytes); !written)
-        return reportFileError(cmd, "cannot write", args.output, written.error());
-
-    const format::ColliderMeta& meta = result.meta;
-    const double points = double(result.pointCount());
-    const double rate = bakeSeconds > 0.0 ? points / bakeSeconds : 0.0;
-    if (args.json) {
-        nlohmann::ordered_json out = {
-            {"output", args.output},          {"mesh", args.mesh},
-            {"bytes", encoded->bytes.size()}, {"importSeconds", importSeconds},
-            {"bakeSeconds", bakeSeconds},     {"pointsPerSecond", rate},
-            {"asset", toJson(meta)}};
-        if (*backend == Backend::Gpu) {
-            out["gpu"] = {{"renderer", renderer},
-                          {"triangles", gpuStats.triangles},
-                          {"bvhNodes", gpuStats.nodes},
-                          {"bvhDepth", gpuStats.depth},
-                          {"bvhSeconds", gpuStats.bvhSeconds},
-                          {"dispatches", gpuStats.dispatches},
-                          {"gpuBytes", gpuStats.gpuBytes}};
-            if (args.profile) {
-                out["gpu"]["distanceSeconds"] = gpuStats.distanceNs * 1e-9;
-                out["gpu"]["signSeconds"] = gpuStats.signNs * 1e-9;
-            }
-        }
-        std::cout << out.dump(2) << '\n';
-    } else if (!args.quiet) {
-        std::cout << "baked " << args.mesh << " -> " << args.output << " (" << encoded->bytes.size()
-                  << " bytes)\n"
-                  << "  grid     " << describeDims(meta.dims) << ", voxel " << num(meta.voxelSize)
-                  << " world units\n"
-                  << "  origin   (" << num(meta.origin.x) << ", " << num(meta.origin.y) << ", "
-                  << num(meta.origin.z) << ") world units\n"
-                  << "  sign     " << signMethodName(meta.bake.signUsed) << " (requested "
-                  << meta.bake.signMode << ")\n"
-                  << "  mesh     " << describeMesh(meta.mesh) << '\n'
-                  << "  storage  " << storageName(meta.storage);
-        if (meta.storage == format::Storage::F16)
-            std::cout << ", quantization error " << num(meta.quantizationError, 3)
-                      << " world units (" << num(meta.quantizationError / meta.voxelSize, 3)
-                      << " voxels)";
-        std::cout << "\n  time     import " << num(importSeconds, 3) << " s, bake "
-                  << num(bakeSeconds, 3) << " s (" << num(rate, 3) << " voxels/s)\n";
-        if (*backend == Backend::Gpu) {
-            std::cout << "  gpu      " << renderer << ", BVH of " << gpuStats.nodes
-                      << " nodes (depth " << gpuStats.depth << ") in "
-                      << num(gpuStats.bvhSeconds, 3) << " s, " << gpuStats.dispatches
-                      << " dispatches\n";
-            if (args.profile)
-                std::cout << "  passes   distance " << num(gpuStats.distanceNs * 1e-6, 4)
-                          << " ms, sign " << num(gpuStats.signNs * 1e-6, 4) << " ms (GPU time)\n";
-        }
-    }
+    BakeJob job;
+    if (const int code = checkArguments(args, job); code != kExitOk)
+        return code;
+    if (const int code = importAndPlan(args, job); code != kExitOk)
+        return code;
+    if (const int code = openBackend(job); code != kExitOk)
+        return code;
+    if (const int code = bakeField(args, job); code != kExitOk)
+        return code;
+    if (const int code = writeOutput(args, job); code != kExitOk)
+        return code;
+    if (args.json)
+        printJson(args, job);
+    else if (!args.quiet)
+        printSummary(args, job);
     return kExitOk;
 }
 
@@ -200,7 +260,7 @@ Command addBakeCommand(CLI::App& parent) {
     CLI::Option* resolution =
         app->add_option("--resolution", args->resolution,
                         "[voxels] along the longest side of the mesh box, 1..4096")
-            ->check(CLI::Range(1u, 4096u))
+            ->check(wholeNumber(1, 4096))
             ->capture_default_str();
     CLI::Option* voxelSize = app->add_option("--voxel-size", args->voxelSize,
                                              "[world units] grid spacing, instead of --resolution")

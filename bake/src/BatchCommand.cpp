@@ -1,10 +1,11 @@
 // `sluice-bake batch`: bakes every collider a JSON manifest lists, skipping those up to date.
 //
-// Manifest (paths relative to the manifest's folder; every field but mesh and output optional,
-// with the defaults of `bake`):
+// Manifest (format/BatchManifest.h; paths relative to the manifest's folder; every field but
+// mesh and output optional, with the defaults of `bake`; resolution or voxelSize, not both):
 //   { "colliders": [ { "mesh": "meshes/rock.obj", "output": "rock.slc", "resolution": 64,
-//                      "voxelSize": 0, "padding": 3, "sign": "auto", "storage": "f32",
-//                      "scale": 1, "backend": "cgal" } ] }
+//                      "padding": 3, "sign": "auto", "storage": "f32", "scale": 1,
+//                      "backend": "cgal" } ] }
+// The whole manifest is checked, and every output's folder created, before the first bake.
 // An output is fresh when it reads as a valid asset that records the XXH3 hash of the mesh
 // file's current bytes, the same bake settings and this tool version. Only content counts:
 // touching a mesh without changing it bakes nothing, and no modification time is trusted.
@@ -21,12 +22,10 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -39,6 +38,7 @@
 #include "sluice/bake/Cli.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
+#include "sluice/format/BatchManifest.h"
 #include "sluice/format/Hash.h"
 
 namespace sluice::bake::cli {
@@ -71,64 +71,38 @@ struct Outcome {
     std::optional<double> maxError; ///< [voxels] recorded by `validate --write`, if any
 };
 
-/// One manifest entry, paths resolved against the manifest's folder.
-Result<Entry> parseEntry(const nlohmann::json& json, const fs::path& folder, std::size_t n) {
-    const std::string where = "colliders[" + std::to_string(n) + "]";
-    if (!json.is_object() || !json.contains("mesh") || !json["mesh"].is_string() ||
-        !json.contains("output") || !json["output"].is_string())
-        return fail(ErrorCode::InvalidArgument,
-                    where + " needs string fields \"mesh\" and \"output\"");
+/// The bake a manifest entry asks for, its paths resolved against the manifest's folder.
+Entry entryFor(const format::BatchEntry& manifestEntry) {
     Entry entry;
-    entry.label = json["output"].get<std::string>();
+    entry.label = manifestEntry.output;
     BakeArgs& args = entry.bake;
-    args.mesh = (folder / json["mesh"].get<std::string>()).string();
-    args.output = (folder / entry.label).string();
-    try {
-        args.resolution = json.value("resolution", args.resolution);
-        args.voxelSize = json.value("voxelSize", args.voxelSize);
-        args.padding = json.value("padding", args.padding);
-        args.sign = json.value("sign", args.sign);
-        args.storage = json.value("storage", args.storage);
-        args.scale = json.value("scale", args.scale);
-        args.backend = json.value("backend", args.backend);
-    } catch (const nlohmann::json::exception& e) {
-        return fail(ErrorCode::InvalidArgument, where + ": " + e.what());
-    }
-    if (args.resolution < 1 || args.resolution > 4096)
-        return fail(ErrorCode::InvalidArgument, where + ": resolution must be 1..4096");
+    args.mesh = manifestEntry.meshPath.string();
+    args.output = manifestEntry.outputPath.string();
+    args.resolution = manifestEntry.resolution;
+    args.voxelSize = manifestEntry.voxelSize;
+    args.padding = manifestEntry.padding;
+    args.sign = manifestEntry.sign;
+    args.storage = manifestEntry.storage;
+    args.scale = manifestEntry.scale;
+    args.backend = manifestEntry.backend;
     args.quiet = true;
     return entry;
 }
 
-/// The manifest's entries; InvalidArgument naming the entry for a bad one, or for two entries
-/// that write the same output (they would race under --jobs and overwrite each other anyway).
+/// The manifest's entries, checked whole (format::readBatchManifest), with every output's
+/// folder created: a manifest error or an output that cannot be written fails here, before any
+/// entry bakes. The detail names the manifest and the JSON path.
 Result<std::vector<Entry>> readManifest(const std::string& path) {
-    std::ifstream in(path);
-    if (!in)
-        return fail(ErrorCode::Io, "cannot read manifest '" + path + "'");
-    nlohmann::json manifest;
-    try {
-        manifest = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        return fail(ErrorCode::InvalidArgument, "manifest '" + path + "' is not JSON: " + e.what());
-    }
-    if (!manifest.is_object() || !manifest.contains("colliders") ||
-        !manifest["colliders"].is_array())
-        return fail(ErrorCode::InvalidArgument,
-                    "manifest '" + path + "' needs an array \"colliders\" of {mesh, output, ...}");
-    const fs::path folder = fs::path(path).parent_path();
+    Result<format::BatchManifest> manifest = format::readBatchManifest(path);
+    if (!manifest)
+        return manifest.error();
     std::vector<Entry> entries;
-    std::set<fs::path> outputs;
-    for (std::size_t n = 0; n < manifest["colliders"].size(); ++n) {
-        Result<Entry> entry = parseEntry(manifest["colliders"][n], folder, n);
-        if (!entry)
-            return fail(ErrorCode::InvalidArgument,
-                        "manifest '" + path + "': " + entry.error().detail);
-        if (!outputs.insert(fs::path(entry->bake.output).lexically_normal()).second)
-            return fail(ErrorCode::InvalidArgument,
-                        "manifest '" + path + "': colliders[" + std::to_string(n) + "] writes '" +
-                            entry->label + "', as an earlier entry does");
-        entries.push_back(std::move(*entry));
+    for (std::size_t n = 0; n < manifest->colliders.size(); ++n) {
+        const format::BatchEntry& entry = manifest->colliders[n];
+        if (Result<void> out = prepareOutputPath(entry.outputPath); !out)
+            return fail(out.error().code, path + ": colliders[" + std::to_string(n) +
+                                              "].output: " + out.error().detail);
+        entries.push_back(entryFor(entry));
     }
     return entries;
 }
@@ -148,17 +122,16 @@ std::optional<format::ColliderAsset> freshAsset(const BakeArgs& args) {
         return std::nullopt;
     const format::ColliderMeta& meta = asset->meta;
     const bool byVoxelSize = args.voxelSize > 0.0;
-    const bool same = meta.sourceHash == *hash &&
-                      meta.sourceFile == fs::path(args.mesh).filename().string() &&
-                      meta.toolVersion == toolVersion() &&
-                      // auto takes either backend: both compute the same exact field.
-                      (meta.bake.backend == args.backend ||
-                       (args.backend == "auto" &&
-                        (meta.bake.backend == "gpu" || meta.bake.backend == "cgal"))) &&
-                      meta.bake.resolution == (byVoxelSize ? 0u : args.resolution) &&
-                      (!byVoxelSize || meta.voxelSize == args.voxelSize) &&
-                      meta.bake.padding == args.padding && meta.bake.signMode == args.sign &&
-                      meta.bake.scale == args.scale && storageName(meta.storage) == args.storage;
+    const bool same =
+        meta.sourceHash == *hash && meta.sourceFile == fs::path(args.mesh).filename().string() &&
+        meta.toolVersion == toolVersion() &&
+        // auto takes either backend: both compute the same exact field.
+        (meta.bake.backend == args.backend ||
+         (args.backend == "auto" && (meta.bake.backend == "gpu" || meta.bake.backend == "cgal"))) &&
+        meta.bake.resolution == (byVoxelSize ? 0u : args.resolution) &&
+        (!byVoxelSize || meta.voxelSize == args.voxelSize) && meta.bake.padding == args.padding &&
+        meta.bake.signMode == args.sign && meta.bake.scale == args.scale &&
+        storageName(meta.storage) == args.storage;
     if (!same)
         return std::nullopt;
     return std::move(*asset);
@@ -321,7 +294,8 @@ void printSummary(const std::vector<Entry>& entries, const std::vector<Outcome>&
         std::printf("%-*s  %-6s  %8.2f  %11s  %s\n", w, entries[i].label.c_str(),
                     statusName(o.status), o.seconds, points.c_str(), error.c_str());
     }
-    std::printf("%zu baked, %zu fresh, %zu failed in %.2f s\n", counts[int(Status::Baked)],
+    std::printf("%s: %zu baked, %zu fresh, %zu failed in %.2f s\n",
+                plural(entries.size(), "collider").c_str(), counts[int(Status::Baked)],
                 counts[int(Status::Fresh)], counts[int(Status::Failed)], seconds);
     std::fflush(stdout);
 }
@@ -352,6 +326,10 @@ Result<void> writeDepfile(const std::string& path, const std::string& manifest,
 int runBatch(const BatchArgs& args) {
     constexpr std::string_view cmd = "batch";
     const auto start = std::chrono::steady_clock::now();
+    // Everything that can be checked is checked before the first bake.
+    if (!args.depfile.empty())
+        if (Result<void> out = prepareOutputPath(args.depfile); !out)
+            return reportFileError(cmd, "cannot write the depfile", args.depfile, out.error());
     Result<std::vector<Entry>> entries = readManifest(args.manifest);
     if (!entries)
         return reportBadInput(cmd, entries.error().detail);
@@ -381,7 +359,8 @@ Command addBatchCommand(CLI::App& parent) {
         "batch", "Bake every collider a JSON manifest lists ({\"colliders\": [{\"mesh\", "
                  "\"output\", and optionally \"resolution\", \"voxelSize\", \"padding\", "
                  "\"sign\", \"storage\", \"scale\", \"backend\"}]}, paths relative to the "
-                 "manifest), skipping outputs that are fresh: they record the hash of the "
+                 "manifest, output folders created), skipping outputs that are fresh: they record "
+                 "the hash of the "
                  "mesh's current bytes, the same settings and this tool version. Prints a "
                  "summary table; exits with the first failed entry's code, and a failed entry's "
                  "previous output is left untouched.");
@@ -391,7 +370,7 @@ Command addBatchCommand(CLI::App& parent) {
     app->add_option("-j,--jobs", args->jobs,
                     "bake up to N entries at once, each in a child process (GPU entries take "
                     "turns on the GPU)")
-        ->check(CLI::Range(1u, 256u))
+        ->check(wholeNumber(1, 256))
         ->capture_default_str();
     app->add_flag("--force", args->force, "bake every entry, fresh or not");
     app->add_flag("-q,--quiet", args->quiet, "print nothing but errors");

@@ -33,9 +33,8 @@ int run(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        // --help and --version arrive here too, with exit code 0.
-        const int code = app.exit(e);
-        return code == 0 ? kExitOk : kExitBadInput;
+        // --help and --version arrive here too, and exit 0.
+        return format::cli::reportParseError(app, e, "sluice-bake", kExitBadInput);
     }
 
     for (const cli::Command& command : commands)

@@ -13,19 +13,6 @@
 
 namespace sluice::bake::cli {
 
-CLI::Validator finiteNumber(bool allowZero) {
-    return CLI::Validator(
-        [allowZero](std::string& text) -> std::string {
-            double value = 0.0;
-            if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) ||
-                (allowZero ? value < 0.0 : value <= 0.0))
-                return std::string("expected a finite number ") + (allowZero ? ">= 0" : "> 0") +
-                       ", got " + text;
-            return {};
-        },
-        allowZero ? "NONNEGATIVE" : "POSITIVE");
-}
-
 std::string toolVersion() {
     return std::string("sluice-bake ") + SLUICE_VERSION;
 }
@@ -81,26 +68,37 @@ Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path) {
     return format::readAsset(path);
 }
 
-Result<void> checkOutputPath(const std::filesystem::path& path) {
+Result<void> prepareOutputPath(const std::filesystem::path& path) {
+    namespace fs = std::filesystem;
     std::error_code ec;
-    if (path.filename().empty() || std::filesystem::is_directory(path, ec))
+    if (path.filename().empty() || fs::is_directory(path, ec))
         return fail(ErrorCode::InvalidArgument, "'" + path.string() + "' is a folder, not a file");
-    const std::filesystem::path folder =
-        path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
-    if (!std::filesystem::is_directory(folder, ec))
-        return fail(ErrorCode::Io,
-                    "the folder '" + folder.string() + "' does not exist (create it first)");
+    const fs::path folder = path.parent_path();
+    if (folder.empty() || fs::is_directory(folder, ec))
+        return {};
+    fs::create_directories(folder, ec);
+    if (ec || !fs::is_directory(folder))
+        return fail(ErrorCode::Io, "cannot create the folder '" + folder.string() + "' for '" +
+                                       path.string() +
+                                       "': " + (ec ? ec.message() : std::string("not a folder")));
     return {};
 }
 
+std::string plural(std::uint64_t count, std::string_view singular, std::string_view pluralForm) {
+    std::string text = std::to_string(count) + " ";
+    if (count == 1)
+        return text + std::string(singular);
+    return text + (pluralForm.empty() ? std::string(singular) + "s" : std::string(pluralForm));
+}
+
 std::string describeMesh(const format::MeshDiagnostics& mesh) {
-    std::string text = std::to_string(mesh.triangles) + " triangles, " +
-                       std::to_string(mesh.vertices) + " vertices, ";
+    std::string text = plural(mesh.triangles, "triangle") + ", " +
+                       plural(mesh.vertices, "vertex", "vertices") + ", ";
     text += mesh.closed ? "closed" : "open";
     text += mesh.selfIntersecting ? ", self-intersecting" : ", not self-intersecting";
     text += ", " + std::to_string(mesh.degenerateTriangles) + " degenerate, " +
-            std::to_string(mesh.boundaryEdges) + " boundary edges, " +
-            std::to_string(mesh.nonManifoldEdges) + " non-manifold edges";
+            plural(mesh.boundaryEdges, "boundary edge") + ", " +
+            plural(mesh.nonManifoldEdges, "non-manifold edge");
     return text;
 }
 
@@ -127,6 +125,16 @@ nlohmann::ordered_json toJson(const format::MeshDiagnostics& mesh) {
 }
 
 nlohmann::ordered_json toJson(const format::ValidationFigures& figures) {
+    if (!figures.known)
+        return {{"known", false},
+                {"pointsChecked", nullptr},
+                {"maxError", nullptr},
+                {"meanError", nullptr},
+                {"rmsError", nullptr},
+                {"signMismatches", nullptr},
+                {"eikonalMedian", nullptr},
+                {"eikonalP99", nullptr},
+                {"eikonalOutsideShare", nullptr}};
     return {{"known", figures.known},
             {"pointsChecked", figures.pointsChecked},
             {"maxError", figures.maxError},

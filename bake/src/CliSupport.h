@@ -12,6 +12,7 @@
 
 #include "sluice/bake/MeshImport.h"
 #include "sluice/bake/Validate.h"
+#include "sluice/format/CliErrors.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 
@@ -51,9 +52,11 @@ Command addExportCommand(CLI::App& parent);
 Command addGlInfoCommand(CLI::App& parent);
 Command addBatchCommand(CLI::App& parent);
 
-/// CLI11 check: a finite number > 0 (or >= 0 with `allowZero`), with a short message. CLI11's
-/// PositiveNumber prints DBL_MAX in full and lets NaN through.
-CLI::Validator finiteNumber(bool allowZero);
+// Number checks for options, shared with sluice-play (their messages read well after the
+// option's name and value, as reportParseError prints them).
+using format::cli::finiteNumber;
+using format::cli::numberIn;
+using format::cli::wholeNumber;
 
 /// "sluice-bake <SLUICE_VERSION>", what --version prints and assets record.
 std::string toolVersion();
@@ -84,9 +87,10 @@ Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale);
 /// A collider asset file, or the first float grid of a .vdb read densely.
 Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path);
 
-/// Checks that `path` can be a new output file: its folder exists and it is not a folder.
-/// Cheap, so commands fail before long work; the atomic write still has the last word.
-Result<void> checkOutputPath(const std::filesystem::path& path);
+/// Makes `path` ready to be a new output file, before any long work: creates its missing
+/// folders (as `mkdir -p`), and fails naming the path when they cannot be created (Io) or when
+/// the path is a folder (InvalidArgument). The atomic write still has the last word.
+Result<void> prepareOutputPath(const std::filesystem::path& path);
 
 using format::signMethodName;
 using format::storageName;
@@ -94,13 +98,19 @@ using format::storageName;
 /// "1280 triangles, 642 vertices, closed, not self-intersecting, ..." for people.
 std::string describeMesh(const format::MeshDiagnostics& mesh);
 
+/// "1 triangle", "2 triangles": `count` and the noun, plural unless the count is 1.
+/// `pluralForm` defaults to `singular` + "s".
+std::string plural(std::uint64_t count, std::string_view singular,
+                   std::string_view pluralForm = {});
+
 /// "70 x 70 x 70 = 343000 points".
 std::string describeDims(const glm::uvec3& dims);
 
 /// Compact number for tables: up to `digits` significant digits ("%.*g").
 std::string num(double value, int digits = 6);
 
-// JSON views of the metadata (field names as in ColliderAsset.h).
+// JSON views of the metadata (field names as in ColliderAsset.h); validation figures that were
+// not recorded are null.
 nlohmann::ordered_json toJson(const format::MeshDiagnostics& mesh);
 nlohmann::ordered_json toJson(const format::ValidationFigures& figures);
 nlohmann::ordered_json toJson(const format::ColliderMeta& meta);

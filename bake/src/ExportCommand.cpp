@@ -20,7 +20,11 @@ int runExport(const ExportArgs& args) {
     constexpr std::string_view cmd = "export";
     if (!hasExtension(args.output, ".vdb"))
         return reportBadInput(cmd, "'" + args.output + "': the output must be a .vdb file");
-    if (Result<void> out = checkOutputPath(args.output); !out)
+    if (hasExtension(args.asset, ".vdb"))
+        return reportBadInput(cmd, "'" + args.asset +
+                                       "' is already a .vdb file (export converts a collider "
+                                       "asset, .slc, to OpenVDB)");
+    if (Result<void> out = prepareOutputPath(args.output); !out)
         return reportFileError(cmd, "cannot write", args.output, out.error());
     Result<format::ColliderAsset> asset = format::readAsset(args.asset);
     if (!asset)

@@ -51,12 +51,17 @@ void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vd
               << " world units (negative inside)\n"
               << "  storage       " << storageName(m.storage) << ", quantization error "
               << num(m.quantizationError, 3) << " world units\n";
-    if (vdb)
-        return;
     const format::BakeParams& b = m.bake;
     std::cout << "  source        " << m.sourceFile << "  (xxh3 " << m.sourceHash << ")\n"
-              << "  tool          " << m.toolVersion << '\n'
-              << "  bake          backend " << b.backend << ", resolution "
+              << "  tool          " << (m.toolVersion.empty() ? "not recorded" : m.toolVersion)
+              << '\n';
+    if (vdb) {
+        // A grid's metadata records where it came from, not how it was baked.
+        std::cout << "  bake          backend " << b.backend << ", sign "
+                  << signMethodName(b.signUsed) << " (the rest is not recorded in a .vdb)\n";
+        return;
+    }
+    std::cout << "  bake          backend " << b.backend << ", resolution "
               << (b.resolution ? std::to_string(b.resolution) : std::string("- (voxel size)"))
               << ", padding " << num(b.padding) << " voxels, sign " << b.signMode << " -> "
               << signMethodName(b.signUsed) << ", scale " << num(b.scale) << '\n'
@@ -68,10 +73,26 @@ void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vd
     }
     std::cout << "  validation    " << v.pointsChecked << " points: error max "
               << num(v.maxError, 3) << ", mean " << num(v.meanError, 3) << ", rms "
-              << num(v.rmsError, 3) << " voxels; " << v.signMismatches
-              << " sign mismatches; |grad phi| median " << num(v.eikonalMedian, 4) << ", p99 "
+              << num(v.rmsError, 3) << " voxels; "
+              << plural(v.signMismatches, "sign mismatch", "sign mismatches")
+              << "; |grad phi| median " << num(v.eikonalMedian, 4) << ", p99 "
               << num(v.eikonalP99, 4) << ", " << num(100.0 * v.eikonalOutsideShare, 3)
               << " % outside [0.5, 1.5]\n";
+}
+
+/// toJson(meta), with null for what a .vdb grid does not record (the bake settings other than
+/// backend and sign, and the mesh diagnostics) rather than zeros and falses.
+nlohmann::ordered_json metaJson(const format::ColliderMeta& meta, bool vdb) {
+    nlohmann::ordered_json json = toJson(meta);
+    if (!vdb)
+        return json;
+    if (meta.toolVersion.empty())
+        json["toolVersion"] = nullptr;
+    for (const char* key : {"resolution", "padding", "signMode", "scale"})
+        json["bake"][key] = nullptr;
+    for (auto& [key, value] : json["mesh"].items())
+        value = nullptr;
+    return json;
 }
 
 int runInfo(const InfoArgs& args) {
@@ -82,7 +103,7 @@ int runInfo(const InfoArgs& args) {
         if (!parsed)
             return reportBadInput(cmd, parsed.error().detail); // the detail names --slice
         slice = *parsed;
-        if (Result<void> out = checkOutputPath(args.png); !out)
+        if (Result<void> out = prepareOutputPath(args.png); !out)
             return reportFileError(cmd, "cannot write", args.png, out.error());
     }
 
@@ -104,6 +125,7 @@ int runInfo(const InfoArgs& args) {
     if (args.json) {
         nlohmann::ordered_json out = {{"file", args.asset},
                                       {"format", vdb ? "openvdb" : "sluice-collider"}};
+        out["header"] = nullptr;
         if (!vdb)
             out["header"] = {{"major", header.major},
                              {"minor", header.minor},
@@ -114,7 +136,7 @@ int runInfo(const InfoArgs& args) {
                              {"payloadOffset", header.payloadOffset},
                              {"payloadSize", header.payloadSize},
                              {"checksum", format::hex64(header.checksum)}};
-        const nlohmann::ordered_json meta = toJson(asset->meta);
+        const nlohmann::ordered_json meta = metaJson(asset->meta, vdb);
         for (const auto& [key, value] : meta.items())
             out[key] = value;
         out["distanceRange"] = {minPhi, maxPhi};

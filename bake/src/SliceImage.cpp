@@ -2,11 +2,15 @@
 #include "sluice/bake/SliceImage.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <span>
+#include <string>
+#include <string_view>
 #include <system_error>
 
 #include <glm/common.hpp>
@@ -32,6 +36,38 @@ const glm::dvec3 kInside{0.08, 0.24, 0.70};
 const glm::dvec3 kOutside{0.75, 0.08, 0.08};
 const glm::dvec3 kContour{0.05, 0.05, 0.05};
 const glm::dvec3 kGapColour{0.2, 0.2, 0.2};
+const glm::dvec3 kLegendBackground{0.96, 0.96, 0.96};
+const glm::dvec3 kText{0.1, 0.1, 0.1};
+
+// The legend strip [px]: a line of text, the colour bar, a line of labels, with margins.
+constexpr int kFontScale = 2;                 // [px per font pixel]
+constexpr int kGlyphAdvance = 4 * kFontScale; // 3 columns and a space
+constexpr int kLineHeight = 5 * kFontScale;   // 5 rows
+constexpr int kMargin = 6;
+constexpr int kBarHeight = 12;
+constexpr int kLegendHeight =
+    kMargin + kLineHeight + kMargin + kBarHeight + 4 + kLineHeight + kMargin;
+
+// A 3 x 5 pixel font for the legend: five rows of three bits each, top row first, the high bit
+// on the left. Letters are upper case; characters without a glyph are drawn as spaces.
+struct Glyph {
+    char c;
+    std::uint8_t rows[5];
+};
+constexpr Glyph kFont[] = {
+    {'0', {7, 5, 5, 5, 7}}, {'1', {2, 6, 2, 2, 7}}, {'2', {7, 1, 7, 4, 7}}, {'3', {7, 1, 7, 1, 7}},
+    {'4', {5, 5, 7, 1, 1}}, {'5', {7, 4, 7, 1, 7}}, {'6', {7, 4, 7, 5, 7}}, {'7', {7, 1, 1, 1, 1}},
+    {'8', {7, 5, 7, 5, 7}}, {'9', {7, 5, 7, 1, 7}}, {'A', {2, 5, 7, 5, 5}}, {'B', {6, 5, 6, 5, 6}},
+    {'C', {3, 4, 4, 4, 3}}, {'D', {6, 5, 5, 5, 6}}, {'E', {7, 4, 6, 4, 7}}, {'F', {7, 4, 6, 4, 4}},
+    {'G', {3, 4, 5, 5, 3}}, {'H', {5, 5, 7, 5, 5}}, {'I', {7, 2, 2, 2, 7}}, {'J', {1, 1, 1, 5, 2}},
+    {'K', {5, 5, 6, 5, 5}}, {'L', {4, 4, 4, 4, 7}}, {'M', {5, 7, 7, 5, 5}}, {'N', {6, 5, 5, 5, 5}},
+    {'O', {2, 5, 5, 5, 2}}, {'P', {6, 5, 6, 4, 4}}, {'Q', {2, 5, 5, 6, 3}}, {'R', {6, 5, 6, 5, 5}},
+    {'S', {3, 4, 2, 1, 6}}, {'T', {7, 2, 2, 2, 2}}, {'U', {5, 5, 5, 5, 7}}, {'V', {5, 5, 5, 5, 2}},
+    {'W', {5, 5, 7, 7, 5}}, {'X', {5, 5, 2, 5, 5}}, {'Y', {5, 5, 2, 2, 2}}, {'Z', {7, 1, 2, 4, 7}},
+    {'-', {0, 0, 7, 0, 0}}, {'+', {0, 2, 7, 2, 0}}, {'.', {0, 0, 0, 0, 2}}, {',', {0, 0, 0, 2, 4}},
+    {':', {0, 2, 0, 2, 0}}, {'=', {0, 7, 0, 7, 0}}, {'(', {1, 2, 2, 2, 1}}, {')', {4, 2, 2, 2, 4}},
+    {'/', {1, 1, 2, 4, 4}},
+};
 
 std::uint8_t toByte(double c) {
     return std::uint8_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0));
@@ -58,6 +94,96 @@ double isoSpacingVoxels(double rangeVoxels) {
 // quarter pixel, fading out over one pixel (a cheap antialiased line about 2 px wide).
 double lineCoverage(double px) {
     return std::clamp(1.25 - px, 0.0, 1.0);
+}
+
+// The colour of distance `d` on the left half, before contour lines: white at zero, to the
+// inside or outside colour at the end of its range.
+glm::dvec3 distanceColour(double d, double rangeInside, double rangeOutside) {
+    // A gentle power curve gives the near-surface band more of the ramp than the far field.
+    const double t =
+        std::pow(std::min(std::abs(d) / (d < 0 ? rangeInside : rangeOutside), 1.0), 0.7);
+    return glm::mix(kWhite, d < 0 ? kInside : kOutside, t);
+}
+
+const Glyph* findGlyph(char c) {
+    const char upper = char(std::toupper(static_cast<unsigned char>(c)));
+    for (const Glyph& glyph : kFont)
+        if (glyph.c == upper)
+            return &glyph;
+    return nullptr;
+}
+
+// [px] width of `text` in the legend font.
+int textWidth(std::string_view text) {
+    return int(text.size()) * kGlyphAdvance - kFontScale;
+}
+
+// Draws `text` with its top-left corner at (x, y), clipped to columns [x, clipRight).
+void drawText(Image& image, int x, int y, std::string_view text, int clipRight) {
+    for (std::size_t i = 0; i < text.size(); ++i, x += kGlyphAdvance) {
+        const Glyph* glyph = findGlyph(text[i]);
+        if (glyph == nullptr)
+            continue;
+        for (int row = 0; row < 5 * kFontScale; ++row)
+            for (int col = 0; col < 3 * kFontScale; ++col) {
+                const int px = x + col, py = y + row;
+                const bool on = (glyph->rows[row / kFontScale] >> (2 - col / kFontScale)) & 1;
+                if (on && px >= 0 && px < std::min(clipRight, image.width) && py < image.height)
+                    putPixel(image, px, py, kText);
+            }
+    }
+}
+
+// "0.25", "-1.2e+03": three significant digits.
+std::string legendNumber(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
+
+const char* axisName(Axis axis) {
+    return axis == Axis::X ? "X" : axis == Axis::Y ? "Y" : "Z";
+}
+
+// The legend strip under the halves (SliceLayout): axis names and the colour bar under the
+// distance half, what the colours mean under the gradient half.
+void drawLegend(Image& image, const SliceLayout& layout, const SliceSpec& slice, double rangeInside,
+                double rangeOutside) {
+    for (int py = layout.height; py < image.height; ++py)
+        for (int px = 0; px < image.width; ++px)
+            putPixel(image, px, py, kLegendBackground);
+    const int line1 = layout.height + kMargin;
+    const int bar = line1 + kLineHeight + kMargin;
+    const int line2 = bar + kBarHeight + 4;
+    const int left = kMargin, right = layout.halfWidth - kMargin; // [px] of the distance half
+    drawText(image, left, line1,
+             std::string("ACROSS ") + axisName(layout.uAxis) + ", UP " + axisName(layout.vAxis) +
+                 ", AT " + axisName(slice.axis) + " = " + legendNumber(slice.fraction),
+             layout.halfWidth);
+
+    // The bar runs from -rangeInside (left) through 0 to +rangeOutside (right), zero in the
+    // middle, in the colours of the field above it.
+    const int barWidth = right - left;
+    if (barWidth >= 2) {
+        const int zero = left + barWidth / 2;
+        for (int px = left; px < right; ++px) {
+            const double d = px < zero ? -rangeInside * double(zero - px) / (zero - left)
+                                       : rangeOutside * double(px - zero) / (right - 1 - zero);
+            const glm::dvec3 c =
+                px == zero ? kContour : distanceColour(d, rangeInside, rangeOutside);
+            for (int py = bar; py < bar + kBarHeight; ++py)
+                putPixel(image, px, py, c);
+        }
+        const std::string lo = legendNumber(-rangeInside), hi = legendNumber(rangeOutside);
+        drawText(image, left, line2, lo, zero - kGlyphAdvance);
+        drawText(image, zero - kFontScale, line2, "0", layout.halfWidth);
+        drawText(image, right - textWidth(hi), line2, hi, layout.halfWidth);
+    }
+
+    const int gradientLeft = layout.halfWidth + layout.gap + kMargin;
+    drawText(image, gradientLeft, line1, "GRADIENT: R, G, B = X, Y, Z", image.width);
+    drawText(image, gradientLeft, bar, "LEFT: DISTANCE IN WORLD UNITS,", image.width);
+    drawText(image, gradientLeft, line2, "BLUE INSIDE, RED OUTSIDE", image.width);
 }
 
 } // namespace
@@ -123,6 +249,7 @@ SliceLayout sliceLayout(const format::ColliderMeta& meta, const SliceSpec& slice
     layout.halfWidth = int(std::lround(extentU * layout.pixelsPerVoxel)) + 1;
     layout.height = int(std::lround(extentV * layout.pixelsPerVoxel)) + 1;
     layout.gap = kGap;
+    layout.legendHeight = kLegendHeight;
     layout.planeIndex = std::clamp(slice.fraction, 0.0, 1.0) * (meta.dims[w] - 1.0);
     return layout;
 }
@@ -176,7 +303,7 @@ Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice) {
 
     Image image;
     image.width = 2 * layout.halfWidth + layout.gap;
-    image.height = layout.height;
+    image.height = layout.height + layout.legendHeight;
     image.rgb.assign(std::size_t(image.width) * std::size_t(image.height) * 3, 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, layout.height), [&](const auto& rows) {
         for (int py = rows.begin(); py != rows.end(); ++py) {
@@ -186,11 +313,8 @@ Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice) {
                 const double d = phi[at];
                 const glm::dvec3& g = grad[at];
 
-                // Left: the distance. A gentle power curve gives the near-surface band more of
-                // the colour ramp than the far field.
-                const double t = std::pow(
-                    std::min(std::abs(d) / (d < 0 ? rangeInside : rangeOutside), 1.0), 0.7);
-                glm::dvec3 c = glm::mix(kWhite, d < 0 ? kInside : kOutside, t);
+                // Left: the distance.
+                glm::dvec3 c = distanceColour(d, rangeInside, rangeOutside);
                 // Lines drawn by their distance in pixels, |phi - level| / |grad phi in plane|,
                 // so they keep their width however steep the field is.
                 const double slope =
@@ -210,6 +334,7 @@ Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice) {
                 putPixel(image, layout.halfWidth + px, py, kGapColour);
         }
     });
+    drawLegend(image, layout, slice, rangeInside, rangeOutside);
     return image;
 }
 

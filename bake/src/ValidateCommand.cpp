@@ -140,7 +140,7 @@ int runValidate(const ValidateArgs& args) {
                   << "  distance   max " << num(f.maxError, 3) << "  mean " << num(f.meanError, 3)
                   << "  rms " << num(f.rmsError, 3) << " voxels   limit " << num(maxError, 3)
                   << "  " << verdict(errorOk) << '\n'
-                  << "  sign       " << f.signMismatches << " mismatches of "
+                  << "  sign       " << plural(f.signMismatches, "mismatch", "mismatches") << " of "
                   << report->signComparedPoints << " compared points ("
                   << num(report->signMismatchPercent, 3) << " %)   limit "
                   << num(args.maxSignErrors, 3) << " %  " << verdict(signOk) << '\n'
@@ -175,7 +175,7 @@ Command addValidateCommand(CLI::App& parent) {
     app->add_option("--max-sign-errors", args->maxSignErrors,
                     "[%] largest allowed share of sign mismatches (points within 1e-4 voxel of "
                     "the surface are not counted)")
-        ->check(CLI::Range(0.0, 100.0))
+        ->check(numberIn(0.0, 100.0))
         ->capture_default_str();
     app->add_option("--sign", args->sign,
                     "reference sign method: auto, parity, winding (default: what the asset "
@@ -183,7 +183,7 @@ Command addValidateCommand(CLI::App& parent) {
     app->add_option("--samples", args->samples,
                     "sample size for grids over 2M points (stratified: half within 2 voxels of "
                     "the surface)")
-        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 28))
+        ->check(wholeNumber(1, std::int64_t(1) << 28))
         ->capture_default_str();
     app->add_option("--seed", args->seed, "sampling seed (same seed, same report)")
         ->capture_default_str();

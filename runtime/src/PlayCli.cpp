@@ -17,6 +17,7 @@
 #include "RunOutputs.h"
 #include "SceneChecks.h"
 #include "Viewer.h"
+#include "sluice/format/CliErrors.h"
 #include "sluice/format/SceneIO.h"
 #include "sluice/rt/Simulation.h"
 #include "sluice/rt/render/Renderer.h"
@@ -352,15 +353,17 @@ int run(int argc, char** argv) {
     PlayOptions o;
     app.add_option("scene", o.scene, "Scene file (.json)")->required();
     app.add_flag("--headless", o.headless, "Run without a window (EGL), printing statistics");
+    // [steps] most steps (and step intervals) the options take: checked, never advertised.
+    constexpr std::uint64_t kMaxSteps = std::uint64_t{1} << 40;
     app.add_option("--steps", o.steps, "Steps to run (each is the scene's timeStep)")
-        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
+        ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_option("--stats-every", o.statsEvery,
                    "Record statistics every K steps (default: about 20 rows)")
-        ->check(CLI::PositiveNumber);
+        ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_option("--stats-json", o.statsJson, "Write the recorded statistics to this JSON file");
     app.add_option("--dump-ply", o.plyDir, "Write particle PLY files into this folder");
     app.add_option("--dump-every", o.dumpEvery, "Write a PLY file every K steps (default 1)")
-        ->check(CLI::PositiveNumber);
+        ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_flag("--deterministic", o.deterministic,
                  "Fixed particle order inside hash buckets: identical results run to run");
     app.add_flag("--check", o.check,
@@ -373,22 +376,22 @@ int run(int argc, char** argv) {
     app.add_option("--bench-frames", o.benchFrames,
                    "With --bench: render N frames of the final state at --size (1920x1080), "
                    "waiting for each, and report every render pass's median GPU time")
-        ->check(CLI::Range(1u, 100000u));
+        ->check(format::cli::wholeNumber(1, 100000));
     app.add_option("--frames", o.capture.framesDir,
                    "Write a PNG of every --every-th step into this folder (frame_STEP.png)");
     app.add_option("--every", o.capture.every, "Capture every K steps, from step 0 (default 1)")
-        ->check(CLI::PositiveNumber);
+        ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_option("--video", o.capture.video,
                    "Encode the captured frames into this MP4 file (needs ffmpeg)");
     app.add_option("--fps", o.capture.fps,
                    "Frames per second of --video (default: real time, 1 / (every * timeStep))")
-        ->check(CLI::PositiveNumber);
+        ->check(format::cli::finiteNumber(false));
     app.add_option(
         "--size", o.size,
         "Image size WIDTHxHEIGHT: capture and the window (1280x720), --bench-frames (1920x1080)");
     app.add_option("--zoom", o.capture.zoom,
                    "The scene camera's distance times this (0.7: closer), window and capture")
-        ->check(CLI::Range(0.01f, 100.0f));
+        ->check(format::cli::numberIn(0.01, 100.0));
     app.add_option("--colour", o.colour, "Particle colours: water, speed or density (error)");
     app.add_option("--surface", o.surface,
                    "Fluid drawn as spheres or as a screen-space fluid surface: spheres or fluid");
@@ -396,7 +399,7 @@ int run(int argc, char** argv) {
     app.add_flag("--no-vsync", o.noVsync, "Window: do not wait for the display's refresh");
     app.add_flag("--no-panel", o.noPanel, "Window: start with the parameter panel hidden");
     app.add_option("--steps-per-frame", o.stepsPerFrame, "Window: steps per frame (default 1)")
-        ->check(CLI::Range(1u, 1000u));
+        ->check(format::cli::wholeNumber(1, 1000));
     app.add_option("--screenshot-at", o.capture.screenshotAt,
                    "Write one PNG of step N (NAME-STEP.png), as the window's P key does");
     app.add_option("--shots", o.capture.shotsDir,
@@ -410,8 +413,8 @@ int run(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? kPlayExitOk : kPlayExitBadInput;
+        // --help and --version arrive here too, and exit 0.
+        return format::cli::reportParseError(app, e, "sluice-play", kPlayExitBadInput);
     }
     if (o.benchFrames > 0 && !o.bench) {
         std::cerr << "sluice-play: --bench-frames needs --bench\n";

@@ -98,7 +98,8 @@ TEST(Batch, ASecondRunWithNothingChangedBakesNothing) {
     const BatchFolder f("batch-second-run");
     RunResult run = f.batch();
     ASSERT_EQ(run.code, kExitOk) << shown(run);
-    EXPECT_NE(run.out.find("3 baked, 0 fresh, 0 failed"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("3 colliders: 3 baked, 0 fresh, 0 failed"), std::string::npos)
+        << run.out;
     const FileState a = stateOf(f.dir / "a.slc"), c = stateOf(f.dir / "out" / "c.slc");
 
     run = f.batch();
@@ -308,6 +309,83 @@ TEST(Batch, ABrokenManifestIsBadInputAndBakesNothing) {
         EXPECT_FALSE(fs::exists(f.dir / "x.slc")) << text;
     }
     EXPECT_EQ(f.batch({"--jobs", "0"}).code, kExitBadInput);
+}
+
+/// The manifest's colliders with `field` set on the second entry (a.obj bakes first).
+json withSecondEntryField(const std::string& field, const json& value) {
+    json second = BatchFolder::entry("b b.obj", "b.slc");
+    second[field] = value;
+    return json::array({BatchFolder::entry("a.obj", "a.slc"), second});
+}
+
+TEST(Batch, ManifestErrorsNameTheFileAndTheJsonPathAndNothingBakes) {
+    const BatchFolder f("batch-strict-manifest");
+    const std::string m = f.manifest.string();
+    const std::vector<std::pair<json, std::string>> cases = {
+        {withSecondEntryField("resolutoin", 40),
+         m + ": colliders[1].resolutoin: unknown key \"resolutoin\" (did you mean "
+             "\"resolution\"?)"},
+        {withSecondEntryField("resolution", "40"),
+         m + ": colliders[1].resolution: expected a number, got the string \"40\""},
+        {withSecondEntryField("sign", "foo"),
+         m + ": colliders[1].sign: unknown sign method \"foo\"; expected auto, parity or "
+             "winding"},
+        {withSecondEntryField("storage", "f17"),
+         m + ": colliders[1].storage: unknown storage \"f17\" (did you mean \"f16\"?); "
+             "expected f32 or f16"},
+        {withSecondEntryField("resolution", 5000),
+         m + ": colliders[1].resolution: 5000 is out of range [1, 4096]"},
+        {withSecondEntryField("scale", -2),
+         m + ": colliders[1].scale: -2 is out of range: expected a number > 0"},
+    };
+    for (const auto& [colliders, message] : cases) {
+        f.writeManifest(colliders);
+        const RunResult run = f.batch();
+        EXPECT_EQ(run.code, kExitBadInput) << shown(run);
+        EXPECT_EQ(run.err, "sluice-bake batch: " + message + "\n") << shown(run);
+        EXPECT_EQ(run.out, "") << shown(run);
+        EXPECT_FALSE(fs::exists(f.dir / "a.slc")) << colliders.dump();
+        EXPECT_FALSE(fs::exists(f.depfile)) << colliders.dump();
+    }
+}
+
+TEST(Batch, CreatesTheFoldersOfItsOutputsAndDepfile) {
+    const BatchFolder f("batch-creates-folders");
+    f.writeManifest(json::array({BatchFolder::entry("a.obj", "new/deeper/a.slc")}));
+    const fs::path depfile = f.dir / "deps" / "colliders.d";
+    const RunResult run =
+        runBake(f.dir, {"batch", f.manifest.string(), "--depfile", depfile.string(), "--quiet"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_TRUE(format::readAsset(f.dir / "new" / "deeper" / "a.slc").ok());
+    EXPECT_TRUE(fs::is_regular_file(depfile));
+    // One collider, said so in the totals.
+    const RunResult again = runBake(f.dir, {"batch", f.manifest.string()});
+    ASSERT_EQ(again.code, kExitOk) << shown(again);
+    EXPECT_NE(again.out.find("\n1 collider: 0 baked, 1 fresh, 0 failed in "), std::string::npos)
+        << again.out;
+}
+
+TEST(Batch, AnOutputFolderThatCannotBeCreatedFailsBeforeAnyBake) {
+    const BatchFolder f("batch-blocked-folder");
+    std::ofstream(f.dir / "blocker") << "a file where a folder should be";
+    f.writeManifest(json::array(
+        {BatchFolder::entry("a.obj", "a.slc"), BatchFolder::entry("c.obj", "blocker/c.slc")}));
+    const RunResult run = f.batch();
+    EXPECT_EQ(run.code, kExitBadInput) << shown(run);
+    EXPECT_EQ(run.err.rfind("sluice-bake batch: " + f.manifest.string() +
+                                ": colliders[1].output: cannot create the folder '",
+                            0),
+              0u)
+        << run.err;
+    EXPECT_FALSE(fs::exists(f.dir / "a.slc"));
+
+    // The depfile's folder is checked before the manifest is even read.
+    f.writeManifest(json::array({BatchFolder::entry("a.obj", "a.slc")}));
+    const RunResult dep = runBake(
+        f.dir, {"batch", f.manifest.string(), "--depfile", (f.dir / "blocker" / "x.d").string()});
+    EXPECT_EQ(dep.code, kExitBadInput) << shown(dep);
+    EXPECT_NE(dep.err.find("cannot create the folder"), std::string::npos) << dep.err;
+    EXPECT_FALSE(fs::exists(f.dir / "a.slc"));
 }
 
 } // namespace

@@ -55,7 +55,7 @@ TEST(Cli, HelpExitsZeroAndListsEverySubcommandAndExitCode) {
     EXPECT_NE(sub.out.find("--voxel-size"), std::string::npos) << sub.out;
 }
 
-TEST(Cli, UnknownFlagsAndMissingSubcommandsAreBadInput) {
+TEST(Cli, UnknownFlagsAndMissingCommandsAreBadInput) {
     const fs::path dir = testmesh::tempDir("cli-usage");
     EXPECT_EQ(runBake(dir, {"--no-such-flag"}).code, kExitBadInput);
     EXPECT_EQ(runBake(dir, {}).code, kExitBadInput);
@@ -308,9 +308,184 @@ TEST(Cli, BadGridArgumentsExitTwoAndWriteNothing) {
     expectRejected(dir, {"bake", mesh, "-o", output.string(), "--storage", "f64"}, "f64", output);
     expectRejected(dir, {"bake", mesh, "-o", output.string(), "--backend", "magic"}, "magic",
                    output);
-    // A folder that does not exist is reported before any work.
-    const fs::path nowhere = dir / "no-such-folder" / "x.slc";
-    expectRejected(dir, {"bake", mesh, "-o", nowhere.string()}, "no-such-folder", nowhere);
+    // A folder that cannot be created (a file stands in its way) is reported before any work.
+    std::ofstream(dir / "a-file") << "not a folder";
+    const fs::path nowhere = dir / "a-file" / "x.slc";
+    expectRejected(dir, {"bake", mesh, "-o", nowhere.string()}, "cannot create the folder",
+                   nowhere);
+}
+
+/// A parse error of sluice-bake: exit 2, nothing on stdout, exactly `message` and the help hint
+/// on stderr.
+void expectParseError(const std::vector<std::string>& args, const std::string& message,
+                      const std::string& command = "sluice-bake") {
+    // A folder per test: ctest runs the tests of this file side by side.
+    const fs::path dir =
+        testmesh::tempDir(std::string("cli-parse-errors-") +
+                          ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    const RunResult run = runBake(dir, args);
+    EXPECT_EQ(run.code, kExitBadInput) << shown(run);
+    EXPECT_EQ(run.out, "") << shown(run);
+    EXPECT_EQ(run.err, message + " (see " + command + " --help)\n") << shown(run);
+    EXPECT_FALSE(fs::exists(dir / "x.slc"));
+}
+
+TEST(Cli, AMisspelledCommandSuggestsTheClosestOne) {
+    expectParseError({"bkae", "x.obj"},
+                     "sluice-bake: unknown command 'bkae' (did you mean 'bake'?)");
+    expectParseError({"frob"}, "sluice-bake: unknown command 'frob'");
+    expectParseError({}, "sluice-bake: missing a command (one of: bake, validate, info, export, "
+                         "gl-info, batch)");
+    expectParseError({"--no-such-flag"}, "sluice-bake: unknown option '--no-such-flag'");
+}
+
+TEST(Cli, AMisspelledOptionSuggestsTheClosestOptionOfItsCommand) {
+    const std::string bake = "sluice-bake bake";
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "--resolutoin", "16"},
+                     "sluice-bake bake: unknown option '--resolutoin' (did you mean "
+                     "'--resolution'?)",
+                     bake);
+    expectParseError({"bake", "--voxel-sise=0.1", "x.obj", "-o", "x.slc"},
+                     "sluice-bake bake: unknown option '--voxel-sise' (did you mean "
+                     "'--voxel-size'?)",
+                     bake);
+    expectParseError({"batch", "m.json", "--jbos", "2"},
+                     "sluice-bake batch: unknown option '--jbos' (did you mean '--jobs'?)",
+                     "sluice-bake batch");
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "extra"},
+                     "sluice-bake bake: unexpected argument 'extra'", bake);
+}
+
+TEST(Cli, NumbersAreCheckedAndTheProblemSaidPlainly) {
+    const std::string bake = "sluice-bake bake";
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "--resolution", "abc"},
+                     "sluice-bake bake: --resolution abc: not a number", bake);
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "--resolution", "0"},
+                     "sluice-bake bake: --resolution 0: expected a whole number from 1 to 4096",
+                     bake);
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "--resolution", "8.5"},
+                     "sluice-bake bake: --resolution 8.5: not a whole number", bake);
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "--scale", "nan"},
+                     "sluice-bake bake: --scale nan: expected a finite number > 0", bake);
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "--padding", "wide"},
+                     "sluice-bake bake: --padding wide: not a number", bake);
+    expectParseError({"batch", "m.json", "--jobs", "0"},
+                     "sluice-bake batch: --jobs 0: expected a whole number from 1 to 256",
+                     "sluice-bake batch");
+    expectParseError({"validate", "a.slc", "a.obj", "--seed", "xyz"},
+                     "sluice-bake validate: --seed xyz: not a number", "sluice-bake validate");
+}
+
+TEST(Cli, AMissingArgumentIsNamed) {
+    expectParseError({"bake", "x.obj"}, "sluice-bake bake: missing --output", "sluice-bake bake");
+    expectParseError({"bake", "-o", "x.slc"}, "sluice-bake bake: missing MESH", "sluice-bake bake");
+    expectParseError({"info"}, "sluice-bake info: missing ASSET", "sluice-bake info");
+    expectParseError({"bake", "x.obj", "-o", "x.slc", "--resolution"},
+                     "sluice-bake bake: --resolution needs a value", "sluice-bake bake");
+}
+
+TEST(Cli, BakeCreatesTheOutputsFolder) {
+    const fs::path dir = testmesh::tempDir("cli-bake-creates-folder");
+    const fs::path output = bakeSphere(dir, "new/deeper/collider.slc");
+    EXPECT_TRUE(format::readAsset(output).ok()) << output;
+}
+
+TEST(Cli, BakeWarnsWhenTheOutputDoesNotEndInSlc) {
+    const fs::path dir = testmesh::tempDir("cli-bake-extension");
+    const fs::path output = dir / "r.png";
+    const RunResult run = runBake(dir, {"bake", kSphereObj.string(), "-o", output.string(),
+                                        "--resolution", "8", "--backend", "cgal", "--quiet"});
+    EXPECT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(run.err, "sluice-bake bake: warning: '" + output.string() +
+                           "' does not end in .slc; it will hold a collider asset all the same\n");
+    EXPECT_TRUE(format::readAsset(output).ok());
+    const RunResult slc = runBake(dir, {"bake", kSphereObj.string(), "-o", (dir / "r.SLC").string(),
+                                        "--resolution", "8", "--backend", "cgal", "--quiet"});
+    EXPECT_EQ(slc.code, kExitOk) << shown(slc);
+    EXPECT_EQ(slc.err, "");
+}
+
+TEST(Cli, BakeSummaryShowsTheMeshBoxAndTheVoxelSize) {
+    const fs::path dir = testmesh::tempDir("cli-bake-summary");
+    const RunResult run = runBake(dir, {"bake", kSphereObj.string(), "-o", (dir / "s.slc").string(),
+                                        "--resolution", "16", "--backend", "cgal"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    // The demo sphere has radius 0.25: a 0.5 box, 16 voxels across it.
+    EXPECT_NE(run.out.find("\n  mesh box 0.5 x 0.5 x 0.5 world units\n"), std::string::npos)
+        << run.out;
+    EXPECT_NE(run.out.find("voxel size 0.03125 world units\n"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("1280 triangles, 642 vertices"), std::string::npos) << run.out;
+}
+
+TEST(Cli, OneOfAThingIsSingularInTheSummary) {
+    const fs::path dir = testmesh::tempDir("cli-bake-singular");
+    std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const RunResult run =
+        runBake(dir, {"bake", (dir / "tri.obj").string(), "-o", (dir / "tri.slc").string(),
+                      "--resolution", "4", "--backend", "cgal"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("  mesh     1 triangle, 3 vertices, open"), std::string::npos)
+        << run.out;
+    EXPECT_NE(run.out.find(", 3 boundary edges, 0 non-manifold edges\n"), std::string::npos)
+        << run.out;
+}
+
+TEST(Cli, ExportOfAVdbSaysItIsAlreadyOne) {
+    const fs::path dir = testmesh::tempDir("cli-export-vdb");
+    const fs::path vdb = dir / "x.vdb";
+    std::ofstream(vdb) << "anything";
+    const RunResult run = runBake(dir, {"export", vdb.string(), (dir / "y.vdb").string()});
+    EXPECT_EQ(run.code, kExitBadInput) << shown(run);
+    EXPECT_EQ(run.err, "sluice-bake export: '" + vdb.string() +
+                           "' is already a .vdb file (export converts a collider asset, .slc, to "
+                           "OpenVDB)\n");
+    EXPECT_FALSE(fs::exists(dir / "y.vdb"));
+}
+
+TEST(Cli, InfoPngAndExportCreateTheirOutputFolders) {
+    const fs::path dir = testmesh::tempDir("cli-output-folders");
+    const fs::path asset = bakeSphere(dir, "s.slc");
+    const fs::path png = dir / "pictures" / "z" / "s.png";
+    RunResult run =
+        runBake(dir, {"info", asset.string(), "--slice", "z=0.5", "--png", png.string()});
+    EXPECT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_TRUE(fs::is_regular_file(png));
+    const fs::path vdb = dir / "vdb" / "out" / "s.vdb";
+    run = runBake(dir, {"export", asset.string(), vdb.string(), "--quiet"});
+    EXPECT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_TRUE(fs::is_regular_file(vdb));
+    // A folder given as the output is refused before anything is read.
+    fs::create_directories(dir / "folder.vdb");
+    run = runBake(dir, {"export", asset.string(), (dir / "folder.vdb").string()});
+    EXPECT_EQ(run.code, kExitBadInput) << shown(run);
+    EXPECT_NE(run.err.find("folder.vdb' is a folder, not a file"), std::string::npos) << run.err;
+}
+
+TEST(Cli, InfoOfAVdbShowsItsProvenanceAndNullForWhatItDoesNotRecord) {
+    const fs::path dir = testmesh::tempDir("cli-info-vdb");
+    const fs::path asset = bakeSphere(dir, "s.slc", {"--backend", "cgal"});
+    const fs::path vdb = dir / "s.vdb";
+    ASSERT_EQ(runBake(dir, {"export", asset.string(), vdb.string(), "--quiet"}).code, kExitOk);
+
+    const RunResult text = runBake(dir, {"info", vdb.string()});
+    ASSERT_EQ(text.code, kExitOk) << shown(text);
+    EXPECT_NE(text.out.find("\n  source        sphere.obj  (xxh3 "), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("\n  tool          sluice-bake "), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("\n  bake          backend cgal, sign parity"), std::string::npos)
+        << text.out;
+
+    const RunResult js = runBake(dir, {"info", vdb.string(), "--json"});
+    ASSERT_EQ(js.code, kExitOk) << shown(js);
+    const json info = json::parse(js.out);
+    EXPECT_TRUE(info["header"].is_null());
+    EXPECT_EQ(info["sourceFile"], "sphere.obj");
+    EXPECT_EQ(info["bake"]["backend"], "cgal");
+    EXPECT_TRUE(info["bake"]["resolution"].is_null());
+    EXPECT_TRUE(info["bake"]["padding"].is_null());
+    EXPECT_TRUE(info["mesh"]["triangles"].is_null());
+    EXPECT_TRUE(info["mesh"]["closed"].is_null());
+    EXPECT_EQ(info["validation"]["known"], false);
+    EXPECT_TRUE(info["validation"]["maxError"].is_null());
 }
 
 TEST(Cli, CorruptedAssetsExitTwoNamingTheError) {

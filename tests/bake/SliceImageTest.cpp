@@ -32,8 +32,9 @@ const glm::dvec3 kCentreIndex{20, 18, 16};  // [voxels]
 const glm::dvec3 kCentre = kOrigin + kCentreIndex * kVoxel;
 
 format::ColliderAsset sphereAsset() {
-    return testmesh::assetFromSdf(kDims, kOrigin, kVoxel,
-                     [](const glm::dvec3& p) { return testmesh::sphereSdf(p, kCentre, kRadius); });
+    return testmesh::assetFromSdf(kDims, kOrigin, kVoxel, [](const glm::dvec3& p) {
+        return testmesh::sphereSdf(p, kCentre, kRadius);
+    });
 }
 
 struct Rgb {
@@ -123,7 +124,7 @@ TEST(SliceImage, SphereSliceShowsInsideOutsideAndTheZeroContour) {
     const bake::SliceLayout layout = bake::sliceLayout(asset.meta, slice);
     const bake::Image image = bake::renderSlice(asset, slice);
     ASSERT_EQ(image.width, 2 * layout.halfWidth + layout.gap);
-    ASSERT_EQ(image.height, layout.height);
+    ASSERT_EQ(image.height, layout.height + layout.legendHeight);
     ASSERT_EQ(image.rgb.size(), std::size_t(image.width) * image.height * 3);
 
     const Rgb centre = at(image, layout, kCentreIndex.x, kCentreIndex.y);
@@ -148,7 +149,7 @@ TEST(SliceImage, SphereSliceShowsInsideOutsideAndTheZeroContour) {
     const double cy = layout.height - 1 - kCentreIndex.y * layout.pixelsPerVoxel;
     const double radiusPx = 12.0 * layout.pixelsPerVoxel;
     int contourPixels = 0;
-    for (int y = 0; y < image.height; ++y)
+    for (int y = 0; y < layout.height; ++y) // the field, above the legend
         for (int x = 0; x < layout.halfWidth; ++x)
             if (isContour(pixel(image, x, y))) {
                 ++contourPixels;
@@ -222,7 +223,7 @@ TEST(SliceImage, OffCentreSliceShowsTheSmallerCircle) {
     const double cy = layout.height - 1 - kCentreIndex.y * layout.pixelsPerVoxel;
     const double radiusPx = 9.6 * layout.pixelsPerVoxel;
     int contourPixels = 0;
-    for (int y = 0; y < image.height; ++y)
+    for (int y = 0; y < layout.height; ++y) // the field, above the legend
         for (int x = 0; x < layout.halfWidth; ++x)
             if (isContour(pixel(image, x, y))) {
                 ++contourPixels;
@@ -233,6 +234,55 @@ TEST(SliceImage, OffCentreSliceShowsTheSmallerCircle) {
     EXPECT_GT(contourPixels, int(5.0 * radiusPx));
     // Above the plane, the normal tilts towards +z: blue above the middle at the centre.
     EXPECT_GT(at(image, layout, kCentreIndex.x, kCentreIndex.y, true).b, 240);
+}
+
+TEST(SliceImage, LegendUnderTheFieldHasAxisNamesAndAColourBar) {
+    const format::ColliderAsset asset = sphereAsset();
+    const bake::SliceSpec slice{Axis::X, 0.5};
+    const bake::SliceLayout layout = bake::sliceLayout(asset.meta, slice);
+    const bake::Image image = bake::renderSlice(asset, slice);
+    ASSERT_GE(layout.legendHeight, 40);
+    ASSERT_EQ(image.height, layout.height + layout.legendHeight);
+
+    // Text: dark pixels on the light strip, under both halves; none in the last field row's
+    // place, which still shows the field (outside: red at the corners).
+    auto darkPixels = [&](int x0, int x1) {
+        int count = 0;
+        for (int y = layout.height; y < image.height; ++y)
+            for (int x = x0; x < x1; ++x)
+                count += isContour(pixel(image, x, y)) ? 1 : 0;
+        return count;
+    };
+    EXPECT_GT(darkPixels(0, layout.halfWidth), 200) << "axis names and numbers";
+    EXPECT_GT(darkPixels(layout.halfWidth + layout.gap, image.width), 200) << "gradient key";
+    const Rgb corner = at(image, layout, 0.0, 0.0);
+    EXPECT_GT(corner.r, corner.b + 100) << "the field's bottom row is unchanged";
+
+    // The colour bar: a row of the strip that is blue at the left end, white-ish with the dark
+    // zero mark in the middle, red at the right end, as the field's colours are.
+    int barRow = -1;
+    for (int y = layout.height; y < image.height && barRow < 0; ++y) {
+        const Rgb left = pixel(image, 8, y);
+        if (left.b > left.r + 100)
+            barRow = y;
+    }
+    ASSERT_GE(barRow, 0) << "no colour bar";
+    const Rgb leftEnd = pixel(image, 8, barRow);
+    const Rgb rightEnd = pixel(image, layout.halfWidth - 8, barRow);
+    EXPECT_GT(leftEnd.b, leftEnd.r + 100) << "inside end is blue";
+    EXPECT_GT(rightEnd.r, rightEnd.b + 100) << "outside end is red";
+    int zeroMarks = 0;
+    for (int x = 0; x < layout.halfWidth; ++x)
+        zeroMarks += isContour(pixel(image, x, barRow)) ? 1 : 0;
+    EXPECT_EQ(zeroMarks, 1) << "one dark mark at zero";
+    // The ends are the map's end colours, which the field's most inside and outside points
+    // take: (0.08, 0.24, 0.70) and (0.75, 0.08, 0.08) in 8 bits.
+    EXPECT_NEAR(leftEnd.r, 20, 2);
+    EXPECT_NEAR(leftEnd.g, 61, 2);
+    EXPECT_NEAR(leftEnd.b, 179, 2);
+    EXPECT_NEAR(rightEnd.r, 191, 6);
+    EXPECT_NEAR(rightEnd.g, 20, 6);
+    EXPECT_NEAR(rightEnd.b, 20, 6);
 }
 
 TEST(SliceImage, WritesAPngThatDecodesToTheSamePixels) {
@@ -282,9 +332,10 @@ TEST(SliceImage, WritePngReportsBadImagesAndFolders) {
 // Not a check but a picture to look at: a torus cut across its ring, to eyeball the colours.
 TEST(SliceImage, WritesATorusPictureForInspection) {
     const fs::path dir = testmesh::tempDir("slice-torus");
-    const auto torus = testmesh::assetFromSdf({61, 61, 25}, {-1.5, -1.5, -0.6}, 0.05, [](const glm::dvec3& p) {
-        return testmesh::torusSdf(p, {0.0, 0.0, 0.0}, 1.0, 0.35);
-    });
+    const auto torus =
+        testmesh::assetFromSdf({61, 61, 25}, {-1.5, -1.5, -0.6}, 0.05, [](const glm::dvec3& p) {
+            return testmesh::torusSdf(p, {0.0, 0.0, 0.0}, 1.0, 0.35);
+        });
     for (const char* spec : {"z=0.5", "y=0.5"}) {
         auto slice = bake::parseSlice(spec);
         ASSERT_TRUE(slice);

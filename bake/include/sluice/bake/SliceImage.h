@@ -32,11 +32,15 @@ struct Image {
 /// plane: columns run along `uAxis` (left to right), rows along `vAxis` (bottom to top). Pixel
 /// (px, py) of a half shows grid coordinates u = px / pixelsPerVoxel and
 /// v = (height - 1 - py) / pixelsPerVoxel [voxels], so the corner pixels sit on grid points.
+/// Under both halves, rows height .. height + legendHeight - 1 hold the legend: the axis names
+/// and slice position, a colour bar of the distance map with its range, and the gradient's
+/// colour key.
 struct SliceLayout {
     Axis uAxis = Axis::X;        ///< world axis along the columns
     Axis vAxis = Axis::Y;        ///< world axis along the rows (pointing up)
     int halfWidth = 0;           ///< [px] width of each half
-    int height = 0;              ///< [px]
+    int height = 0;              ///< [px] of the field, above the legend
+    int legendHeight = 0;        ///< [px] of the legend strip under the field
     int gap = 0;                 ///< [px] between the halves (right half starts at halfWidth + gap)
     double pixelsPerVoxel = 0.0; ///< [px per voxel]; an integer when the grid is under 512 voxels
     double planeIndex = 0.0;     ///< [voxels] grid coordinate of the slice along its axis
@@ -51,8 +55,10 @@ SliceLayout sliceLayout(const format::ColliderMeta& meta, const SliceSpec& slice
 /// diverging colour map (blue inside, red outside, white at zero, with a dark zero contour and
 /// faint iso-lines every few voxels), right half the normalized gradient as RGB (like Fig. 4 of
 /// the Smeton 2020 paper, whose bottom panel maps the normal's (x, y, z) to (r, g, b)).
-/// Image size and pixel positions as sliceLayout says. Precondition (asserted): dims >= 2 on
-/// every axis and distances.size() == pointCount().
+/// A legend strip under the halves names the axes ("ACROSS X, UP Y, AT Z = 0.5") and shows the
+/// colour map as a bar from the most negative to the most positive distance [world units].
+/// Image size and pixel positions as sliceLayout says (the image is height + legendHeight tall).
+/// Precondition (asserted): dims >= 2 on every axis and distances.size() == pointCount().
 Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice);
 
 /// PNG-encodes (stb_image_write) and writes atomically (format::writeFileAtomic). Errors:

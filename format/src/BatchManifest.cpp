@@ -1,0 +1,163 @@
+// Batch manifests: strict JSON, every field checked and named by its JSON path (Json.h's reads).
+#include "sluice/format/BatchManifest.h"
+
+#include <fstream>
+#include <new>
+#include <set>
+
+#include "Json.h"
+#include "sluice/format/Suggest.h"
+
+namespace sluice::format {
+namespace {
+
+namespace fs = std::filesystem;
+namespace rj = detail::rj;
+using detail::throwAt;
+
+/// A number field; a number written as a string is named as such ("got the string \"40\"").
+const rj::Value& numberValue(const rj::Value& value, const std::string& path) {
+    if (value.IsString())
+        throwAt(ErrorCode::BadMetadata, path,
+                "expected a number, got the string \"" +
+                    detail::displayKey({value.GetString(), value.GetStringLength()}) + "\"");
+    return value;
+}
+
+/// A finite number > 0, or >= 0 with `allowZero` (as the bake flags require).
+double positiveNumber(const rj::Value& value, const std::string& path, bool allowZero) {
+    const double number = detail::readNumber(numberValue(value, path), path);
+    if (allowZero ? number < 0.0 : number <= 0.0)
+        throwAt(ErrorCode::InvalidArgument, path,
+                detail::formatNumber(number) + " is out of range: expected a number " +
+                    (allowZero ? ">= 0" : "> 0"));
+    return number;
+}
+
+/// One of `names`; an unknown one suggests the closest and lists them all.
+std::string oneOf(const rj::Value& value, const std::string& path, std::string_view what,
+                  const std::vector<std::string>& names) {
+    const std::string text = detail::readString(value, path);
+    for (const std::string& name : names)
+        if (text == name)
+            return text;
+    std::string list;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    throwAt(ErrorCode::InvalidArgument, path,
+            "unknown " + std::string(what) + " \"" + detail::displayKey(text) + "\"" +
+                didYouMean(text, names, '"') + "; expected " + list);
+}
+
+/// A path field: a non-empty string.
+std::string pathString(const rj::Value& value, const std::string& path) {
+    std::string text = detail::readString(value, path);
+    if (text.empty())
+        throwAt(ErrorCode::InvalidArgument, path, "expected a file name, got an empty string");
+    return text;
+}
+
+BatchEntry readEntry(const rj::Value& value, const std::string& path, const fs::path& folder) {
+    const detail::JsonObject object(value, path,
+                                    {"mesh", "output", "resolution", "voxelSize", "padding", "sign",
+                                     "storage", "scale", "backend"});
+    BatchEntry entry;
+    entry.mesh = pathString(object.require("mesh"), object.pathOf("mesh"));
+    entry.output = pathString(object.require("output"), object.pathOf("output"));
+    entry.meshPath = folder / entry.mesh;
+    entry.outputPath = folder / entry.output;
+    if (const rj::Value* v = object.find("resolution"))
+        entry.resolution = std::uint32_t(detail::readInteger(
+            numberValue(*v, object.pathOf("resolution")), object.pathOf("resolution"),
+            kMinBakeResolution, kMaxBakeResolution));
+    if (const rj::Value* v = object.find("voxelSize")) {
+        if (object.has("resolution"))
+            throwAt(ErrorCode::InvalidArgument, path,
+                    "give \"resolution\" or \"voxelSize\", not both");
+        entry.voxelSize = positiveNumber(*v, object.pathOf("voxelSize"), false);
+    }
+    if (const rj::Value* v = object.find("padding"))
+        entry.padding = positiveNumber(*v, object.pathOf("padding"), true);
+    if (const rj::Value* v = object.find("scale"))
+        entry.scale = positiveNumber(*v, object.pathOf("scale"), false);
+    if (const rj::Value* v = object.find("sign"))
+        entry.sign = oneOf(*v, object.pathOf("sign"), "sign method", {"auto", "parity", "winding"});
+    if (const rj::Value* v = object.find("storage"))
+        entry.storage = oneOf(*v, object.pathOf("storage"), "storage", {"f32", "f16"});
+    if (const rj::Value* v = object.find("backend"))
+        entry.backend = oneOf(*v, object.pathOf("backend"), "backend", {"auto", "gpu", "cgal"});
+    return entry;
+}
+
+BatchManifest readManifest(const rj::Value& root, const fs::path& file) {
+    const detail::JsonObject object(root, "", {"colliders"});
+    const std::string path = object.pathOf("colliders");
+    const rj::Value& colliders = detail::requireArray(object.require("colliders"), path);
+    BatchManifest manifest;
+    manifest.path = file;
+    const fs::path folder = file.parent_path();
+    std::set<fs::path> outputs;
+    for (rj::SizeType n = 0; n < colliders.Size(); ++n) {
+        const std::string where = detail::joinIndex(path, n);
+        BatchEntry entry = readEntry(colliders[n], where, folder);
+        // Two entries writing one file would race under --jobs and overwrite each other anyway.
+        if (!outputs.insert(entry.outputPath.lexically_normal()).second)
+            throwAt(ErrorCode::InvalidArgument, detail::joinKey(where, "output"),
+                    "\"" + entry.output + "\" is written by an earlier entry too");
+        manifest.colliders.push_back(std::move(entry));
+    }
+    return manifest;
+}
+
+} // namespace
+
+Result<BatchManifest> parseBatchManifest(std::string_view json, const fs::path& file) {
+    const std::string name = file.string();
+    if (json.size() > kMaxBatchManifestBytes)
+        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(json.size()) +
+                                                 " bytes, more than the manifest limit of " +
+                                                 std::to_string(kMaxBatchManifestBytes));
+    try {
+        rj::Document doc;
+        if (const auto e = detail::parseJson(json, doc))
+            return fail(e->code, name + ":" + std::to_string(e->line) + ":" +
+                                     std::to_string(e->column) + ": " +
+                                     detail::displayPath(e->path) + ": " + e->problem);
+        return readManifest(doc, file);
+    } catch (const detail::JsonError& e) {
+        return fail(e.code, name + ": " + detail::displayPath(e.path) + ": " + e.problem);
+    } catch (const std::bad_alloc&) {
+        return fail(ErrorCode::SizeOverflow, name + ": out of memory while reading the manifest");
+    } catch (const std::exception& e) {
+        // cereal::RapidJSONException from a rapidjson internal assert, or anything else.
+        return fail(ErrorCode::BadMetadata, name + ": cannot read the manifest: " + e.what());
+    }
+}
+
+Result<BatchManifest> readBatchManifest(const fs::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    const fs::file_status st = fs::status(file, ec);
+    if (!fs::exists(st))
+        return fail(ErrorCode::Io, name + ": cannot read the manifest: " +
+                                       (ec ? ec.message() : std::string("no such file")));
+    if (!fs::is_regular_file(st))
+        return fail(ErrorCode::Io, name + ": cannot read the manifest: not a regular file");
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (ec)
+        return fail(ErrorCode::Io, name + ": cannot read the manifest: " + ec.message());
+    if (size > kMaxBatchManifestBytes)
+        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(size) +
+                                                 " bytes, more than the manifest limit of " +
+                                                 std::to_string(kMaxBatchManifestBytes));
+    std::ifstream in(file, std::ios::binary);
+    std::string text(std::size_t(size), '\0');
+    in.read(text.data(), std::streamsize(size));
+    if (!in || std::uintmax_t(in.gcount()) != size)
+        return fail(ErrorCode::Io, name + ": cannot read the manifest: read " +
+                                       std::to_string(in.gcount()) + " of " + std::to_string(size) +
+                                       " bytes");
+    return parseBatchManifest(text, file);
+}
+
+} // namespace sluice::format

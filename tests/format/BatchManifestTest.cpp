@@ -1,0 +1,154 @@
+// The batch manifest reader: defaults, resolved paths, and every error naming the JSON path.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "AssetTestUtil.h" // PrintTo(ErrorCode)
+#include "TempDir.h"
+#include "sluice/format/BatchManifest.h"
+
+namespace sluice::test {
+namespace {
+
+using namespace sluice::format;
+namespace fs = std::filesystem;
+
+const fs::path kManifest = fs::path("jobs") / "colliders.json";
+
+/// The manifest's error message, or "" if it reads.
+std::string errorOf(const std::string& json) {
+    Result<BatchManifest> manifest = parseBatchManifest(json, kManifest);
+    return manifest ? std::string() : manifest.error().detail;
+}
+
+ErrorCode codeOf(const std::string& json) {
+    Result<BatchManifest> manifest = parseBatchManifest(json, kManifest);
+    EXPECT_FALSE(manifest.ok()) << json;
+    return manifest ? ErrorCode::Io : manifest.error().code;
+}
+
+/// `{"colliders": [{"mesh": "a.obj", "output": "a.slc"}, {"mesh": "b.obj", "output": "b.slc",
+/// FIELDS}]}`: the second entry carries the fields under test.
+std::string secondEntryWith(const std::string& fields) {
+    return R"({"colliders": [{"mesh": "a.obj", "output": "a.slc"},
+                             {"mesh": "b.obj", "output": "b.slc", )" +
+           fields + "}]}";
+}
+
+TEST(BatchManifest, ReadsEveryFieldAndResolvesPathsAgainstTheManifestsFolder) {
+    Result<BatchManifest> manifest = parseBatchManifest(
+        R"({"colliders": [{"mesh": "meshes/rock.obj", "output": "out/rock.slc",
+                           "voxelSize": 0.25, "padding": 0, "sign": "winding",
+                           "storage": "f16", "scale": 2, "backend": "cgal"},
+                          {"mesh": "b.obj", "output": "b.slc", "resolution": 40}]})",
+        kManifest);
+    ASSERT_TRUE(manifest) << manifest.error().message();
+    ASSERT_EQ(manifest->colliders.size(), 2u);
+    const BatchEntry& rock = manifest->colliders[0];
+    EXPECT_EQ(rock.mesh, "meshes/rock.obj");
+    EXPECT_EQ(rock.meshPath, fs::path("jobs") / "meshes/rock.obj");
+    EXPECT_EQ(rock.outputPath, fs::path("jobs") / "out/rock.slc");
+    EXPECT_EQ(rock.voxelSize, 0.25);
+    EXPECT_EQ(rock.padding, 0.0);
+    EXPECT_EQ(rock.sign, "winding");
+    EXPECT_EQ(rock.storage, "f16");
+    EXPECT_EQ(rock.scale, 2.0);
+    EXPECT_EQ(rock.backend, "cgal");
+    const BatchEntry& b = manifest->colliders[1];
+    EXPECT_EQ(b.resolution, 40u);
+    EXPECT_EQ(b.voxelSize, 0.0);
+    EXPECT_EQ(b.padding, 3.0);
+    EXPECT_EQ(b.sign, "auto");
+    EXPECT_EQ(b.storage, "f32");
+    EXPECT_EQ(b.backend, "auto");
+}
+
+TEST(BatchManifest, RejectsAnUnknownKeySuggestingTheClosestKnownOne) {
+    EXPECT_EQ(errorOf(secondEntryWith(R"("resolutoin": 40)")),
+              "jobs/colliders.json: colliders[1].resolutoin: unknown key \"resolutoin\" (did you "
+              "mean \"resolution\"?)");
+    EXPECT_EQ(errorOf(R"({"colliders": [], "colider": []})"),
+              "jobs/colliders.json: colider: unknown key \"colider\" (did you mean "
+              "\"colliders\"?)");
+}
+
+TEST(BatchManifest, NamesTheJsonPathOfAValueOfTheWrongType) {
+    EXPECT_EQ(errorOf(secondEntryWith(R"("resolution": "40")")),
+              "jobs/colliders.json: colliders[1].resolution: expected a number, got the string "
+              "\"40\"");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("padding": true)")),
+              "jobs/colliders.json: colliders[1].padding: expected a number, got true");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("sign": 1)")),
+              "jobs/colliders.json: colliders[1].sign: expected a string, got the number 1");
+    EXPECT_EQ(errorOf(R"({"colliders": {}})"),
+              "jobs/colliders.json: colliders: expected an array, got an object");
+    EXPECT_EQ(errorOf(R"({"colliders": [{"mesh": "a.obj"}]})"),
+              "jobs/colliders.json: colliders[0]: missing required key \"output\"");
+}
+
+TEST(BatchManifest, RejectsValuesTheBakeFlagsRejectNamingTheField) {
+    EXPECT_EQ(errorOf(secondEntryWith(R"("resolution": 5000)")),
+              "jobs/colliders.json: colliders[1].resolution: 5000 is out of range [1, 4096]");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("resolution": 8.5)")),
+              "jobs/colliders.json: colliders[1].resolution: expected an integer, got 8.5");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("voxelSize": 0)")),
+              "jobs/colliders.json: colliders[1].voxelSize: 0 is out of range: expected a number "
+              "> 0");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("padding": -1)")),
+              "jobs/colliders.json: colliders[1].padding: -1 is out of range: expected a number "
+              ">= 0");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("scale": NaN)")),
+              "jobs/colliders.json: colliders[1].scale: NaN is not a finite number");
+    EXPECT_EQ(codeOf(secondEntryWith(R"("scale": Infinity)")), ErrorCode::NonFinite);
+    EXPECT_EQ(errorOf(secondEntryWith(R"("resolution": 8, "voxelSize": 0.1)")),
+              "jobs/colliders.json: colliders[1]: give \"resolution\" or \"voxelSize\", not both");
+    EXPECT_EQ(codeOf(secondEntryWith(R"("resolution": 0)")), ErrorCode::InvalidArgument);
+}
+
+TEST(BatchManifest, RejectsUnknownEnumerationValuesListingTheKnownOnes) {
+    EXPECT_EQ(errorOf(secondEntryWith(R"("sign": "foo")")),
+              "jobs/colliders.json: colliders[1].sign: unknown sign method \"foo\"; expected "
+              "auto, parity or winding");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("sign": "windnig")")),
+              "jobs/colliders.json: colliders[1].sign: unknown sign method \"windnig\" (did you "
+              "mean \"winding\"?); expected auto, parity or winding");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("storage": "f33")")),
+              "jobs/colliders.json: colliders[1].storage: unknown storage \"f33\" (did you mean "
+              "\"f32\"?); expected f32 or f16");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("backend": "vulkan")")),
+              "jobs/colliders.json: colliders[1].backend: unknown backend \"vulkan\"; expected "
+              "auto, gpu or cgal");
+}
+
+TEST(BatchManifest, RejectsTwoEntriesWritingTheSameOutput) {
+    EXPECT_EQ(errorOf(R"({"colliders": [{"mesh": "a.obj", "output": "x.slc"},
+                                        {"mesh": "b.obj", "output": "./x.slc"}]})"),
+              "jobs/colliders.json: colliders[1].output: \"./x.slc\" is written by an earlier "
+              "entry too");
+}
+
+TEST(BatchManifest, SyntaxErrorsNameTheLineAndColumn) {
+    EXPECT_EQ(errorOf("{\"colliders\": [\n  {\"mesh\": \"a.obj\",}\n]}"),
+              "jobs/colliders.json:2:20: colliders[0].mesh: JSON syntax error: missing a key (a "
+              "quoted string) in an object");
+}
+
+TEST(BatchManifest, ReadsAFileAndNamesAMissingOne) {
+    TempDir dir;
+    const fs::path file = dir.path() / "m.json";
+    std::ofstream(file) << R"({"colliders": [{"mesh": "a.obj", "output": "a.slc"}]})";
+    Result<BatchManifest> manifest = readBatchManifest(file);
+    ASSERT_TRUE(manifest) << manifest.error().message();
+    EXPECT_EQ(manifest->colliders.at(0).outputPath, dir.path() / "a.slc");
+
+    Result<BatchManifest> missing = readBatchManifest(dir.path() / "none.json");
+    ASSERT_FALSE(missing);
+    EXPECT_EQ(missing.error().code, ErrorCode::Io);
+    EXPECT_NE(missing.error().detail.find("none.json: cannot read the manifest"), std::string::npos)
+        << missing.error().detail;
+}
+
+} // namespace
+} // namespace sluice::test
