@@ -17,20 +17,6 @@ std::string toolVersion() {
     return std::string("sluice-bake ") + SLUICE_VERSION;
 }
 
-int exitCodeFor(const Error& error) {
-    switch (error.code) {
-    case ErrorCode::NoGlContext:
-        return kExitNoGlContext;
-    case ErrorCode::ShaderCompile:
-    case ErrorCode::ShaderLink:
-        return kExitInternal;
-    // A mesh or grid too large for this GPU's free memory is bad input for this machine, like
-    // one too large for its largest storage buffer (SizeOverflow): exit 2, as sluice-play does.
-    default:
-        return kExitBadInput;
-    }
-}
-
 int reportError(std::string_view command, const std::string& what, const Error& error) {
     std::cerr << "sluice-bake " << command << ": " << what << ": " << error.message() << '\n';
     return exitCodeFor(error);

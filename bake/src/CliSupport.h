@@ -14,6 +14,7 @@
 #include "sluice/bake/Validate.h"
 #include "sluice/format/CliErrors.h"
 #include "sluice/format/ColliderAsset.h"
+#include "sluice/format/ExitCodes.h"
 #include "sluice/format/Result.h"
 
 namespace sluice::bake::cli {
@@ -60,11 +61,6 @@ using format::cli::wholeNumber;
 
 /// "sluice-bake <SLUICE_VERSION>", what --version prints and assets record.
 std::string toolVersion();
-
-/// The exit code for an error: kExitNoGlContext for NoGlContext, kExitInternal for failures of
-/// our own GPU code (shader compile/link), kExitBadInput for everything else (GpuOutOfMemory
-/// included: the input is too large for this GPU).
-int exitCodeFor(const Error& error);
 
 /// Prints "sluice-bake <command>: <what>: <detail> [<Code>]" on stderr and returns
 /// exitCodeFor(error). `what` names the file ("cannot read mesh 'a.obj'").

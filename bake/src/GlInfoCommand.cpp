@@ -5,12 +5,9 @@
 #include "CliSupport.h"
 #include "sluice/bake/Cli.h"
 #include "sluice/gpu/Context.h"
-#include "sluice/gpu/ExitCodes.h"
 
 namespace sluice::bake::cli {
 namespace {
-
-static_assert(kExitNoGlContext == gpu::kExitNoGlContext, "one exit code for 'no GL context'");
 
 struct GlInfoArgs {
     bool json = false;

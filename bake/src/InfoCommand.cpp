@@ -118,7 +118,7 @@ int runInfo(const InfoArgs& args) {
 
     if (slice) {
         const Image image = renderSlice(*asset, *slice);
-        if (Result<void> ok = writePng(image, args.png); !ok)
+        if (Result<void> ok = format::writePng(args.png, image); !ok)
             return reportFileError(cmd, "cannot write", args.png, ok.error());
     }
 

@@ -16,11 +16,9 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
-#include <stb_image_write.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "sluice/format/AtomicFile.h"
 #include "sluice/format/SdfSampler.h"
 
 namespace sluice::bake {
@@ -128,7 +126,8 @@ void drawText(Image& image, int x, int y, std::string_view text, int clipRight) 
             for (int col = 0; col < 3 * kFontScale; ++col) {
                 const int px = x + col, py = y + row;
                 const bool on = (glyph->rows[row / kFontScale] >> (2 - col / kFontScale)) & 1;
-                if (on && px >= 0 && px < std::min(clipRight, image.width) && py < image.height)
+                if (on && px >= 0 && px < std::min(clipRight, int(image.width)) &&
+                    py < int(image.height))
                     putPixel(image, px, py, kText);
             }
     }
@@ -149,8 +148,8 @@ const char* axisName(Axis axis) {
 // distance half, what the colours mean under the gradient half.
 void drawLegend(Image& image, const SliceLayout& layout, const SliceSpec& slice, double rangeInside,
                 double rangeOutside) {
-    for (int py = layout.height; py < image.height; ++py)
-        for (int px = 0; px < image.width; ++px)
+    for (int py = layout.height; py < int(image.height); ++py)
+        for (int px = 0; px < int(image.width); ++px)
             putPixel(image, px, py, kLegendBackground);
     const int line1 = layout.height + kMargin;
     const int bar = line1 + kLineHeight + kMargin;
@@ -181,9 +180,9 @@ void drawLegend(Image& image, const SliceLayout& layout, const SliceSpec& slice,
     }
 
     const int gradientLeft = layout.halfWidth + layout.gap + kMargin;
-    drawText(image, gradientLeft, line1, "GRADIENT: R, G, B = X, Y, Z", image.width);
-    drawText(image, gradientLeft, bar, "LEFT: DISTANCE IN WORLD UNITS,", image.width);
-    drawText(image, gradientLeft, line2, "BLUE INSIDE, RED OUTSIDE", image.width);
+    drawText(image, gradientLeft, line1, "GRADIENT: R, G, B = X, Y, Z", int(image.width));
+    drawText(image, gradientLeft, bar, "LEFT: DISTANCE IN WORLD UNITS,", int(image.width));
+    drawText(image, gradientLeft, line2, "BLUE INSIDE, RED OUTSIDE", int(image.width));
 }
 
 } // namespace
@@ -302,8 +301,8 @@ Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice) {
     const double worldPerPixel = meta.voxelSize / layout.pixelsPerVoxel;
 
     Image image;
-    image.width = 2 * layout.halfWidth + layout.gap;
-    image.height = layout.height + layout.legendHeight;
+    image.width = std::uint32_t(2 * layout.halfWidth + layout.gap);
+    image.height = std::uint32_t(layout.height + layout.legendHeight);
     image.rgb.assign(std::size_t(image.width) * std::size_t(image.height) * 3, 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, layout.height), [&](const auto& rows) {
         for (int py = rows.begin(); py != rows.end(); ++py) {
@@ -336,24 +335,6 @@ Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice) {
     });
     drawLegend(image, layout, slice, rangeInside, rangeOutside);
     return image;
-}
-
-Result<void> writePng(const Image& image, const std::filesystem::path& path) {
-    if (image.width <= 0 || image.height <= 0 ||
-        image.rgb.size() != std::size_t(image.width) * std::size_t(image.height) * 3)
-        return fail(ErrorCode::InvalidArgument,
-                    "cannot write " + path.string() + ": the image is empty or malformed");
-    std::vector<std::byte> png;
-    auto append = [](void* context, void* data, int size) {
-        auto* out = static_cast<std::vector<std::byte>*>(context);
-        const auto* bytes = static_cast<const std::byte*>(data);
-        out->insert(out->end(), bytes, bytes + size);
-    };
-    const int ok = stbi_write_png_to_func(append, &png, image.width, image.height, 3,
-                                          image.rgb.data(), image.width * 3);
-    if (!ok || png.empty())
-        return fail(ErrorCode::Io, "cannot encode the PNG for " + path.string());
-    return format::writeFileAtomic(path, std::span<const std::byte>(png));
 }
 
 } // namespace sluice::bake

@@ -154,7 +154,7 @@ int runValidate(const ValidateArgs& args) {
             std::cout << "  wrote the figures into " << args.asset << '\n';
         std::cout << "  result     " << (errorOk && signOk ? "PASS" : "FAIL") << '\n';
     }
-    return errorOk && signOk ? kExitOk : kExitOverLimits;
+    return errorOk && signOk ? kExitOk : kExitCheckFailed;
 }
 
 } // namespace

@@ -263,7 +263,7 @@ int runBench(const BenchOptions& o, const format::Scene& scene,
     if (!o.json.empty())
         if (auto ok = writeBenchJson(o, scene, glRenderer, *sim, summary, passes, render); !ok)
             return reportFailure(ok.error());
-    return kPlayExitOk;
+    return kExitOk;
 }
 
 } // namespace sluice::rt

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <system_error>
 
-#include "CapturePng.h"
+#include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/Renderer.h"
 
 namespace sluice::rt {

@@ -3,8 +3,8 @@
 
 #include <ostream>
 
-#include "CapturePng.h"
 #include "sluice/rt/Simulation.h"
+#include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/SceneFraming.h"
 
 namespace sluice::rt {

@@ -226,7 +226,7 @@ std::optional<int> reportWarnings(const std::vector<PlayWarning>& warnings, bool
         std::cerr << "sluice-play: --strict turned the " << warnings.size()
                   << " warnings above into errors";
     std::cerr << "; nothing was run\n";
-    return kPlayExitBadInput;
+    return kExitBadInput;
 }
 
 /// The files and folders a run in `mode` writes.
@@ -342,7 +342,7 @@ int play(const CLI::App& app, const PlayOptions& o, PlayMode mode) {
     case PlayMode::Headless:
         return startHeadless(o, *rendering, std::move(*loaded));
     }
-    return kPlayExitInternal;
+    return kExitInternal;
 }
 
 int run(int argc, char** argv) {
@@ -414,15 +414,15 @@ int run(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         // --help and --version arrive here too, and exit 0.
-        return format::cli::reportParseError(app, e, "sluice-play", kPlayExitBadInput);
+        return format::cli::reportParseError(app, e, "sluice-play", kExitBadInput);
     }
     if (o.benchFrames > 0 && !o.bench) {
         std::cerr << "sluice-play: --bench-frames needs --bench\n";
-        return kPlayExitBadInput;
+        return kExitBadInput;
     }
     if (!o.bench && o.headless && o.steps == 0) {
         std::cerr << "sluice-play: --headless needs --steps N\n";
-        return kPlayExitBadInput;
+        return kExitBadInput;
     }
     return play(app, o,
                 o.bench      ? PlayMode::Bench
@@ -432,18 +432,9 @@ int run(int argc, char** argv) {
 
 } // namespace
 
-int playExitCode(const Error& error) {
-    switch (error.code) {
-    case ErrorCode::NoGlContext: return kPlayExitNoGlContext;
-    case ErrorCode::ShaderCompile:
-    case ErrorCode::ShaderLink: return kPlayExitInternal;
-    default: return kPlayExitBadInput;
-    }
-}
-
 int reportFailure(const Error& error) {
     std::cerr << "sluice-play: " << error.message() << '\n';
-    return playExitCode(error);
+    return exitCodeFor(error);
 }
 
 int runPlay(int argc, char** argv) {
@@ -454,7 +445,7 @@ int runPlay(int argc, char** argv) {
     } catch (...) {
         std::cerr << "sluice-play: internal error (unknown exception)\n";
     }
-    return kPlayExitInternal;
+    return kExitInternal;
 }
 
 } // namespace sluice::rt

@@ -204,9 +204,9 @@ int playHeadless(const HeadlessOptions& o, const format::Scene& scene,
     if (o.check && run->dirty) {
         std::cerr << "sluice-play: --check: particles went non-finite or ended inside a "
                      "collider (see the table)\n";
-        return kPlayExitCheckFailed;
+        return kExitCheckFailed;
     }
-    return kPlayExitOk;
+    return kExitOk;
 }
 
 } // namespace sluice::rt

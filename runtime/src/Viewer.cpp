@@ -19,7 +19,6 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
-#include "CapturePng.h"
 #include "CaptureVideo.h"
 #include "ViewerInput.h"
 #include "ViewerPanel.h"
@@ -27,6 +26,7 @@
 #include "sluice/rt/PlayCli.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
 #include "sluice/rt/render/FrameReadback.h"
+#include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/SceneFraming.h"
 
 namespace sluice::rt {
@@ -123,18 +123,18 @@ public:
                                                m_session->scene().simulation.timeStep);
             if (!capture) {
                 std::cerr << "sluice-play: " << capture.error().message() << '\n';
-                return playExitCode(capture.error());
+                return exitCodeFor(capture.error());
             }
             m_capture.emplace(std::move(*capture));
         }
         if (auto ok = createShotsFolder(m_options.capture); !ok) {
             std::cerr << "sluice-play: " << ok.error().message() << '\n';
-            return playExitCode(ok.error());
+            return exitCodeFor(ok.error());
         }
         auto probe = FluidStatsProbe::create();
         if (!probe) {
             std::cerr << "sluice-play: " << probe.error().message() << '\n';
-            return playExitCode(probe.error());
+            return exitCodeFor(probe.error());
         }
         m_probe.emplace(std::move(*probe));
 
@@ -158,7 +158,7 @@ public:
             std::cout << "sluice-play: " << m_frames << " frames, " << m_session->steps()
                       << " steps in " << seconds << " s (" << double(m_frames) / seconds
                       << " frames/s)\n";
-        return m_failed ? kPlayExitBadInput : kPlayExitOk;
+        return m_failed ? kExitBadInput : kExitOk;
     }
 
 private:
@@ -451,7 +451,7 @@ int runViewer(const ViewerOptions& options) {
         std::cerr << "sluice-play: cannot open a window: " << g_glfwError
                   << "\n  Without a display, run headless: sluice-play SCENE --headless --steps N"
                      " [--frames DIR] [--video OUT.mp4]\n";
-        return kPlayExitNoGlContext;
+        return kExitNoGlContext;
     }
     GlfwLibrary glfw;
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
@@ -465,7 +465,7 @@ int runViewer(const ViewerOptions& options) {
     if (window == nullptr) {
         std::cerr << "sluice-play: cannot create a window with an OpenGL 4.5 core context: "
                   << g_glfwError << "\n  Run headless instead: sluice-play SCENE --headless\n";
-        return kPlayExitNoGlContext;
+        return kExitNoGlContext;
     }
     glfwMakeContextCurrent(window);
     glfwSwapInterval(options.vsync ? 1 : 0);
@@ -473,9 +473,9 @@ int runViewer(const ViewerOptions& options) {
     if (version == 0 || GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 45) {
         std::cerr << "sluice-play: the window's OpenGL context is not 4.5 core\n";
         glfwDestroyWindow(window);
-        return kPlayExitNoGlContext;
+        return kExitNoGlContext;
     }
-    int exitCode = kPlayExitOk;
+    int exitCode = kExitOk;
     {
         ImGuiScope imgui(window);
         int width = 0;
@@ -485,7 +485,7 @@ int runViewer(const ViewerOptions& options) {
                                            glm::uvec2(std::max(width, 1), std::max(height, 1)));
         if (!session) {
             std::cerr << "sluice-play: " << session.error().message() << '\n';
-            exitCode = playExitCode(session.error());
+            exitCode = exitCodeFor(session.error());
         } else {
             ViewerApp app(window, options, std::move(*session));
             exitCode = app.run();

@@ -172,14 +172,14 @@ TEST(Cli, ValidateOverTheLimitsExitsOne) {
 
     const RunResult over = runBake(
         dir, {"validate", bad.string(), kSphereObj.string(), "--json", "--max-error", "0.1"});
-    EXPECT_EQ(over.code, kExitOverLimits) << shown(over);
+    EXPECT_EQ(over.code, kExitCheckFailed) << shown(over);
     const json report = json::parse(over.out);
     EXPECT_NEAR(report["figures"]["maxError"].get<double>(), 0.5, 1e-5);
     EXPECT_EQ(report["withinLimits"], false);
     EXPECT_EQ(report["limits"]["maxError"], 0.1);
 
     const RunResult text = runBake(dir, {"validate", bad.string(), kSphereObj.string()});
-    EXPECT_EQ(text.code, kExitOverLimits) << shown(text);
+    EXPECT_EQ(text.code, kExitCheckFailed) << shown(text);
     EXPECT_NE(text.out.find("FAIL"), std::string::npos) << text.out;
     EXPECT_EQ(
         runBake(dir, {"validate", bad.string(), kSphereObj.string(), "--max-error", "0.6"}).code,
@@ -193,7 +193,7 @@ TEST(Cli, ValidateOverTheLimitsExitsOne) {
     ASSERT_TRUE(format::writeAsset(flipped, *flippedAsset).ok());
     const RunResult signs = runBake(
         dir, {"validate", flipped.string(), kSphereObj.string(), "--json", "--max-error", "100"});
-    EXPECT_EQ(signs.code, kExitOverLimits) << shown(signs);
+    EXPECT_EQ(signs.code, kExitCheckFailed) << shown(signs);
     EXPECT_EQ(json::parse(signs.out)["figures"]["signMismatches"], 1);
     EXPECT_EQ(runBake(dir, {"validate", flipped.string(), kSphereObj.string(), "--max-error", "100",
                             "--max-sign-errors", "1"})
@@ -220,7 +220,7 @@ TEST(Cli, HalfPrecisionAssetPassesWithItsQuantizationAllowance) {
     // A limit tighter than fp16 can hold fails.
     EXPECT_EQ(
         runBake(dir, {"validate", asset.string(), kSphereObj.string(), "--max-error", "1e-7"}).code,
-        kExitOverLimits);
+        kExitCheckFailed);
 }
 
 TEST(Cli, ValidateWriteStoresTheFiguresInTheAsset) {

@@ -123,8 +123,8 @@ TEST(SliceImage, SphereSliceShowsInsideOutsideAndTheZeroContour) {
     const bake::SliceSpec slice{Axis::Z, 0.5};
     const bake::SliceLayout layout = bake::sliceLayout(asset.meta, slice);
     const bake::Image image = bake::renderSlice(asset, slice);
-    ASSERT_EQ(image.width, 2 * layout.halfWidth + layout.gap);
-    ASSERT_EQ(image.height, layout.height + layout.legendHeight);
+    ASSERT_EQ(int(image.width), 2 * layout.halfWidth + layout.gap);
+    ASSERT_EQ(int(image.height), layout.height + layout.legendHeight);
     ASSERT_EQ(image.rgb.size(), std::size_t(image.width) * image.height * 3);
 
     const Rgb centre = at(image, layout, kCentreIndex.x, kCentreIndex.y);
@@ -242,26 +242,26 @@ TEST(SliceImage, LegendUnderTheFieldHasAxisNamesAndAColourBar) {
     const bake::SliceLayout layout = bake::sliceLayout(asset.meta, slice);
     const bake::Image image = bake::renderSlice(asset, slice);
     ASSERT_GE(layout.legendHeight, 40);
-    ASSERT_EQ(image.height, layout.height + layout.legendHeight);
+    ASSERT_EQ(int(image.height), layout.height + layout.legendHeight);
 
     // Text: dark pixels on the light strip, under both halves; none in the last field row's
     // place, which still shows the field (outside: red at the corners).
     auto darkPixels = [&](int x0, int x1) {
         int count = 0;
-        for (int y = layout.height; y < image.height; ++y)
+        for (int y = layout.height; y < int(image.height); ++y)
             for (int x = x0; x < x1; ++x)
                 count += isContour(pixel(image, x, y)) ? 1 : 0;
         return count;
     };
     EXPECT_GT(darkPixels(0, layout.halfWidth), 200) << "axis names and numbers";
-    EXPECT_GT(darkPixels(layout.halfWidth + layout.gap, image.width), 200) << "gradient key";
+    EXPECT_GT(darkPixels(layout.halfWidth + layout.gap, int(image.width)), 200) << "gradient key";
     const Rgb corner = at(image, layout, 0.0, 0.0);
     EXPECT_GT(corner.r, corner.b + 100) << "the field's bottom row is unchanged";
 
     // The colour bar: a row of the strip that is blue at the left end, white-ish with the dark
     // zero mark in the middle, red at the right end, as the field's colours are.
     int barRow = -1;
-    for (int y = layout.height; y < image.height && barRow < 0; ++y) {
+    for (int y = layout.height; y < int(image.height) && barRow < 0; ++y) {
         const Rgb left = pixel(image, 8, y);
         if (left.b > left.r + 100)
             barRow = y;
@@ -289,7 +289,7 @@ TEST(SliceImage, WritesAPngThatDecodesToTheSamePixels) {
     const fs::path dir = testmesh::tempDir("slice-png");
     const format::ColliderAsset asset = sphereAsset();
     const bake::Image image = bake::renderSlice(asset, {Axis::Z, 0.5});
-    ASSERT_TRUE(bake::writePng(image, dir / "sphere.png"));
+    ASSERT_TRUE(format::writePng(dir / "sphere.png", image));
 
     std::ifstream in(dir / "sphere.png", std::ios::binary);
     const std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in),
@@ -302,8 +302,8 @@ TEST(SliceImage, WritesAPngThatDecodesToTheSamePixels) {
     unsigned char* decoded =
         stbi_load_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels, 3);
     ASSERT_NE(decoded, nullptr) << stbi_failure_reason();
-    EXPECT_EQ(width, image.width);
-    EXPECT_EQ(height, image.height);
+    EXPECT_EQ(width, int(image.width));
+    EXPECT_EQ(height, int(image.height));
     EXPECT_EQ(channels, 3);
     EXPECT_EQ(std::memcmp(decoded, image.rgb.data(), image.rgb.size()), 0) << "PNG is lossless";
     stbi_image_free(decoded);
@@ -318,12 +318,12 @@ TEST(SliceImage, WritePngReportsBadImagesAndFolders) {
     image.width = 4;
     image.height = 3;
     image.rgb.assign(4 * 3 * 3, 200);
-    auto missing = bake::writePng(image, dir / "no-such-folder" / "a.png");
+    auto missing = format::writePng(dir / "no-such-folder" / "a.png", image);
     ASSERT_FALSE(missing);
     EXPECT_EQ(missing.error().code, ErrorCode::Io);
 
     image.rgb.pop_back();
-    auto malformed = bake::writePng(image, dir / "b.png");
+    auto malformed = format::writePng(dir / "b.png", image);
     ASSERT_FALSE(malformed);
     EXPECT_EQ(malformed.error().code, ErrorCode::InvalidArgument);
     EXPECT_TRUE(fs::is_empty(dir));
@@ -340,6 +340,6 @@ TEST(SliceImage, WritesATorusPictureForInspection) {
         auto slice = bake::parseSlice(spec);
         ASSERT_TRUE(slice);
         const std::string name = std::string("torus_") + spec[0] + ".png";
-        ASSERT_TRUE(bake::writePng(bake::renderSlice(torus, *slice), dir / name));
+        ASSERT_TRUE(format::writePng(dir / name, bake::renderSlice(torus, *slice)));
     }
 }

@@ -25,11 +25,14 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "AnalyticAsset.h"
 #include "sluice/bake/MeshImport.h"
 #include "sluice/bake/TriangleSoup.h"
 #include "sluice/format/ColliderAsset.h"
 
 namespace sluice::testmesh {
+
+using testasset::assetFromSdf;
 
 using bake::ImportedMesh;
 using bake::TriangleSoup;
@@ -278,26 +281,6 @@ inline ImportedMesh imported(TriangleSoup soup, std::string name = "analytic") {
     mesh.sourceFile = std::move(name);
     mesh.sourceHash = "0000000000000000";
     return mesh;
-}
-
-/// A collider asset whose samples are `sdf` evaluated at every grid point, with placeholder
-/// provenance (source "sphere.obj", backend "cgal") so it encodes and exports as a baked one.
-inline format::ColliderAsset assetFromSdf(glm::uvec3 dims, glm::dvec3 origin, double voxelSize,
-                                          const std::function<double(const glm::dvec3&)>& sdf) {
-    format::ColliderAsset asset;
-    asset.meta.dims = dims;
-    asset.meta.origin = origin;
-    asset.meta.voxelSize = voxelSize;
-    asset.meta.sourceFile = "sphere.obj";
-    asset.meta.sourceHash = "0123456789abcdef";
-    asset.meta.toolVersion = "sluice-bake 0.1.0";
-    asset.meta.bake.backend = "cgal";
-    asset.distances.resize(asset.pointCount());
-    for (std::uint32_t k = 0; k < dims.z; ++k)
-        for (std::uint32_t j = 0; j < dims.y; ++j)
-            for (std::uint32_t i = 0; i < dims.x; ++i)
-                asset.distances[asset.index(i, j, k)] = float(sdf(asset.pointPosition(i, j, k)));
-    return asset;
 }
 
 /// A fresh folder for test files: SLUICE_TEST_TMP/<name> if the build defines it, else under

@@ -103,10 +103,10 @@ TEST(VdbIO, RoundTripReproducesEveryDistanceBitwise) {
                           asset.distances.size() * sizeof(float)),
               0);
     // Provenance travels as grid metadata.
-    EXPECT_EQ(back->meta.sourceFile, "sphere.obj");
+    EXPECT_EQ(back->meta.sourceFile, "analytic.obj");
     EXPECT_EQ(back->meta.sourceHash, "0123456789abcdef");
     EXPECT_EQ(back->meta.toolVersion, "sluice-bake 0.1.0");
-    EXPECT_EQ(back->meta.bake.backend, "cgal");
+    EXPECT_EQ(back->meta.bake.backend, "analytic");
 }
 
 TEST(VdbIO, ExportedFileIsAPlainOpenVdbLevelSet) {
@@ -145,7 +145,7 @@ TEST(VdbIO, ExportedFileIsAPlainOpenVdbLevelSet) {
 
     auto source = grid->getMetadata<openvdb::StringMetadata>("sluice_source_file");
     ASSERT_TRUE(source);
-    EXPECT_EQ(source->value(), "sphere.obj");
+    EXPECT_EQ(source->value(), "analytic.obj");
     auto hash = grid->getMetadata<openvdb::StringMetadata>("sluice_source_hash");
     ASSERT_TRUE(hash);
     EXPECT_EQ(hash->value(), "0123456789abcdef");

@@ -1,12 +1,11 @@
-// The exit code each error code gives in sluice-bake (white box: bake/src/CliSupport.h), so a
-// mesh too large for the GPU is bad input (2) as the issue and sluice-play have it, not an
-// internal error (4). The GPU-memory path itself needs a driver that reports free memory.
+// The one mapping from errors to exit codes that both programs use (sluice/format/ExitCodes.h):
+// a mesh too large for the GPU is bad input (2), not an internal error (4). The GPU-memory path
+// itself needs a driver that reports free memory.
 #include <gtest/gtest.h>
 
-#include "CliSupport.h"
-#include "sluice/bake/Cli.h"
+#include "sluice/format/ExitCodes.h"
 
-namespace sluice::bake::cli {
+namespace sluice {
 namespace {
 
 TEST(ExitCodes, AMeshOrGridTooLargeForTheGpuIsBadInput) {
@@ -29,4 +28,4 @@ TEST(ExitCodes, EveryInputErrorIsTwoNoContextThreeAndOurShadersFour) {
 }
 
 } // namespace
-} // namespace sluice::bake::cli
+} // namespace sluice

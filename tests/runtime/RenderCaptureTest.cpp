@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "CaptureFrames.h"
-#include "CapturePng.h"
 #include "CaptureVideo.h"
 #include "RenderTestSupport.h"
+#include "sluice/rt/render/Image.h"
 
 namespace sluice::rt {
 namespace {

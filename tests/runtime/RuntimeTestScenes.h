@@ -14,10 +14,13 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "AnalyticAsset.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Scene.h"
 
 namespace sluice::testscene {
+
+using testasset::assetFromSdf;
 
 /// Exact SDF of the axis-aligned box [lo, hi] (negative inside).
 inline double boxSdf(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
@@ -31,25 +34,6 @@ inline double boxSdf(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3
 /// Exact SDF of a sphere (negative inside).
 inline double sphereSdf(const glm::dvec3& p, const glm::dvec3& center, double radius) {
     return glm::length(p - center) - radius;
-}
-
-/// A collider asset sampling `sdf` at origin + (i, j, k) * voxelSize, dims points per axis.
-inline format::ColliderAsset assetFromSdf(glm::uvec3 dims, glm::dvec3 origin, double voxelSize,
-                                          const std::function<double(const glm::dvec3&)>& sdf) {
-    format::ColliderAsset asset;
-    asset.meta.dims = dims;
-    asset.meta.origin = origin;
-    asset.meta.voxelSize = voxelSize;
-    asset.meta.sourceFile = "analytic.obj";
-    asset.meta.sourceHash = "0123456789abcdef";
-    asset.meta.toolVersion = "sluice-bake 0.1.0";
-    asset.meta.bake.backend = "analytic";
-    asset.distances.resize(asset.pointCount());
-    for (std::uint32_t k = 0; k < dims.z; ++k)
-        for (std::uint32_t j = 0; j < dims.y; ++j)
-            for (std::uint32_t i = 0; i < dims.x; ++i)
-                asset.distances[asset.index(i, j, k)] = float(sdf(asset.pointPosition(i, j, k)));
-    return asset;
 }
 
 /// A grid covering [lo - padding, hi + padding] at `voxelSize` [world units] (rounded up).

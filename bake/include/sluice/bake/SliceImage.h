@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Image.h"
 #include "sluice/format/Result.h"
 
 namespace sluice::bake {
@@ -21,12 +22,8 @@ struct SliceSpec {
 /// Parses "x=0.5" / "y=0.25" / "z=1". Errors: InvalidArgument.
 Result<SliceSpec> parseSlice(const std::string& text);
 
-/// An RGB8 picture, row-major, top row first.
-struct Image {
-    int width = 0;
-    int height = 0;
-    std::vector<std::uint8_t> rgb;
-};
+/// Slice pictures are format::Image (8-bit RGB, top row first), written with format::writePng.
+using format::Image;
 
 /// Where things are in a renderSlice picture. Both halves show the same window onto the slice
 /// plane: columns run along `uAxis` (left to right), rows along `vAxis` (bottom to top). Pixel
@@ -60,9 +57,5 @@ SliceLayout sliceLayout(const format::ColliderMeta& meta, const SliceSpec& slice
 /// Image size and pixel positions as sliceLayout says (the image is height + legendHeight tall).
 /// Precondition (asserted): dims >= 2 on every axis and distances.size() == pointCount().
 Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice);
-
-/// PNG-encodes (stb_image_write) and writes atomically (format::writeFileAtomic). Errors:
-/// InvalidArgument (empty image or rgb size not width * height * 3), Io.
-Result<void> writePng(const Image& image, const std::filesystem::path& path);
 
 } // namespace sluice::bake

@@ -1,35 +1,12 @@
-// An 8-bit RGB picture in memory, top row first: what the renderer reads back and the capture
-// code writes to PNG files and video.
+// The renderer's pictures: format::Image (8-bit RGB, top row first) and its PNG writer.
 #pragma once
 
-#include <cstddef>
-#include <cstdint>
-#include <vector>
-
-#include <glm/glm.hpp>
+#include "sluice/format/Image.h"
 
 namespace sluice::rt {
 
-/// width x height pixels of 3 bytes (R, G, B), rows top to bottom, no padding.
-struct Image {
-    std::uint32_t width = 0;  ///< [pixels]
-    std::uint32_t height = 0; ///< [pixels]
-    std::vector<std::uint8_t> rgb;
-
-    /// A black image of this size.
-    static Image blank(std::uint32_t width, std::uint32_t height) {
-        return {width, height, std::vector<std::uint8_t>(std::size_t(width) * height * 3, 0)};
-    }
-    bool empty() const { return width == 0 || height == 0; }
-    /// Pixel (x, y), y counted from the top. Precondition: inside the image.
-    glm::u8vec3 at(std::uint32_t x, std::uint32_t y) const {
-        const std::size_t i = (std::size_t(y) * width + x) * 3;
-        return {rgb[i], rgb[i + 1], rgb[i + 2]};
-    }
-};
-
-/// Reverses the row order of `rows` rows of `rowBytes` bytes in place (OpenGL reads bottom row
-/// first; images are stored top row first).
-void flipRows(std::uint8_t* data, std::size_t rowBytes, std::size_t rows);
+using format::flipRows;
+using format::Image;
+using format::writePng;
 
 } // namespace sluice::rt
