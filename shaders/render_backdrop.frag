@@ -9,14 +9,14 @@ layout(location = 0) out vec4 outColour;
 
 void main() {
     vec3 rd = worldRayOfWindow(vUv);
-    vec3 eye = F.eye.xyz;
+    vec3 eye = F.eye;
     vec3 colour = skyColour(rd);
     float depth = 1.0;
-    float floorY = F.floorPlane.x;
-    if (F.floorPlane.z > 0.5 && rd.y < -1e-4 && eye.y > floorY) {
+    float floorY = F.floorY;
+    if (F.drawFloor != 0u && rd.y < -1e-4 && eye.y > floorY) {
         float t = (floorY - eye.y) / rd.y;
         vec3 p = eye + t * rd;
-        float size = F.floorPlane.y;
+        float size = F.checkerSize;
         vec2 cell = floor(p.xz / size);
         float checker = mod(cell.x + cell.y, 2.0);
         vec3 albedo = mix(vec3(0.56, 0.57, 0.58), vec3(0.66, 0.67, 0.68), checker);

@@ -75,7 +75,7 @@ bool hasMoreBehind(vec3 ro, vec3 rd, float t, float tEnd, out float next) {
 }
 
 void main() {
-    vec3 eyeLocal = (uWorldToLocal * vec4(F.eye.xyz, 1.0)).xyz;
+    vec3 eyeLocal = (uWorldToLocal * vec4(F.eye, 1.0)).xyz;
     vec3 fragLocal = (uWorldToLocal * vec4(vWorld, 1.0)).xyz;
     vec3 rd = normalize(fragLocal - eyeLocal);
     vec3 inv = 1.0 / rd;
@@ -108,7 +108,7 @@ void main() {
     vec3 nLocal = sdfNormal(p);
     vec3 n = normalize(mat3(uLocalToWorld) * nLocal);
     vec3 world = (uLocalToWorld * vec4(p, 1.0)).xyz;
-    vec3 toEye = normalize(F.eye.xyz - world);
+    vec3 toEye = normalize(F.eye - world);
     gl_FragDepth = windowDepthOfWorld(world);
 #if defined(SLUICE_GLASS)
     float facing = abs(dot(n, toEye));

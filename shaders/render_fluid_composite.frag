@@ -16,7 +16,7 @@ layout(location = 0) out vec4 outColour;
 
 // View-space point of pixel p at view depth z [m].
 vec3 viewAt(ivec2 p, float z) {
-    vec3 dir = viewOfWindow((vec2(p) + 0.5) * F.viewport.zw, 1.0);
+    vec3 dir = viewOfWindow((vec2(p) + 0.5) * F.invViewportSize, 1.0);
     return dir * (z / -dir.z);
 }
 
@@ -57,15 +57,15 @@ void main() {
     vec3 toEye = -normalize(mat3(F.invView) * pos);
 
     float thickness = texelFetch(uThickness, p, 0).r;
-    vec2 offset = nView.xy * min(thickness, 0.3) * F.fluid.y * F.viewport.zw;
+    vec2 offset = nView.xy * min(thickness, 0.3) * F.fluidRefraction * F.invViewportSize;
     vec3 behind = texture(uSceneColour, vUv + offset).rgb;
     // Beer-Lambert: the channels the water colour lacks are absorbed fastest.
-    vec3 absorb = F.fluid.x * (vec3(1.0) - F.water.rgb);
+    vec3 absorb = F.fluidAbsorption * (vec3(1.0) - F.waterColour);
     vec3 transmittance = exp(-absorb * thickness);
     vec3 body = behind * transmittance +
-                shade(F.water.rgb, n, toEye, 0.0, 1.0) * (vec3(1.0) - transmittance);
-    float fresnel = F.fluid.z + (1.0 - F.fluid.z) * pow(1.0 - max(dot(n, toEye), 0.0), 5.0);
-    vec3 h = normalize(F.light.xyz + toEye);
+                shade(F.waterColour, n, toEye, 0.0, 1.0) * (vec3(1.0) - transmittance);
+    float fresnel = F.fluidFresnelF0 + (1.0 - F.fluidFresnelF0) * pow(1.0 - max(dot(n, toEye), 0.0), 5.0);
+    vec3 h = normalize(F.lightDirection + toEye);
     float specular = pow(max(dot(n, h), 0.0), 120.0);
     vec3 colour = mix(body, skyColour(reflect(-toEye, n)), fresnel) + vec3(0.8 * specular);
     outColour = vec4(colour, 1.0);

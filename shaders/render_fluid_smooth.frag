@@ -27,7 +27,7 @@ void main() {
         return;
     }
     // Pixels per metre at depth z: proj[1][1] is cot(fov / 2); the viewport is 2 NDC units tall.
-    float pixels = clamp(uWorldRadius * F.proj[1][1] * 0.5 * F.viewport.y / z, 1.0,
+    float pixels = clamp(uWorldRadius * F.proj[1][1] * 0.5 * F.viewportSize.y / z, 1.0,
                          float(kMaxTaps));
     int taps = int(ceil(pixels));
     float sigma = 0.5 * pixels;

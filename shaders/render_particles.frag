@@ -22,9 +22,9 @@ layout(location = 0) out vec4 outColour;
 void main() {
     vec3 rd = normalize(vViewPos);
 #if defined(SLUICE_FLUID_DEPTH) || defined(SLUICE_THICKNESS)
-    float r = F.fluid.w; // larger than the particles, so the lattice leaves no holes
+    float r = F.fluidSphereRadius; // larger than the particles, so the lattice leaves no holes
 #else
-    float r = F.particle.x;
+    float r = F.particleRadius;
 #endif
     float b = dot(rd, vCentre);
     float c = dot(vCentre, vCentre) - r * r;
@@ -43,20 +43,20 @@ void main() {
 #else
     // The chord, weighted so the sum is metres of water: each particle stands for a cube of
     // the rest spacing (2 r0)^3, its sphere holds 4/3 pi r^3.
-    float r0 = F.particle.x;
+    float r0 = F.particleRadius;
     outValue = 2.0 * s * (8.0 * r0 * r0 * r0) / (4.18879 * r * r * r);
 #endif
 #else
     vec3 n = mat3(F.invView) * ((hit - vCentre) / r);
     vec3 toEye = -(mat3(F.invView) * rd);
-    uint mode = uint(F.particle.y + 0.5);
+    uint mode = F.colourMode;
     vec3 colour;
     if (mode == kColourSpeed) {
-        colour = shade(colourMap(length(vVelocity.xyz) / F.particle.z), n, toEye, 0.25, 40.0);
+        colour = shade(colourMap(length(vVelocity.xyz) / F.speedRange), n, toEye, 0.25, 40.0);
     } else if (mode == kColourDensityError) {
-        colour = shade(colourMap(vVelocity.w / F.particle.w), n, toEye, 0.25, 40.0);
+        colour = shade(colourMap(vVelocity.w / F.densityErrorRange), n, toEye, 0.25, 40.0);
     } else {
-        colour = shade(F.water.rgb, n, toEye, 0.6, 60.0);
+        colour = shade(F.waterColour, n, toEye, 0.6, 60.0);
         // A little sky reflected at grazing angles (Schlick's Fresnel term, F0 = 0.02).
         float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(n, toEye), 0.0), 5.0);
         colour = mix(colour, skyColour(reflect(-toEye, n)), 0.6 * fresnel);

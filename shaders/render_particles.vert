@@ -20,9 +20,9 @@ void main() {
     vec2 corner = kCorners[uint(gl_VertexID) % 6u];
     vec3 centre = (F.view * vec4(positions[i].xyz, 1.0)).xyz;
 #if defined(SLUICE_FLUID_DEPTH) || defined(SLUICE_THICKNESS)
-    float r = F.fluid.w; // larger than the particles, so the lattice leaves no holes
+    float r = F.fluidSphereRadius; // larger than the particles, so the lattice leaves no holes
 #else
-    float r = F.particle.x;
+    float r = F.particleRadius;
 #endif
     float d = length(centre);
     vCentre = centre;

@@ -25,29 +25,47 @@ SLUICE_CONST uint kRenderUnitSceneDepth = 2;  ///< sampler2D: its depth, [0, 1] 
 SLUICE_CONST uint kRenderUnitFluidDepth = 3;  ///< sampler2D: fluid view depth [m], 0 = none
 SLUICE_CONST uint kRenderUnitThickness = 4;   ///< sampler2D: fluid thickness [m]
 
-// Colour modes of the particles (RenderFrame.particle.y).
+// Colour modes of the particles (RenderFrame.colourMode).
 SLUICE_CONST uint kColourWater = 0;        ///< shaded water blue
-SLUICE_CONST uint kColourSpeed = 1;        ///< |v| through a colour map, 0 .. particle.z [m/s]
-SLUICE_CONST uint kColourDensityError = 2; ///< C_i through a colour map, 0 .. particle.w
+SLUICE_CONST uint kColourSpeed = 1;        ///< |v| through a colour map, 0 .. speedRange [m/s]
+SLUICE_CONST uint kColourDensityError = 2; ///< C_i through a colour map, 0 .. densityErrorRange
 
-/// What every render pass of one frame reads (std140; vec4 and mat4 only, so std430 agrees).
+/// What every render pass of one frame reads. std140 and std430 agree on it: mat4s, vec2s at
+/// multiples of 8, and 16-byte aligned vec3s each followed by a scalar that fills its row.
+/// Offsets [bytes] on the left are checked below.
+// clang-format off
 struct RenderFrame {
-    mat4 view;        ///< world -> view [m]
-    mat4 proj;        ///< view -> clip (OpenGL, depth range [-1, 1])
-    mat4 invView;     ///< view -> world
-    mat4 invProj;     ///< clip -> view
-    vec4 viewport;    ///< width, height [pixels], 1 / width, 1 / height
-    vec4 eye;         ///< camera position, world [m] xyz; near plane [m] in w
-    vec4 light;       ///< unit direction towards the light, world xyz; far plane [m] in w
-    vec4 particle;    ///< radius [m], colour mode, speed of the top colour [m/s], density error
-                      ///< of the top colour
-    vec4 floorPlane;  ///< floor height y [m], checker size [m], 1 if the floor is drawn, unused
-    vec4 water;       ///< water colour rgb (display values), unused w
-    vec4 fluid;       ///< fluid surface: absorption per metre of thickness, refraction offset
-                      ///< [pixels per m], Fresnel F0, sphere radius of its depth and thickness
-                      ///< passes [m]
-    uvec4 counts;     ///< particle count, unused yzw
+    /*   0 */ mat4 view;    ///< world -> view [m]
+    /*  64 */ mat4 proj;    ///< view -> clip (OpenGL, depth range [-1, 1])
+    /* 128 */ mat4 invView; ///< view -> world
+    /* 192 */ mat4 invProj; ///< clip -> view
+    // Viewport.
+    /* 256 */ vec2 viewportSize;    ///< width, height [pixels]
+    /* 264 */ vec2 invViewportSize; ///< 1 / width, 1 / height [1/pixels]
+    // Camera and light.
+    /* 272 */ vec3 eye;            ///< camera position, world [m]
+    /* 284 */ float nearPlane;     ///< [m]
+    /* 288 */ vec3 lightDirection; ///< unit direction towards the light, world
+    /* 300 */ float farPlane;      ///< [m]
+    // Particles.
+    /* 304 */ float particleRadius;    ///< [m]
+    /* 308 */ uint colourMode;         ///< kColourWater, kColourSpeed or kColourDensityError
+    /* 312 */ float speedRange;        ///< speed of the top colour [m/s]
+    /* 316 */ float densityErrorRange; ///< density error C_i of the top colour
+    // Floor.
+    /* 320 */ float floorY;       ///< floor height [m]
+    /* 324 */ float checkerSize;  ///< side of a floor checker [m]
+    /* 328 */ uint drawFloor;     ///< 1 if the floor is drawn, 0 otherwise
+    /* 332 */ uint particleCount; ///< particles drawn
+    // Water.
+    /* 336 */ vec3 waterColour;          ///< rgb (display values)
+    /* 348 */ float fluidAbsorption;     ///< fluid surface: absorption per metre of thickness
+    /* 352 */ float fluidRefraction;     ///< fluid surface: refraction offset [pixels per m]
+    /* 356 */ float fluidFresnelF0;      ///< fluid surface: Fresnel reflectance at normal incidence
+    /* 360 */ float fluidSphereRadius;   ///< sphere radius of its depth and thickness passes [m]
+    /* 364 */ uint pad0;
 };
+// clang-format on
 
 /// What render_stats.comp accumulates over every particle.
 struct RenderStats {
@@ -61,10 +79,26 @@ SLUICE_SHARED_END
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(sluice::shared::RenderFrame) == 4 * 64 + 8 * 16, "RenderFrame layout");
-static_assert(offsetof(sluice::shared::RenderFrame, viewport) == 256, "RenderFrame layout");
-static_assert(offsetof(sluice::shared::RenderFrame, counts) == 368, "RenderFrame layout");
-static_assert(sizeof(sluice::shared::RenderStats) == 16, "RenderStats layout");
+#define SLUICE_RENDER_AT(field, offset)                                                            \
+    static_assert(offsetof(sluice::shared::RenderFrame, field) == (offset),                        \
+                  "std140 offset of " #field)
+SLUICE_RENDER_AT(invProj, 192);
+SLUICE_RENDER_AT(viewportSize, 256);
+SLUICE_RENDER_AT(invViewportSize, 264);
+SLUICE_RENDER_AT(eye, 272);
+SLUICE_RENDER_AT(nearPlane, 284);
+SLUICE_RENDER_AT(lightDirection, 288);
+SLUICE_RENDER_AT(farPlane, 300);
+SLUICE_RENDER_AT(particleRadius, 304);
+SLUICE_RENDER_AT(densityErrorRange, 316);
+SLUICE_RENDER_AT(floorY, 320);
+SLUICE_RENDER_AT(particleCount, 332);
+SLUICE_RENDER_AT(waterColour, 336);
+SLUICE_RENDER_AT(fluidAbsorption, 348);
+SLUICE_RENDER_AT(fluidSphereRadius, 360);
+static_assert(sizeof(sluice::shared::RenderFrame) == 368, "std140 size of RenderFrame");
+static_assert(sizeof(sluice::shared::RenderStats) == 16, "std430 size of RenderStats");
+#undef SLUICE_RENDER_AT
 #endif
 
 #endif // SLUICE_SHARED_RENDER_H

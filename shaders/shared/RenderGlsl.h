@@ -43,7 +43,7 @@ vec3 skyColour(vec3 dir) {
 
 // Lambert + Blinn-Phong specular + hemispherical ambient, in display values.
 vec3 shade(vec3 albedo, vec3 n, vec3 toEye, float specular, float shininess) {
-    vec3 l = F.light.xyz;
+    vec3 l = F.lightDirection;
     float diffuse = max(dot(n, l), 0.0);
     float ambient = 0.35 + 0.15 * n.y;
     vec3 h = normalize(l + toEye);

@@ -56,8 +56,8 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
         auto texture =
             gpu::Texture3D::createR32F(asset.meta.dims, "collider " + std::to_string(i) + " SDF");
         if (!texture)
-            return Error{texture.error().code,
-                         scene.colliders[i].resolvedPath + ": " + texture.error().detail};
+            return fail(texture.error().code,
+                         scene.colliders[i].resolvedPath + ": " + texture.error().detail);
         texture->upload(asset.distances);
         Collider collider;
         collider.sdf = std::move(*texture);

@@ -141,17 +141,25 @@ struct Renderer::Impl {
         f.proj = camera.projection(aspect);
         f.invView = glm::inverse(f.view);
         f.invProj = glm::inverse(f.proj);
-        f.viewport = {float(size.x), float(size.y), 1.0f / float(size.x), 1.0f / float(size.y)};
-        f.eye = glm::vec4(camera.eye(), camera.nearPlane());
-        f.light = glm::vec4(kLight, camera.farPlane());
-        f.particle = {sim.constants().radius, float(std::uint32_t(settings.colour)),
-                      std::max(settings.speedRange, 1e-6f),
-                      std::max(settings.densityErrorRange, 1e-6f)};
-        f.floorPlane = {floorY, kCheckerSize, settings.drawFloor ? 1.0f : 0.0f, 0.0f};
-        f.water = glm::vec4(settings.waterColour, 0.0f);
-        f.fluid = {settings.absorption, settings.refraction, 0.02f,
-                   settings.fluidSphereScale * sim.constants().radius};
-        f.counts = {sim.particleCount(), 0u, 0u, 0u};
+        f.viewportSize = {float(size.x), float(size.y)};
+        f.invViewportSize = {1.0f / float(size.x), 1.0f / float(size.y)};
+        f.eye = camera.eye();
+        f.nearPlane = camera.nearPlane();
+        f.lightDirection = kLight;
+        f.farPlane = camera.farPlane();
+        f.particleRadius = sim.constants().radius;
+        f.colourMode = std::uint32_t(settings.colour);
+        f.speedRange = std::max(settings.speedRange, 1e-6f);
+        f.densityErrorRange = std::max(settings.densityErrorRange, 1e-6f);
+        f.floorY = floorY;
+        f.checkerSize = kCheckerSize;
+        f.drawFloor = settings.drawFloor ? 1u : 0u;
+        f.particleCount = sim.particleCount();
+        f.waterColour = settings.waterColour;
+        f.fluidAbsorption = settings.absorption;
+        f.fluidRefraction = settings.refraction;
+        f.fluidFresnelF0 = 0.02f;
+        f.fluidSphereRadius = settings.fluidSphereScale * sim.constants().radius;
         frame.upload(&f, sizeof f);
     }
 };
