@@ -70,13 +70,6 @@ Result<void> prepareOutputPath(const std::filesystem::path& path) {
     return {};
 }
 
-std::string plural(std::uint64_t count, std::string_view singular, std::string_view pluralForm) {
-    std::string text = std::to_string(count) + " ";
-    if (count == 1)
-        return text + std::string(singular);
-    return text + (pluralForm.empty() ? std::string(singular) + "s" : std::string(pluralForm));
-}
-
 std::string describeMesh(const format::MeshDiagnostics& mesh) {
     std::string text = plural(mesh.triangles, "triangle") + ", " +
                        plural(mesh.vertices, "vertex", "vertices") + ", ";

@@ -16,6 +16,7 @@
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/ExitCodes.h"
 #include "sluice/format/Result.h"
+#include "sluice/format/Suggest.h"
 
 namespace sluice::bake::cli {
 
@@ -94,10 +95,7 @@ using format::storageName;
 /// "1280 triangles, 642 vertices, closed, not self-intersecting, ..." for people.
 std::string describeMesh(const format::MeshDiagnostics& mesh);
 
-/// "1 triangle", "2 triangles": `count` and the noun, plural unless the count is 1.
-/// `pluralForm` defaults to `singular` + "s".
-std::string plural(std::uint64_t count, std::string_view singular,
-                   std::string_view pluralForm = {});
+using format::plural;
 
 /// "70 x 70 x 70 = 343000 points".
 std::string describeDims(const glm::uvec3& dims);

@@ -45,6 +45,13 @@ std::optional<std::string> closestMatch(std::string_view word,
     return *best;
 }
 
+std::string plural(std::uint64_t count, std::string_view singular, std::string_view pluralForm) {
+    std::string text = std::to_string(count) + " ";
+    if (count == 1)
+        return text + std::string(singular);
+    return text + (pluralForm.empty() ? std::string(singular) + "s" : std::string(pluralForm));
+}
+
 std::string didYouMean(std::string_view word, const std::vector<std::string>& candidates,
                        char quote) {
     const auto best = closestMatch(word, candidates);

@@ -14,6 +14,7 @@
 #include "CaptureHeadless.h"
 #include "SceneChecks.h"
 #include "StatsReport.h"
+#include "sluice/format/Suggest.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/PlayCli.h"
@@ -69,7 +70,8 @@ Result<HeadlessRun> startRun(const HeadlessOptions& o, const format::Scene& scen
 void printStartup(const HeadlessRun& run, const std::vector<std::string>& colliderLines) {
     const Simulation& sim = run.sim;
     std::cout << "scene " << run.scene.path << ": " << sim.particleCount() << " particles ("
-              << sim.capacity() << " capacity), " << run.scene.colliders.size() << " colliders, "
+              << sim.capacity() << " capacity), "
+              << format::plural(run.scene.colliders.size(), "collider") << ", "
               << run.scene.simulation.substeps << " substeps of " << sim.constants().dt * 1e3
               << " ms, up to " << run.scene.simulation.maxIterations << " iterations\n";
     for (const std::string& line : colliderLines)

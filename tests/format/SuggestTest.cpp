@@ -33,3 +33,9 @@ TEST(Suggest, ShortWordsNeedACloserMatch) {
               "--resolution");
     EXPECT_FALSE(closestMatch(std::string(65, 'a'), {std::string(65, 'a')}));
 }
+
+TEST(Suggest, CountedNounsAreSingularForOneOnly) {
+    EXPECT_EQ(plural(0, "collider"), "0 colliders");
+    EXPECT_EQ(plural(1, "collider"), "1 collider");
+    EXPECT_EQ(plural(2, "vertex", "vertices"), "2 vertices");
+}
