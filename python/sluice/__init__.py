@@ -257,12 +257,12 @@ class Simulation:
     @property
     def positions(self) -> np.ndarray:
         """(N, 3) float32 particle positions [m], in memory order (see ``particles``)."""
-        return self._s.positions
+        return self._s.positions()
 
     @property
     def velocities(self) -> np.ndarray:
         """(N, 3) float32 particle velocities [m/s]."""
-        return self._s.velocities
+        return self._s.velocities()
 
     @property
     def particles(self) -> Dict[str, np.ndarray]:

@@ -2,6 +2,7 @@
 #include "Errors.h"
 
 #include <Python.h>
+#include <nanobind/stl/string.h>
 
 namespace sluice::py {
 

@@ -7,6 +7,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/unique_ptr.h>
 
 #include <Python.h>
 
@@ -152,10 +153,10 @@ void bindSimulation(nb::module_& m) {
                  if (Result<void> ok = s.current().setParameters(p); !ok)
                      raise(Family::Argument, ok.error());
              })
-        .def_prop_ro("positions",
-                     [](PySimulation& s) { return vec3Array(s.current().downloadParticles(), false); })
-        .def_prop_ro("velocities",
-                     [](PySimulation& s) { return vec3Array(s.current().downloadParticles(), true); })
+        .def("positions",
+             [](PySimulation& s) { return vec3Array(s.current().downloadParticles(), false); })
+        .def("velocities",
+             [](PySimulation& s) { return vec3Array(s.current().downloadParticles(), true); })
         .def("particles",
              [](PySimulation& s) {
                  const std::vector<rt::ParticleState> p = s.current().downloadParticles();
