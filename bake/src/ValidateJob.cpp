@@ -7,14 +7,6 @@
 #include "CliSupport.h"
 
 namespace sluice::bake {
-namespace {
-
-/// [voxels] default --max-error beyond quantization. A CGAL bake stores the same reference in
-/// fp32, so its error is float rounding (~1e-7 relative, far below this); anything near a
-/// thousandth of a voxel is a real disagreement.
-constexpr double kDefaultMaxErrorVoxels = 1e-3;
-
-} // namespace
 
 double defaultMaxError(const format::ColliderAsset& asset) {
     if (asset.meta.storage != format::Storage::F16)

@@ -326,4 +326,4 @@ class Simulation:
         return self._s.renderer
 
 
-from ._batch import bake_many  # noqa: E402
+from ._batch import bake_entry, bake_many  # noqa: E402

@@ -13,6 +13,7 @@
 
 #include "Errors.h"
 #include "sluice/bake/BakeJob.h"
+#include "sluice/bake/BatchJob.h"
 #include "sluice/bake/ValidateJob.h"
 #include "sluice/bake/VdbIO.h"
 #include "sluice/format/AssetIO.h"
@@ -171,6 +172,52 @@ std::string validate(const Collider& c, const Mesh& mesh, const bake::ValidateRe
     return bake::validateReportJson(*outcome, c.asset, mesh.mesh, c.path, mesh.path, req, false);
 }
 
+nb::dict entryDict(const bake::BatchEntry& e) {
+    nb::dict d;
+    d["mesh"] = e.mesh;
+    d["output"] = e.output;
+    d["label"] = e.label;
+    d["resolution"] = e.request.resolution;
+    d["voxelSize"] = e.request.voxelSize;
+    d["padding"] = e.request.padding;
+    d["sign"] = e.request.sign;
+    d["storage"] = e.request.storage;
+    d["scale"] = e.request.scale;
+    d["backend"] = e.request.backend;
+    return d;
+}
+
+nb::list readManifest(const std::string& path) {
+    std::vector<bake::BatchEntry> entries =
+        take(bake::readBatchManifest(path), Family::Argument);
+    nb::list out;
+    for (const bake::BatchEntry& e : entries)
+        out.append(entryDict(e));
+    return out;
+}
+
+nb::dict bakeEntry(const std::string& mesh, const std::string& output, const std::string& label,
+                   const bake::BakeRequest& request, bool force, bool bar, nb::object callback) {
+    const bake::BatchEntry entry{mesh, output, label, request};
+    bake::Progress progress("baking " + label, 0, bar);
+    Result<bake::BatchEntryResult> result = runReleased(progress, std::move(callback), [&] {
+        Result<bake::BatchEntryResult> r = bake::bakeBatchEntry(entry, force, &progress);
+        progress.finish();
+        return r;
+    });
+    if (!result)
+        raise(result.error().code == ErrorCode::InvalidArgument ? Family::Argument : Family::Bake,
+              result.error());
+    nb::dict d;
+    d["output"] = output;
+    d["label"] = label;
+    d["status"] = result->fresh ? "fresh" : "baked";
+    d["seconds"] = result->seconds;
+    d["points"] = result->points;
+    d["maxError"] = result->maxError ? nb::cast(*result->maxError) : nb::none();
+    return d;
+}
+
 } // namespace
 
 void bindBake(nb::module_& m) {
@@ -271,6 +318,11 @@ void bindBake(nb::module_& m) {
           nb::arg("bar"), nb::arg("callback").none(),
           "Validates a collider against a mesh; `sluice-bake validate --json`'s report.");
     m.def("tool_version", &bake::bakeToolVersion);
+    m.def("read_batch_manifest", &readManifest, nb::arg("path"),
+          "The entries of a batch manifest (as `sluice-bake batch` reads it), paths resolved.");
+    m.def("bake_batch_entry", &bakeEntry, nb::arg("mesh"), nb::arg("output"), nb::arg("label"),
+          nb::arg("request"), nb::arg("force"), nb::arg("bar"), nb::arg("callback").none(),
+          "Bakes one manifest entry unless its output is fresh (as `sluice-bake batch`).");
 }
 
 } // namespace sluice::py

@@ -13,6 +13,11 @@
 
 namespace sluice::bake {
 
+/// [voxels] validate's default --max-error beyond quantization. A CGAL bake stores the same
+/// reference in fp32, so its error is float rounding (~1e-7 relative, far below this); anything
+/// near a thousandth of a voxel is a real disagreement.
+inline constexpr double kDefaultMaxErrorVoxels = 1e-3;
+
 /// The options of `sluice-bake validate`, as it spells them.
 struct ValidateRequest {
     std::string sign;                             ///< empty: what the asset records (auto for .vdb)
