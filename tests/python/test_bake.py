@@ -221,3 +221,55 @@ def test_stubs_are_generated_for_editors() -> None:
                  "def read_asset"):
         assert name in stub, name
     assert (package / "py.typed").exists()
+
+
+def test_progress_reaches_python_and_an_exception_there_stops_the_bake(sphere_obj: Path) -> None:
+    from sluice import _sluice
+    mesh = sluice.load_mesh(sphere_obj)
+    request = _sluice.BakeRequest()
+    request.backend, request.resolution = "cgal", 56
+    calls = []
+    _sluice.bake_mesh(mesh._m, request, False, lambda done, total: calls.append((done, total)))
+    assert calls, "the bake ran under 50 ms: no progress call to check"
+    dims = sluice.bake(mesh, resolution=56, backend="cgal", progress=False).dims
+    assert {total for _, total in calls} == {dims[0] * dims[1] * dims[2]}
+    assert [d for d, _ in calls] == sorted(d for d, _ in calls)
+
+    class Stop(Exception):
+        pass
+
+    def stop(done: int, total: int) -> None:
+        raise Stop(f"{done} of {total}")
+
+    with pytest.raises(Stop):
+        _sluice.bake_mesh(mesh._m, request, False, stop)
+
+
+def test_a_tqdm_bar_shows_for_work_over_a_second(monkeypatch) -> None:
+    import sys
+    import types
+    shown = []
+
+    class FakeTqdm:
+        def __init__(self, total, desc, **kw):
+            shown.append(("open", total, desc))
+
+        def update(self, n):
+            shown.append(("update", n))
+
+        def close(self):
+            shown.append(("close",))
+
+    monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
+    monkeypatch.setitem(sys.modules, "tqdm.auto", types.SimpleNamespace(tqdm=FakeTqdm))
+    from sluice._progress import progress_hooks
+    bar, update, close = progress_hooks("baking x", True)
+    assert bar is False and update is not None
+    update(10, 100)  # within the first second: nothing shown
+    assert shown == []
+    monkeypatch.setattr(time, "monotonic", lambda: 1e9)
+    update(40, 100)
+    update(100, 100)
+    close()
+    assert shown == [("open", 100, "baking x"), ("update", 40), ("update", 60), ("close",)]
+    assert progress_hooks("x", False)[:2] == (False, None)
