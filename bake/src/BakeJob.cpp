@@ -51,9 +51,9 @@ Result<BakeSettings> bakeSettingsFor(const BakeRequest& request) {
     if (request.voxelSize != 0.0 && !(std::isfinite(request.voxelSize) && request.voxelSize > 0))
         return fail(ErrorCode::InvalidArgument, "--voxel-size: expected a finite number > 0");
     if (request.voxelSize <= 0.0 && (request.resolution < 1 || request.resolution > 4096))
-        return fail(ErrorCode::InvalidArgument,
-                    "--resolution " + std::to_string(request.resolution) +
-                        ": not in range [1 - 4096]");
+        return fail(ErrorCode::InvalidArgument, "--resolution " +
+                                                    std::to_string(request.resolution) +
+                                                    ": not in range [1 - 4096]");
     BakeSettings settings;
     settings.grid.resolution = request.voxelSize > 0.0 ? 0 : request.resolution;
     settings.grid.voxelSize = request.voxelSize;

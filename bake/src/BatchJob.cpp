@@ -97,17 +97,16 @@ std::optional<format::ColliderAsset> freshBatchOutput(const BatchEntry& entry) {
     const BakeRequest& r = entry.request;
     const format::ColliderMeta& meta = asset->meta;
     const bool byVoxelSize = r.voxelSize > 0.0;
-    const bool same = meta.sourceHash == *hash &&
-                      meta.sourceFile == fs::path(entry.mesh).filename().string() &&
-                      meta.toolVersion == cli::toolVersion() &&
-                      // auto takes either backend: both compute the same exact field.
-                      (meta.bake.backend == r.backend ||
-                       (r.backend == "auto" &&
-                        (meta.bake.backend == "gpu" || meta.bake.backend == "cgal"))) &&
-                      meta.bake.resolution == (byVoxelSize ? 0u : r.resolution) &&
-                      (!byVoxelSize || meta.voxelSize == r.voxelSize) &&
-                      meta.bake.padding == r.padding && meta.bake.signMode == r.sign &&
-                      meta.bake.scale == r.scale && format::storageName(meta.storage) == r.storage;
+    const bool same =
+        meta.sourceHash == *hash && meta.sourceFile == fs::path(entry.mesh).filename().string() &&
+        meta.toolVersion == cli::toolVersion() &&
+        // auto takes either backend: both compute the same exact field.
+        (meta.bake.backend == r.backend ||
+         (r.backend == "auto" && (meta.bake.backend == "gpu" || meta.bake.backend == "cgal"))) &&
+        meta.bake.resolution == (byVoxelSize ? 0u : r.resolution) &&
+        (!byVoxelSize || meta.voxelSize == r.voxelSize) && meta.bake.padding == r.padding &&
+        meta.bake.signMode == r.sign && meta.bake.scale == r.scale &&
+        format::storageName(meta.storage) == r.storage;
     if (!same)
         return std::nullopt;
     return std::move(*asset);

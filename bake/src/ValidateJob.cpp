@@ -42,7 +42,7 @@ std::uint64_t validatePointCount(const format::ColliderAsset& asset,
 
 Result<ValidateOutcome> validateAsset(const format::ColliderAsset& asset, const ImportedMesh& mesh,
                                       const ValidateRequest& request, Progress* progress) {
-    const std::string signText = !request.sign.empty() ? request.sign
+    const std::string signText = !request.sign.empty()    ? request.sign
                                  : request.levelSetSource ? std::string("auto")
                                                           : defaultValidateSign(asset.meta);
     Result<SignMode> sign = parseSignMode(signText);

@@ -35,8 +35,8 @@ struct Mesh {
 /// A collider asset, owned by Python; `values` views its distances.
 struct Collider {
     format::ColliderAsset asset;
-    std::string path;         ///< the file it was read from or saved to; empty otherwise
-    bool levelSet = false;    ///< read from a .vdb grid
+    std::string path;      ///< the file it was read from or saved to; empty otherwise
+    bool levelSet = false; ///< read from a .vdb grid
 };
 
 Mesh loadMesh(const std::string& path, double scale) {
@@ -79,8 +79,8 @@ Collider bakeMesh(const Mesh& mesh, const bake::BakeRequest& request, bool bar,
                   nb::object callback) {
     if (Result<bake::BakeSettings> settings = bake::bakeSettingsFor(request); !settings)
         raise(Family::Argument, settings.error());
-    Result<bake::GridSpec> grid = bake::gridFor(mesh.mesh.soup.bounds(),
-                                                bake::bakeSettingsFor(request)->grid);
+    Result<bake::GridSpec> grid =
+        bake::gridFor(mesh.mesh.soup.bounds(), bake::bakeSettingsFor(request)->grid);
     const std::string shown = mesh.path.empty() ? mesh.mesh.sourceFile : mesh.path;
     if (!grid)
         raise(Family::Bake, grid.error(), "cannot bake", shown);
@@ -92,12 +92,11 @@ Collider bakeMesh(const Mesh& mesh, const bake::BakeRequest& request, bool bar,
     });
     if (!outcome) {
         const Error& e = outcome.error();
-        const bool gpu = e.code == ErrorCode::NoGlContext || e.code == ErrorCode::ShaderCompile ||
-                         e.code == ErrorCode::ShaderLink || e.code == ErrorCode::GpuOutOfMemory;
-        raise(gpu ? Family::Bake : Family::Bake, e,
-              e.code == ErrorCode::NoGlContext ? "no GPU context for backend 'gpu' (use 'cgal')"
-                                               : "cannot bake",
-              e.code == ErrorCode::NoGlContext ? std::string() : shown);
+        // The command line's words; error_class() makes GPU codes a GpuError.
+        const bool noContext = e.code == ErrorCode::NoGlContext;
+        raise(Family::Bake, e,
+              noContext ? "no GPU context for --backend gpu (use --backend cgal)" : "cannot bake",
+              noContext ? std::string() : shown);
     }
     if (!outcome->fallback.empty())
         nb::module_::import_("warnings")
@@ -118,8 +117,9 @@ nb::ndarray<nb::numpy, float, nb::ndim<3>> values(nb::handle self) {
                                                       strides);
 }
 
-nb::tuple sample(const Collider& c,
-                 nb::ndarray<const double, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> points) {
+nb::tuple
+sample(const Collider& c,
+       nb::ndarray<const double, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> points) {
     const std::size_t n = points.shape(0);
     auto* phi = new float[n];
     auto* grad = new double[n * 3];
@@ -188,8 +188,7 @@ nb::dict entryDict(const bake::BatchEntry& e) {
 }
 
 nb::list readManifest(const std::string& path) {
-    std::vector<bake::BatchEntry> entries =
-        take(bake::readBatchManifest(path), Family::Argument);
+    std::vector<bake::BatchEntry> entries = take(bake::readBatchManifest(path), Family::Argument);
     nb::list out;
     for (const bake::BatchEntry& e : entries)
         out.append(entryDict(e));
@@ -221,7 +220,8 @@ nb::dict bakeEntry(const std::string& mesh, const std::string& output, const std
 } // namespace
 
 void bindBake(nb::module_& m) {
-    nb::class_<bake::BakeRequest>(m, "BakeRequest", "The options of one bake (as `sluice-bake bake`).")
+    nb::class_<bake::BakeRequest>(m, "BakeRequest",
+                                  "The options of one bake (as `sluice-bake bake`).")
         .def(nb::init<>())
         .def_rw("backend", &bake::BakeRequest::backend)
         .def_rw("resolution", &bake::BakeRequest::resolution)
@@ -272,8 +272,9 @@ void bindBake(nb::module_& m) {
     m.def("load_mesh", &loadMesh, nb::arg("path"), nb::arg("scale") = 1.0,
           "Reads a mesh file (assimp) or a level-set .vdb at `scale`, as sluice-bake does.");
     m.def("mesh_from_arrays", &meshFromArrays, nb::arg("vertices"), nb::arg("triangles"),
-          nb::arg("name") = "arrays", "A Mesh from (N, 3) float64 vertices and (M, 3) uint32 "
-                                      "triangles (copied).");
+          nb::arg("name") = "arrays",
+          "A Mesh from (N, 3) float64 vertices and (M, 3) uint32 "
+          "triangles (copied).");
 
     nb::class_<Collider>(m, "Collider", "A baked collider: a dense signed distance grid.")
         .def_prop_ro("values", &values, nb::rv_policy::reference_internal,
@@ -295,17 +296,18 @@ void bindBake(nb::module_& m) {
         .def_prop_ro("path", [](const Collider& c) { return c.path; })
         .def("save", &save, nb::arg("path"),
              "Writes the asset atomically (as the command line): replaced whole or untouched.")
-        .def("export_vdb",
-             [](const Collider& c, const std::string& path) {
-                 Result<void> ok;
-                 {
-                     nb::gil_scoped_release release;
-                     ok = bake::exportVdb(c.asset, path);
-                 }
-                 if (!ok)
-                     raise(Family::File, ok.error(), "cannot export", path);
-             },
-             nb::arg("path"), "Writes an OpenVDB float level set (as `sluice-bake export`).")
+        .def(
+            "export_vdb",
+            [](const Collider& c, const std::string& path) {
+                Result<void> ok;
+                {
+                    nb::gil_scoped_release release;
+                    ok = bake::exportVdb(c.asset, path);
+                }
+                if (!ok)
+                    raise(Family::File, ok.error(), "cannot export", path);
+            },
+            nb::arg("path"), "Writes an OpenVDB float level set (as `sluice-bake export`).")
         .def("sample", &sample, nb::arg("points"),
              "The CPU trilinear sampler at (N, 3) float64 points: (phi (N,) float32, gradient "
              "(N, 3) float64).");

@@ -10,13 +10,20 @@ namespace {
 
 const char* familyName(Family family) {
     switch (family) {
-    case Family::File: return "file";
-    case Family::Mesh: return "mesh";
-    case Family::Asset: return "asset";
-    case Family::Scene: return "scene";
-    case Family::Bake: return "bake";
-    case Family::Simulation: return "simulation";
-    case Family::Argument: return "argument";
+    case Family::File:
+        return "file";
+    case Family::Mesh:
+        return "mesh";
+    case Family::Asset:
+        return "asset";
+    case Family::Scene:
+        return "scene";
+    case Family::Bake:
+        return "bake";
+    case Family::Simulation:
+        return "simulation";
+    case Family::Argument:
+        return "argument";
     }
     return "bake";
 }
@@ -39,13 +46,14 @@ void registerErrors(nb::module_& m) {
         } catch (const SluiceError& e) {
             nb::object errors = nb::module_::import_("sluice._errors");
             nb::object cls = errors.attr("error_class")(std::string(errorCodeName(e.code)),
-                                                         familyName(e.family));
+                                                        familyName(e.family));
             nb::object exc = cls(e.what(), std::string(errorCodeName(e.code)));
             PyErr_SetObject(cls.ptr(), exc.ptr());
         }
     });
-    m.def("error_code_name", [](int code) { return std::string(errorCodeName(ErrorCode(code))); },
-          "The ErrorCode name of a numeric code (for tests).");
+    m.def(
+        "error_code_name", [](int code) { return std::string(errorCodeName(ErrorCode(code))); },
+        "The ErrorCode name of a numeric code (for tests).");
 }
 
 PollState::PollState(nb::object callback)

@@ -34,8 +34,9 @@ struct SluiceError : std::runtime_error {
                         const std::string& path = {});
 
 /// Unwraps a Result or raises.
-template <class T> T take(Result<T>&& result, Family family, const std::string& what = {},
-                          const std::string& path = {}) {
+template <class T>
+T take(Result<T>&& result, Family family, const std::string& what = {},
+       const std::string& path = {}) {
     if (!result)
         raise(family, result.error(), what, path);
     return std::move(result.value());

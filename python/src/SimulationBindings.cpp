@@ -91,18 +91,30 @@ bool setParam(format::SimulationParams& p, const std::string& key, nb::handle va
                                   " is out of range [InvalidArgument]");
         field = std::uint32_t(v);
     };
-    if (key == "kernelRadius") f(p.kernelRadius);
-    else if (key == "timeStep") f(p.timeStep);
-    else if (key == "substeps") u(p.substeps);
-    else if (key == "minIterations") u(p.minIterations);
-    else if (key == "maxIterations") u(p.maxIterations);
-    else if (key == "targetDensityError") f(p.targetDensityError);
-    else if (key == "relaxation") f(p.relaxation);
-    else if (key == "scorrK") f(p.scorrK);
-    else if (key == "scorrN") f(p.scorrN);
-    else if (key == "scorrDeltaQ") f(p.scorrDeltaQ);
-    else if (key == "xsph") f(p.xsph);
-    else if (key == "vorticity") f(p.vorticity);
+    if (key == "kernelRadius")
+        f(p.kernelRadius);
+    else if (key == "timeStep")
+        f(p.timeStep);
+    else if (key == "substeps")
+        u(p.substeps);
+    else if (key == "minIterations")
+        u(p.minIterations);
+    else if (key == "maxIterations")
+        u(p.maxIterations);
+    else if (key == "targetDensityError")
+        f(p.targetDensityError);
+    else if (key == "relaxation")
+        f(p.relaxation);
+    else if (key == "scorrK")
+        f(p.scorrK);
+    else if (key == "scorrN")
+        f(p.scorrN);
+    else if (key == "scorrDeltaQ")
+        f(p.scorrDeltaQ);
+    else if (key == "xsph")
+        f(p.xsph);
+    else if (key == "vorticity")
+        f(p.vorticity);
     else if (key == "gravity") {
         nb::sequence g = nb::cast<nb::sequence>(value);
         if (nb::len(g) != 3)
@@ -163,38 +175,39 @@ void bindSimulation(nb::module_& m) {
                  auto* ids = new std::uint32_t[p.size()];
                  for (std::size_t i = 0; i < p.size(); ++i)
                      ids[i] = p[i].id;
-                 nb::capsule owner(ids, [](void* q) noexcept { delete[] static_cast<std::uint32_t*>(q); });
+                 nb::capsule owner(
+                     ids, [](void* q) noexcept { delete[] static_cast<std::uint32_t*>(q); });
                  return nb::make_tuple(
                      vec3Array(p, false), vec3Array(p, true),
                      nb::ndarray<nb::numpy, std::uint32_t, nb::ndim<1>>(ids, {p.size()}, owner));
              })
-        .def("set_particles",
-             [](PySimulation& s,
-                nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
-                nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> vel,
-                nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> ids) {
-                 const std::size_t n = pos.shape(0);
-                 if (vel.shape(0) != n || ids.shape(0) != n)
-                     throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
-                                       "set_particles: positions, velocities and ids differ in "
-                                       "length [InvalidArgument]");
-                 std::vector<rt::ParticleState> p(n);
-                 for (std::size_t i = 0; i < n; ++i) {
-                     p[i].position = {pos(i, 0), pos(i, 1), pos(i, 2)};
-                     p[i].velocity = {vel(i, 0), vel(i, 1), vel(i, 2)};
-                     p[i].id = ids(i);
-                 }
-                 if (Result<void> ok = s.current().setParticles(p); !ok)
-                     raise(Family::Argument, ok.error());
-             },
-             nb::arg("positions"), nb::arg("velocities"), nb::arg("ids"))
+        .def(
+            "set_particles",
+            [](PySimulation& s,
+               nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
+               nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> vel,
+               nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> ids) {
+                const std::size_t n = pos.shape(0);
+                if (vel.shape(0) != n || ids.shape(0) != n)
+                    throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
+                                      "set_particles: positions, velocities and ids differ in "
+                                      "length [InvalidArgument]");
+                std::vector<rt::ParticleState> p(n);
+                for (std::size_t i = 0; i < n; ++i) {
+                    p[i].position = {pos(i, 0), pos(i, 1), pos(i, 2)};
+                    p[i].velocity = {vel(i, 0), vel(i, 1), vel(i, 2)};
+                    p[i].id = ids(i);
+                }
+                if (Result<void> ok = s.current().setParticles(p); !ok)
+                    raise(Family::Argument, ok.error());
+            },
+            nb::arg("positions"), nb::arg("velocities"), nb::arg("ids"))
         .def_prop_ro("particle_count", [](PySimulation& s) { return s.sim->particleCount(); })
         .def_prop_ro("capacity", [](PySimulation& s) { return s.sim->capacity(); })
         .def_prop_ro("time", [](PySimulation& s) { return s.sim->time(); })
         .def_prop_ro("steps", [](PySimulation& s) { return s.sim->steps(); })
         .def_prop_ro("scene_path", [](PySimulation& s) { return s.sceneJson; })
-        .def_prop_ro("renderer",
-                     [](PySimulation& s) { return s.context->info().renderer; });
+        .def_prop_ro("renderer", [](PySimulation& s) { return s.context->info().renderer; });
 }
 
 } // namespace sluice::py

@@ -253,6 +253,7 @@ def test_without_a_gl_context_gpu_work_is_a_gpu_error(tetra: Path) -> None:
         f"    sluice.bake({str(tetra)!r}, resolution=4, backend='gpu')\n"
         "except sluice.GpuError as e:\n"
         "    print('bake', e.code)\n"
+        "    open('gpu-error.txt', 'w').write(str(e))\n"
         "try:\n"
         f"    sluice.Simulation(__import__('json').loads({SMALL_SCENE!r}))\n"
         "except sluice.GpuError as e:\n"
@@ -261,11 +262,20 @@ def test_without_a_gl_context_gpu_work_is_a_gpu_error(tetra: Path) -> None:
         "    warnings.simplefilter('always')\n"
         f"    c = sluice.bake({str(tetra)!r}, resolution=4)\n"
         "    print('auto', c.metadata['bake']['backend'], len(w))\n")
-    env = dict(os.environ, SLUICE_EGL_PLATFORM="no-such-platform")
+    package_root = str(Path(sluice.__file__).resolve().parents[1])
+    env = dict(os.environ, SLUICE_EGL_PLATFORM="no-such-platform",
+               PYTHONPATH=os.pathsep.join([package_root, os.environ.get("PYTHONPATH", "")]))
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                          env=env, timeout=120)
+                          env=env, timeout=120, cwd=tetra.parent)
     assert done.returncode == 0, done.stderr
     assert done.stdout.split("\n")[:3] == ["bake NoGlContext", "sim NoGlContext", "auto cgal 1"]
+    exe = os.path.join(os.environ.get("SLUICE_BIN_DIR", str(REPO / "build/dev/bin")),
+                       "sluice-bake")
+    cli = subprocess.run([exe, "bake", str(tetra), "-o", str(tetra.parent / "o.slc"),
+                          "--backend", "gpu"], capture_output=True, text=True, env=env)
+    assert cli.returncode == 3
+    assert (tetra.parent / "gpu-error.txt").read_text() == cli_message(cli.stderr,
+                                                                       "sluice-bake bake: ")
 
 
 def test_errors_pickle_with_their_code() -> None:

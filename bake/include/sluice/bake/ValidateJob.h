@@ -20,12 +20,12 @@ inline constexpr double kDefaultMaxErrorVoxels = 1e-3;
 
 /// The options of `sluice-bake validate`, as it spells them.
 struct ValidateRequest {
-    std::string sign;                             ///< empty: what the asset records (auto for .vdb)
+    std::string sign; ///< empty: what the asset records (auto for .vdb)
     std::uint64_t samples = ValidateOptions{}.samplePoints; ///< sample size for large grids
-    std::uint64_t seed = ValidateOptions{}.seed;  ///< sampling seed
-    std::optional<double> maxError;               ///< [voxels]; empty: defaultMaxError(asset)
-    double maxSignErrorsPercent = 0.0;            ///< [%]
-    bool levelSetSource = false;                  ///< the asset came from a .vdb grid
+    std::uint64_t seed = ValidateOptions{}.seed;            ///< sampling seed
+    std::optional<double> maxError;    ///< [voxels]; empty: defaultMaxError(asset)
+    double maxSignErrorsPercent = 0.0; ///< [%]
+    bool levelSetSource = false;       ///< the asset came from a .vdb grid
 };
 
 /// A validation with its verdict.
@@ -43,13 +43,13 @@ double defaultMaxError(const format::ColliderAsset& asset);
 std::string defaultValidateSign(const format::ColliderMeta& meta);
 
 /// Grid points validate will check (every point, or the sample size on large grids).
-std::uint64_t validatePointCount(const format::ColliderAsset& asset, const ValidateRequest& request);
+std::uint64_t validatePointCount(const format::ColliderAsset& asset,
+                                 const ValidateRequest& request);
 
 /// Validates `asset` against `mesh` (imported at the asset's scale). Errors: InvalidArgument
 /// ("--sign x: ...") and those of validate().
 Result<ValidateOutcome> validateAsset(const format::ColliderAsset& asset, const ImportedMesh& mesh,
-                                      const ValidateRequest& request,
-                                      Progress* progress = nullptr);
+                                      const ValidateRequest& request, Progress* progress = nullptr);
 
 /// The report as `sluice-bake validate --json` prints it (2-space indent); `assetName` and
 /// `meshName` are the paths it names, `written` whether --write stored the figures.
