@@ -42,6 +42,7 @@ class Mesh:
             raise InvalidArgument("triangles: an index is out of range [InvalidArgument]",
                                   "InvalidArgument")
         t = np.ascontiguousarray(t, dtype=np.uint32)
+        self.scale = 1.0
         if v.ndim != 2 or v.shape[1] != 3 or t.ndim != 2 or t.shape[1] != 3:
             raise InvalidArgument("vertices and triangles must have shape (N, 3) and (M, 3) "
                                   "[InvalidArgument]", "InvalidArgument")
@@ -51,7 +52,11 @@ class Mesh:
     def _wrap(cls, core: "_sluice.Mesh") -> "Mesh":
         mesh = cls.__new__(cls)
         mesh._m = core
+        mesh.scale = 1.0
         return mesh
+
+    scale: float
+    """The uniform scale the vertices were read at (recorded in a bake's provenance)."""
 
     @property
     def vertices(self) -> np.ndarray:
@@ -154,7 +159,9 @@ def tool_version() -> str:
 def load_mesh(path: PathLike, scale: float = 1.0) -> Mesh:
     """Reads a mesh (any format assimp reads, or a level-set .vdb) at ``scale``, welded, with
     its diagnostics, exactly as ``sluice-bake bake`` reads it."""
-    return Mesh._wrap(_sluice.load_mesh(os.fspath(path), float(scale)))
+    mesh = Mesh._wrap(_sluice.load_mesh(os.fspath(path), float(scale)))
+    mesh.scale = float(scale)
+    return mesh
 
 
 def read_asset(path: PathLike) -> Collider:
@@ -162,24 +169,30 @@ def read_asset(path: PathLike) -> Collider:
     return Collider(_sluice.read_asset(os.fspath(path)))
 
 
-def _as_mesh(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], scale: float) -> Mesh:
+def _as_mesh(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], scale: Optional[float]) -> Mesh:
     if isinstance(mesh, Mesh):
+        if scale is not None and float(scale) != mesh.scale:
+            raise InvalidArgument(f"scale={scale}: the mesh was read at scale {mesh.scale}; "
+                                  "read it again with load_mesh(path, scale) [InvalidArgument]",
+                                  "InvalidArgument")
         return mesh
+    s = 1.0 if scale is None else float(scale)
     if isinstance(mesh, tuple) and len(mesh) == 2:
-        vertices = np.asarray(mesh[0], dtype=np.float64) * float(scale)
-        return Mesh(vertices, mesh[1])
-    return load_mesh(mesh, scale)
+        m = Mesh(np.asarray(mesh[0], dtype=np.float64) * s, mesh[1])
+        m.scale = s
+        return m
+    return load_mesh(mesh, s)
 
 
 def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int] = None,
          voxel_size: Optional[float] = None, padding: float = 3.0, backend: str = "auto",
-         sign: str = "auto", storage: str = "f32", scale: float = 1.0,
+         sign: str = "auto", storage: str = "f32", scale: Optional[float] = None,
          progress: bool = True) -> Collider:
     """Bakes a mesh into a collider, as ``sluice-bake bake`` does (same grid, field, provenance
     and, once saved, bytes).
 
-    ``mesh`` is a Mesh, a path (read at ``scale``) or a ``(vertices, triangles)`` pair (scaled
-    by ``scale``). Give ``resolution`` [voxels along the longest side, default 64] or
+    ``mesh`` is a Mesh (baked at the scale it was read at), a path (read at ``scale``, default
+    1) or a ``(vertices, triangles)`` pair (scaled by ``scale``); the asset records the scale. Give ``resolution`` [voxels along the longest side, default 64] or
     ``voxel_size`` [world units]. The GIL is released while it runs; a progress bar shows for
     bakes over a second (tqdm where installed); Ctrl-C stops it (KeyboardInterrupt).
     """
@@ -194,7 +207,7 @@ def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int]
     request.padding = float(padding)
     request.sign = sign
     request.storage = storage
-    request.scale = float(scale) if not isinstance(mesh, Mesh) else float(scale)
+    request.scale = m.scale
     bar, callback, close = progress_hooks("baking " + m.source_file, progress)
     try:
         return Collider(_sluice.bake_mesh(m._m, request, bar, callback))

@@ -54,6 +54,13 @@ def test_load_mesh_returns_arrays_and_the_diagnostics_the_baker_reports(sphere_o
     assert mesh.diagnostics == json.loads(done.stdout)["asset"]["mesh"]
     assert mesh.diagnostics["closed"] and not mesh.diagnostics["selfIntersecting"]
     assert not mesh.vertices.flags.writeable
+    # A Mesh bakes at the scale it was read at, and records it, as a path with that scale does.
+    assert mesh.scale == 2.0
+    from_mesh = sluice.bake(mesh, resolution=8, backend="cgal")
+    from_path = sluice.bake(sphere_obj, resolution=8, backend="cgal", scale=2.0)
+    assert from_mesh.metadata == from_path.metadata
+    with pytest.raises(sluice.InvalidArgument):
+        sluice.bake(mesh, scale=1.0)
 
 
 def test_bake_accepts_arrays(sphere_obj: Path) -> None:
