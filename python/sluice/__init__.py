@@ -260,12 +260,32 @@ class Simulation:
         else:
             self._s = _sluice.SimulationCore.from_file(os.fspath(scene), deterministic)
 
-    def step(self, n: int = 1) -> None:
-        """Advances ``n`` steps of the scene's timeStep (GIL released; Ctrl-C between steps)."""
+    def step(self, n: int = 1, progress: bool = True) -> None:
+        """Advances ``n`` steps of the scene's timeStep. The GIL is released while the GPU
+        works; Ctrl-C stops between steps (KeyboardInterrupt). Runs over a second show a tqdm
+        bar where tqdm is installed."""
         if n < 0:
             raise InvalidArgument(f"step: n = {n} must be >= 0 [InvalidArgument]",
                                   "InvalidArgument")
-        self._s.step(int(n))
+        n = int(n)
+        _, update, close = progress_hooks("stepping", progress)
+        if update is None:
+            self._s.step(n)
+            return
+        # In chunks of about 0.2 s, so the bar moves without a GPU sync per step.
+        import time
+        done, chunk = 0, 1
+        try:
+            while done < n:
+                k = min(chunk, n - done)
+                start = time.monotonic()
+                self._s.step(k)
+                done += k
+                update(done, n)
+                elapsed = time.monotonic() - start
+                chunk = max(1, min(4 * chunk, int(k * 0.2 / elapsed) if elapsed > 0 else 4 * chunk))
+        finally:
+            close()
 
     @property
     def positions(self) -> np.ndarray:

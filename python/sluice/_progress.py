@@ -6,7 +6,8 @@ import time
 from typing import Callable, Optional, Tuple
 
 
-def progress_hooks(label: str, progress: bool) -> Tuple[bool, Optional[Callable[[int, int], None]], Callable[[], None]]:
+def progress_hooks(label: str, progress: bool
+                   ) -> Tuple[bool, Optional[Callable[[int, int], None]], Callable[[], None]]:
     """(use the C++ bar, callback(done, total) or None, close()) for one long call.
 
     The callback shows a tqdm bar once the work has run for a second, as the command line's
@@ -25,7 +26,8 @@ def progress_hooks(label: str, progress: bool) -> Tuple[bool, Optional[Callable[
         if state["bar"] is None:
             if time.monotonic() - start < 1.0:
                 return
-            state["bar"] = tqdm(total=total, desc=label, unit="voxel", unit_scale=True)
+            unit = "step" if label == "stepping" else "voxel"
+            state["bar"] = tqdm(total=total, desc=label, unit=unit, unit_scale=True)
         state["bar"].update(done - state["done"])
         state["done"] = done
 

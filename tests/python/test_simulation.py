@@ -105,3 +105,28 @@ def test_live_parameters_change_the_run(scene: Path) -> None:
     # the same block under gravity falls at g t (3 steps of 1/60 s: 0.49 m/s).
     assert abs(sim.velocities[:, 1].mean()) < 0.02
     assert falling.velocities[:, 1].mean() == pytest.approx(-9.81 * 3 / 60, rel=0.05)
+
+
+def test_steps_in_chunks_with_a_progress_bar_give_the_same_run(scene: Path, monkeypatch) -> None:
+    import sys
+    import types
+    updates = []
+
+    class FakeTqdm:
+        def __init__(self, total, desc, **kw):
+            updates.append(("open", total))
+
+        def update(self, k):
+            updates.append(k)
+
+        def close(self):
+            pass
+
+    monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
+    monkeypatch.setitem(sys.modules, "tqdm.auto", types.SimpleNamespace(tqdm=FakeTqdm))
+    a = sluice.Simulation(scene, deterministic=True)
+    b = sluice.Simulation(scene, deterministic=True)
+    a.step(6)                   # chunked, through the (fake) bar
+    b.step(6, progress=False)   # one call
+    assert a.steps == b.steps == 6
+    assert np.array_equal(a.positions, b.positions)
