@@ -60,6 +60,11 @@ def test_bake_many_on_a_process_pool_matches_sluice_bake_batch(tmp_path: Path,
     with ProcessPoolExecutor(max_workers=2) as pool:
         results = sluice.bake_many(manifest, executor=pool)
     check_results(results, manifest.parent, cli_library, "baked")
+    # A failed entry leaves its previous output as it was.
+    (manifest.parent / "broken.slc").write_bytes(b"previous")
+    assert sluice.bake_many(manifest, force=True)[1]["status"] == "failed"
+    assert (manifest.parent / "broken.slc").read_bytes() == b"previous"
+    (manifest.parent / "broken.slc").unlink()
     assert results[0]["points"] == sluice.read_asset(cli_library / "sphere.slc").values.size
     # A second run finds everything fresh; a changed mesh rebakes only its entries.
     again = sluice.bake_many(manifest)  # the default local process pool
