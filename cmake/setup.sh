@@ -17,7 +17,7 @@ esac
 
 # Build tools and libraries (Debian 12 package names).
 packages=(
-  cmake ninja-build g++ pkg-config python3 python3-venv
+  cmake ninja-build g++ pkg-config python3 python3-venv python3-dev
   libassimp-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libboost-iostreams-dev libeigen3-dev
   libopenvdb-dev libtbb-dev libcereal-dev libcli11-dev libglm-dev libstb-dev libxxhash-dev
   libspdlog-dev libfmt-dev nlohmann-json3-dev rapidjson-dev

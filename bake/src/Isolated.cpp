@@ -182,6 +182,10 @@ void stopLog4cplusThreadPool() {
 
 } // namespace
 
+void prepareForFork() {
+    stopLog4cplusThreadPool();
+}
+
 Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits& limits,
                                  const std::function<Result<TriangleSoup>()>& work) {
     stopLog4cplusThreadPool();

@@ -27,8 +27,18 @@ Progress::~Progress() {
     finish();
 }
 
+void Progress::setPoll(Poll poll) {
+    m_poll = std::move(poll);
+}
+
 void Progress::add(std::uint64_t n) {
     const std::uint64_t done = m_done.fetch_add(n, std::memory_order_relaxed) + n;
+    if (m_poll) {
+        if (m_cancelled.load(std::memory_order_relaxed) || !m_poll(done, m_total)) {
+            m_cancelled.store(true, std::memory_order_relaxed);
+            throw ProgressCancelled{};
+        }
+    }
     if (!m_enabled)
         return;
     const Clock::time_point now = Clock::now();

@@ -5,15 +5,12 @@
 
 #include "CliSupport.h"
 #include "sluice/bake/Cli.h"
+#include "sluice/bake/ValidateJob.h"
 #include "sluice/format/AssetIO.h"
 
 namespace sluice::bake::cli {
 namespace {
 
-/// [voxels] default --max-error beyond quantization. A CGAL bake stores the same reference in
-/// fp32, so its error is float rounding (~1e-7 relative, far below this); anything near a
-/// thousandth of a voxel is a real disagreement.
-constexpr double kDefaultMaxErrorVoxels = 1e-3;
 /// [%] default --max-sign-errors: a CGAL bake has the reference's signs everywhere outside the
 /// 1e-4-voxel surface band, so any mismatch is a failure.
 constexpr double kDefaultMaxSignErrorsPercent = 0.0;
@@ -31,36 +28,6 @@ struct ValidateArgs {
     bool write = false;
     bool quiet = false;
 };
-
-/// The default --max-error for an asset [voxels]: kDefaultMaxErrorVoxels plus, for fp16, the
-/// quantization error the writer recorded (or, if none is recorded, the fp16 rounding bound
-/// 2^-11 * max |phi|).
-double defaultMaxError(const format::ColliderAsset& asset) {
-    if (asset.meta.storage != format::Storage::F16)
-        return kDefaultMaxErrorVoxels;
-    double quantization = asset.meta.quantizationError;
-    if (quantization <= 0.0) {
-        double largest = 0.0;
-        for (float phi : asset.distances)
-            largest = std::max(largest, double(std::abs(phi)));
-        quantization = largest * 0x1.0p-11;
-    }
-    return kDefaultMaxErrorVoxels + quantization / asset.meta.voxelSize;
-}
-
-/// What --sign means when not given: the method the asset was baked with, so a winding-number
-/// bake of an open mesh is not checked against parity (auto for level-set sources).
-std::string defaultSign(const format::ColliderMeta& meta) {
-    switch (meta.bake.signUsed) {
-    case format::SignMethod::Parity:
-        return "parity";
-    case format::SignMethod::Winding:
-        return "winding";
-    case format::SignMethod::Level:
-        return "auto";
-    }
-    return "auto";
-}
 
 int runValidate(const ValidateArgs& args) {
     constexpr std::string_view cmd = "validate";
@@ -86,7 +53,7 @@ int runValidate(const ValidateArgs& args) {
     const bool vdb = hasExtension(args.asset, ".vdb");
     const std::string signUsed = !signText.empty() ? signText
                                  : vdb             ? std::string("auto")
-                                                   : defaultSign(asset->meta);
+                                                   : defaultValidateSign(asset->meta);
     options.sign = parseSignMode(signUsed).value();
 
     const std::uint64_t gridPoints = asset->pointCount();
@@ -117,20 +84,11 @@ int runValidate(const ValidateArgs& args) {
     }
 
     if (args.json) {
-        nlohmann::ordered_json out = {
-            {"asset", args.asset},
-            {"mesh", args.mesh},
-            {"sampled", report->sampled},
-            {"referenceSign", signMethodName(report->referenceSign)},
-            {"signComparedPoints", report->signComparedPoints},
-            {"signMismatchPercent", report->signMismatchPercent},
-            {"figures", toJson(f)},
-            {"limits", {{"maxError", maxError}, {"maxSignErrorsPercent", args.maxSignErrors}}},
-            {"withinLimits", errorOk && signOk},
-            {"sourceHashMatches",
-             hashKnown ? nlohmann::ordered_json(hashMatches) : nlohmann::ordered_json()},
-            {"written", written}};
-        std::cout << out.dump(2) << '\n';
+        const ValidateRequest request{.maxSignErrorsPercent = args.maxSignErrors};
+        const ValidateOutcome outcome{*report, maxError, errorOk && signOk};
+        std::cout << validateReportJson(outcome, *asset, *mesh, args.asset, args.mesh, request,
+                                        written)
+                  << '\n';
     } else {
         auto verdict = [](bool ok) { return ok ? "ok" : "OVER"; };
         std::cout << "validate " << args.asset << " against " << args.mesh << '\n'

@@ -25,4 +25,9 @@ struct IsolationLimits {
 Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits& limits,
                                  const std::function<Result<TriangleSoup>()>& work);
 
+/// Stops the worker threads that libraries load with (log4cplus, through OpenVDB), as
+/// runIsolated does before its first fork. For embedders whose process forks on its own (a
+/// Python process pool): called once early, the forked children inherit no half-copied pool.
+void prepareForFork();
+
 } // namespace sluice::bake

@@ -1,0 +1,149 @@
+// One batch-manifest entry as a library call: the manifest's entries, freshness, and the bake.
+#include "sluice/bake/BatchJob.h"
+
+#include <chrono>
+#include <fstream>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "CliSupport.h"
+#include "sluice/format/AssetIO.h"
+#include "sluice/format/AtomicFile.h"
+#include "sluice/format/Hash.h"
+
+namespace sluice::bake {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// "<what> '<path>': <detail>", unless the detail already names the path (as the command
+/// line's reportFileError words it).
+Error named(const std::string& what, const std::string& path, const Error& error) {
+    const bool shown = error.detail.find(path) != std::string::npos;
+    return Error{error.code, (shown ? what : what + " '" + path + "'") + ": " + error.detail};
+}
+
+Result<BatchEntry> parseEntry(const nlohmann::json& json, const fs::path& folder, std::size_t n) {
+    const std::string where = "colliders[" + std::to_string(n) + "]";
+    if (!json.is_object() || !json.contains("mesh") || !json["mesh"].is_string() ||
+        !json.contains("output") || !json["output"].is_string())
+        return fail(ErrorCode::InvalidArgument,
+                    where + " needs string fields \"mesh\" and \"output\"");
+    BatchEntry entry;
+    entry.label = json["output"].get<std::string>();
+    entry.mesh = (folder / json["mesh"].get<std::string>()).string();
+    entry.output = (folder / entry.label).string();
+    BakeRequest& r = entry.request;
+    try {
+        r.resolution = json.value("resolution", r.resolution);
+        r.voxelSize = json.value("voxelSize", r.voxelSize);
+        r.padding = json.value("padding", r.padding);
+        r.sign = json.value("sign", r.sign);
+        r.storage = json.value("storage", r.storage);
+        r.scale = json.value("scale", r.scale);
+        r.backend = json.value("backend", r.backend);
+    } catch (const nlohmann::json::exception& e) {
+        return fail(ErrorCode::InvalidArgument, where + ": " + e.what());
+    }
+    if (r.resolution < 1 || r.resolution > 4096)
+        return fail(ErrorCode::InvalidArgument, where + ": resolution must be 1..4096");
+    return entry;
+}
+
+} // namespace
+
+Result<std::vector<BatchEntry>> readBatchManifest(const fs::path& manifest) {
+    const std::string path = manifest.string();
+    std::ifstream in(manifest);
+    if (!in)
+        return fail(ErrorCode::Io, "cannot read manifest '" + path + "'");
+    nlohmann::json json;
+    try {
+        json = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        return fail(ErrorCode::InvalidArgument, "manifest '" + path + "' is not JSON: " + e.what());
+    }
+    if (!json.is_object() || !json.contains("colliders") || !json["colliders"].is_array())
+        return fail(ErrorCode::InvalidArgument,
+                    "manifest '" + path + "' needs an array \"colliders\" of {mesh, output, ...}");
+    const fs::path folder = manifest.parent_path();
+    std::vector<BatchEntry> entries;
+    std::set<fs::path> outputs;
+    for (std::size_t n = 0; n < json["colliders"].size(); ++n) {
+        Result<BatchEntry> entry = parseEntry(json["colliders"][n], folder, n);
+        if (!entry)
+            return fail(ErrorCode::InvalidArgument,
+                        "manifest '" + path + "': " + entry.error().detail);
+        if (!outputs.insert(fs::path(entry->output).lexically_normal()).second)
+            return fail(ErrorCode::InvalidArgument,
+                        "manifest '" + path + "': colliders[" + std::to_string(n) + "] writes '" +
+                            entry->label + "', as an earlier entry does");
+        entries.push_back(std::move(*entry));
+    }
+    return entries;
+}
+
+std::optional<format::ColliderAsset> freshBatchOutput(const BatchEntry& entry) {
+    std::error_code ec;
+    if (!fs::is_regular_file(entry.output, ec))
+        return std::nullopt;
+    Result<std::string> hash = format::hashFileHex(entry.mesh);
+    if (!hash)
+        return std::nullopt; // the bake will say what is wrong with the mesh
+    Result<format::ColliderAsset> asset = format::readAsset(entry.output);
+    if (!asset)
+        return std::nullopt;
+    const BakeRequest& r = entry.request;
+    const format::ColliderMeta& meta = asset->meta;
+    const bool byVoxelSize = r.voxelSize > 0.0;
+    const bool same =
+        meta.sourceHash == *hash && meta.sourceFile == fs::path(entry.mesh).filename().string() &&
+        meta.toolVersion == cli::toolVersion() &&
+        // auto takes either backend: both compute the same exact field.
+        (meta.bake.backend == r.backend ||
+         (r.backend == "auto" && (meta.bake.backend == "gpu" || meta.bake.backend == "cgal"))) &&
+        meta.bake.resolution == (byVoxelSize ? 0u : r.resolution) &&
+        (!byVoxelSize || meta.voxelSize == r.voxelSize) && meta.bake.padding == r.padding &&
+        meta.bake.signMode == r.sign && meta.bake.scale == r.scale &&
+        format::storageName(meta.storage) == r.storage;
+    if (!same)
+        return std::nullopt;
+    return std::move(*asset);
+}
+
+Result<BatchEntryResult> bakeBatchEntry(const BatchEntry& entry, bool force, Progress* progress) {
+    const auto start = std::chrono::steady_clock::now();
+    auto describe = [&](const format::ColliderAsset& asset, bool fresh) {
+        BatchEntryResult result;
+        result.fresh = fresh;
+        result.points = asset.pointCount();
+        if (asset.meta.validation.known)
+            result.maxError = asset.meta.validation.maxError;
+        result.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return result;
+    };
+    if (!force)
+        if (std::optional<format::ColliderAsset> fresh = freshBatchOutput(entry))
+            return describe(*fresh, true);
+    // As `bake`: arguments, the output's folder, the mesh, the bake, then one atomic write.
+    if (Result<BakeSettings> settings = bakeSettingsFor(entry.request); !settings)
+        return settings.error();
+    if (Result<void> out = cli::checkOutputPath(entry.output); !out)
+        return named("cannot write", entry.output, out.error());
+    Result<ImportedMesh> mesh = loadMeshFile(entry.mesh, entry.request.scale);
+    if (!mesh)
+        return named("cannot read mesh", entry.mesh, mesh.error());
+    Result<BakeOutcome> baked = bakeMesh(*mesh, entry.request, progress);
+    if (!baked)
+        return named("cannot bake", entry.mesh, baked.error());
+    Result<std::vector<std::byte>> bytes = encodeBaked(baked->asset);
+    if (!bytes)
+        return named("cannot encode the asset for", entry.output, bytes.error());
+    if (Result<void> written = format::writeFileAtomic(entry.output, *bytes); !written)
+        return named("cannot write", entry.output, written.error());
+    return describe(baked->asset, false);
+}
+
+} // namespace sluice::bake

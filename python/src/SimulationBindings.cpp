@@ -1,0 +1,213 @@
+// Bindings of the runtime: a PBF Simulation in its own headless GL context, stepped from Python.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/unique_ptr.h>
+
+#include <Python.h>
+
+#include "Errors.h"
+#include "StatsReport.h"
+#include "sluice/format/SceneIO.h"
+#include "sluice/gpu/Context.h"
+#include "sluice/rt/Simulation.h"
+
+namespace sluice::py {
+namespace {
+
+/// The context comes first so that it is destroyed last (GL objects before their context).
+struct PySimulation {
+    std::optional<gpu::Context> context;
+    std::optional<rt::Simulation> sim;
+    std::string sceneJson; ///< the scene's path (for messages)
+
+    rt::Simulation& current() {
+        context->makeCurrent();
+        return *sim;
+    }
+};
+
+std::unique_ptr<PySimulation> create(Result<format::Scene> scene, bool deterministic) {
+    if (!scene)
+        raise(scene.error().code == ErrorCode::Io ? Family::File : Family::Scene, scene.error());
+    auto out = std::make_unique<PySimulation>();
+    Result<std::vector<format::ColliderAsset>> colliders = rt::loadSceneColliders(*scene);
+    if (!colliders)
+        raise(Family::Asset, colliders.error());
+    Result<gpu::Context> context = gpu::Context::createHeadless();
+    if (!context)
+        raise(Family::Simulation, context.error());
+    out->context.emplace(std::move(*context));
+    rt::SimulationOptions options;
+    options.deterministic = deterministic;
+    Result<rt::Simulation> sim = rt::Simulation::create(*scene, std::move(*colliders), options);
+    if (!sim)
+        raise(Family::Simulation, sim.error());
+    out->sim.emplace(std::move(*sim));
+    out->sceneJson = scene->path;
+    return out;
+}
+
+using Vec3Array = nb::ndarray<nb::numpy, float, nb::shape<-1, 3>>;
+
+Vec3Array vec3Array(const std::vector<rt::ParticleState>& particles, bool velocity) {
+    const std::size_t n = particles.size();
+    auto* data = new float[n * 3];
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec3 v = velocity ? particles[i].velocity : particles[i].position;
+        data[3 * i] = v.x, data[3 * i + 1] = v.y, data[3 * i + 2] = v.z;
+    }
+    nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<float*>(p); });
+    return Vec3Array(data, {n, 3}, owner);
+}
+
+void step(PySimulation& s, std::uint64_t n) {
+    // One step at a time with the GIL released, checking for Ctrl-C between steps.
+    for (std::uint64_t i = 0; i < n; ++i) {
+        {
+            nb::gil_scoped_release release;
+            s.current().step();
+            if (i + 1 == n)
+                s.sim->readStats(); // wait for the GPU here, not in the next Python call
+        }
+        if (PyErr_CheckSignals() != 0)
+            throw nb::python_error();
+    }
+}
+
+/// Writable SimulationParams fields by their scene-file key (docs/scene-format.md).
+bool setParam(format::SimulationParams& p, const std::string& key, nb::handle value) {
+    auto f = [&](float& field) { field = nb::cast<float>(value); };
+    auto u = [&](std::uint32_t& field) {
+        const long long v = nb::cast<long long>(value);
+        if (v < 0 || v > 0xffffffffll)
+            throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
+                              "simulation." + key + ": " + std::to_string(v) +
+                                  " is out of range [InvalidArgument]");
+        field = std::uint32_t(v);
+    };
+    if (key == "kernelRadius")
+        f(p.kernelRadius);
+    else if (key == "timeStep")
+        f(p.timeStep);
+    else if (key == "substeps")
+        u(p.substeps);
+    else if (key == "minIterations")
+        u(p.minIterations);
+    else if (key == "maxIterations")
+        u(p.maxIterations);
+    else if (key == "targetDensityError")
+        f(p.targetDensityError);
+    else if (key == "relaxation")
+        f(p.relaxation);
+    else if (key == "scorrK")
+        f(p.scorrK);
+    else if (key == "scorrN")
+        f(p.scorrN);
+    else if (key == "scorrDeltaQ")
+        f(p.scorrDeltaQ);
+    else if (key == "xsph")
+        f(p.xsph);
+    else if (key == "vorticity")
+        f(p.vorticity);
+    else if (key == "gravity") {
+        nb::sequence g = nb::cast<nb::sequence>(value);
+        if (nb::len(g) != 3)
+            throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
+                              "simulation.gravity: expected 3 numbers [InvalidArgument]");
+        p.gravity = glm::vec3(nb::cast<float>(g[0]), nb::cast<float>(g[1]), nb::cast<float>(g[2]));
+    } else
+        return false;
+    return true;
+}
+
+} // namespace
+
+void bindSimulation(nb::module_& m) {
+    nb::class_<PySimulation>(m, "SimulationCore",
+                             "A PBF simulation on the GPU in its own headless GL context.")
+        .def_static(
+            "from_file",
+            [](const std::string& path, bool deterministic) {
+                return create(format::readScene(path), deterministic);
+            },
+            nb::arg("path"), nb::arg("deterministic") = false)
+        .def_static(
+            "from_json",
+            [](const std::string& text, const std::string& path, bool deterministic) {
+                return create(format::parseScene(text, path), deterministic);
+            },
+            nb::arg("text"), nb::arg("path"), nb::arg("deterministic") = false)
+        .def("step", &step, nb::arg("n") = 1)
+        .def("stats_json",
+             [](PySimulation& s) { return rt::statsJson(s.current().readStats()).dump(); })
+        .def("parameters_json",
+             [](PySimulation& s) {
+                 rt::Simulation& sim = s.current();
+                 return rt::parametersJson(sim.parameters(), sim.constants()).dump();
+             })
+        .def("set_parameters",
+             [](PySimulation& s, nb::dict kw) {
+                 format::SimulationParams p = s.current().parameters();
+                 for (auto [k, v] : kw) {
+                     const std::string key = nb::cast<std::string>(k);
+                     if (!setParam(p, key, v))
+                         throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
+                                           "simulation." + key +
+                                               ": not a parameter that can change while running "
+                                               "[InvalidArgument]");
+                 }
+                 if (Result<void> ok = s.current().setParameters(p); !ok)
+                     raise(Family::Argument, ok.error());
+             })
+        .def("positions",
+             [](PySimulation& s) { return vec3Array(s.current().downloadParticles(), false); })
+        .def("velocities",
+             [](PySimulation& s) { return vec3Array(s.current().downloadParticles(), true); })
+        .def("particles",
+             [](PySimulation& s) {
+                 const std::vector<rt::ParticleState> p = s.current().downloadParticles();
+                 auto* ids = new std::uint32_t[p.size()];
+                 for (std::size_t i = 0; i < p.size(); ++i)
+                     ids[i] = p[i].id;
+                 nb::capsule owner(
+                     ids, [](void* q) noexcept { delete[] static_cast<std::uint32_t*>(q); });
+                 return nb::make_tuple(
+                     vec3Array(p, false), vec3Array(p, true),
+                     nb::ndarray<nb::numpy, std::uint32_t, nb::ndim<1>>(ids, {p.size()}, owner));
+             })
+        .def(
+            "set_particles",
+            [](PySimulation& s,
+               nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
+               nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> vel,
+               nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> ids) {
+                const std::size_t n = pos.shape(0);
+                if (vel.shape(0) != n || ids.shape(0) != n)
+                    throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
+                                      "set_particles: positions, velocities and ids differ in "
+                                      "length [InvalidArgument]");
+                std::vector<rt::ParticleState> p(n);
+                for (std::size_t i = 0; i < n; ++i) {
+                    p[i].position = {pos(i, 0), pos(i, 1), pos(i, 2)};
+                    p[i].velocity = {vel(i, 0), vel(i, 1), vel(i, 2)};
+                    p[i].id = ids(i);
+                }
+                if (Result<void> ok = s.current().setParticles(p); !ok)
+                    raise(Family::Argument, ok.error());
+            },
+            nb::arg("positions"), nb::arg("velocities"), nb::arg("ids"))
+        .def_prop_ro("particle_count", [](PySimulation& s) { return s.sim->particleCount(); })
+        .def_prop_ro("capacity", [](PySimulation& s) { return s.sim->capacity(); })
+        .def_prop_ro("time", [](PySimulation& s) { return s.sim->time(); })
+        .def_prop_ro("steps", [](PySimulation& s) { return s.sim->steps(); })
+        .def_prop_ro("scene_path", [](PySimulation& s) { return s.sceneJson; })
+        .def_prop_ro("renderer", [](PySimulation& s) { return s.context->info().renderer; });
+}
+
+} // namespace sluice::py

@@ -1,0 +1,22 @@
+// The _sluice extension module: the C++ half of the `sluice` package (python/sluice/).
+#include <nanobind/nanobind.h>
+
+#include "Errors.h"
+#include "sluice/bake/Isolated.h"
+
+namespace sluice::py {
+void bindBake(nb::module_& m);
+void bindSimulation(nb::module_& m);
+} // namespace sluice::py
+
+NB_MODULE(_sluice, m) {
+    m.doc() = "Sluice's C++ libraries (sluice_bake, sluice_format, sluice_runtime); use the "
+              "`sluice` package, which wraps this module.";
+    // A process pool forks this interpreter; its children must not inherit a log4cplus
+    // thread pool without its threads (their first mesh import would wait for it forever).
+    sluice::bake::prepareForFork();
+    sluice::py::registerErrors(m);
+    sluice::py::bindBake(m);
+    sluice::py::bindSimulation(m);
+    m.attr("__version__") = SLUICE_VERSION;
+}
