@@ -35,11 +35,11 @@
 #include <unistd.h>
 
 #include "CliSupport.h"
+#include "sluice/bake/BatchJob.h"
 #include "sluice/bake/Cli.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/BatchManifest.h"
-#include "sluice/format/Hash.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -54,10 +54,12 @@ struct BatchArgs {
     bool quiet = false;
 };
 
-/// One manifest entry: the bake it asks for and its name in the summary.
+/// One manifest entry: the bake it asks for (paths resolved against the manifest's folder) and
+/// its name in the summary, as runBake takes it (a child prints as `bake` does) and as the
+/// library's freshness rule takes it.
 struct Entry {
-    BakeArgs bake;     ///< paths resolved against the manifest's folder
-    std::string label; ///< "output" as the manifest spells it
+    BakeArgs bake;
+    BatchEntry job;
 };
 
 /// What happened to one entry.
@@ -74,17 +76,18 @@ struct Outcome {
 /// The bake a manifest entry asks for, its paths resolved against the manifest's folder.
 Entry entryFor(const format::BatchEntry& manifestEntry) {
     Entry entry;
-    entry.label = manifestEntry.output;
+    entry.job = batchEntryFor(manifestEntry);
+    const BakeRequest& request = entry.job.request;
     BakeArgs& args = entry.bake;
-    args.mesh = manifestEntry.meshPath.string();
-    args.output = manifestEntry.outputPath.string();
-    args.resolution = manifestEntry.resolution;
-    args.voxelSize = manifestEntry.voxelSize;
-    args.padding = manifestEntry.padding;
-    args.sign = manifestEntry.sign;
-    args.storage = manifestEntry.storage;
-    args.scale = manifestEntry.scale;
-    args.backend = manifestEntry.backend;
+    args.mesh = entry.job.mesh;
+    args.output = entry.job.output;
+    args.resolution = request.resolution;
+    args.voxelSize = request.voxelSize;
+    args.padding = request.padding;
+    args.sign = request.sign;
+    args.storage = request.storage;
+    args.scale = request.scale;
+    args.backend = request.backend;
     args.quiet = true;
     return entry;
 }
@@ -105,36 +108,6 @@ Result<std::vector<Entry>> readManifest(const std::string& path) {
         entries.push_back(entryFor(entry));
     }
     return entries;
-}
-
-/// The asset at `args.output` if it holds what baking `args` would write: the mesh file's
-/// current content hash, the same settings and this tool version. Nothing if it is stale,
-/// missing or unreadable (a bake replaces it then).
-std::optional<format::ColliderAsset> freshAsset(const BakeArgs& args) {
-    std::error_code ec;
-    if (!fs::is_regular_file(args.output, ec))
-        return std::nullopt;
-    Result<std::string> hash = format::hashFileHex(args.mesh);
-    if (!hash)
-        return std::nullopt; // the bake will say what is wrong with the mesh
-    Result<format::ColliderAsset> asset = format::readAsset(args.output);
-    if (!asset)
-        return std::nullopt;
-    const format::ColliderMeta& meta = asset->meta;
-    const bool byVoxelSize = args.voxelSize > 0.0;
-    const bool same =
-        meta.sourceHash == *hash && meta.sourceFile == fs::path(args.mesh).filename().string() &&
-        meta.toolVersion == toolVersion() &&
-        // auto takes either backend: both compute the same exact field.
-        (meta.bake.backend == args.backend ||
-         (args.backend == "auto" && (meta.bake.backend == "gpu" || meta.bake.backend == "cgal"))) &&
-        meta.bake.resolution == (byVoxelSize ? 0u : args.resolution) &&
-        (!byVoxelSize || meta.voxelSize == args.voxelSize) && meta.bake.padding == args.padding &&
-        meta.bake.signMode == args.sign && meta.bake.scale == args.scale &&
-        storageName(meta.storage) == args.storage;
-    if (!same)
-        return std::nullopt;
-    return std::move(*asset);
 }
 
 /// Figures of an asset for the summary.
@@ -210,7 +183,7 @@ Outcome process(const Entry& entry, bool force, bool inChild, std::mutex& gpuTur
     };
     Outcome outcome;
     if (!force) {
-        if (std::optional<format::ColliderAsset> fresh = freshAsset(entry.bake)) {
+        if (std::optional<format::ColliderAsset> fresh = freshBatchOutput(entry.job)) {
             outcome.status = Status::Fresh;
             describeAsset(*fresh, outcome);
             return finish(outcome);
@@ -247,7 +220,7 @@ std::vector<Outcome> processAll(const std::vector<Entry>& entries, unsigned jobs
             try {
                 outcomes[i] = process(entries[i], force, inChild, gpuTurn);
             } catch (const std::exception& e) {
-                std::cerr << "sluice-bake batch: internal error on '" << entries[i].label
+                std::cerr << "sluice-bake batch: internal error on '" << entries[i].job.label
                           << "': " << e.what() << '\n';
                 outcomes[i] = Outcome{.status = Status::Failed, .exitCode = kExitInternal};
             }
@@ -281,7 +254,7 @@ void printSummary(const std::vector<Entry>& entries, const std::vector<Outcome>&
                   double seconds) {
     std::size_t width = std::string_view("collider").size();
     for (const Entry& entry : entries)
-        width = std::max(width, entry.label.size());
+        width = std::max(width, entry.job.label.size());
     const int w = int(width);
     std::printf("%-*s  %-6s  %8s  %11s  %s\n", w, "collider", "status", "time [s]", "grid points",
                 "max error [voxels]");
@@ -291,7 +264,7 @@ void printSummary(const std::vector<Entry>& entries, const std::vector<Outcome>&
         ++counts[int(o.status)];
         const std::string points = o.points > 0 ? std::to_string(o.points) : "-";
         const std::string error = o.maxError ? num(*o.maxError, 3) : "-";
-        std::printf("%-*s  %-6s  %8.2f  %11s  %s\n", w, entries[i].label.c_str(),
+        std::printf("%-*s  %-6s  %8.2f  %11s  %s\n", w, entries[i].job.label.c_str(),
                     statusName(o.status), o.seconds, points.c_str(), error.c_str());
     }
     std::printf("%s: %zu baked, %zu fresh, %zu failed in %.2f s\n",

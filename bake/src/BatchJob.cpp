@@ -2,10 +2,6 @@
 #include "sluice/bake/BatchJob.h"
 
 #include <chrono>
-#include <fstream>
-#include <set>
-
-#include <nlohmann/json.hpp>
 
 #include "CliSupport.h"
 #include "sluice/format/AssetIO.h"
@@ -24,63 +20,31 @@ Error named(const std::string& what, const std::string& path, const Error& error
     return Error{error.code, (shown ? what : what + " '" + path + "'") + ": " + error.detail};
 }
 
-Result<BatchEntry> parseEntry(const nlohmann::json& json, const fs::path& folder, std::size_t n) {
-    const std::string where = "colliders[" + std::to_string(n) + "]";
-    if (!json.is_object() || !json.contains("mesh") || !json["mesh"].is_string() ||
-        !json.contains("output") || !json["output"].is_string())
-        return fail(ErrorCode::InvalidArgument,
-                    where + " needs string fields \"mesh\" and \"output\"");
+} // namespace
+
+BatchEntry batchEntryFor(const format::BatchEntry& collider) {
     BatchEntry entry;
-    entry.label = json["output"].get<std::string>();
-    entry.mesh = (folder / json["mesh"].get<std::string>()).string();
-    entry.output = (folder / entry.label).string();
+    entry.mesh = collider.meshPath.string();
+    entry.output = collider.outputPath.string();
+    entry.label = collider.output;
     BakeRequest& r = entry.request;
-    try {
-        r.resolution = json.value("resolution", r.resolution);
-        r.voxelSize = json.value("voxelSize", r.voxelSize);
-        r.padding = json.value("padding", r.padding);
-        r.sign = json.value("sign", r.sign);
-        r.storage = json.value("storage", r.storage);
-        r.scale = json.value("scale", r.scale);
-        r.backend = json.value("backend", r.backend);
-    } catch (const nlohmann::json::exception& e) {
-        return fail(ErrorCode::InvalidArgument, where + ": " + e.what());
-    }
-    if (r.resolution < 1 || r.resolution > 4096)
-        return fail(ErrorCode::InvalidArgument, where + ": resolution must be 1..4096");
+    r.backend = collider.backend;
+    r.resolution = collider.resolution;
+    r.voxelSize = collider.voxelSize;
+    r.padding = collider.padding;
+    r.sign = collider.sign;
+    r.storage = collider.storage;
+    r.scale = collider.scale;
     return entry;
 }
 
-} // namespace
-
-Result<std::vector<BatchEntry>> readBatchManifest(const fs::path& manifest) {
-    const std::string path = manifest.string();
-    std::ifstream in(manifest);
-    if (!in)
-        return fail(ErrorCode::Io, "cannot read manifest '" + path + "'");
-    nlohmann::json json;
-    try {
-        json = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        return fail(ErrorCode::InvalidArgument, "manifest '" + path + "' is not JSON: " + e.what());
-    }
-    if (!json.is_object() || !json.contains("colliders") || !json["colliders"].is_array())
-        return fail(ErrorCode::InvalidArgument,
-                    "manifest '" + path + "' needs an array \"colliders\" of {mesh, output, ...}");
-    const fs::path folder = manifest.parent_path();
+Result<std::vector<BatchEntry>> readBatchEntries(const fs::path& manifest) {
+    Result<format::BatchManifest> read = format::readBatchManifest(manifest);
+    if (!read)
+        return read.error();
     std::vector<BatchEntry> entries;
-    std::set<fs::path> outputs;
-    for (std::size_t n = 0; n < json["colliders"].size(); ++n) {
-        Result<BatchEntry> entry = parseEntry(json["colliders"][n], folder, n);
-        if (!entry)
-            return fail(ErrorCode::InvalidArgument,
-                        "manifest '" + path + "': " + entry.error().detail);
-        if (!outputs.insert(fs::path(entry->output).lexically_normal()).second)
-            return fail(ErrorCode::InvalidArgument,
-                        "manifest '" + path + "': colliders[" + std::to_string(n) + "] writes '" +
-                            entry->label + "', as an earlier entry does");
-        entries.push_back(std::move(*entry));
-    }
+    for (const format::BatchEntry& collider : read->colliders)
+        entries.push_back(batchEntryFor(collider));
     return entries;
 }
 
@@ -130,7 +94,7 @@ Result<BatchEntryResult> bakeBatchEntry(const BatchEntry& entry, bool force, Pro
     // As `bake`: arguments, the output's folder, the mesh, the bake, then one atomic write.
     if (Result<BakeSettings> settings = bakeSettingsFor(entry.request); !settings)
         return settings.error();
-    if (Result<void> out = cli::checkOutputPath(entry.output); !out)
+    if (Result<void> out = cli::prepareOutputPath(entry.output); !out)
         return named("cannot write", entry.output, out.error());
     Result<ImportedMesh> mesh = loadMeshFile(entry.mesh, entry.request.scale);
     if (!mesh)

@@ -188,7 +188,7 @@ nb::dict entryDict(const bake::BatchEntry& e) {
 }
 
 nb::list readManifest(const std::string& path) {
-    std::vector<bake::BatchEntry> entries = take(bake::readBatchManifest(path), Family::Argument);
+    std::vector<bake::BatchEntry> entries = take(bake::readBatchEntries(path), Family::Argument);
     nb::list out;
     for (const bake::BatchEntry& e : entries)
         out.append(entryDict(e));

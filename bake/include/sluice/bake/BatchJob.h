@@ -9,6 +9,7 @@
 
 #include "sluice/bake/BakeJob.h"
 #include "sluice/bake/Progress.h"
+#include "sluice/format/BatchManifest.h"
 #include "sluice/format/Result.h"
 
 namespace sluice::bake {
@@ -30,10 +31,13 @@ struct BatchEntryResult {
     std::optional<double> maxError; ///< [voxels] recorded by `validate --write`, if any
 };
 
-/// The entries of a manifest `{"colliders": [{"mesh", "output", ...}]}` (BatchCommand.cpp's
-/// format). Errors: Io (unreadable), InvalidArgument (not JSON, a bad entry, two entries with
-/// one output), each naming the manifest and the entry.
-Result<std::vector<BatchEntry>> readBatchManifest(const std::filesystem::path& manifest);
+/// The entry to bake for one collider of a manifest read by format::readBatchManifest.
+BatchEntry batchEntryFor(const format::BatchEntry& collider);
+
+/// The entries of a batch manifest (format/BatchManifest.h), checked whole by
+/// format::readBatchManifest, whose errors it returns: each names the manifest and the JSON
+/// path.
+Result<std::vector<BatchEntry>> readBatchEntries(const std::filesystem::path& manifest);
 
 /// The output of `entry` if it is fresh: a valid asset recording the XXH3 hash of the mesh
 /// file's current bytes, the same settings and this tool version (`auto` accepts either
