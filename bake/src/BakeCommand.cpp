@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "CliSupport.h"
+#include "sluice/bake/BakeJob.h"
 #include "sluice/bake/CgalReference.h"
 #include "sluice/bake/Cli.h"
 #include "sluice/bake/GpuBaker.h"
@@ -30,14 +31,6 @@ Result<Backend> parseBackend(const std::string& text) {
         return Backend::Gpu;
     return fail(ErrorCode::InvalidArgument,
                 "--backend " + text + ": unknown backend (available: auto, gpu, cgal)");
-}
-
-Result<format::Storage> parseStorage(const std::string& text) {
-    if (text == "f32")
-        return format::Storage::F32;
-    if (text == "f16")
-        return format::Storage::F16;
-    return fail(ErrorCode::InvalidArgument, "--storage " + text + ": expected f32 or f16");
 }
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
@@ -68,25 +61,24 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
     Result<Backend> backend = parseBackend(args.backend);
     if (!backend)
         return reportBadInput(kCmd, backend.error().detail);
-    Result<SignMode> sign = parseSignMode(args.sign);
-    if (!sign)
-        return reportBadInput(kCmd, "--sign " + args.sign + ": " + sign.error().detail);
-    Result<format::Storage> storage = parseStorage(args.storage);
-    if (!storage)
-        return reportBadInput(kCmd, storage.error().detail);
+    BakeRequest request;
+    request.backend = args.backend;
+    request.resolution = args.resolution;
+    request.voxelSize = args.voxelSize;
+    request.padding = args.padding;
+    request.sign = args.sign;
+    request.storage = args.storage;
+    request.scale = args.scale;
+    Result<BakeSettings> settings = bakeSettingsFor(request);
+    if (!settings)
+        return reportBadInput(kCmd, settings.error().detail);
     if (Result<void> out = prepareOutputPath(args.output); !out)
         return reportFileError(kCmd, "cannot write", args.output, out.error());
     if (!hasExtension(args.output, ".slc"))
         std::cerr << "sluice-bake bake: warning: '" << args.output
                   << "' does not end in .slc; it will hold a collider asset all the same\n";
-
     job.backend = *backend;
-    job.settings.grid.resolution = args.voxelSize > 0.0 ? 0 : args.resolution;
-    job.settings.grid.voxelSize = args.voxelSize;
-    job.settings.grid.padding = args.padding;
-    job.settings.sign = *sign;
-    job.settings.storage = *storage;
-    job.settings.scale = args.scale;
+    job.settings = *settings;
     return kExitOk;
 }
 

@@ -135,29 +135,11 @@ Result<BatchManifest> parseBatchManifest(std::string_view json, const fs::path& 
 }
 
 Result<BatchManifest> readBatchManifest(const fs::path& file) {
-    const std::string name = file.string();
-    std::error_code ec;
-    const fs::file_status st = fs::status(file, ec);
-    if (!fs::exists(st))
-        return fail(ErrorCode::Io, name + ": cannot read the manifest: " +
-                                       (ec ? ec.message() : std::string("no such file")));
-    if (!fs::is_regular_file(st))
-        return fail(ErrorCode::Io, name + ": cannot read the manifest: not a regular file");
-    const std::uintmax_t size = fs::file_size(file, ec);
-    if (ec)
-        return fail(ErrorCode::Io, name + ": cannot read the manifest: " + ec.message());
-    if (size > kMaxBatchManifestBytes)
-        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(size) +
-                                                 " bytes, more than the manifest limit of " +
-                                                 std::to_string(kMaxBatchManifestBytes));
-    std::ifstream in(file, std::ios::binary);
-    std::string text(std::size_t(size), '\0');
-    in.read(text.data(), std::streamsize(size));
-    if (!in || std::uintmax_t(in.gcount()) != size)
-        return fail(ErrorCode::Io, name + ": cannot read the manifest: read " +
-                                       std::to_string(in.gcount()) + " of " + std::to_string(size) +
-                                       " bytes");
-    return parseBatchManifest(text, file);
+    Result<std::string> text =
+        detail::readTextFile(file, "the manifest", "manifest limit", kMaxBatchManifestBytes);
+    if (!text)
+        return text.error();
+    return parseBatchManifest(*text, file);
 }
 
 } // namespace sluice::format

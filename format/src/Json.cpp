@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 namespace sluice::format::detail {
@@ -183,6 +184,36 @@ std::optional<JsonSyntaxError> parseJson(std::string_view json, rj::Document& do
         e.problem = std::string("JSON syntax error: ") + parseErrorText(result.Code());
     }
     return e;
+}
+
+Result<std::string> readTextFile(const std::filesystem::path& file, std::string_view what,
+                                 std::string_view limitName, std::uintmax_t maxBytes) {
+    namespace fs = std::filesystem;
+    const std::string name = file.string();
+    const std::string cannot = name + ": cannot read " + std::string(what) + ": ";
+    std::error_code ec;
+    const fs::file_status st = fs::status(file, ec);
+    if (!fs::exists(st))
+        return fail(ErrorCode::Io, cannot + (ec ? ec.message() : std::string("no such file")));
+    if (!fs::is_regular_file(st))
+        return fail(ErrorCode::Io, cannot + "not a regular file");
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (ec)
+        return fail(ErrorCode::Io, cannot + ec.message());
+    if (size > maxBytes)
+        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(size) +
+                                                 " bytes, more than the " +
+                                                 std::string(limitName) + " of " +
+                                                 std::to_string(maxBytes));
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        return fail(ErrorCode::Io, cannot + "cannot open it");
+    std::string text(std::size_t(size), '\0');
+    in.read(text.data(), std::streamsize(size));
+    if (std::uintmax_t(in.gcount()) != size)
+        return fail(ErrorCode::Io, cannot + "read " + std::to_string(in.gcount()) + " of " +
+                                       std::to_string(size) + " bytes");
+    return text;
 }
 
 std::string joinKey(const std::string& path, std::string_view key) {

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <initializer_list>
 #include <optional>
 #include <stdexcept>
@@ -54,6 +55,12 @@ struct JsonSyntaxError {
 /// numbers so that the reader can reject them naming their path. Never recurses, so hostile
 /// nesting cannot overflow the stack; deeper than kMaxJsonDepth is an error.
 std::optional<JsonSyntaxError> parseJson(std::string_view json, rj::Document& doc);
+
+/// The whole text of `file`, refused unread when over `maxBytes`. Messages name the file, its
+/// kind `what` ("the scene file", "the manifest") and the limit `limitName` ("scene-file
+/// limit"): Io (missing, not a regular file, unreadable), SizeOverflow (over the limit).
+Result<std::string> readTextFile(const std::filesystem::path& file, std::string_view what,
+                                 std::string_view limitName, std::uintmax_t maxBytes);
 
 /// "a" + "b" -> "a.b"; "" + "b" -> "b". Keys are shown as displayKey shows them.
 std::string joinKey(const std::string& path, std::string_view key);

@@ -513,30 +513,11 @@ Result<Scene> parseScene(std::string_view json, const std::filesystem::path& fil
 }
 
 Result<Scene> readScene(const std::filesystem::path& file, const SceneReadOptions& options) {
-    const std::string name = file.string();
-    std::error_code ec;
-    const fs::file_status st = fs::status(file, ec);
-    if (!fs::exists(st))
-        return fail(ErrorCode::Io, name + ": cannot read the scene file: " +
-                                       (ec ? ec.message() : std::string("no such file")));
-    if (!fs::is_regular_file(st))
-        return fail(ErrorCode::Io, name + ": cannot read the scene file: not a regular file");
-    const std::uintmax_t size = fs::file_size(file, ec);
-    if (ec)
-        return fail(ErrorCode::Io, name + ": cannot read the scene file: " + ec.message());
-    if (size > kMaxSceneFileBytes)
-        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(size) +
-                                                 " bytes, more than the scene-file limit of " +
-                                                 std::to_string(kMaxSceneFileBytes));
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        return fail(ErrorCode::Io, name + ": cannot open the scene file for reading");
-    std::string text(std::size_t(size), '\0');
-    in.read(text.data(), std::streamsize(size));
-    if (std::uintmax_t(in.gcount()) != size)
-        return fail(ErrorCode::Io, name + ": read " + std::to_string(in.gcount()) + " of " +
-                                       std::to_string(size) + " bytes of the scene file");
-    return parseScene(text, file, options);
+    Result<std::string> text =
+        detail::readTextFile(file, "the scene file", "scene-file limit", kMaxSceneFileBytes);
+    if (!text)
+        return text.error();
+    return parseScene(*text, file, options);
 }
 
 } // namespace sluice::format
