@@ -16,6 +16,7 @@ layout(std430, binding = kBindLambda) readonly buffer Lambda { float lambda[]; }
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
 layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbourMask[]; };
 layout(std430, binding = kBindStats) buffer Stats {
     PbfStats stats;
     PbfIterationStats iterations[];
@@ -59,7 +60,7 @@ void main() {
     uint n = uint(P.scorrN);
     if (float(n) == P.scorrN && n >= 1u && n <= 7u) {
         bool odd = (n & 1u) != 0u, two = (n & 2u) != 0u, four = (n & 4u) != 0u;
-        PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
+        PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             float w = poly6(q2) * P.invWDeltaQ;
             float w2 = w * w;
             float wn = (odd ? w : 1.0) * (two ? w2 : 1.0) * (four ? w2 * w2 : 1.0);
@@ -67,7 +68,7 @@ void main() {
             dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END
     } else {
-        PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
+        PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             float scorr = scorrScale * pow(poly6(q2) * P.invWDeltaQ, P.scorrN);
             dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END

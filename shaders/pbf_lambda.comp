@@ -13,6 +13,7 @@ layout(std430, binding = kBindLambda) writeonly buffer Lambda { float lambda[]; 
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
 layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbourMask[]; };
 layout(std430, binding = kBindVelIn) buffer VelIn { vec4 vel[]; };
 layout(std430, binding = kBindStats) buffer Stats {
     PbfStats stats;
@@ -36,7 +37,7 @@ void main() {
         float density = poly6(0.0); // the particle itself
         vec3 gradSum = vec3(0.0);
         float gradSq = 0.0;
-        PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
+        PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             density += poly6(q2);
             vec3 g = PBF_VOLUME * spikyGrad(d, q2);
             gradSum += g;
