@@ -45,7 +45,6 @@ const char* passName(Pass pass) {
     case Pass::Emit: return "emit";
     case Pass::Predict: return "predict";
     case Pass::Sort: return "sort";
-    case Pass::Neighbours: return "neighbours";
     case Pass::Solve: return "solve";
     case Pass::Velocity: return "velocity";
     case Pass::Vorticity: return "vorticity+xsph";
@@ -90,8 +89,8 @@ struct Simulation::Impl {
     std::vector<format::ColliderAsset> colliderAssets;
     std::vector<shared::GpuCollider> colliderRecords;
 
-    gpu::Program predict, scatter, bucketSort, reorder, neighbours, lambda, delta, velocity,
-        vorticity, confine, stats;
+    gpu::Program predict, scatter, bucketSort, reorder, lambda, delta, velocity, vorticity,
+        confine, stats;
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
     gpu::Buffer lambdaBuf, cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
@@ -116,7 +115,6 @@ struct Simulation::Impl {
     void bindSharedBuffers() const;
     void predictPositions();
     void sortIntoBuckets();
-    void recordNeighbours();
     void solve();
     void updateVelocities();
     void applyVorticityAndXsph();
@@ -348,7 +346,6 @@ void Simulation::Impl::substep() {
         bindSharedBuffers();
         predictPositions();
         sortIntoBuckets();
-        recordNeighbours();
         solve();
         updateVelocities();
         applyVorticityAndXsph();
@@ -432,19 +429,11 @@ void Simulation::Impl::sortIntoBuckets() {
     end(Pass::Sort);
 }
 
-// Step 3, second half: each particle's N(i) as a bit mask over its candidate entries, from the
-// sorted start positions, once; every later neighbour pass of the substep reads the mask.
-void Simulation::Impl::recordNeighbours() {
-    begin(Pass::Neighbours);
-    predStart.bindStorage(shared::kBindPredStart);
-    dispatch(neighbours, count);
-    barrier();
-    end(Pass::Neighbours);
-}
-
 // Step 4: the solver iterations. Iteration k reads x* from predStart (k = 0) or
 // pred[(k - 1) % 2] and writes pred[k % 2]; predStart keeps the substep's start positions,
-// which fix the neighbour sets. The early stop (pbf_delta.comp) zeroes the dispatch args of the
+// which fix the neighbour sets: lambda of iteration 0 searches the candidates in full and
+// records N(i) in neighbourMask, which every later neighbour pass of the substep reads (docs/
+// pbf.md step 3). The early stop (pbf_delta.comp) zeroes the dispatch args of the
 // later iterations: the CPU issues every dispatch without knowing where the GPU stopped.
 void Simulation::Impl::solve() {
     begin(Pass::Solve);
@@ -522,7 +511,6 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     const Build builds[] = {
         {&impl->predict, "pbf_predict.comp"},   {&impl->scatter, "pbf_scatter.comp"},
         {&impl->bucketSort, "pbf_bucket_sort.comp"}, {&impl->reorder, "pbf_reorder.comp"},
-        {&impl->neighbours, "pbf_neighbours.comp"},
         {&impl->lambda, "pbf_lambda.comp"},     {&impl->delta, "pbf_delta.comp"},
         {&impl->velocity, "pbf_velocity.comp"}, {&impl->vorticity, "pbf_vorticity.comp"},
         {&impl->confine, "pbf_confine.comp"},   {&impl->stats, "pbf_stats.comp"},

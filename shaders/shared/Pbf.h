@@ -15,7 +15,7 @@ SLUICE_CONST uint kScanBlock = 1024;
 /// the sums, and the early stop they drive, are deterministic).
 SLUICE_CONST float kErrorFixedScale = 65536.0;
 /// 32-bit words of each particle's neighbour mask: one bit per candidate entry of its cell
-/// ranges, in visiting order (docs/pbf.md step 3). Candidates past kNeighbourMaskBits are
+/// ranges, in visiting order (docs/pbf.md step 3), written by lambda of iteration 0. Candidates past kNeighbourMaskBits are
 /// tested in full by every pass and counted in PbfStats::maskOverflow.
 SLUICE_CONST uint kNeighbourMaskWords = 12;
 SLUICE_CONST uint kNeighbourMaskBits = kNeighbourMaskWords * 32;

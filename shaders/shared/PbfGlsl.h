@@ -105,7 +105,7 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
     return dot(d, d) < PBF_H2;
 }
 
-// Neighbour loop over N(i), from the mask pbf_neighbours.comp recorded after the sort: the
+// Neighbour loop over N(i), from the mask lambda of iteration 0 recorded (pbf_lambda.comp): the
 // candidate ranges again (a few reads of cellStart), and in each range the mask words that
 // cover it, one read per word, visiting the set bits in order (so the sums run in the order of
 // a full search). Candidates past the mask's bits get their word's bits from the full test.

@@ -69,7 +69,6 @@ std::vector<ProgramCase> allPrograms() {
         compute("PbfScatter", runtimeSource, "pbf_scatter.comp"),
         compute("PbfBucketSort", runtimeSource, "pbf_bucket_sort.comp"),
         compute("PbfReorder", runtimeSource, "pbf_reorder.comp"),
-        compute("PbfNeighbours", runtimeSource, "pbf_neighbours.comp"),
         compute("PbfLambda", runtimeSource, "pbf_lambda.comp"),
         compute("PbfDelta", runtimeSource, "pbf_delta.comp"),
         compute("PbfVelocity", runtimeSource, "pbf_velocity.comp"),

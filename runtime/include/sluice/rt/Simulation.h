@@ -32,7 +32,6 @@ enum class Pass : std::uint32_t {
     Emit,
     Predict,
     Sort,
-    Neighbours,
     Solve,
     Velocity,
     Vorticity,
