@@ -8,8 +8,8 @@ layout(local_size_x = kPbfLocalSize) in;
 
 uniform uint iteration; // k, the solver iteration of this dispatch
 
-layout(std430, binding = kBindPredIn) readonly buffer PredIn { vec4 pred[]; };
-layout(std430, binding = kBindLambda) writeonly buffer Lambda { float lambda[]; };
+// x* (xyz); lambda writes its lambda_i into w, for pbf_delta.comp (one read per neighbour).
+layout(std430, binding = kBindPredIn) buffer PredIn { vec4 pred[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
 layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
@@ -89,7 +89,7 @@ void main() {
             PBF_NEIGHBOURS_END
         }
         c = max(PBF_VOLUME * density - 1.0, 0.0); // rho / rho0 - 1, compression only
-        lambda[i] = -c / (gradSq + dot(gradSum, gradSum) + P.epsilon);
+        pred[i].w = -c / (gradSq + dot(gradSum, gradSum) + P.epsilon);
         vel[i].w = c; // kept for the statistics and for colouring by density error
     }
 

@@ -93,7 +93,7 @@ struct Simulation::Impl {
         confine, stats;
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
-    gpu::Buffer lambdaBuf, cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
+    gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
     gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
     gpu::Buffer colliderBuf, sdfBuf, params;
     gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
@@ -169,7 +169,7 @@ Result<void> Simulation::Impl::allocate() {
         {&pred[0], n * v4, "pred 0"},     {&pred[1], n * v4, "pred 1"},
         {&predStart, n * v4, "predStart"},
         {&id[0], n * u, "id 0"},          {&id[1], n * u, "id 1"},
-        {&lambdaBuf, n * u, "lambda"},    {&hash, n * u, "hash"},
+        {&hash, n * u, "hash"},
         {&rank, n * u, "rank"},           {&sortedToOld, n * u, "sortedToOld"},
         {&omega, n * v4, "omega"},        {&cellCount, tableSize * u, "cellCount"},
         {&neighbourMask, n * shared::kNeighbourMaskWords * u, "neighbour mask"},
@@ -187,9 +187,9 @@ Result<void> Simulation::Impl::allocate() {
     for (const Alloc& a : allocs)
         total += a.bytes;
     gpuBytes = total;
-    // Per particle of capacity: the particle arrays (7 vec4 + omega, 6 uint), the neighbour
+    // Per particle of capacity: the particle arrays (7 vec4 + omega, 5 uint), the neighbour
     // mask and the hash table's cellCount + cellStart, spread over the capacity and rounded up.
-    bytesPerParticle = 7 * v4 + 6 * u + v4 + shared::kNeighbourMaskWords * u +
+    bytesPerParticle = 7 * v4 + 5 * u + v4 + shared::kNeighbourMaskWords * u +
                        (2 * u * tableSize + n - 1) / n;
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
@@ -386,7 +386,6 @@ void Simulation::Impl::bindSharedBuffers() const {
     hash.bindStorage(shared::kBindHash);
     rank.bindStorage(shared::kBindRank);
     sortedToOld.bindStorage(shared::kBindSortedToOld);
-    lambdaBuf.bindStorage(shared::kBindLambda);
     omega.bindStorage(shared::kBindOmega);
     neighbourMask.bindStorage(shared::kBindNeighbourMask);
 }

@@ -31,7 +31,7 @@ SLUICE_CONST uint kBindVelIn = 2;      ///< vec4 v (xyz) [m/s], w = density erro
 SLUICE_CONST uint kBindVelOut = 3;
 SLUICE_CONST uint kBindPredIn = 4;     ///< vec4 x* (xyz) [m]
 SLUICE_CONST uint kBindPredOut = 5;
-SLUICE_CONST uint kBindLambda = 6;     ///< float lambda_i
+// Binding 6 is free: lambda_i lives in the w of the x* it was computed from (pbf_lambda.comp).
 SLUICE_CONST uint kBindCellCount = 7;  ///< uint per hash bucket
 SLUICE_CONST uint kBindCellStart = 8;  ///< uint per hash bucket (exclusive scan of the counts)
 SLUICE_CONST uint kBindHash = 9;       ///< uint bucket of each particle

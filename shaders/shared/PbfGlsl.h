@@ -110,7 +110,7 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
 // cover it, one read per word, visiting the set bits in order (so the sums run in the order of
 // a full search). Candidates past the mask's bits get their word's bits from the full test.
 // The shader declares MASK (uint[kNeighbourMaskWords] per particle) and cellStart/cellCount.
-// Inside the body: j, xj = POS[j].xyz, d = xi - xj and q2 = |d|^2 from the current positions
+// Inside the body: j, pj = POS[j], xj = pj.xyz, d = xi - xj and q2 = |d|^2 from the current positions
 // POS (q2 may reach h as particles move; the kernels are 0 there). The body must not use
 // `continue`. Close with PBF_NEIGHBOURS_END.
 #define PBF_NEIGHBOURS_BEGIN(START, MASK, POS, i, xi)                                         \
@@ -137,7 +137,8 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
             while (pbfBits_ != 0u) {                                                           \
                 uint j = begin_ + (pbfFirst_ + uint(findLSB(pbfBits_)) - pbfBase_);            \
                 pbfBits_ &= pbfBits_ - 1u;                                                     \
-                vec3 xj = POS[j].xyz;                                                          \
+                vec4 pj = POS[j];                                                              \
+                vec3 xj = pj.xyz;                                                              \
                 vec3 d = xi - xj;                                                              \
                 float q2 = dot(d, d);
 #define PBF_NEIGHBOURS_END                                                                     \

@@ -128,14 +128,14 @@ TEST(SluicePlay, BenchCountsTheHashTableAndTheNeighbourMaskInTheBytesPerParticle
     while (buckets < 2 * capacity)
         buckets *= 2;
     const std::uint64_t mask = 4 * shared::kNeighbourMaskWords;
-    const std::uint64_t expected = 152 + mask + (8 * buckets + capacity - 1) / capacity;
+    const std::uint64_t expected = 148 + mask + (8 * buckets + capacity - 1) / capacity;
     const auto result = play(dir, {scenePath.string(), "--headless", "--bench", "--warmup", "1",
                                    "--steps", "2", "--bench-json", (dir / "b.json").string()});
     ASSERT_EQ(result.code, 0) << shown(result);
     const auto bench = nlohmann::json::parse(testrun::readText(dir / "b.json"));
     EXPECT_EQ(bench["bytesPerParticle"].get<std::uint64_t>(), expected);
-    EXPECT_GE(expected, 168u + mask);
-    EXPECT_LE(expected, 184u + mask);
+    EXPECT_GE(expected, 164u + mask);
+    EXPECT_LE(expected, 180u + mask);
     EXPECT_LE(expected, 256u);
     EXPECT_NE(result.out.find("(" + std::to_string(expected) +
                               " per particle of capacity, hash table and neighbour mask included"),
