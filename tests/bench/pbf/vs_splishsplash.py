@@ -599,8 +599,15 @@ def main():
                           f"load {r['loadBefore'][0]:.1f} -> {r['loadAfter'][0]:.1f}", flush=True)
         rows.append({"target": target, "sluiceRuns": sluice_runs, "splishsplashRuns": sph_runs})
         summaries.append(summarize_target(target, sluice_runs, sph_runs))
+        write_results(args, rows, summaries)  # after every target: a cut run keeps what it did
 
     print_summary(summaries)
+    write_results(args, rows, summaries)
+    print(f"\nwrote {args.out}")
+    return 0
+
+
+def write_results(args, rows, summaries):
     doc = {
         "what": "Sluice PBF vs SPlisHSPlasH PBF, dam break (tests/bench/pbf/vs_splishsplash.py)",
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
@@ -613,11 +620,10 @@ def main():
         "rows": rows,
     }
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
-    with open(args.out, "w") as f:
+    with open(args.out + ".tmp", "w") as f:
         json.dump(doc, f, indent=2)
         f.write("\n")
-    print(f"\nwrote {args.out}")
-    return 0
+    os.replace(args.out + ".tmp", args.out)
 
 
 if __name__ == "__main__":
