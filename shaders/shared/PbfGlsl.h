@@ -65,9 +65,10 @@ bool allFinite(vec3 v) {
 // On the dense grid the three cells x - 1 .. x + 1 of a row are adjacent buckets, so their
 // particles are one contiguous range: 9 ranges. On the hash, the 27 buckets; a candidate whose
 // own start cell is not the visited cell came through a hash collision. Inside: cc_ the cell
-// (the row's middle cell on the dense grid), begin_ .. end_ the range, pbfBase_ the candidate
-// number of begin_ (candidates are numbered 0, 1, ... in this visiting order). Close with
-// PBF_RANGES_END, which advances pbfBase_ (in scope after it: the candidate count).
+// visited (on the dense grid the row's x - 1 cell; only the hash tests it), begin_ .. end_ the
+// range, pbfBase_ the candidate number of begin_ (candidates are numbered 0, 1, ... in this
+// visiting order). Close with PBF_RANGES_END, which advances pbfBase_ (in scope after it: the
+// candidate count).
 #define PBF_RANGES_BEGIN(START, i)                                                             \
         ivec3 pbfCell_ = cellOf(START[i].xyz);                                                 \
         bool pbfDense_ = denseGrid();                                                          \
