@@ -13,6 +13,7 @@ layout(std430, binding = kBindOmega) readonly buffer Omega { vec4 omega[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
 layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbourMask[]; };
 
 uniform uint withVorticity; // 0: omega was not computed this substep
 
@@ -26,7 +27,7 @@ void main() {
     float wiLen = length(wi);
     vec3 eta = vec3(0.0);
     vec3 blend = vec3(0.0);
-    PBF_NEIGHBOURS_BEGIN(predStart, pos, i, xi)
+    PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pos, i, xi)
         if (withVorticity != 0u)
             eta += (length(omega[j].xyz) - wiLen) * spikyGrad(d, q2);
         blend += (vel[j].xyz - vi) * poly6(q2);

@@ -12,10 +12,10 @@ uniform uint iteration; // k, the solver iteration of this dispatch
 layout(std430, binding = kBindPosIn) readonly buffer PosIn { vec4 pos[]; };
 layout(std430, binding = kBindPredIn) readonly buffer PredIn { vec4 pred[]; };
 layout(std430, binding = kBindPredOut) writeonly buffer PredOut { vec4 predOut[]; };
-layout(std430, binding = kBindLambda) readonly buffer Lambda { float lambda[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
 layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbourMask[]; };
 layout(std430, binding = kBindStats) buffer Stats {
     PbfStats stats;
     PbfIterationStats iterations[];
@@ -49,7 +49,7 @@ void main() {
     }
 
     vec3 xi = pred[i].xyz;
-    float li = lambda[i];
+    float li = pred[i].w;
     float scorrScale = -P.scorrK * P.lambdaRef;
     vec3 dp = vec3(0.0);
     // s_corr's (W / W(delta q))^n: pow() is exp2(n log2 w) on llvmpipe, two polynomial
@@ -59,17 +59,17 @@ void main() {
     uint n = uint(P.scorrN);
     if (float(n) == P.scorrN && n >= 1u && n <= 7u) {
         bool odd = (n & 1u) != 0u, two = (n & 2u) != 0u, four = (n & 4u) != 0u;
-        PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
+        PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             float w = poly6(q2) * P.invWDeltaQ;
             float w2 = w * w;
             float wn = (odd ? w : 1.0) * (two ? w2 : 1.0) * (four ? w2 * w2 : 1.0);
             float scorr = scorrScale * wn;
-            dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
+            dp += (li + pj.w + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END
     } else {
-        PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
+        PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             float scorr = scorrScale * pow(poly6(q2) * P.invWDeltaQ, P.scorrN);
-            dp += (li + lambda[j] + scorr) * spikyGrad(d, q2);
+            dp += (li + pj.w + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END
     }
     // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn

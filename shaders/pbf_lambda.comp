@@ -8,11 +8,12 @@ layout(local_size_x = kPbfLocalSize) in;
 
 uniform uint iteration; // k, the solver iteration of this dispatch
 
-layout(std430, binding = kBindPredIn) readonly buffer PredIn { vec4 pred[]; };
-layout(std430, binding = kBindLambda) writeonly buffer Lambda { float lambda[]; };
+// x* (xyz); lambda writes its lambda_i into w, for pbf_delta.comp (one read per neighbour).
+layout(std430, binding = kBindPredIn) buffer PredIn { vec4 pred[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
 layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+layout(std430, binding = kBindNeighbourMask) buffer Mask { uint neighbourMask[]; };
 layout(std430, binding = kBindVelIn) buffer VelIn { vec4 vel[]; };
 layout(std430, binding = kBindStats) buffer Stats {
     PbfStats stats;
@@ -21,6 +22,50 @@ layout(std430, binding = kBindStats) buffer Stats {
 
 shared float groupSum[kPbfLocalSize];
 shared float groupMax[kPbfLocalSize];
+
+// One neighbour's share of the density and of the constraint's gradient (eq. 1, 8).
+void addNeighbour(vec3 d, float q2, inout float density, inout vec3 gradSum, inout float gradSq) {
+    density += poly6(q2);
+    vec3 g = PBF_VOLUME * spikyGrad(d, q2);
+    gradSum += g;
+    gradSq += dot(g, g);
+}
+
+// Iteration 0 (x* = the start positions): the full search over the candidates, which also
+// records N(i) as the mask every later neighbour pass of the substep reads (docs/pbf.md step
+// 3). Candidates come in increasing order, so each mask word is complete when the next begins.
+void searchAndRecord(uint i, vec3 xi, inout float density, inout vec3 gradSum, inout float gradSq) {
+    uint maskBase = i * kNeighbourMaskWords;
+    uint word = 0u, bits = 0u, neighbours = 0u;
+    PBF_RANGES_BEGIN(predStart, i)
+        for (uint j = begin_; j < end_; ++j) {
+            uint c = pbfBase_ + (j - begin_);
+            if (c < kNeighbourMaskBits && (c >> 5u) != word) {
+                neighbourMask[maskBase + word] = bits;
+                word = c >> 5u;
+                bits = 0u;
+            }
+            vec3 xj = pred[j].xyz;
+            if (!pbfIsNeighbour(xi, xj, i, j, pbfDense_, cc_))
+                continue;
+            if (c < kNeighbourMaskBits)
+                bits |= 1u << (c & 31u);
+            ++neighbours;
+            vec3 d = xi - xj;
+            addNeighbour(d, dot(d, d), density, gradSum, gradSq);
+        }
+    PBF_RANGES_END
+    uint candidates = pbfBase_;
+    // The words after the last candidate: the one being filled, then zeros.
+    for (; word < kNeighbourMaskWords; ++word) {
+        neighbourMask[maskBase + word] = bits;
+        bits = 0u;
+    }
+    if (candidates > kNeighbourMaskBits)
+        atomicAdd(stats.maskOverflow, 1u);
+    atomicMax(stats.maxCandidates, candidates);
+    atomicMax(stats.maxNeighbours, neighbours);
+}
 
 void main() {
     uint k = iteration;
@@ -36,14 +81,15 @@ void main() {
         float density = poly6(0.0); // the particle itself
         vec3 gradSum = vec3(0.0);
         float gradSq = 0.0;
-        PBF_NEIGHBOURS_BEGIN(predStart, pred, i, xi)
-            density += poly6(q2);
-            vec3 g = PBF_VOLUME * spikyGrad(d, q2);
-            gradSum += g;
-            gradSq += dot(g, g);
-        PBF_NEIGHBOURS_END
+        if (k == 0u) {
+            searchAndRecord(i, xi, density, gradSum, gradSq);
+        } else {
+            PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
+                addNeighbour(d, q2, density, gradSum, gradSq);
+            PBF_NEIGHBOURS_END
+        }
         c = max(PBF_VOLUME * density - 1.0, 0.0); // rho / rho0 - 1, compression only
-        lambda[i] = -c / (gradSq + dot(gradSum, gradSum) + P.epsilon);
+        pred[i].w = -c / (gradSq + dot(gradSum, gradSum) + P.epsilon);
         vel[i].w = c; // kept for the statistics and for colouring by density error
     }
 

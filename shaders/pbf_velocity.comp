@@ -33,6 +33,8 @@ void main() {
         v = vec3(0.0);
         atomicAdd(stats.nonFinite, 1u);
     }
+    if (i == 0u)
+        atomicAdd(stats.iterationSum, updates);
     pos[i] = vec4(xs, 0.0);
     velOut[i] = vec4(v, velIn[i].w);
 }

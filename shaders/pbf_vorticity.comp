@@ -11,6 +11,7 @@ layout(std430, binding = kBindOmega) writeonly buffer Omega { vec4 omega[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
 layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
+layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbourMask[]; };
 
 void main() {
     uint i = SLUICE_GLOBAL_ID.x;
@@ -19,7 +20,7 @@ void main() {
     vec3 xi = pos[i].xyz;
     vec3 vi = vel[i].xyz;
     vec3 w = vec3(0.0);
-    PBF_NEIGHBOURS_BEGIN(predStart, pos, i, xi)
+    PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pos, i, xi)
         // grad_j W(x_i - x_j) = gradW(x_j - x_i) = -gradW(d)
         w += cross(vel[j].xyz - vi, -spikyGrad(d, q2));
     PBF_NEIGHBOURS_END

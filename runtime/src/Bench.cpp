@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "SceneChecks.h"
+#include "shared/Pbf.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/PlayCli.h"
@@ -106,8 +107,12 @@ struct StepFigures {
     std::vector<double> stepMs;              ///< GPU time of each measured step [ms]
     std::vector<std::vector<double>> passMs; ///< per pass, each measured step [ms]
     std::uint64_t iterations = 0;            ///< solver iterations of last substeps, summed
+    double meanIterationsSum = 0.0;          ///< each step's iterations per substep, summed
     double errorSum = 0.0;                   ///< average density errors, summed
     double wallSeconds = 0.0;                ///< the measured steps, without per-step waits
+    std::uint64_t maskOverflow = 0;          ///< particle-substeps past the neighbour mask
+    std::uint32_t maxCandidates = 0;         ///< most candidates of one particle
+    std::uint32_t maxNeighbours = 0;         ///< most neighbours of one particle
 };
 
 /// The renderer of --bench-frames, created before the solver takes the colliders (it uploads
@@ -144,7 +149,11 @@ StepFigures measureSteps(Simulation& sim, const BenchOptions& o) {
         f.stepMs.push_back(total);
         const StepStats stats = sim.readStats();
         f.iterations += stats.iterations;
+        f.meanIterationsSum += stats.meanIterations;
         f.errorSum += stats.avgDensityError;
+        f.maskOverflow += stats.maskOverflow;
+        f.maxCandidates = std::max(f.maxCandidates, stats.maxCandidates);
+        f.maxNeighbours = std::max(f.maxNeighbours, stats.maxNeighbours);
     }
     f.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return f;
@@ -155,11 +164,15 @@ struct StepSummary {
     std::uint32_t particles = 0;
     double stepMedian = 0.0; ///< [ms]
     double substeps = 0.0;
-    double avgIterations = 0.0; ///< mean iterations of the last substeps
-    double avgError = 0.0;      ///< mean average density error
-    double throughput = 0.0;    ///< particle-iterations per second of median GPU step time
+    double avgIterations = 0.0; ///< iterations per substep, mean over every measured substep
+    double lastSubstepIterations = 0.0; ///< mean iterations of each step's last substep
+    double avgError = 0.0;              ///< mean average density error
+    double throughput = 0.0;            ///< particle-iterations per second of median GPU step time
     double stepsPerSecondWall = 0.0;
     std::string grid; ///< "dense 50x25x10 cells" or "hash"
+    std::uint64_t maskOverflow = 0;
+    std::uint32_t maxCandidates = 0;
+    std::uint32_t maxNeighbours = 0;
 };
 
 StepSummary summarize(const Simulation& sim, const format::Scene& scene, const BenchOptions& o,
@@ -169,14 +182,18 @@ StepSummary summarize(const Simulation& sim, const format::Scene& scene, const B
     s.particles = sim.particleCount();
     s.stepMedian = median(f.stepMs);
     s.substeps = scene.simulation.substeps;
-    s.avgIterations = double(f.iterations) / steps;
+    s.avgIterations = f.meanIterationsSum / steps;
+    s.lastSubstepIterations = double(f.iterations) / steps;
     s.avgError = f.errorSum / steps;
-    // Particle-iterations per second: particles x substeps x iterations of the last substep,
-    // per second of median GPU step time.
+    // Particle-iterations per second: particles x substeps x iterations per substep, per
+    // second of median GPU step time.
     s.throughput = s.stepMedian > 0.0
                        ? s.particles * s.substeps * s.avgIterations / (s.stepMedian * 1e-3)
                        : 0.0;
     s.stepsPerSecondWall = f.wallSeconds > 0 ? double(o.steps) / f.wallSeconds : 0.0;
+    s.maskOverflow = f.maskOverflow;
+    s.maxCandidates = f.maxCandidates;
+    s.maxNeighbours = f.maxNeighbours;
     const glm::uvec3 grid = sim.neighbourGridCells();
     s.grid = grid.x > 0 ? "dense " + std::to_string(grid.x) + "x" + std::to_string(grid.y) + "x" +
                               std::to_string(grid.z) + " cells"
@@ -192,17 +209,21 @@ nlohmann::json printSteps(const Simulation& sim, const format::Scene& scene,
     for (const std::string& line : colliders)
         std::printf("  %s\n", line.c_str());
     std::printf("  GL: %s\n  %u particles, %g substeps, %.2f iterations "
-                "(mean of the last substeps), avg density error %.3f %%\n",
+                "(mean of every measured substep), avg density error %.3f %%\n",
                 glRenderer.c_str(), s.particles, s.substeps, s.avgIterations, 100.0 * s.avgError);
     const nlohmann::json passes =
         printMedians("pass", f.passMs, [](std::size_t p) { return passName(Pass(p)); });
     std::printf("  %-16s %12.4f\n  steps/s (GPU median): %.2f   steps/s (wall): %.2f\n"
                 "  particle-iterations/s: %.4g   GPU memory: %llu bytes (%llu per particle of "
-                "capacity, hash table included, colliders not)\n",
+                "capacity, hash table and neighbour mask included, colliders not)\n",
                 "step", s.stepMedian, s.stepMedian > 0 ? 1e3 / s.stepMedian : 0.0,
                 s.stepsPerSecondWall, s.throughput, static_cast<unsigned long long>(sim.gpuBytes()),
                 static_cast<unsigned long long>(sim.bytesPerParticle()));
     std::printf("  neighbour grid: %s\n", s.grid.c_str());
+    std::printf("  neighbour mask: %u bits per particle; most candidates %u, most neighbours %u; "
+                "%llu particle-substeps past the mask (tested in full)\n",
+                shared::kNeighbourMaskBits, s.maxCandidates, s.maxNeighbours,
+                static_cast<unsigned long long>(s.maskOverflow));
     return passes;
 }
 
@@ -217,6 +238,7 @@ Result<void> writeBenchJson(const BenchOptions& o, const format::Scene& scene,
         {"particles", s.particles},
         {"substeps", s.substeps},
         {"meanIterations", s.avgIterations},
+        {"meanIterationsLastSubstep", s.lastSubstepIterations},
         {"avgDensityError", s.avgError},
         {"warmupSteps", o.warmup},
         {"measuredSteps", o.steps},
@@ -228,6 +250,10 @@ Result<void> writeBenchJson(const BenchOptions& o, const format::Scene& scene,
         {"gpuBytes", sim.gpuBytes()},
         {"bytesPerParticle", sim.bytesPerParticle()},
         {"neighbourGrid", s.grid},
+        {"neighbourMaskBits", shared::kNeighbourMaskBits},
+        {"maskOverflow", s.maskOverflow},
+        {"maxCandidates", s.maxCandidates},
+        {"maxNeighbours", s.maxNeighbours},
     };
     if (!render.is_null())
         doc["render"] = render;

@@ -93,7 +93,8 @@ struct Simulation::Impl {
         confine, stats;
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
-    gpu::Buffer lambdaBuf, cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
+    gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
+    gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
     gpu::Buffer colliderBuf, sdfBuf, params;
     gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
     std::uint32_t solveChunks = 1;
@@ -168,9 +169,10 @@ Result<void> Simulation::Impl::allocate() {
         {&pred[0], n * v4, "pred 0"},     {&pred[1], n * v4, "pred 1"},
         {&predStart, n * v4, "predStart"},
         {&id[0], n * u, "id 0"},          {&id[1], n * u, "id 1"},
-        {&lambdaBuf, n * u, "lambda"},    {&hash, n * u, "hash"},
+        {&hash, n * u, "hash"},
         {&rank, n * u, "rank"},           {&sortedToOld, n * u, "sortedToOld"},
         {&omega, n * v4, "omega"},        {&cellCount, tableSize * u, "cellCount"},
+        {&neighbourMask, n * shared::kNeighbourMaskWords * u, "neighbour mask"},
         {&cellStart, tableSize * u, "cellStart"},
         {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats),
          "stats"},
@@ -185,9 +187,10 @@ Result<void> Simulation::Impl::allocate() {
     for (const Alloc& a : allocs)
         total += a.bytes;
     gpuBytes = total;
-    // Per particle of capacity: the particle arrays (7 vec4 + omega, 6 uint) and the hash
-    // table's cellCount + cellStart, spread over the capacity and rounded up.
-    bytesPerParticle = 7 * v4 + 6 * u + v4 + (2 * u * tableSize + n - 1) / n;
+    // Per particle of capacity: the particle arrays (7 vec4 + omega, 5 uint), the neighbour
+    // mask and the hash table's cellCount + cellStart, spread over the capacity and rounded up.
+    bytesPerParticle = 7 * v4 + 5 * u + v4 + shared::kNeighbourMaskWords * u +
+                       (2 * u * tableSize + n - 1) / n;
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {
@@ -383,8 +386,8 @@ void Simulation::Impl::bindSharedBuffers() const {
     hash.bindStorage(shared::kBindHash);
     rank.bindStorage(shared::kBindRank);
     sortedToOld.bindStorage(shared::kBindSortedToOld);
-    lambdaBuf.bindStorage(shared::kBindLambda);
     omega.bindStorage(shared::kBindOmega);
+    neighbourMask.bindStorage(shared::kBindNeighbourMask);
 }
 
 // Step 2: x* into pred[0], and each particle counted into its bucket.
@@ -427,7 +430,9 @@ void Simulation::Impl::sortIntoBuckets() {
 
 // Step 4: the solver iterations. Iteration k reads x* from predStart (k = 0) or
 // pred[(k - 1) % 2] and writes pred[k % 2]; predStart keeps the substep's start positions,
-// which fix the neighbour sets. The early stop (pbf_delta.comp) zeroes the dispatch args of the
+// which fix the neighbour sets: lambda of iteration 0 searches the candidates in full and
+// records N(i) in neighbourMask, which every later neighbour pass of the substep reads (docs/
+// pbf.md step 3). The early stop (pbf_delta.comp) zeroes the dispatch args of the
 // later iterations: the CPU issues every dispatch without knowing where the GPU stopped.
 void Simulation::Impl::solve() {
     begin(Pass::Solve);
@@ -568,6 +573,7 @@ void Simulation::step() {
         timer.poll();
     s.capacityReached = false;
     s.fillStats(offsetof(shared::PbfStats, nonFinite), sizeof(std::uint32_t), 0);
+    s.fillStats(offsetof(shared::PbfStats, maskOverflow), 4 * sizeof(std::uint32_t), 0);
     const std::uint32_t substeps = std::max(1u, s.scene.simulation.substeps);
     for (std::uint32_t i = 0; i < substeps; ++i)
         s.substep();
@@ -606,6 +612,11 @@ StepStats Simulation::readStats() {
     out.nonFinite = header.nonFinite;
     out.insideColliders = header.insideColliders;
     out.maxSpeed = std::bit_cast<float>(header.maxSpeedBits);
+    out.maskOverflow = header.maskOverflow;
+    out.maxCandidates = header.maxCandidates;
+    out.maxNeighbours = header.maxNeighbours;
+    out.meanIterations =
+        double(header.iterationSum) / double(std::max(1u, s.scene.simulation.substeps));
     const std::uint32_t stop = header.stopIteration;
     out.iterations = stop == kNoStop ? s.maxIterations : stop;
     const std::uint32_t slot = std::min(stop, s.maxIterations - 1);
@@ -760,6 +771,79 @@ std::vector<std::uint32_t> Simulation::solveGroups() const {
             groups[it] += args[it * s.solveChunks + c].groupsX;
     return groups;
 }
+std::vector<Simulation::RecordedNeighbours> Simulation::recordedNeighbours() const {
+    const Impl& s = *m_impl;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    const std::uint32_t n = s.count;
+    std::vector<RecordedNeighbours> out(n);
+    if (n == 0)
+        return out;
+    const auto start = s.predStart.download<glm::vec4>(0, n);
+    const auto ids = s.id[s.cur].download<std::uint32_t>(0, n);
+    const auto cellStart = s.cellStart.download<std::uint32_t>();
+    const auto cellCount = s.cellCount.download<std::uint32_t>();
+    const auto mask = s.neighbourMask.download<std::uint32_t>(
+        0, std::size_t(n) * shared::kNeighbourMaskWords);
+    // The candidate ranges exactly as PBF_RANGES_BEGIN walks them (same float arithmetic).
+    const glm::uvec3 dims = s.denseGridDims();
+    const bool dense = dims.x > 0;
+    const float invH = 1.0f / s.k.h, h2 = s.k.h * s.k.h;
+    const glm::vec3 origin = dense ? *s.scene.domainMin : glm::vec3(0.0f);
+    auto cellOf = [&](glm::vec3 x) {
+        if (dense)
+            return glm::clamp(glm::ivec3(glm::floor((x - origin) * invH)), glm::ivec3(0),
+                              glm::ivec3(dims) - 1);
+        return glm::ivec3(glm::floor(x * invH));
+    };
+    auto hashOf = [&](glm::ivec3 c) {
+        return ((std::uint32_t(c.x) * 73856093u) ^ (std::uint32_t(c.y) * 19349663u) ^
+                (std::uint32_t(c.z) * 83492791u)) &
+               (s.tableSize - 1);
+    };
+    auto bucketOf = [&](glm::ivec3 c) {
+        return std::uint32_t(c.x) + dims.x * (std::uint32_t(c.y) + dims.y * std::uint32_t(c.z));
+    };
+    for (std::uint32_t i = 0; i < n; ++i) {
+        RecordedNeighbours& r = out[i];
+        r.id = ids[i];
+        r.start = glm::vec3(start[i]);
+        const glm::ivec3 cell = cellOf(r.start);
+        std::uint32_t c = 0;
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= (dense ? -1 : 1); ++dx) {
+                    const glm::ivec3 cc = cell + glm::ivec3(dx, dy, dz);
+                    std::uint32_t begin = 0, end = 0;
+                    if (dense) {
+                        if (cc.y < 0 || cc.y >= int(dims.y) || cc.z < 0 || cc.z >= int(dims.z))
+                            continue;
+                        begin = cellStart[bucketOf({std::max(cell.x - 1, 0), cc.y, cc.z})];
+                        const std::uint32_t last =
+                            bucketOf({std::min(cell.x + 1, int(dims.x) - 1), cc.y, cc.z});
+                        end = cellStart[last] + cellCount[last];
+                    } else {
+                        const std::uint32_t bucket = hashOf(cc);
+                        begin = cellStart[bucket];
+                        end = begin + cellCount[bucket];
+                    }
+                    for (std::uint32_t j = begin; j < end; ++j, ++c) {
+                        if (c < shared::kNeighbourMaskBits) {
+                            if ((mask[std::size_t(i) * shared::kNeighbourMaskWords + c / 32] >>
+                                 (c % 32)) & 1u)
+                                r.fromMask.push_back(ids[j]);
+                            continue;
+                        }
+                        const glm::vec3 d = r.start - glm::vec3(start[j]);
+                        if (j != i && (dense || cellOf(glm::vec3(start[j])) == cc) &&
+                            glm::dot(d, d) < h2)
+                            r.pastMask.push_back(ids[j]);
+                    }
+                }
+        r.candidates = c;
+    }
+    return out;
+}
+
 const PbfConstants& Simulation::constants() const { return m_impl->k; }
 const format::Scene& Simulation::scene() const { return m_impl->scene; }
 

@@ -7,9 +7,9 @@ namespace sluice::rt {
 
 std::string statsTableHeader() {
     return "   step   time [s]  particles  avg err %  max err %  max |v| [m/s]  inside  "
-           "non-finite  iters  GPU ms/step\n"
+           "non-finite  iters  mask ovf  GPU ms/step\n"
            "-------  ---------  ---------  ---------  ---------  -------------  ------  "
-           "----------  -----  -----------\n";
+           "----------  -----  --------  -----------\n";
 }
 
 std::string statsTableRow(const StepStats& s, double gpuMs) {
@@ -17,10 +17,10 @@ std::string statsTableRow(const StepStats& s, double gpuMs) {
     if (gpuMs >= 0.0)
         std::snprintf(gpu, sizeof gpu, "%.3f", gpuMs);
     char line[256];
-    std::snprintf(line, sizeof line, "%7llu  %9.4f  %9u  %9.3f  %9.3f  %13.3f  %6u  %10u  %5u  %11s\n",
+    std::snprintf(line, sizeof line, "%7llu  %9.4f  %9u  %9.3f  %9.3f  %13.3f  %6u  %10u  %5u  %8u  %11s\n",
                   static_cast<unsigned long long>(s.step), s.time, s.particles,
                   100.0 * s.avgDensityError, 100.0 * s.maxDensityError, s.maxSpeed,
-                  s.insideColliders, s.nonFinite, s.iterations, gpu);
+                  s.insideColliders, s.nonFinite, s.iterations, s.maskOverflow, gpu);
     return line;
 }
 
@@ -35,6 +35,10 @@ nlohmann::json statsJson(const StepStats& s) {
         {"insideColliders", s.insideColliders},
         {"nonFinite", s.nonFinite},
         {"iterations", s.iterations},
+        {"meanIterations", s.meanIterations},
+        {"maskOverflow", s.maskOverflow},
+        {"maxCandidates", s.maxCandidates},
+        {"maxNeighbours", s.maxNeighbours},
         {"capacityReached", s.capacityReached},
     };
 }

@@ -14,6 +14,11 @@ SLUICE_CONST uint kScanBlock = 1024;
 /// Fixed-point scale of the per-iteration density-error sums (integer adds are order-free, so
 /// the sums, and the early stop they drive, are deterministic).
 SLUICE_CONST float kErrorFixedScale = 65536.0;
+/// 32-bit words of each particle's neighbour mask: one bit per candidate entry of its cell
+/// ranges, in visiting order (docs/pbf.md step 3), written by lambda of iteration 0. Candidates past kNeighbourMaskBits are
+/// tested in full by every pass and counted in PbfStats::maskOverflow.
+SLUICE_CONST uint kNeighbourMaskWords = 12;
+SLUICE_CONST uint kNeighbourMaskBits = kNeighbourMaskWords * 32;
 
 // Uniform block binding.
 SLUICE_CONST uint kBindParams = 0;
@@ -26,7 +31,7 @@ SLUICE_CONST uint kBindVelIn = 2;      ///< vec4 v (xyz) [m/s], w = density erro
 SLUICE_CONST uint kBindVelOut = 3;
 SLUICE_CONST uint kBindPredIn = 4;     ///< vec4 x* (xyz) [m]
 SLUICE_CONST uint kBindPredOut = 5;
-SLUICE_CONST uint kBindLambda = 6;     ///< float lambda_i
+// Binding 6 is free: lambda_i lives in the w of the x* it was computed from (pbf_lambda.comp).
 SLUICE_CONST uint kBindCellCount = 7;  ///< uint per hash bucket
 SLUICE_CONST uint kBindCellStart = 8;  ///< uint per hash bucket (exclusive scan of the counts)
 SLUICE_CONST uint kBindHash = 9;       ///< uint bucket of each particle
@@ -41,6 +46,7 @@ SLUICE_CONST uint kBindIdOut = 17;
 SLUICE_CONST uint kBindPredStart = 18; ///< vec4 x* at the substep start: fixes N(i) for the substep
 SLUICE_CONST uint kBindPredOther = 19; ///< vec4 x*: the second ping-pong buffer (velocity pass)
 SLUICE_CONST uint kBindSolveArgs = 20; ///< PbfDispatchArgs[maxIterations * chunks]
+SLUICE_CONST uint kBindNeighbourMask = 21; ///< uint[kNeighbourMaskWords] per sorted particle
 // Prefix scan.
 SLUICE_CONST uint kBindScanData = 0;   ///< uint[] exclusive scan output
 SLUICE_CONST uint kBindScanSums = 1;   ///< uint[] one total per block
@@ -136,6 +142,10 @@ struct PbfStats {
     uint insideColliders;  ///< particles with min phi < -0.5 r (stats pass)
     uint maxSpeedBits;     ///< floatBitsToUint(max |v|) [m/s] (stats pass)
     uint stopIteration;    ///< first iteration whose error met the target, or 0xffffffff
+    uint maskOverflow;     ///< particle-substeps whose candidates outnumbered the mask bits (this step)
+    uint maxCandidates;    ///< most candidate entries one particle visited (this step)
+    uint maxNeighbours;    ///< most neighbours one particle had (this step)
+    uint iterationSum;     ///< solver iterations summed over the substeps (this step)
     // Followed in the buffer by PbfIterationStats iterations[maxIterations].
 };
 
@@ -186,7 +196,11 @@ static_assert(sizeof(sluice::shared::PbfIterationStats) == 16, "std430 size of P
 SLUICE_PBF_AT(PbfStats, insideColliders, 4);
 SLUICE_PBF_AT(PbfStats, maxSpeedBits, 8);
 SLUICE_PBF_AT(PbfStats, stopIteration, 12);
-static_assert(sizeof(sluice::shared::PbfStats) == 16, "std430 size of PbfStats");
+SLUICE_PBF_AT(PbfStats, maskOverflow, 16);
+SLUICE_PBF_AT(PbfStats, maxCandidates, 20);
+SLUICE_PBF_AT(PbfStats, maxNeighbours, 24);
+SLUICE_PBF_AT(PbfStats, iterationSum, 28);
+static_assert(sizeof(sluice::shared::PbfStats) == 32, "std430 size of PbfStats");
 static_assert(sizeof(sluice::shared::PbfDispatchArgs) == 12, "std430 size of PbfDispatchArgs");
 #undef SLUICE_PBF_AT
 #endif

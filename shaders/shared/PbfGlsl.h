@@ -1,5 +1,5 @@
-// GLSL helpers of the PBF passes: the parameter block, kernels, the hashed cell grid, the
-// 27-cell neighbour loop and collider sampling (docs/pbf.md). GLSL only.
+// GLSL helpers of the PBF passes: the parameter block, kernels, the cell grid, the candidate
+// ranges, the neighbour-mask loop and collider sampling (docs/pbf.md). GLSL only.
 #ifndef SLUICE_SHARED_PBF_GLSL_H
 #define SLUICE_SHARED_PBF_GLSL_H
 
@@ -60,22 +60,21 @@ bool allFinite(vec3 v) {
     return all(notEqual(exponent, uvec3(0x7f800000u)));
 }
 
-// Neighbour loop over the sorted particles. The neighbour set is fixed for the substep
-// (docs/pbf.md step 3): j is a neighbour of i when their x* at the substep start, START[],
-// were closer than h; START also chooses the cells visited. On the dense grid the three cells
-// x - 1 .. x + 1 of a row are adjacent buckets, so their particles are one contiguous range:
-// 9 ranges, no cell test. On the hash, 27 buckets, and a candidate whose own start cell is not
-// the cell being visited came through a hash collision and is skipped, so no neighbour is
-// counted twice. Inside the body: j, xj = POS[j].xyz, d = xi - xj and q2 = |d|^2 from the
-// current positions POS (q2 may reach h as particles move; the kernels are 0 there).
-// Close with PBF_NEIGHBOURS_END.
-#define PBF_NEIGHBOURS_BEGIN(START, POS, i, xi)                                               \
-    {                                                                                          \
-        vec3 pbfStart_ = START[i].xyz;                                                         \
-        ivec3 pbfCell_ = cellOf(pbfStart_);                                                    \
+// The candidate ranges of particle i: the sorted particles a neighbour search from i's start
+// cell visits (docs/pbf.md step 3). START[] (x* at the substep start, sorted) chooses the cell.
+// On the dense grid the three cells x - 1 .. x + 1 of a row are adjacent buckets, so their
+// particles are one contiguous range: 9 ranges. On the hash, the 27 buckets; a candidate whose
+// own start cell is not the visited cell came through a hash collision. Inside: cc_ the cell
+// visited (on the dense grid the row's x - 1 cell; only the hash tests it), begin_ .. end_ the
+// range, pbfBase_ the candidate number of begin_ (candidates are numbered 0, 1, ... in this
+// visiting order). Close with PBF_RANGES_END, which advances pbfBase_ (in scope after it: the
+// candidate count).
+#define PBF_RANGES_BEGIN(START, i)                                                             \
+        ivec3 pbfCell_ = cellOf(START[i].xyz);                                                 \
         bool pbfDense_ = denseGrid();                                                          \
         ivec3 pbfDims_ = ivec3(P.gridDims);                                                    \
         int pbfRanges_ = pbfDense_ ? 1 : 3;                                                    \
+        uint pbfBase_ = 0u;                                                                    \
         for (int dz_ = -1; dz_ <= 1; ++dz_)                                                    \
             for (int dy_ = -1; dy_ <= 1; ++dy_)                                                \
                 for (int dx_ = 0; dx_ < pbfRanges_; ++dx_) {                                   \
@@ -93,22 +92,60 @@ bool allFinite(vec3 v) {
                         uint bucket_ = cellHash(cc_);                                          \
                         begin_ = cellStart[bucket_];                                           \
                         end_ = begin_ + cellCount[bucket_];                                    \
-                    }                                                                          \
-                    for (uint j = begin_; j < end_; ++j) {                                     \
-                        if (j == i)                                                            \
-                            continue;                                                          \
-                        vec3 startJ_ = START[j].xyz;                                           \
-                        if (!pbfDense_ && cellOf(startJ_) != cc_)                              \
-                            continue;                                                          \
-                        vec3 d0_ = pbfStart_ - startJ_;                                        \
-                        if (dot(d0_, d0_) >= PBF_H2)                                           \
-                            continue;                                                          \
-                        vec3 xj = POS[j].xyz;                                                  \
-                        vec3 d = xi - xj;                                                      \
-                        float q2 = dot(d, d);
+                    }
+#define PBF_RANGES_END                                                                         \
+    pbfBase_ += end_ - begin_;                                                                 \
+    }
+
+// Whether candidate j, met in cell cc of the visit from i, is in N(i): another particle whose
+// start cell is cc (hash collisions excluded) and whose start x* was closer than h.
+bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 cc) {
+    if (j == i || (!dense && cellOf(startJ) != cc))
+        return false;
+    vec3 d = startI - startJ;
+    return dot(d, d) < PBF_H2;
+}
+
+// Neighbour loop over N(i), from the mask lambda of iteration 0 recorded (pbf_lambda.comp): the
+// candidate ranges again (a few reads of cellStart), and in each range the mask words that
+// cover it, one read per word, visiting the set bits in order (so the sums run in the order of
+// a full search). Candidates past the mask's bits get their word's bits from the full test.
+// The shader declares MASK (uint[kNeighbourMaskWords] per particle) and cellStart/cellCount.
+// Inside the body: j, pj = POS[j], xj = pj.xyz, d = xi - xj and q2 = |d|^2 from the current positions
+// POS (q2 may reach h as particles move; the kernels are 0 there). The body must not use
+// `continue`. Close with PBF_NEIGHBOURS_END.
+#define PBF_NEIGHBOURS_BEGIN(START, MASK, POS, i, xi)                                         \
+    {                                                                                          \
+        vec3 pbfStartI_ = START[i].xyz;                                                        \
+        uint pbfMaskBase_ = (i) * kNeighbourMaskWords;                                         \
+        PBF_RANGES_BEGIN(START, i)                                                             \
+        uint pbfStop_ = pbfBase_ + (end_ - begin_);                                            \
+        for (uint pbfW_ = pbfBase_ >> 5u; pbfW_ < ((pbfStop_ + 31u) >> 5u); ++pbfW_) {        \
+            uint pbfFirst_ = pbfW_ << 5u; /* candidate number of the word's bit 0 */           \
+            uint pbfLo_ = max(pbfBase_, pbfFirst_) - pbfFirst_;                                \
+            uint pbfHi_ = min(pbfStop_, pbfFirst_ + 32u) - pbfFirst_;                          \
+            uint pbfBits_ = 0u;                                                                \
+            if (pbfW_ < kNeighbourMaskWords) {                                                 \
+                uint keep_ = pbfHi_ < 32u ? (1u << pbfHi_) - 1u : 0xffffffffu;                 \
+                pbfBits_ = MASK[pbfMaskBase_ + pbfW_] & keep_ & (0xffffffffu << pbfLo_);      \
+            } else {                                                                           \
+                for (uint b_ = pbfLo_; b_ < pbfHi_; ++b_) {                                    \
+                    uint jj_ = begin_ + (pbfFirst_ + b_ - pbfBase_);                           \
+                    if (pbfIsNeighbour(pbfStartI_, START[jj_].xyz, i, jj_, pbfDense_, cc_))    \
+                        pbfBits_ |= 1u << b_;                                                  \
+                }                                                                              \
+            }                                                                                  \
+            while (pbfBits_ != 0u) {                                                           \
+                uint j = begin_ + (pbfFirst_ + uint(findLSB(pbfBits_)) - pbfBase_);            \
+                pbfBits_ &= pbfBits_ - 1u;                                                     \
+                vec4 pj = POS[j];                                                              \
+                vec3 xj = pj.xyz;                                                              \
+                vec3 d = xi - xj;                                                              \
+                float q2 = dot(d, d);
 #define PBF_NEIGHBOURS_END                                                                     \
     }                                                                                          \
     }                                                                                          \
+    PBF_RANGES_END                                                                             \
     }
 
 #ifdef PBF_WITH_COLLIDERS

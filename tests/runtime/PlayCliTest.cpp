@@ -10,6 +10,7 @@
 
 #include "GpuTest.h"
 #include "ProgramRun.h"
+#include "shared/Pbf.h"
 #include "sluice/format/SceneIO.h"
 #include "sluice/rt/Simulation.h"
 
@@ -116,7 +117,7 @@ TEST(SluicePlay, PrintsTheStatisticsTableAndTimings) {
 
 // --bench's memory per particle counts the hash table: 152 bytes of particle arrays plus
 // cellCount + cellStart (8 bytes x max(1024, bit_ceil(2 capacity)) buckets) over the capacity.
-TEST(SluicePlay, BenchCountsTheHashTableInTheBytesPerParticle) {
+TEST(SluicePlay, BenchCountsTheHashTableAndTheNeighbourMaskInTheBytesPerParticle) {
     const fs::path dir = tempDir("bench");
     const fs::path scenePath = kAssets / "martin-moyce.json";
     auto scene = format::readScene(scenePath);
@@ -126,16 +127,18 @@ TEST(SluicePlay, BenchCountsTheHashTableInTheBytesPerParticle) {
     std::uint64_t buckets = 1024;
     while (buckets < 2 * capacity)
         buckets *= 2;
-    const std::uint64_t expected = 152 + (8 * buckets + capacity - 1) / capacity;
+    const std::uint64_t mask = 4 * shared::kNeighbourMaskWords;
+    const std::uint64_t expected = 148 + mask + (8 * buckets + capacity - 1) / capacity;
     const auto result = play(dir, {scenePath.string(), "--headless", "--bench", "--warmup", "1",
                                    "--steps", "2", "--bench-json", (dir / "b.json").string()});
     ASSERT_EQ(result.code, 0) << shown(result);
     const auto bench = nlohmann::json::parse(testrun::readText(dir / "b.json"));
     EXPECT_EQ(bench["bytesPerParticle"].get<std::uint64_t>(), expected);
-    EXPECT_GE(expected, 168u);
-    EXPECT_LE(expected, 184u);
+    EXPECT_GE(expected, 164u + mask);
+    EXPECT_LE(expected, 180u + mask);
+    EXPECT_LE(expected, 256u);
     EXPECT_NE(result.out.find("(" + std::to_string(expected) +
-                              " per particle of capacity, hash table included"),
+                              " per particle of capacity, hash table and neighbour mask included"),
               std::string::npos)
         << result.out;
     EXPECT_GE(bench["gpuBytes"].get<std::uint64_t>(), expected * capacity - capacity);

@@ -24,10 +24,19 @@ compression max(rho_i / rho0 - 1, 0) after the step's last solver iteration.
     2012) from the positions after the last step of every measured 1/60 s frame, as Sluice
     reports the last substep of each step.
 
+Repeats: each target runs --repeat times, the two sides interleaved (Sluice, SPlisHSPlasH,
+Sluice, ...), and every figure is reported as the median with the min-max range of the runs.
+The ratio at a target is the ratio of the medians, with the range from the extremes (slowest
+Sluice run over fastest SPlisHSPlasH run, and the reverse). The ratio is taken at measured
+points, the same target on both sides, with each side's achieved error stated next to it (no
+interpolation). Each run records the load average before and after it; the results file
+records the CPU model and its SIMD flags (avx2, avx512*, fma).
+
 Usage (repository root, after building sluice-play and the demo colliders):
 
     python3 -m venv /tmp/sph && /tmp/sph/bin/pip install pysplishsplash
     python3 tests/bench/pbf/vs_splishsplash.py --build build/h-perf --splishsplash-python /tmp/sph/bin/python
+    python3 tests/bench/pbf/vs_splishsplash.py ... --particles 10000 --targets 0.005,0.0025 --repeat 3
 
 The pysplishsplash 2.19 wheel bundles its own libGLdispatch, which crashes on import next to
 Debian 12's libGLX (SIGSEGV in __glDispatchInit); the worker preloads the system
@@ -277,6 +286,7 @@ def run_sluice(play, scene_path, warmup, steps, json_path):
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     total_substeps = (warmup + steps) * substeps
     return {
+        "loadAfter": os.getloadavg(),
         # Load-free figures: the process's CPU time over all its steps (warm-up and start-up
         # included, at the measured steps' iteration count, so slightly pessimistic).
         "stepsPerCpuSecond": total_substeps / cpu,
@@ -325,6 +335,7 @@ def run_splishsplash(args, cfg):
     out = json.loads(line[len("RESULT "):])
     out["processWallSeconds"] = wall
     out["loadBefore"] = load
+    out["loadAfter"] = os.getloadavg()
     return out
 
 
@@ -401,6 +412,81 @@ def report(rows):
     return matched
 
 
+def machine_simd():
+    """CPU model and the SIMD flags that matter here, from /proc/cpuinfo."""
+    info = sweep.machine_info()
+    flags = set()
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("flags"):
+                    flags = set(line.split(":", 1)[1].split())
+                    break
+    except OSError:
+        pass
+    info["simdFlags"] = sorted(f for f in flags if f in ("sse4_2", "avx", "avx2", "fma") or
+                               f.startswith("avx512"))
+    info["avx2"] = "avx2" in flags
+    info["avx512"] = any(f.startswith("avx512") for f in flags)
+    return info
+
+
+def spread(values):
+    """Median and min-max of a list (None when empty)."""
+    v = sorted(x for x in values if x is not None)
+    if not v:
+        return None
+    mid = len(v) // 2
+    median = v[mid] if len(v) % 2 else 0.5 * (v[mid - 1] + v[mid])
+    return {"median": median, "min": v[0], "max": v[-1], "n": len(v)}
+
+
+FIGURES = ("stepsPerCpuSecond", "particleIterationsPerCpuSecond", "stepsPerSecond",
+           "avgDensityError", "meanIterations")
+
+
+def summarize_target(target, sluice_runs, sph_runs):
+    """Median and range per side, and the ratios of medians with their extreme ranges."""
+    ok_sl = [r for r in sluice_runs if "error" not in r]
+    ok_sp = [r for r in sph_runs if "error" not in r]
+    out = {"target": target, "sluice": {}, "splishsplash": {}, "ratio": {}}
+    for name, runs in (("sluice", ok_sl), ("splishsplash", ok_sp)):
+        for key in FIGURES:
+            out[name][key] = spread([r.get(key) for r in runs])
+        out[name]["loads"] = [[r.get("loadBefore"), r.get("loadAfter")] for r in runs]
+    for key in ("stepsPerCpuSecond", "stepsPerSecond", "particleIterationsPerCpuSecond"):
+        a, b = out["sluice"][key], out["splishsplash"][key]
+        if a and b and b["min"] > 0:
+            out["ratio"][key] = {"median": a["median"] / b["median"],
+                                 "min": a["min"] / b["max"], "max": a["max"] / b["min"]}
+    return out
+
+
+def print_summary(summaries):
+    def rng(x, scale=1.0, f="%.3g"):
+        if not x:
+            return "n/a"
+        return (f + " (" + f + "–" + f + ")") % (scale * x["median"], scale * x["min"],
+                                                  scale * x["max"])
+
+    print("\n| target | side | runs | avg density error % | mean it per substep | "
+          "substeps per CPU-s | substeps/s (wall) |")
+    print("|---|---|---|---|---|---|---|")
+    for m in summaries:
+        for name in ("sluice", "splishsplash"):
+            x = m[name]
+            n = x["stepsPerCpuSecond"]["n"] if x["stepsPerCpuSecond"] else 0
+            print(f"| {m['target']:g} | {name} | {n} | {rng(x['avgDensityError'], 100, '%.3f')} | "
+                  f"{rng(x['meanIterations'], 1, '%.2f')} | {rng(x['stepsPerCpuSecond'])} | "
+                  f"{rng(x['stepsPerSecond'])} |")
+    print("\n| target | ratio substeps per CPU-s | ratio substeps/s (wall) |")
+    print("|---|---|---|")
+    for m in summaries:
+        r = m["ratio"]
+        print(f"| {m['target']:g} | {rng(r.get('stepsPerCpuSecond'), 1, '%.2f')} | "
+              f"{rng(r.get('stepsPerSecond'), 1, '%.2f')} |")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--worker", help=argparse.SUPPRESS)
@@ -422,11 +508,16 @@ def main():
     p.add_argument("--machine", default="llvmpipe")
     p.add_argument("--out")
     p.add_argument("--report", metavar="RESULTS_JSON", help="print the tables of a results file")
+    p.add_argument("--repeat", type=int, default=3,
+                   help="runs per side and target, interleaved; median and min-max reported")
     args = p.parse_args()
 
     if args.report:
         with open(args.report) as f:
             doc = json.load(f)
+        if "summary" in doc:  # a file with repeats: print it as written
+            print_summary(doc["summary"])
+            return 0
         for r in doc["rows"]:
             sluice_cpu_figures(r["sluice"], doc["settings"]["warmup_frames"])
             sp = r["splishsplash"]
@@ -464,7 +555,7 @@ def main():
     if not os.path.isfile(unit_box):
         raise SystemExit(f"{unit_box} not found (it ships in the pysplishsplash wheel)")
 
-    rows = []
+    rows, summaries = [], []
     for target in [float(t) for t in args.targets.split(",")]:
         path, spacing, count, scene = sweep.make_scene(os.path.join(assets, "dam-break.json"),
                                                        assets, work, args.particles)
@@ -475,48 +566,64 @@ def main():
         path = os.path.join(work, scene["name"] + ".json")
         with open(path, "w") as f:
             json.dump(scene, f, indent=4)
-        print(f"target {target:g}: Sluice ({count} particles) ...", flush=True)
-        sl = run_sluice(play, path, args.warmup_frames, args.measure_frames,
-                        os.path.join(work, scene["name"] + ".bench.json"))
-        substeps = int(sl["substepsPerStep"])
-        box = scene["fluid"][0]["box"]
-        counts = [math.floor((box["max"][a] - box["min"][a]) / spacing + 1e-4) for a in range(3)]
-        cfg = {"spacing": spacing, "blockMin": box["min"], "blockCounts": counts,
-               "dt": (1.0 / 60.0) / substeps, "target": target,
-               "minIterations": args.min_iterations, "maxIterations": args.max_iterations,
-               "warmupSteps": args.warmup_frames * substeps,
-               "measuredSteps": args.measure_frames * substeps, "unitBox": unit_box,
-               "errorEvery": substeps,
-               "workDir": work}
-        print(f"target {target:g}: SPlisHSPlasH (dt {cfg['dt']:.6g} s) ...", flush=True)
-        sp = run_splishsplash(args, cfg)
-        rows.append({"target": target, "sluice": sl, "splishsplash": sp})
-        for name, r in (("Sluice", sl), ("SPlisHSPlasH", sp)):
-            if "error" in r:
-                print(f"  {name}: {r['error']}\n{r['log']}")
-            else:
-                print(f"  {name}: {r['particles']} particles, {r['meanIterations']:.2f} it, "
-                      f"avg error {100 * r['avgDensityError']:.3f} %, "
-                      f"{r['stepsPerSecond']:.2f} steps/s, "
-                      f"{r['particleIterationsPerSecond']:.3g} particle-it/s", flush=True)
+        sluice_runs, sph_runs = [], []
+        for rep in range(args.repeat):
+            print(f"target {target:g}, run {rep + 1}/{args.repeat}: Sluice ({count} particles) ...",
+                  flush=True)
+            sl = run_sluice(play, path, args.warmup_frames, args.measure_frames,
+                            os.path.join(work, scene["name"] + ".bench.json"))
+            substeps = int(sl["substepsPerStep"])
+            box = scene["fluid"][0]["box"]
+            counts = [math.floor((box["max"][a] - box["min"][a]) / spacing + 1e-4)
+                      for a in range(3)]
+            cfg = {"spacing": spacing, "blockMin": box["min"], "blockCounts": counts,
+                   "dt": (1.0 / 60.0) / substeps, "target": target,
+                   "minIterations": args.min_iterations, "maxIterations": args.max_iterations,
+                   "warmupSteps": args.warmup_frames * substeps,
+                   "measuredSteps": args.measure_frames * substeps, "unitBox": unit_box,
+                   "errorEvery": substeps,
+                   "workDir": work}
+            print(f"target {target:g}, run {rep + 1}/{args.repeat}: SPlisHSPlasH "
+                  f"(dt {cfg['dt']:.6g} s) ...", flush=True)
+            sp = run_splishsplash(args, cfg)
+            sluice_runs.append(sl)
+            sph_runs.append(sp)
+            for name, r in (("Sluice", sl), ("SPlisHSPlasH", sp)):
+                if "error" in r:
+                    print(f"  {name}: {r['error']}\n{r['log']}")
+                else:
+                    print(f"  {name}: {r['particles']} particles, {r['meanIterations']:.2f} it, "
+                          f"avg error {100 * r['avgDensityError']:.3f} %, "
+                          f"{r['stepsPerCpuSecond']:.3g} substeps per CPU-s, "
+                          f"{r['stepsPerSecond']:.2f} substeps/s wall, "
+                          f"load {r['loadBefore'][0]:.1f} -> {r['loadAfter'][0]:.1f}", flush=True)
+        rows.append({"target": target, "sluiceRuns": sluice_runs, "splishsplashRuns": sph_runs})
+        summaries.append(summarize_target(target, sluice_runs, sph_runs))
+        write_results(args, rows, summaries)  # after every target: a cut run keeps what it did
 
-    matched = report(rows)
-    machine = sweep.machine_info()
+    print_summary(summaries)
+    write_results(args, rows, summaries)
+    print(f"\nwrote {args.out}")
+    return 0
+
+
+def write_results(args, rows, summaries):
     doc = {
         "what": "Sluice PBF vs SPlisHSPlasH PBF, dam break (tests/bench/pbf/vs_splishsplash.py)",
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "machineName": args.machine,
-        "machine": machine,
+        "machine": machine_simd(),
         "settings": {k: v for k, v in vars(args).items() if k not in ("worker",)},
+        "comparison": "at the same target on both sides, each side's achieved error stated; "
+                      "median (min-max) of the runs; ratio of medians (extremes)",
+        "summary": summaries,
         "rows": rows,
-        "matched": matched,
     }
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
-    with open(args.out, "w") as f:
+    with open(args.out + ".tmp", "w") as f:
         json.dump(doc, f, indent=2)
         f.write("\n")
-    print(f"\nwrote {args.out}")
-    return 0
+    os.replace(args.out + ".tmp", args.out)
 
 
 if __name__ == "__main__":

@@ -28,7 +28,16 @@ struct SimulationOptions {
 };
 
 /// The pass groups timed per step, in order.
-enum class Pass : std::uint32_t { Emit, Predict, Sort, Solve, Velocity, Vorticity, Stats, Count };
+enum class Pass : std::uint32_t {
+    Emit,
+    Predict,
+    Sort,
+    Solve,
+    Velocity,
+    Vorticity,
+    Stats,
+    Count
+};
 
 /// Short name of a pass ("sort").
 const char* passName(Pass pass);
@@ -44,6 +53,13 @@ struct StepStats {
     std::uint32_t insideColliders = 0; ///< particles with phi < -0.5 r in some collider
     std::uint32_t nonFinite = 0;     ///< particles reset this step because they went non-finite
     std::uint32_t iterations = 0;    ///< solver iterations of the last substep
+    double meanIterations = 0.0;     ///< solver iterations per substep, mean over the step
+    /// Particle-substeps of this step whose candidate entries outnumbered the neighbour mask's
+    /// bits (shared::kNeighbourMaskBits): the candidates past it were tested in full, so the
+    /// results are the same, only slower. Never a neighbour lost.
+    std::uint32_t maskOverflow = 0;
+    std::uint32_t maxCandidates = 0; ///< most candidate entries of one particle (this step)
+    std::uint32_t maxNeighbours = 0; ///< most neighbours of one particle (this step)
     bool capacityReached = false;    ///< an emitter could not add particles this step
 };
 
@@ -147,6 +163,18 @@ public:
     /// the GPU skips without the CPU knowing where it stopped. Reads the GPU back (a sync), so
     /// between steps only.
     std::vector<std::uint32_t> solveGroups() const;
+
+    /// N(i) of one particle as the last substep's neighbour mask records it.
+    struct RecordedNeighbours {
+        std::uint32_t id = 0;         ///< the particle
+        glm::vec3 start{0.0f};        ///< its x* at the substep start, which chose N(i) [m]
+        std::uint32_t candidates = 0; ///< entries of its cell ranges (docs/pbf.md step 3)
+        std::vector<std::uint32_t> fromMask;  ///< ids whose mask bit is set, visiting order
+        std::vector<std::uint32_t> pastMask;  ///< ids past the mask's bits that pass the test
+    };
+    /// Every particle's recorded neighbours, decoded on the CPU from the buffers of the last
+    /// substep (start positions, ids, cell ranges, masks), in sorted order. A sync.
+    std::vector<RecordedNeighbours> recordedNeighbours() const;
 
     /// @}
 
