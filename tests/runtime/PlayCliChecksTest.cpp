@@ -9,12 +9,12 @@
 #include <gtest/gtest.h>
 
 #include "ProgramRun.h"
+#include "RenderTestSupport.h"
 
 namespace sluice::rt {
 namespace {
 
 namespace fs = std::filesystem;
-using testrun::runProgram;
 using testrun::shown;
 
 const fs::path kAssets = SLUICE_BUILD_ASSETS_DIR; // scenes and baked colliders, side by side
@@ -26,8 +26,10 @@ fs::path tempDir(const std::string& name) {
     return dir;
 }
 
+// Through test::runPlay: runs that render (--frames) must see the GL driver preloaded under
+// ASan, or LeakSanitizer reports Mesa's caches when the driver unloads (RenderTestSupport.h).
 testrun::RunResult play(const fs::path& dir, const std::vector<std::string>& args) {
-    return runProgram(SLUICE_PLAY_EXE, dir, args);
+    return test::runPlay(dir, args);
 }
 
 /// Writes `json` as `name` in `dir`; "{assets}" becomes the build's assets folder.
