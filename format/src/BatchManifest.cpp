@@ -15,6 +15,9 @@ namespace fs = std::filesystem;
 namespace rj = detail::rj;
 using detail::throwAt;
 
+constexpr detail::JsonFileKind kManifestKind{"the manifest", "the manifest", "manifest limit",
+                                            kMaxBatchManifestBytes};
+
 /// A number field; a number written as a string is named as such ("got the string \"40\"").
 const rj::Value& numberValue(const rj::Value& value, const std::string& path) {
     if (value.IsString())
@@ -112,34 +115,13 @@ BatchManifest readManifest(const rj::Value& root, const fs::path& file) {
 } // namespace
 
 Result<BatchManifest> parseBatchManifest(std::string_view json, const fs::path& file) {
-    const std::string name = file.string();
-    if (json.size() > kMaxBatchManifestBytes)
-        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(json.size()) +
-                                                 " bytes, more than the manifest limit of " +
-                                                 std::to_string(kMaxBatchManifestBytes));
-    try {
-        rj::Document doc;
-        if (const auto e = detail::parseJson(json, doc))
-            return fail(e->code, name + ":" + std::to_string(e->line) + ":" +
-                                     std::to_string(e->column) + ": " +
-                                     detail::displayPath(e->path) + ": " + e->problem);
-        return readManifest(doc, file);
-    } catch (const detail::JsonError& e) {
-        return fail(e.code, name + ": " + detail::displayPath(e.path) + ": " + e.problem);
-    } catch (const std::bad_alloc&) {
-        return fail(ErrorCode::SizeOverflow, name + ": out of memory while reading the manifest");
-    } catch (const std::exception& e) {
-        // cereal::RapidJSONException from a rapidjson internal assert, or anything else.
-        return fail(ErrorCode::BadMetadata, name + ": cannot read the manifest: " + e.what());
-    }
+    return detail::parseJsonText<BatchManifest>(
+        json, file, kManifestKind, [&](const rj::Document& doc) { return readManifest(doc, file); });
 }
 
 Result<BatchManifest> readBatchManifest(const fs::path& file) {
-    Result<std::string> text =
-        detail::readTextFile(file, "the manifest", "manifest limit", kMaxBatchManifestBytes);
-    if (!text)
-        return text.error();
-    return parseBatchManifest(*text, file);
+    return detail::readJsonFile<BatchManifest>(
+        file, kManifestKind, [&](const rj::Document& doc) { return readManifest(doc, file); });
 }
 
 } // namespace sluice::format

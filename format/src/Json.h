@@ -5,10 +5,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <initializer_list>
+#include <new>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 // cereal's JSON support: json.hpp brings in the rapidjson cereal ships (or the system one, on
@@ -115,5 +117,54 @@ std::string readString(const rj::Value& value, const std::string& path);
 glm::vec3 readVec3(const rj::Value& value, const std::string& path);
 /// Checks that `value` is an array (BadMetadata otherwise) and returns it.
 const rj::Value& requireArray(const rj::Value& value, const std::string& path);
+
+/// What a kind of JSON file is called in messages, and its size limit.
+struct JsonFileKind {
+    std::string_view noun;      ///< "the scene", "the manifest": "cannot read the scene: ..."
+    std::string_view fileNoun;  ///< "the scene file", "the manifest": readTextFile's `what`
+    std::string_view limitName; ///< "scene-file limit"
+    std::uintmax_t maxBytes;    ///< [bytes] larger text is refused unparsed (SizeOverflow)
+};
+
+/// Parses `json` (text of `file`, a `kind`) with parseJson and hands the document to `read`,
+/// which returns a T or throws JsonError. Every failure comes back as an Error naming the file:
+/// syntax errors with line, column and JSON path, JsonError with its path, out of memory as
+/// SizeOverflow, any other exception (a rapidjson internal assert) as BadMetadata.
+template <class T, class Read>
+Result<T> parseJsonText(std::string_view json, const std::filesystem::path& file,
+                        const JsonFileKind& kind, Read&& read) {
+    const std::string name = file.string();
+    if (json.size() > kind.maxBytes)
+        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(json.size()) +
+                                                 " bytes, more than the " +
+                                                 std::string(kind.limitName) + " of " +
+                                                 std::to_string(kind.maxBytes));
+    try {
+        rj::Document doc;
+        if (const auto e = parseJson(json, doc))
+            return fail(e->code, name + ":" + std::to_string(e->line) + ":" +
+                                     std::to_string(e->column) + ": " + displayPath(e->path) +
+                                     ": " + e->problem);
+        return read(static_cast<const rj::Document&>(doc));
+    } catch (const JsonError& e) {
+        return fail(e.code, name + ": " + displayPath(e.path) + ": " + e.problem);
+    } catch (const std::bad_alloc&) {
+        return fail(ErrorCode::SizeOverflow,
+                    name + ": out of memory while reading " + std::string(kind.noun));
+    } catch (const std::exception& e) {
+        // cereal::RapidJSONException from a rapidjson internal assert, or anything else.
+        return fail(ErrorCode::BadMetadata,
+                    name + ": cannot read " + std::string(kind.noun) + ": " + e.what());
+    }
+}
+
+/// The file's text through readTextFile, then parseJsonText.
+template <class T, class Read>
+Result<T> readJsonFile(const std::filesystem::path& file, const JsonFileKind& kind, Read&& read) {
+    Result<std::string> text = readTextFile(file, kind.fileNoun, kind.limitName, kind.maxBytes);
+    if (!text)
+        return text.error();
+    return parseJsonText<T>(*text, file, kind, std::forward<Read>(read));
+}
 
 } // namespace sluice::format::detail

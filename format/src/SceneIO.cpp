@@ -26,6 +26,9 @@ using detail::readNumber;
 using detail::readVec3;
 using detail::throwAt;
 
+constexpr detail::JsonFileKind kSceneKind{"the scene", "the scene file", "scene-file limit",
+                                         kMaxSceneFileBytes};
+
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kDefaultEmitterDuration = 10.0f; // [s] emitter stop when the file has none
 constexpr std::uint32_t kMaxDefaultSubsteps = 64;
@@ -489,35 +492,15 @@ Scene SceneParser::parse(const rj::Value& root) {
 
 Result<Scene> parseScene(std::string_view json, const std::filesystem::path& file,
                          const SceneReadOptions& options) {
-    const std::string name = file.string();
-    if (json.size() > kMaxSceneFileBytes)
-        return fail(ErrorCode::SizeOverflow, name + ": " + std::to_string(json.size()) +
-                                                 " bytes, more than the scene-file limit of " +
-                                                 std::to_string(kMaxSceneFileBytes));
-    try {
-        rj::Document doc;
-        if (const auto e = detail::parseJson(json, doc))
-            return fail(e->code, name + ":" + std::to_string(e->line) + ":" +
-                                     std::to_string(e->column) + ": " +
-                                     detail::displayPath(e->path) + ": " + e->problem);
-        SceneParser parser(file, options);
-        return parser.parse(doc);
-    } catch (const detail::JsonError& e) {
-        return fail(e.code, name + ": " + detail::displayPath(e.path) + ": " + e.problem);
-    } catch (const std::bad_alloc&) {
-        return fail(ErrorCode::SizeOverflow, name + ": out of memory while reading the scene");
-    } catch (const std::exception& e) {
-        // cereal::RapidJSONException from a rapidjson internal assert, or anything else.
-        return fail(ErrorCode::BadMetadata, name + ": cannot read the scene: " + e.what());
-    }
+    return detail::parseJsonText<Scene>(json, file, kSceneKind, [&](const rj::Document& doc) {
+        return SceneParser(file, options).parse(doc);
+    });
 }
 
 Result<Scene> readScene(const std::filesystem::path& file, const SceneReadOptions& options) {
-    Result<std::string> text =
-        detail::readTextFile(file, "the scene file", "scene-file limit", kMaxSceneFileBytes);
-    if (!text)
-        return text.error();
-    return parseScene(*text, file, options);
+    return detail::readJsonFile<Scene>(file, kSceneKind, [&](const rj::Document& doc) {
+        return SceneParser(file, options).parse(doc);
+    });
 }
 
 } // namespace sluice::format
