@@ -107,6 +107,7 @@ private:
     FluidBlock readBlock(const rj::Value& value, const std::string& path);
     Emitter readEmitter(const rj::Value& value, const std::string& path);
     SceneCollider readCollider(const rj::Value& value, const std::string& path);
+    DynamicBody readDynamic(const rj::Value& value, const std::string& path);
     void readCamera(const rj::Value& value, const std::string& path);
     void deriveCapacity();
     void deriveSubsteps();
@@ -271,7 +272,8 @@ Emitter SceneParser::readEmitter(const rj::Value& value, const std::string& path
 
 SceneCollider SceneParser::readCollider(const rj::Value& value, const std::string& path) {
     const JsonObject o(value, path,
-                       {"asset", "translation", "rotation", "scale", "friction", "motion"});
+                       {"asset", "translation", "rotation", "scale", "friction", "motion",
+                        "dynamic"});
     SceneCollider c;
     c.asset = detail::readString(o.require("asset"), o.pathOf("asset"));
     if (c.asset.empty() || c.asset.find('\0') != std::string::npos)
@@ -329,6 +331,14 @@ SceneCollider SceneParser::readCollider(const rj::Value& value, const std::strin
         }
     }
 
+    if (const rj::Value* dv = o.find("dynamic")) {
+        if (o.has("motion"))
+            throwAt(ErrorCode::BadMetadata, o.pathOf("dynamic"),
+                    "not allowed with \"motion\": a collider is moved by the fluid (dynamic) or "
+                    "by its motion (kinematic), not both");
+        c.dynamic = readDynamic(*dv, o.pathOf("dynamic"));
+    }
+
     if (m_options.checkAssets) {
         std::error_code ec;
         const fs::file_status st = fs::status(c.resolvedPath, ec);
@@ -340,6 +350,29 @@ SceneCollider SceneParser::readCollider(const rj::Value& value, const std::strin
                     "collider asset is not a file: " + c.resolvedPath);
     }
     return c;
+}
+
+DynamicBody SceneParser::readDynamic(const rj::Value& value, const std::string& path) {
+    const JsonObject o(value, path,
+                       {"density", "mass", "linearVelocity", "angularVelocity", "friction",
+                        "restitution"});
+    DynamicBody d;
+    if (o.has("density") == o.has("mass"))
+        throwAt(ErrorCode::BadMetadata, path,
+                "needs exactly one of \"density\" [kg/m^3] and \"mass\" [kg]");
+    if (const rj::Value* v = o.find("density"))
+        d.density = readFloatIn(*v, o.pathOf("density"), above(0.0f));
+    if (const rj::Value* v = o.find("mass"))
+        d.mass = readFloatIn(*v, o.pathOf("mass"), above(0.0f));
+    if (const rj::Value* v = o.find("linearVelocity"))
+        d.linearVelocity = readVec3(*v, o.pathOf("linearVelocity"));
+    if (const rj::Value* v = o.find("angularVelocity"))
+        d.angularVelocityDegrees = readVec3(*v, o.pathOf("angularVelocity"));
+    if (const rj::Value* v = o.find("friction"))
+        d.friction = readFloatIn(*v, o.pathOf("friction"), closed(0.0f, 2.0f));
+    if (const rj::Value* v = o.find("restitution"))
+        d.restitution = readFloatIn(*v, o.pathOf("restitution"), closed(0.0f, 1.0f));
+    return d;
 }
 
 void SceneParser::readCamera(const rj::Value& value, const std::string& path) {

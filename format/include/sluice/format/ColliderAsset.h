@@ -2,9 +2,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 namespace sluice::format {
@@ -71,6 +73,15 @@ struct ValidationFigures {
     double eikonalOutsideShare = 0.0; ///< share of |grad phi| outside [0.5, 1.5]
 };
 
+/// The solid's volume, centre of mass and inertia tensor at unit density, in the asset's own
+/// frame and units (the bake's world units, after its --scale). Scale by density to get mass
+/// and inertia in kg; under a uniform placement scale s, volume grows by s^3 and inertia by s^5.
+struct MassProperties {
+    double volume = 0.0;          ///< [units^3], > 0 for a solid
+    glm::dvec3 centerOfMass{0.0}; ///< [units], in the asset frame
+    glm::dmat3 inertia{0.0};      ///< about the centre of mass, unit density [units^5]
+};
+
 /// Everything about a collider except its samples.
 struct ColliderMeta {
     glm::uvec3 dims{0};       ///< [grid points] along x, y, z; each >= 2
@@ -85,6 +96,9 @@ struct ColliderMeta {
     MeshDiagnostics mesh;
     ValidationFigures validation;
     double quantizationError = 0.0; ///< [world units] max |stored - exact| from fp16, 0 for fp32
+    /// Exact mass properties of the closed source mesh (polyhedral integrals, Mirtich 1996).
+    /// Absent for open meshes, level-set inputs and assets older than format 1.1.
+    std::optional<MassProperties> meshMass;
 };
 
 /// A collider: phi sampled at origin + (i, j, k) * voxelSize, negative inside, in world units.

@@ -76,6 +76,17 @@ struct ColliderKey {
     glm::vec3 rotationDegrees{0.0f};    ///< Euler angles X, Y, Z [degrees], applied Z * Y * X
 };
 
+/// What makes a collider dynamic: the fluid and the other bodies push it, gravity pulls it
+/// (docs/bodies.md). Exactly one of density and mass is set after reading.
+struct DynamicBody {
+    std::optional<float> density;       ///< [kg/m^3], > 0; mass = density * volume
+    std::optional<float> mass;          ///< [kg], > 0; the density follows from the volume
+    glm::vec3 linearVelocity{0.0f};     ///< initial velocity of the centre of mass [m/s]
+    glm::vec3 angularVelocityDegrees{0.0f}; ///< initial angular velocity [degrees/s]
+    float friction = 0.5f;              ///< Coulomb coefficient of body contacts, [0, 2]
+    float restitution = 0.0f;           ///< share of the normal speed kept on impact, [0, 1]
+};
+
 /// A baked collider placed in the scene.
 struct SceneCollider {
     std::string asset;                  ///< path as written in the file (relative to the scene)
@@ -87,6 +98,8 @@ struct SceneCollider {
     glm::vec3 linearVelocity{0.0f};     ///< kinematic motion [m/s]
     glm::vec3 angularVelocityDegrees{0.0f}; ///< about the collider origin [degrees/s]
     std::vector<ColliderKey> keys;      ///< keyframes; when present they replace the velocities
+    /// Set for a dynamic body; then the collider has no "motion" (velocities and keys are 0).
+    std::optional<DynamicBody> dynamic;
 };
 
 /// The camera sluice-play renders from.
