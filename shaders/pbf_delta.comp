@@ -3,6 +3,9 @@
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
+#define PBF_WITH_BODIES 1
+#define PBF_BODY_REACTION addReaction
+void addReaction(uint b, vec3 x, vec3 dx);
 #include "shared/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
@@ -21,6 +24,34 @@ layout(std430, binding = kBindStats) buffer Stats {
     PbfIterationStats iterations[];
 };
 layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
+layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
+
+// Adds round(value) to the 64-bit two's-complement integer in words (lo, lo + 1). Integer adds
+// commute, so the total is the same whatever order the particles add in (--deterministic).
+void addFixed(uint lo, float value) {
+    int v = int(round(clamp(value, -2.0e9, 2.0e9)));
+    if (v == 0)
+        return;
+    uint old = atomicAdd(bodySums[lo], uint(v));
+    uint carry = old + uint(v) < old ? 1u : 0u;
+    uint high = (v < 0 ? 0xffffffffu : 0u) + carry;
+    if (high != 0u)
+        atomicAdd(bodySums[lo + 1u], high);
+}
+
+// Body b pushed a particle by dx, which ends at x: the body takes the opposite impulse
+// -m dx / dt, summed here as dx and (x - c) x dx in fixed point (docs/bodies.md, "Reaction").
+void addReaction(uint b, vec3 x, vec3 dx) {
+    uint base = b * kBodySumWords;
+    vec3 d = dx * bodies[b].sumScale;
+    vec3 m = cross(x - bodies[b].position, dx) * bodies[b].momentScale;
+    addFixed(base + 0u, d.x);
+    addFixed(base + 2u, d.y);
+    addFixed(base + 4u, d.z);
+    addFixed(base + 6u, m.x);
+    addFixed(base + 8u, m.y);
+    addFixed(base + 10u, m.z);
+}
 
 bool converged(uint k) {
     if (k < P.minIterations || P.targetDensityError <= 0.0 || iterations[k].particles == 0u)
@@ -76,6 +107,21 @@ void main() {
     // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
     // pbf_velocity.comp counts what still goes wrong.
     vec3 x = xi + PBF_VOLUME * dp;
+    if (!allFinite(x))
+        x = xi;
+    // Each body's boundary volume pushes along its normal with the particle's own lambda
+    // (lambda_i times the gradient lambda summed); the body takes the reaction.
+    for (uint b = 0u; b < P.bodyCount; ++b) {
+        float phi;
+        vec3 normal;
+        if (!bodyBoundary(b, xi, phi, normal))
+            continue;
+        vec3 push = li * boundaryShareSlope(phi) * normal;
+        if (!allFinite(push))
+            continue;
+        x += push;
+        addReaction(b, x, push);
+    }
     if (!allFinite(x))
         x = xi;
     x = collide(x, pos[i].xyz);

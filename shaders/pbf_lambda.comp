@@ -2,6 +2,8 @@
 // (Macklin & Mueller 2013, eq. 1, 7, 8), plus the iteration's density-error sum and maximum.
 #version 450 core
 
+#define PBF_WITH_COLLIDERS 1
+#define PBF_WITH_BODIES 1
 #include "shared/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
@@ -88,7 +90,18 @@ void main() {
                 addNeighbour(d, q2, density, gradSum, gradSq);
             PBF_NEIGHBOURS_END
         }
-        c = max(PBF_VOLUME * density - 1.0, 0.0); // rho / rho0 - 1, compression only
+        // Dynamic bodies fill part of the support (docs/bodies.md): their boundary volume adds
+        // to the density, and the particle's own gradient gains its slope.
+        float boundary = 0.0;
+        for (uint b = 0u; b < P.bodyCount; ++b) {
+            float phi;
+            vec3 normal;
+            if (!bodyBoundary(b, xi, phi, normal))
+                continue;
+            boundary += boundaryShare(phi);
+            gradSum += boundaryShareSlope(phi) * normal;
+        }
+        c = max(PBF_VOLUME * density + boundary - 1.0, 0.0); // rho / rho0 - 1, compression only
         pred[i].w = -c / (gradSq + dot(gradSum, gradSum) + P.epsilon);
         vel[i].w = c; // kept for the statistics and for colouring by density error
     }

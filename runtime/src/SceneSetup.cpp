@@ -66,6 +66,21 @@ PbfConstants deriveConstants(const format::SimulationParams& params) {
             }
     const double epsilon = double(params.relaxation) * sRest;
 
+    // Boundary volume calibration (docs/bodies.md): at the rest distance s/2 from a flat
+    // boundary, the lattice rows behind it hold this share of the lattice sum; the continuous
+    // share B(s/2) of pbf_lambda.comp is scaled to match it, so a particle resting against a
+    // body has exactly rho0.
+    double behind = 0.0;
+    for (int k = -K; k <= -1; ++k)
+        for (int j = -K; j <= K; ++j)
+            for (int i = -K; i <= K; ++i)
+                behind += poly6(s * std::sqrt(double(i * i + j * j + k * k)), h);
+    const double u = std::min(0.5 * s / h, 1.0);
+    const double u2 = u * u;
+    const double share =
+        0.5 - (315.0 / 256.0) * u *
+                  (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
+
     PbfConstants c;
     c.h = float(h);
     c.radius = float(0.5 * s);
@@ -78,6 +93,7 @@ PbfConstants deriveConstants(const format::SimulationParams& params) {
     c.poly6 = float(315.0 / (64.0 * kPi * std::pow(h, 9)));
     c.spikyGrad = float(-45.0 / (kPi * std::pow(h, 6)));
     c.dt = float(double(params.timeStep) / double(params.substeps));
+    c.boundaryScale = share > 0.0 ? float(behind / wSum / share) : 1.0f;
     return c;
 }
 

@@ -12,7 +12,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "BodySetup.h"
 #include "PrefixScan.h"
+#include "shared/Bodies.h"
 #include "shared/ChunkedDispatch.h"
 #include "shared/Pbf.h"
 #include "sluice/format/AssetIO.h"
@@ -48,6 +50,7 @@ const char* passName(Pass pass) {
     case Pass::Solve: return "solve";
     case Pass::Velocity: return "velocity";
     case Pass::Vorticity: return "vorticity+xsph";
+    case Pass::Bodies: return "bodies";
     case Pass::Stats: return "stats";
     case Pass::Count: break;
     }
@@ -88,14 +91,18 @@ struct Simulation::Impl {
     EmitterSchedule emitters;
     std::vector<format::ColliderAsset> colliderAssets;
     std::vector<shared::GpuCollider> colliderRecords;
+    BodySetup bodySetup;
+    std::uint32_t bodyCount = 0;
+    std::uint32_t removedAtSpawn = 0; // particles of the blocks that started inside a body
 
     gpu::Program predict, scatter, bucketSort, reorder, lambda, delta, velocity, vorticity,
-        confine, stats;
+        confine, stats, bodies;
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
     gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
     gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
     gpu::Buffer colliderBuf, sdfBuf, params;
+    gpu::Buffer bodyBuf, bodySums, bodySamples; // GpuBody[], fixed-point sums, contact points
     gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
     std::uint32_t solveChunks = 1;
     std::vector<shared::PbfDispatchArgs> solveArgsStaging;
@@ -118,6 +125,7 @@ struct Simulation::Impl {
     void solve();
     void updateVelocities();
     void applyVorticityAndXsph();
+    void integrateBodies();
     void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;
     void barrier() const { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
     /// Sets `bytes` of the statistics buffer from byte `offset` on to the uint `value`, on the
@@ -181,6 +189,13 @@ Result<void> Simulation::Impl::allocate() {
          "colliders"},
         {&sdfBuf, std::max<std::uint64_t>(1, sdfFloats) * u, "sdf"},
         {&params, sizeof(shared::PbfParams), "params"},
+        {&bodyBuf, std::max<std::uint64_t>(1, bodySetup.records.size()) * sizeof(shared::GpuBody),
+         "bodies"},
+        {&bodySums, std::max<std::uint64_t>(1, bodySetup.records.size()) *
+                        shared::kBodySumWords * u,
+         "body sums"},
+        {&bodySamples, std::max<std::uint64_t>(1, bodySetup.samples.size()) * v4,
+         "body contact points"},
         {&solveArgs, solveArgsBytes(maxIterations), "solve dispatch args"},
     };
     std::uint64_t total = 0;
@@ -296,6 +311,9 @@ void Simulation::Impl::uploadParams() {
     p.activeBuckets = activeBuckets();
     p.deterministic = options.deterministic ? 1u : 0u;
     p.maxIterations = maxIterations;
+    p.bodyCount = bodyCount;
+    p.particleMass = k.mass;
+    p.boundaryScale = k.boundaryScale;
     params.upload(std::span(&p, 1));
 }
 
@@ -303,6 +321,9 @@ void Simulation::Impl::uploadColliders(double t0, double t1) {
     if (colliderRecords.empty())
         return;
     for (std::size_t c = 0; c < colliderRecords.size(); ++c) {
+        // A dynamic body's record is the body pass's to write (pbf_bodies.comp).
+        if (colliderRecords[c].body != shared::kNoBody)
+            continue;
         const ColliderPose now = colliderPose(scene.colliders[c], float(t1));
         const ColliderPose before = colliderPose(scene.colliders[c], float(t0));
         const glm::mat4 world = poseMatrix(now);
@@ -311,8 +332,8 @@ void Simulation::Impl::uploadColliders(double t0, double t1) {
         r.rotation = glm::mat4_cast(now.rotation);
         r.motion = poseMatrix(before) * r.worldToGrid;
         r.scale = now.scale;
+        colliderBuf.upload(std::span(&r, 1), c * sizeof(shared::GpuCollider));
     }
-    colliderBuf.upload(colliderRecords);
 }
 
 void Simulation::Impl::append(const std::vector<ParticleState>& particles) {
@@ -349,6 +370,11 @@ void Simulation::Impl::substep() {
         solve();
         updateVelocities();
         applyVorticityAndXsph();
+    }
+    if (bodyCount > 0) {
+        if (count == 0)
+            bindSharedBuffers();
+        integrateBodies();
     }
     time = t1;
 }
@@ -388,6 +414,9 @@ void Simulation::Impl::bindSharedBuffers() const {
     sortedToOld.bindStorage(shared::kBindSortedToOld);
     omega.bindStorage(shared::kBindOmega);
     neighbourMask.bindStorage(shared::kBindNeighbourMask);
+    bodyBuf.bindStorage(shared::kBindBodies);
+    bodySums.bindStorage(shared::kBindBodySums);
+    bodySamples.bindStorage(shared::kBindBodySamples);
 }
 
 // Step 2: x* into pred[0], and each particle counted into its bucket.
@@ -483,6 +512,16 @@ void Simulation::Impl::applyVorticityAndXsph() {
     end(Pass::Vorticity);
 }
 
+// Step 7 (docs/bodies.md): the bodies take the fluid's reaction, move, meet each other and the
+// walls, and rewrite their collider records; one work group for all of them.
+void Simulation::Impl::integrateBodies() {
+    begin(Pass::Bodies);
+    bodies.use();
+    glDispatchCompute(1, 1, 1);
+    barrier();
+    end(Pass::Bodies);
+}
+
 Result<Simulation> Simulation::create(const format::Scene& scene,
                                       std::vector<format::ColliderAsset> colliders,
                                       const SimulationOptions& options) {
@@ -501,6 +540,11 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
         1, std::uint32_t((std::uint64_t(groupsFor(impl->capacity)) + kMaxGroupsPerDispatch - 1) /
                          kMaxGroupsPerDispatch));
     impl->colliderAssets = std::move(colliders);
+    auto bodies = setUpBodies(scene, impl->colliderAssets, impl->k);
+    if (!bodies)
+        return bodies.error();
+    impl->bodySetup = std::move(*bodies);
+    impl->bodyCount = std::uint32_t(impl->bodySetup.records.size());
 
     // Compile every pass.
     struct Build {
@@ -513,6 +557,7 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
         {&impl->lambda, "pbf_lambda.comp"},     {&impl->delta, "pbf_delta.comp"},
         {&impl->velocity, "pbf_velocity.comp"}, {&impl->vorticity, "pbf_vorticity.comp"},
         {&impl->confine, "pbf_confine.comp"},   {&impl->stats, "pbf_stats.comp"},
+        {&impl->bodies, "pbf_bodies.comp"},
     };
     for (const Build& b : builds) {
         auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name));
@@ -542,19 +587,41 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
         offset += a.pointCount();
         impl->colliderRecords.push_back(r);
     }
-    for (std::size_t c = 0; c < impl->colliderRecords.size(); ++c)
-        impl->colliderRecords[c].friction = scene.colliders[c].friction;
+    for (std::size_t c = 0; c < impl->colliderRecords.size(); ++c) {
+        shared::GpuCollider& r = impl->colliderRecords[c];
+        r.friction = scene.colliders[c].friction;
+        r.body = impl->bodySetup.bodyOfCollider[c];
+        if (r.body == shared::kNoBody)
+            continue;
+        // A body's record starts at its initial pose, at rest; the body pass moves it.
+        const glm::mat4 world = poseMatrix(bodyPose(impl->bodySetup.records[r.body]));
+        r.worldToGrid = glm::inverse(world);
+        r.rotation = glm::mat4_cast(bodyPose(impl->bodySetup.records[r.body]).rotation);
+        r.motion = glm::mat4(1.0f);
+        r.scale = scene.colliders[c].scale;
+    }
+    impl->colliderBuf.upload(impl->colliderRecords);
+    if (impl->bodyCount > 0) {
+        impl->bodyBuf.upload(impl->bodySetup.records);
+        impl->bodySamples.upload(impl->bodySetup.samples);
+    }
+    const std::uint32_t zeroWord = 0;
+    glClearNamedBufferData(impl->bodySums.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                           &zeroWord);
 
     const std::size_t ring = 8 + 2 * std::size_t(std::max(1u, scene.simulation.substeps));
     for (std::size_t p = 0; p < std::size_t(Pass::Count); ++p)
         impl->timers.emplace_back(ring);
 
     std::vector<ParticleState> initial = fillBlocks(scene);
+    // Ids keep counting from the blocks' full count, so they do not depend on the bodies.
+    const std::uint32_t blockParticles = std::uint32_t(initial.size());
+    impl->removedAtSpawn = removeParticlesInBodies(scene, impl->colliderAssets, initial);
     if (initial.size() > impl->capacity)
         return fail(ErrorCode::InvalidArgument,
                     scene.path + ": the fluid blocks hold " + std::to_string(initial.size()) +
                         " particles but simulation.capacity is " + std::to_string(impl->capacity));
-    impl->nextId = std::uint32_t(initial.size());
+    impl->nextId = blockParticles;
     impl->append(initial);
     const std::uint32_t zero = 0;
     glClearNamedBufferData(impl->statsBuf.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -843,6 +910,46 @@ std::vector<Simulation::RecordedNeighbours> Simulation::recordedNeighbours() con
     }
     return out;
 }
+
+std::vector<BodyState> Simulation::bodies() const {
+    const Impl& s = *m_impl;
+    std::vector<BodyState> out;
+    if (s.bodyCount == 0)
+        return out;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    const auto records = s.bodyBuf.download<shared::GpuBody>(0, s.bodyCount);
+    for (std::uint32_t b = 0; b < s.bodyCount; ++b) {
+        const shared::GpuBody& r = records[b];
+        BodyState state;
+        state.collider = r.collider;
+        state.mass = r.mass;
+        state.volume = s.bodySetup.volumes[b];
+        state.massFromMesh = s.bodySetup.fromMesh[b];
+        state.position = r.position;
+        state.pose = bodyPose(r);
+        state.orientation = state.pose.rotation;
+        state.linearVelocity = r.linearVelocity;
+        state.angularVelocity = r.angularVelocity;
+        state.force = r.force;
+        state.torque = r.torque;
+        state.contacts = r.contacts;
+        state.contactDepth = r.contactDepth;
+        out.push_back(state);
+    }
+    return out;
+}
+
+std::vector<ColliderPose> Simulation::colliderPoses() const {
+    const Impl& s = *m_impl;
+    std::vector<ColliderPose> poses;
+    for (const format::SceneCollider& c : s.scene.colliders)
+        poses.push_back(colliderPose(c, float(s.time)));
+    for (const BodyState& b : bodies())
+        poses[b.collider] = b.pose;
+    return poses;
+}
+
+std::uint32_t Simulation::particlesRemovedAtSpawn() const { return m_impl->removedAtSpawn; }
 
 const PbfConstants& Simulation::constants() const { return m_impl->k; }
 const format::Scene& Simulation::scene() const { return m_impl->scene; }

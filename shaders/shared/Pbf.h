@@ -99,6 +99,11 @@ struct PbfParams {
     /* 156 */ uint pad1;
     /* 160 */ uvec3 gridDims;  ///< cells per axis; cell (x, y, z) is bucket x + nx (y + ny z)
     /* 172 */ uint denseGrid;  ///< 1 when the dense grid replaces the hash, 0 for the hash
+    // Dynamic bodies (shared/Bodies.h).
+    /* 176 */ uint bodyCount;      ///< GpuBody records bound
+    /* 180 */ float particleMass;  ///< m [kg]: a correction dx of a particle is m dx / dt of impulse
+    /* 184 */ float boundaryScale; ///< calibration of the bodies' boundary volume (docs/bodies.md)
+    /* 188 */ uint pad3;
 };
 
 /// One collider on the GPU: its placement at the end of the substep and its grid. std430.
@@ -113,7 +118,7 @@ struct GpuCollider {
     /* 224 */ uvec3 dims;       ///< grid points per axis
     /* 236 */ uint sdfOffset;   ///< index of the grid's first value in the SDF buffer [floats]
     /* 240 */ float friction;   ///< share of the tangential slip removed on contact, [0, 1]
-    /* 244 */ uint pad0;
+    /* 244 */ uint body;      ///< its GpuBody when the collider is dynamic, else kNoBody
     /* 248 */ uint pad1;
     /* 252 */ uint pad2;
 };
@@ -177,7 +182,11 @@ SLUICE_PBF_AT(PbfParams, gridOrigin, 144);
 SLUICE_PBF_AT(PbfParams, pad1, 156);
 SLUICE_PBF_AT(PbfParams, gridDims, 160);
 SLUICE_PBF_AT(PbfParams, denseGrid, 172);
-static_assert(sizeof(sluice::shared::PbfParams) == 176, "std140/std430 size of PbfParams");
+SLUICE_PBF_AT(PbfParams, bodyCount, 176);
+SLUICE_PBF_AT(PbfParams, particleMass, 180);
+SLUICE_PBF_AT(PbfParams, boundaryScale, 184);
+SLUICE_PBF_AT(PbfParams, pad3, 188);
+static_assert(sizeof(sluice::shared::PbfParams) == 192, "std140/std430 size of PbfParams");
 SLUICE_PBF_AT(GpuCollider, rotation, 64);
 SLUICE_PBF_AT(GpuCollider, motion, 128);
 SLUICE_PBF_AT(GpuCollider, origin, 192);
@@ -187,6 +196,7 @@ SLUICE_PBF_AT(GpuCollider, scale, 220);
 SLUICE_PBF_AT(GpuCollider, dims, 224);
 SLUICE_PBF_AT(GpuCollider, sdfOffset, 236);
 SLUICE_PBF_AT(GpuCollider, friction, 240);
+SLUICE_PBF_AT(GpuCollider, body, 244);
 SLUICE_PBF_AT(GpuCollider, pad2, 252);
 static_assert(sizeof(sluice::shared::GpuCollider) == 256, "std430 size of GpuCollider");
 SLUICE_PBF_AT(PbfIterationStats, errorHi, 4);

@@ -4,6 +4,7 @@
 #define SLUICE_SHARED_PBF_GLSL_H
 
 #include "shared/Pbf.h"
+#include "shared/Bodies.h"
 #include "shared/ChunkedDispatch.h"
 
 #ifndef __cplusplus
@@ -149,7 +150,12 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
     }
 
 #ifdef PBF_WITH_COLLIDERS
+// The body pass rewrites the records of dynamic colliders; every other pass only reads them.
+#ifdef PBF_COLLIDERS_WRITABLE
+layout(std430, binding = kBindColliders) buffer CollidersBuf { GpuCollider colliders[]; };
+#else
 layout(std430, binding = kBindColliders) readonly buffer CollidersBuf { GpuCollider colliders[]; };
+#endif
 layout(std430, binding = kBindSdf) readonly buffer SdfBuf { float sdf[]; };
 
 float sdfAt(uint base, uvec3 dims, uvec3 p) { return sdf[base + p.x + dims.x * (p.y + dims.y * p.z)]; }
@@ -214,15 +220,64 @@ vec3 collide(vec3 x, vec3 xOld) {
         if (!(phi < PBF_RADIUS) || !(len > 0.0))
             continue;
         normal /= len;
+        vec3 before = x;
         x += (PBF_RADIUS - phi) * normal;
         vec3 carried = x - (colliders[c].motion * vec4(x, 1.0)).xyz;
         vec3 slip = (x - xOld) - carried;
         vec3 tangential = slip - dot(slip, normal) * normal;
         x -= colliders[c].friction * tangential;
+#ifdef PBF_BODY_REACTION
+        // A dynamic body takes the opposite of the push it gave (docs/bodies.md).
+        if (colliders[c].body != kNoBody)
+            PBF_BODY_REACTION(colliders[c].body, x, x - before);
+#endif
     }
     return x;
 }
 #endif // PBF_WITH_COLLIDERS
+
+#ifdef PBF_WITH_BODIES
+layout(std430, binding = kBindBodies) buffer BodiesBuf { GpuBody bodies[]; };
+
+// The boundary's share of a particle's kernel support (docs/bodies.md, "Boundary volume"): a
+// body whose surface is a plane at distance phi from the particle fills the part of the poly6
+// support behind that plane, B(phi) = k (1/2 - 315/256 F(phi / h)) with
+// F(u) = u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9, which adds B to V sum_j W (the density over rho0).
+// Locally flat boundary, as Koschier & Bender 2017 volume maps assume within h; k calibrates the
+// continuous share to the rest lattice's at phi = s/2 (P.boundaryScale).
+float boundaryShare(float phi) {
+    float u = clamp(phi / PBF_H, -1.0, 1.0);
+    float u2 = u * u;
+    float f = u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
+    return P.boundaryScale * (0.5 - (315.0 / 256.0) * f);
+}
+
+// dB/dphi [1/m]: B's gradient is this times the boundary's outward normal.
+float boundaryShareSlope(float phi) {
+    float u = phi / PBF_H;
+    if (abs(u) >= 1.0)
+        return 0.0;
+    float a = 1.0 - u * u;
+    return -P.boundaryScale * (315.0 / 256.0) / PBF_H * (a * a) * (a * a);
+}
+
+// Distance and outward unit normal of body b at world x, when the particle's kernel reaches
+// it (phi < h); false otherwise. A bounding-sphere test first skips far bodies.
+bool bodyBoundary(uint b, vec3 x, out float phi, out vec3 normal) {
+    vec3 toCentre = x - bodies[b].position;
+    float reach = bodies[b].boundRadius + PBF_H;
+    phi = PBF_H;
+    normal = vec3(0.0);
+    if (dot(toCentre, toCentre) >= reach * reach)
+        return false;
+    phi = colliderDistance(bodies[b].collider, x, normal);
+    float len = length(normal);
+    if (!(phi < PBF_H) || !(len > 0.0))
+        return false;
+    normal /= len;
+    return true;
+}
+#endif // PBF_WITH_BODIES
 
 vec3 clampToDomain(vec3 x) {
     return P.hasDomain != 0u ? clamp(x, P.domainMin, P.domainMax) : x;

@@ -75,6 +75,7 @@ std::vector<ProgramCase> allPrograms() {
         compute("PbfVorticity", runtimeSource, "pbf_vorticity.comp"),
         compute("PbfConfine", runtimeSource, "pbf_confine.comp"),
         compute("PbfStats", runtimeSource, "pbf_stats.comp"),
+        compute("PbfBodies", runtimeSource, "pbf_bodies.comp"),
         compute("ScanBlock", runtimeSource, "scan_block.comp"),
         compute("ScanAdd", runtimeSource, "scan_add.comp"),
         compute("RenderStats", runtimeSource, "render_stats.comp"),

@@ -25,6 +25,9 @@ struct PbfConstants {
     float poly6 = 0.0f;      ///< 315 / (64 pi h^9)
     float spikyGrad = 0.0f;  ///< -45 / (pi h^6)
     float dt = 0.0f;         ///< substep length timeStep / substeps [s]
+    /// Scale of a body's boundary volume: the rest lattice's share behind a flat boundary at
+    /// s/2 over the continuous share there (docs/bodies.md)
+    float boundaryScale = 1.0f;
 };
 
 /// Computes PbfConstants in double precision. Precondition: params as readScene returns them.

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
 #include "sluice/format/ColliderAsset.h"
@@ -35,6 +36,7 @@ enum class Pass : std::uint32_t {
     Solve,
     Velocity,
     Vorticity,
+    Bodies,
     Stats,
     Count
 };
@@ -61,6 +63,23 @@ struct StepStats {
     std::uint32_t maxCandidates = 0; ///< most candidate entries of one particle (this step)
     std::uint32_t maxNeighbours = 0; ///< most neighbours of one particle (this step)
     bool capacityReached = false;    ///< an emitter could not add particles this step
+};
+
+/// One dynamic body as the GPU holds it after a step (docs/bodies.md).
+struct BodyState {
+    std::uint32_t collider = 0;      ///< its index in the scene's colliders
+    double mass = 0.0;               ///< [kg]
+    double volume = 0.0;             ///< [m^3]
+    bool massFromMesh = false;       ///< mass properties from the mesh (else from the field)
+    glm::vec3 position{0.0f};        ///< centre of mass [m]
+    glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f}; ///< asset frame -> world
+    glm::vec3 linearVelocity{0.0f};  ///< [m/s]
+    glm::vec3 angularVelocity{0.0f}; ///< [rad/s], world
+    glm::vec3 force{0.0f};           ///< the fluid's force, last substep [N]
+    glm::vec3 torque{0.0f};          ///< the fluid's torque about the centre of mass [N m]
+    std::uint32_t contacts = 0;      ///< contact points touching a wall, collider or body
+    float contactDepth = 0.0f;       ///< deepest of them before correction [m]
+    ColliderPose pose;               ///< where the asset frame is: world = pose.toWorld(local)
 };
 
 /// GPU time per pass group of the latest step whose timer queries are complete [ms];
@@ -144,6 +163,18 @@ public:
     /// collisions, three cells of a row in one range); otherwise (0, 0, 0): the hash. Follows
     /// kernelRadius changes made through setParameters.
     glm::uvec3 neighbourGridCells() const;
+
+    /// Every dynamic body after the latest step, in scene order (one small readback; waits for
+    /// the GPU). Empty when the scene has none.
+    std::vector<BodyState> bodies() const;
+
+    /// Each scene collider's pose now: kinematic ones from the scene, dynamic ones from the GPU
+    /// (one small readback when there are bodies).
+    std::vector<ColliderPose> colliderPoses() const;
+
+    /// Particles of the fluid blocks left out at the start because their centre was inside a
+    /// dynamic body.
+    std::uint32_t particlesRemovedAtSpawn() const;
 
     /// Constants derived from the scene's parameters.
     const PbfConstants& constants() const;

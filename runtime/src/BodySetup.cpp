@@ -1,0 +1,178 @@
+// Dynamic bodies at scene start: mass properties, contact points and the GPU records.
+#include "BodySetup.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_set>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/matrix.hpp>
+
+#include "sluice/format/MassProperties.h"
+#include "sluice/format/SdfSampler.h"
+
+namespace sluice::rt {
+
+namespace {
+
+// Fixed-point units of the reaction sums: a particle's correction is at most a few h, so
+// 2^28 / h keeps it in 32 bits with 28 bits below h (docs/bodies.md, "Reaction").
+constexpr double kSumUnitsPerH = 268435456.0;
+
+std::string colliderPath(std::size_t c) {
+    return "colliders[" + std::to_string(c) + "].dynamic";
+}
+
+// The mass properties the body uses, in the asset frame at unit density.
+Result<format::MassProperties> massOf(const format::Scene& scene, std::size_t c,
+                                      const format::ColliderAsset& asset, bool& fromMesh) {
+    const format::ColliderMeta& m = asset.meta;
+    fromMesh = m.meshMass.has_value();
+    if (fromMesh)
+        return *m.meshMass;
+    if (m.mesh.triangles > 0 && !m.mesh.closed)
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": " + colliderPath(c) + ": " + m.sourceFile +
+                        " is an open mesh (" + std::to_string(m.mesh.boundaryEdges) +
+                        " boundary edges), so it has no volume to float or weigh; close the "
+                        "mesh and re-bake it, or make the collider static");
+    auto field = format::massPropertiesFromField(asset);
+    if (!field)
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": " + colliderPath(c) + ": " + field.error().detail);
+    return *field;
+}
+
+} // namespace
+
+std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double gap) {
+    const format::SdfSampler sampler(asset);
+    const format::ColliderMeta& m = asset.meta;
+    const double band = 0.75 * m.voxelSize;
+    std::vector<glm::vec3> onSurface;
+    for (std::uint32_t k = 0; k < m.dims.z; ++k)
+        for (std::uint32_t j = 0; j < m.dims.y; ++j)
+            for (std::uint32_t i = 0; i < m.dims.x; ++i) {
+                const double phi = asset.distances[asset.index(i, j, k)];
+                if (std::abs(phi) > band)
+                    continue;
+                glm::dvec3 p = asset.pointPosition(i, j, k);
+                // Two Newton steps onto phi = 0 along the gradient.
+                for (int it = 0; it < 2; ++it) {
+                    const glm::dvec3 g = sampler.gradient(p);
+                    const double g2 = glm::dot(g, g);
+                    if (!(g2 > 1e-12))
+                        break;
+                    p -= double(sampler.value(p)) * g / g2;
+                }
+                if (std::abs(sampler.value(p)) <= 0.05 * m.voxelSize)
+                    onSurface.emplace_back(p);
+            }
+    for (;; gap *= 1.25) {
+        std::vector<glm::vec3> kept;
+        std::unordered_set<std::uint64_t> cells;
+        for (const glm::vec3& p : onSurface) {
+            const glm::dvec3 c = glm::floor((glm::dvec3(p) - m.origin) / gap);
+            const std::uint64_t key = std::uint64_t(c.x) | (std::uint64_t(c.y) << 21) |
+                                      (std::uint64_t(c.z) << 42);
+            if (cells.insert(key).second)
+                kept.push_back(p);
+        }
+        if (kept.size() <= shared::kMaxBodySamples)
+            return kept;
+    }
+}
+
+Result<BodySetup> setUpBodies(const format::Scene& scene,
+                              const std::vector<format::ColliderAsset>& assets,
+                              const PbfConstants& k) {
+    BodySetup out;
+    out.bodyOfCollider.assign(scene.colliders.size(), shared::kNoBody);
+    for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
+        const format::SceneCollider& sc = scene.colliders[c];
+        if (!sc.dynamic)
+            continue;
+        const format::DynamicBody& d = *sc.dynamic;
+        const format::ColliderAsset& asset = assets[c];
+        bool fromMesh = false;
+        auto mass = massOf(scene, c, asset, fromMesh);
+        if (!mass)
+            return mass.error();
+        const double s = sc.scale;
+        const double volume = mass->volume * s * s * s; // [m^3]
+        const double density = d.density ? double(*d.density) : double(*d.mass) / volume;
+        const double bodyMass = density * volume;
+        const glm::dmat3 inertia = mass->inertia * (density * s * s * s * s * s); // [kg m^2]
+        if (!(bodyMass > 0.0) || !std::isfinite(bodyMass) || !(glm::determinant(inertia) > 0.0))
+            return fail(ErrorCode::InvalidArgument,
+                        scene.path + ": " + colliderPath(c) +
+                            ": the body's mass or inertia is not positive (volume " +
+                            std::to_string(volume) + " m^3); is the mesh closed?");
+
+        // Contact points about half a particle spacing apart, at most one per voxel.
+        const double gap = std::max(asset.meta.voxelSize, 0.5 * double(2.0f * k.radius) / s);
+        const std::vector<glm::vec3> points = surfacePoints(asset, gap);
+        double reach = 0.0;
+        for (const glm::vec3& p : points)
+            reach = std::max(reach, glm::length(glm::dvec3(p) - mass->centerOfMass));
+
+        const ColliderPose start = colliderPose(sc, 0.0f);
+        shared::GpuBody b{};
+        b.position = start.toWorld(glm::vec3(mass->centerOfMass));
+        b.orientation = glm::vec4(start.rotation.x, start.rotation.y, start.rotation.z,
+                                  start.rotation.w);
+        b.mass = float(bodyMass);
+        b.invMass = float(1.0 / bodyMass);
+        b.linearVelocity = d.linearVelocity;
+        b.angularVelocity = glm::radians(d.angularVelocityDegrees);
+        b.collider = std::uint32_t(c);
+        b.invInertia = glm::mat4(glm::mat3(glm::inverse(inertia)));
+        b.centerLocal = glm::vec3(mass->centerOfMass);
+        b.scale = float(s);
+        b.boundRadius = float(s * (reach + asset.meta.voxelSize));
+        b.sumScale = float(kSumUnitsPerH / k.h);
+        b.momentScale = float(kSumUnitsPerH / (k.h * (double(b.boundRadius) + k.h)));
+        b.sampleOffset = std::uint32_t(out.samples.size());
+        b.sampleCount = std::uint32_t(points.size());
+        b.friction = d.friction;
+        b.restitution = d.restitution;
+        for (const glm::vec3& p : points)
+            out.samples.emplace_back(p, 0.0f);
+        out.bodyOfCollider[c] = std::uint32_t(out.records.size());
+        out.records.push_back(b);
+        out.volumes.push_back(volume);
+        out.fromMesh.push_back(fromMesh);
+    }
+    return out;
+}
+
+std::uint32_t removeParticlesInBodies(const format::Scene& scene,
+                                      const std::vector<format::ColliderAsset>& assets,
+                                      std::vector<ParticleState>& particles) {
+    std::uint32_t removed = 0;
+    for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
+        if (!scene.colliders[c].dynamic)
+            continue;
+        const format::SdfSampler sampler(assets[c]);
+        const ColliderPose pose = colliderPose(scene.colliders[c], 0.0f);
+        const auto inside = [&](const ParticleState& p) {
+            return sampler.value(glm::dvec3(pose.toLocal(p.position))) < 0.0f;
+        };
+        const auto first = std::remove_if(particles.begin(), particles.end(), inside);
+        removed += std::uint32_t(particles.end() - first);
+        particles.erase(first, particles.end());
+    }
+    return removed;
+}
+
+ColliderPose bodyPose(const shared::GpuBody& body) {
+    ColliderPose pose;
+    pose.rotation = glm::quat(body.orientation.w, body.orientation.x, body.orientation.y,
+                              body.orientation.z);
+    pose.scale = body.scale;
+    pose.translation = body.position - pose.rotation * (body.scale * body.centerLocal);
+    return pose;
+}
+
+} // namespace sluice::rt

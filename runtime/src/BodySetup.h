@@ -1,0 +1,50 @@
+// Dynamic bodies at scene start: mass properties, contact points and the GPU records
+// (docs/bodies.md).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "shared/Bodies.h"
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Result.h"
+#include "sluice/format/Scene.h"
+#include "sluice/rt/SceneSetup.h"
+
+namespace sluice::rt {
+
+/// Every dynamic collider of a scene, ready for the GPU.
+struct BodySetup {
+    std::vector<shared::GpuBody> records;      ///< one per dynamic collider, in scene order
+    std::vector<glm::vec4> samples;            ///< contact points, body-local [asset units]
+    std::vector<std::uint32_t> bodyOfCollider; ///< body index per collider, or kNoBody
+    std::vector<double> volumes;               ///< each body's volume [m^3]
+    std::vector<bool> fromMesh; ///< mass properties from the mesh (true) or the field (false)
+};
+
+/// Mass properties (the asset's mesh integrals when it has them, else the field's), contact
+/// points and initial state of every dynamic collider. Errors name the scene file and the
+/// collider's JSON path: a body of an open mesh, or one whose field holds no volume, is
+/// InvalidArgument.
+Result<BodySetup> setUpBodies(const format::Scene& scene,
+                              const std::vector<format::ColliderAsset>& assets,
+                              const PbfConstants& k);
+
+/// Points on the zero level set of `asset`, about `gap` apart [asset units], in grid order:
+/// grid points near the surface moved onto it along the gradient, one per gap-sized cell. At
+/// most kMaxBodySamples (the gap grows until they fit).
+std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double gap);
+
+/// Removes the particles whose centre lies inside a dynamic body at its start pose; returns
+/// how many.
+std::uint32_t removeParticlesInBodies(const format::Scene& scene,
+                                      const std::vector<format::ColliderAsset>& assets,
+                                      std::vector<ParticleState>& particles);
+
+/// World pose of a body's asset frame from its centre of mass and orientation.
+ColliderPose bodyPose(const shared::GpuBody& body);
+
+} // namespace sluice::rt
