@@ -76,6 +76,21 @@ void checkAccepted(const Scene& scene) {
         SLUICE_FUZZ_CHECK(c.friction >= 0.0f && c.friction <= 1.0f, "collider friction");
         for (std::size_t k = 1; k < c.keys.size(); ++k)
             SLUICE_FUZZ_CHECK(c.keys[k].time > c.keys[k - 1].time, "key times increase");
+        if (c.dynamic) {
+            const DynamicBody& d = *c.dynamic;
+            SLUICE_FUZZ_CHECK(d.density.has_value() != d.mass.has_value(),
+                              "a body has exactly one of density and mass");
+            const float amount = d.density ? *d.density : *d.mass;
+            SLUICE_FUZZ_CHECK(finite(amount) && amount > 0.0f, "body density or mass > 0");
+            SLUICE_FUZZ_CHECK(finite(d.linearVelocity) && finite(d.angularVelocityDegrees),
+                              "body velocities finite");
+            SLUICE_FUZZ_CHECK(d.friction >= 0.0f && d.friction <= 2.0f && d.restitution >= 0.0f &&
+                                  d.restitution <= 1.0f,
+                              "body friction and restitution ranges");
+            SLUICE_FUZZ_CHECK(c.keys.empty() && c.linearVelocity == glm::vec3(0.0f) &&
+                                  c.angularVelocityDegrees == glm::vec3(0.0f),
+                              "a dynamic collider has no motion");
+        }
         // The runtime places it at any time without producing NaN.
         for (const float t : {0.0f, 0.5f, 3.0f}) {
             const rt::ColliderPose pose = rt::colliderPose(c, t);
