@@ -14,6 +14,14 @@ layout(local_size_x = kBodyLocalSize) in;
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 layout(std430, binding = kBindBodySamples) readonly buffer BodySamples { vec4 samples[]; };
 
+// The mouse spring of the viewer (Simulation::setDrag): body dragBody (kNoBody: none) is pulled
+// at its point dragAnchor [asset units] towards dragTarget [m] by a critically damped spring of
+// angular frequency dragOmega [rad/s], whatever its mass.
+uniform uint dragBody;
+uniform vec3 dragAnchor;
+uniform vec3 dragTarget;
+uniform float dragOmega;
+
 // Jacobi sweeps over the bodies; inside a sweep each body visits its own points in order.
 const uint kContactSweeps = 4u;
 
@@ -201,6 +209,15 @@ void main() {
         q0 = bodies[b].orientation;
         v = bodies[b].linearVelocity + P.dt * P.gravity + impulse * bodies[b].invMass;
         vec3 w = bodies[b].angularVelocity + worldInvInertia(b, q0) * angularImpulse;
+        if (b == dragBody) {
+            vec3 r = rotate(q0, bodies[b].scale * (dragAnchor - bodies[b].centerLocal));
+            vec3 pointVelocity = v + cross(w, r);
+            vec3 pull = dragOmega * dragOmega * (dragTarget - (x0 + r)) -
+                        2.0 * dragOmega * pointVelocity;
+            vec3 impulse = bodies[b].mass * P.dt * pull;
+            v += impulse * bodies[b].invMass;
+            w += worldInvInertia(b, q0) * cross(r, impulse);
+        }
         x = x0 + P.dt * v;
         q = normalize(q0 + 0.5 * P.dt * quatMul(vec4(w, 0.0), q0));
     }

@@ -76,16 +76,41 @@ void printStartup(const HeadlessRun& run, const std::vector<std::string>& collid
               << " ms, up to " << run.scene.simulation.maxIterations << " iterations\n";
     for (const std::string& line : colliderLines)
         std::cout << "  " << line << '\n';
+    for (const BodyState& b : sim.bodies())
+        std::cout << "  body: collider " << b.collider << ", " << b.mass << " kg, "
+                  << b.volume * 1e3 << " L (mass properties from the "
+                  << (b.massFromMesh ? "mesh" : "field") << ")\n";
+    if (sim.particlesRemovedAtSpawn() > 0)
+        std::cout << "  " << format::plural(sim.particlesRemovedAtSpawn(), "particle")
+                  << " of the fluid blocks started inside a dynamic body and were left out\n";
     std::cout << "GL: " << run.context.info().renderer << "\n\n" << statsTableHeader();
 }
 
-/// The PLY file and the captured frame of step `step`, where they are due.
+std::string bodiesName(std::uint64_t step) {
+    char name[40];
+    std::snprintf(name, sizeof name, "frame_%06llu.bodies.json",
+                  static_cast<unsigned long long>(step));
+    return name;
+}
+
+/// The PLY file (and, with dynamic bodies, their transforms beside it) and the captured frame
+/// of step `step`, where they are due.
 Result<void> writeStepOutputs(HeadlessRun& run, std::uint64_t step) {
     const HeadlessOptions& o = run.options;
     if (!o.plyDir.empty() && step % o.dumpEvery == 0) {
         const auto particles = run.sim.downloadParticles();
         if (auto ok = writePly(std::filesystem::path(o.plyDir) / plyName(step), particles); !ok)
             return ok;
+        const std::vector<BodyState> bodies = run.sim.bodies();
+        if (!bodies.empty()) {
+            const std::string text =
+                bodyTransformsJson(run.scene, step, run.sim.time(), bodies).dump(2) + "\n";
+            if (auto ok = format::writeFileAtomic(
+                    std::filesystem::path(o.plyDir) / bodiesName(step),
+                    std::as_bytes(std::span(text.data(), text.size())));
+                !ok)
+                return ok;
+        }
     }
     return run.capture ? run.capture->afterStep(run.sim, step) : Result<void>{};
 }
@@ -100,7 +125,11 @@ void recordStats(HeadlessRun& run, std::uint64_t step) {
         gpuMs += t > 0.0 ? t : 0.0;
     if (!run.options.quiet)
         std::cout << statsTableRow(stats, gpuMs > 0.0 ? gpuMs : -1.0);
-    run.steps.push_back(statsJson(stats));
+    nlohmann::json row = statsJson(stats);
+    const std::vector<BodyState> bodies = run.sim.bodies();
+    if (!bodies.empty())
+        row["bodies"] = bodiesJson(bodies);
+    run.steps.push_back(std::move(row));
     if (stats.nonFinite > 0) {
         std::cerr << "sluice-play: step " << stats.step << ": " << stats.nonFinite
                   << " particles went non-finite and were reset to their last position\n";

@@ -18,6 +18,7 @@
 #include "shared/ChunkedDispatch.h"
 #include "shared/Pbf.h"
 #include "sluice/format/AssetIO.h"
+#include "sluice/format/SdfSampler.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
@@ -94,6 +95,7 @@ struct Simulation::Impl {
     BodySetup bodySetup;
     std::uint32_t bodyCount = 0;
     std::uint32_t removedAtSpawn = 0; // particles of the blocks that started inside a body
+    std::optional<BodyDrag> drag;      // the viewer's mouse spring
 
     gpu::Program predict, scatter, bucketSort, reorder, lambda, delta, velocity, vorticity,
         confine, stats, bodies;
@@ -516,6 +518,10 @@ void Simulation::Impl::applyVorticityAndXsph() {
 // walls, and rewrite their collider records; one work group for all of them.
 void Simulation::Impl::integrateBodies() {
     begin(Pass::Bodies);
+    bodies.set("dragBody", drag ? drag->body : shared::kNoBody);
+    bodies.set("dragAnchor", drag ? drag->anchor : glm::vec3(0.0f));
+    bodies.set("dragTarget", drag ? drag->target : glm::vec3(0.0f));
+    bodies.set("dragOmega", 2.0f * 3.14159265f * 3.0f);
     bodies.use();
     glDispatchCompute(1, 1, 1);
     barrier();
@@ -934,6 +940,14 @@ std::vector<BodyState> Simulation::bodies() const {
         state.torque = r.torque;
         state.contacts = r.contacts;
         state.contactDepth = r.contactDepth;
+        const glm::vec3 g = s.scene.simulation.gravity;
+        const double g2 = double(glm::dot(g, g));
+        const double displaced = double(s.scene.simulation.restDensity) * state.volume;
+        state.submergedShare =
+            g2 > 0.0 && displaced > 0.0
+                ? std::max(0.0, -double(glm::dot(r.force, g)) / (std::sqrt(g2) * displaced *
+                                                                    std::sqrt(g2)))
+                : 0.0;
         out.push_back(state);
     }
     return out;
@@ -947,6 +961,53 @@ std::vector<ColliderPose> Simulation::colliderPoses() const {
     for (const BodyState& b : bodies())
         poses[b.collider] = b.pose;
     return poses;
+}
+
+Result<void> Simulation::setDrag(const std::optional<BodyDrag>& drag) {
+    Impl& s = *m_impl;
+    if (drag) {
+        if (drag->body >= s.bodyCount)
+            return fail(ErrorCode::InvalidArgument,
+                        "drag: body " + std::to_string(drag->body) + " of " +
+                            std::to_string(s.bodyCount));
+        const float values[] = {drag->anchor.x, drag->anchor.y, drag->anchor.z,
+                                drag->target.x, drag->target.y, drag->target.z};
+        for (float v : values)
+            if (!std::isfinite(v))
+                return fail(ErrorCode::NonFinite, "drag: a point is not finite");
+    }
+    s.drag = drag;
+    return {};
+}
+
+std::optional<BodyHit> Simulation::pickBody(glm::vec3 origin, glm::vec3 direction) const {
+    const Impl& s = *m_impl;
+    const float length = glm::length(direction);
+    if (!(length > 0.0f) || !std::isfinite(length))
+        return std::nullopt;
+    const glm::vec3 dir = direction / length;
+    std::optional<BodyHit> best;
+    const std::vector<BodyState> states = bodies();
+    for (std::uint32_t b = 0; b < states.size(); ++b) {
+        const ColliderPose& pose = states[b].pose;
+        const format::SdfSampler sampler(s.colliderAssets[states[b].collider]);
+        // Sphere tracing in world units. Outside the grid box phi may overestimate the distance
+        // (SdfSampler), so a step can end slightly inside: that still counts as the hit.
+        const float reach = glm::length(origin - states[b].position) +
+                            s.bodySetup.records[b].boundRadius;
+        float t = 0.0f;
+        for (int it = 0; it < 256 && t <= reach; ++it) {
+            const glm::vec3 p = origin + t * dir;
+            const float phi = pose.scale * sampler.value(glm::dvec3(pose.toLocal(p)));
+            if (phi < 1e-4f * pose.scale) {
+                if (!best || t < best->distance)
+                    best = BodyHit{b, p, pose.toLocal(p), t};
+                break;
+            }
+            t += std::max(phi, 1e-4f);
+        }
+    }
+    return best;
 }
 
 std::uint32_t Simulation::particlesRemovedAtSpawn() const { return m_impl->removedAtSpawn; }

@@ -3,6 +3,8 @@
 
 #include <cstdio>
 
+#include <glm/gtc/quaternion.hpp>
+
 namespace sluice::rt {
 
 std::string statsTableHeader() {
@@ -41,6 +43,52 @@ nlohmann::json statsJson(const StepStats& s) {
         {"maxNeighbours", s.maxNeighbours},
         {"capacityReached", s.capacityReached},
     };
+}
+
+namespace {
+
+nlohmann::json vec3Json(glm::vec3 v) { return {v.x, v.y, v.z}; }
+nlohmann::json quatJson(glm::quat q) { return {q.x, q.y, q.z, q.w}; }
+
+} // namespace
+
+nlohmann::json bodiesJson(const std::vector<BodyState>& bodies) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const BodyState& b : bodies)
+        out.push_back({
+            {"collider", b.collider},
+            {"mass", b.mass},
+            {"position", vec3Json(b.position)},
+            {"orientation", quatJson(b.orientation)},
+            {"linearVelocity", vec3Json(b.linearVelocity)},
+            {"angularVelocity", vec3Json(b.angularVelocity)},
+            {"force", vec3Json(b.force)},
+            {"torque", vec3Json(b.torque)},
+            {"contacts", b.contacts},
+        });
+    return out;
+}
+
+nlohmann::json bodyTransformsJson(const format::Scene& scene, std::uint64_t step, double time,
+                                  const std::vector<BodyState>& bodies) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const BodyState& b : bodies) {
+        const ColliderPose& pose = b.pose;
+        const glm::mat3 r = glm::mat3_cast(pose.rotation) * pose.scale;
+        nlohmann::json matrix = nlohmann::json::array();
+        for (int row = 0; row < 3; ++row)
+            matrix.push_back({r[0][row], r[1][row], r[2][row], pose.translation[row]});
+        matrix.push_back({0.0f, 0.0f, 0.0f, 1.0f});
+        list.push_back({
+            {"collider", b.collider},
+            {"asset", scene.colliders[b.collider].asset},
+            {"translation", vec3Json(pose.translation)},
+            {"rotation", quatJson(pose.rotation)},
+            {"scale", pose.scale},
+            {"matrix", matrix},
+        });
+    }
+    return {{"step", step}, {"time", time}, {"bodies", list}};
 }
 
 nlohmann::json passTimesJson(const PassTimes& times) {

@@ -20,6 +20,17 @@ std::string statsTableRow(const StepStats& stats, double gpuMs);
 /// A step's statistics as JSON (physics only: no timings, so deterministic runs compare equal).
 nlohmann::json statsJson(const StepStats& stats);
 
+/// Every dynamic body's state as JSON (docs/bodies.md, "Outputs"): an array of objects with
+/// collider, mass, position, orientation [x, y, z, w], linearVelocity, angularVelocity, force,
+/// torque and contacts.
+nlohmann::json bodiesJson(const std::vector<BodyState>& bodies);
+
+/// The body-transforms file written beside each PLY frame: for every body, its collider index
+/// and asset, and the asset frame's world transform as translation, rotation quaternion
+/// [x, y, z, w], uniform scale and a row-major 4x4 matrix (what Blender and Houdini import).
+nlohmann::json bodyTransformsJson(const format::Scene& scene, std::uint64_t step, double time,
+                                  const std::vector<BodyState>& bodies);
+
 /// Per-pass GPU times as JSON {"predict": ms, ...}; passes without a figure are left out.
 nlohmann::json passTimesJson(const PassTimes& times);
 

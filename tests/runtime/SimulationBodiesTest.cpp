@@ -108,68 +108,290 @@ double submergedShare(const BodyState& body, float side, double level) {
     return double(below) / double(n * n * n);
 }
 
+// Robustness figures over a whole run: the worst step.
+struct Health {
+    std::uint32_t inside = 0;    ///< particles with phi < -r/2 in some collider or body
+    std::uint32_t nonFinite = 0; ///< particles reset because they went non-finite
+    void add(const StepStats& stats) {
+        inside = std::max(inside, stats.insideColliders);
+        nonFinite = std::max(nonFinite, stats.nonFinite);
+    }
+};
+
+bool finite(const BodyState& b) {
+    const float values[] = {b.position.x,       b.position.y,       b.position.z,
+                            b.linearVelocity.x, b.linearVelocity.y, b.linearVelocity.z,
+                            b.angularVelocity.x, b.angularVelocity.y, b.angularVelocity.z,
+                            b.orientation.x,    b.orientation.y,    b.orientation.z,
+                            b.orientation.w};
+    return std::all_of(std::begin(values), std::end(values),
+                       [](float v) { return std::isfinite(v); });
+}
+
 struct Settled {
     double share = 0.0;       ///< submerged share at the end
     double verticalRms = 0.0; ///< rms vertical speed of the body over the last second [m/s]
     BodyState body;
-    StepStats stats;
-    std::uint32_t worstInside = 0;
-    std::uint32_t worstNonFinite = 0;
+    Health health;
+    bool bodyFinite = true;
 };
 
-Settled floatCube(float ratio, float side, float startShare, int seconds) {
-    const glm::vec2 tank(0.4f, 0.4f);
-    const float depth = 0.2f;
-    format::Scene scene = tankScene(tank, depth, 0.5f);
-    const float y = depth + side * (0.5f - startShare);
-    scene.colliders.push_back(cubeBody(glm::vec3(0.2f, y, 0.2f), ratio));
+constexpr glm::vec2 kTank(0.4f, 0.4f);
+constexpr float kDepth = 0.2f;
+
+// A cube of side `side` at `ratio` times the water's density, its centre at height `y` in the
+// middle of the tank, played for `seconds`.
+Settled playCube(float ratio, float side, float y, float seconds) {
+    format::Scene scene = tankScene(kTank, kDepth, 0.5f);
+    scene.colliders.push_back(cubeBody(glm::vec3(0.5f * kTank.x, y, 0.5f * kTank.y), ratio));
     std::vector<format::ColliderAsset> assets{cubeAsset(side)};
     auto sim = Simulation::create(scene, std::move(assets));
     EXPECT_TRUE(sim) << sim.error().message();
     if (!sim)
         return {};
     Settled out;
-    const int steps = 60 * seconds;
+    const int steps = int(std::lround(60 * seconds));
     double squares = 0.0;
     int counted = 0;
     for (int step = 1; step <= steps; ++step) {
         sim->step();
-        const StepStats stats = sim->readStats();
-        out.worstInside = std::max(out.worstInside, stats.insideColliders);
-        out.worstNonFinite = std::max(out.worstNonFinite, stats.nonFinite);
+        out.health.add(sim->readStats());
         const BodyState body = sim->bodies().at(0);
+        out.bodyFinite = out.bodyFinite && finite(body);
         if (step > steps - 60) {
             squares += double(body.linearVelocity.y) * body.linearVelocity.y;
             ++counted;
         }
-        if (step % 30 == 0) {
-            const double level = waterLevel(sim->downloadParticles(), body.position, 0.6 * side, tank,
-                                           sim->constants().volume, lowestPoint(body, side));
-            std::printf("ratio %.2f t %.2f s: level %.4f y %.4f v %.4f share %.3f force %.3f N (weight %.3f "
-                        "N) contacts %u\n",
-                        ratio, step / 60.0, level, body.position.y, body.linearVelocity.y,
-                        submergedShare(body, side, level), body.force.y, body.mass * 9.81,
-                        body.contacts);
-        }
     }
     out.body = sim->bodies().at(0);
-    out.stats = sim->readStats();
     const double level = waterLevel(sim->downloadParticles(), out.body.position, 0.6 * side,
-                                    tank, sim->constants().volume, lowestPoint(out.body, side));
+                                    kTank, sim->constants().volume, lowestPoint(out.body, side));
     out.share = submergedShare(out.body, side, level);
     out.verticalRms = std::sqrt(squares / std::max(counted, 1));
+    std::printf("cube at %.2f x water density: submerged share %.3f (surface %.4f m), vertical "
+                "rms %.4f m/s over the last second, centre at %.4f m, %u contacts\n",
+                ratio, out.share, level, out.verticalRms, out.body.position.y,
+                out.body.contacts);
     return out;
 }
 
+void expectHealthy(const Settled& s) {
+    EXPECT_EQ(s.health.nonFinite, 0u);
+    EXPECT_EQ(s.health.inside, 0u);
+    EXPECT_TRUE(s.bodyFinite);
+}
+
+const float kSide = 8 * kSpacing; // the smallest cube the issue allows: 8 spacings wide
+
+// Start with the cube 0.1 of its height higher than Archimedes' draft, so it has to settle.
+float startHeight(float ratio) { return kDepth + kSide * (0.5f - (ratio - 0.1f)); }
+
 TEST_F(SimulationBodies, CubesFloatAtTheDraftArchimedesGives) {
-    for (float ratio : {0.5f}) {
-        const Settled s = floatCube(ratio, 8 * kSpacing, ratio - 0.1f, 3);
-        std::printf("ratio %.2f: submerged share %.3f, vertical rms %.4f m/s\n", ratio, s.share,
-                    s.verticalRms);
-        EXPECT_NEAR(s.share, ratio, 0.05);
-        EXPECT_LT(s.verticalRms, 0.02);
-        EXPECT_EQ(s.worstNonFinite, 0u);
-        EXPECT_EQ(s.worstInside, 0u);
+    for (float ratio : {0.25f, 0.5f, 0.75f}) {
+        const Settled s = playCube(ratio, kSide, startHeight(ratio), 3.0f);
+        EXPECT_NEAR(s.share, ratio, 0.05) << "density ratio " << ratio;
+        EXPECT_LT(s.verticalRms, 0.02) << "density ratio " << ratio;
+        EXPECT_EQ(s.body.contacts, 0u) << "a floating cube touches nothing";
+        expectHealthy(s);
+    }
+}
+
+TEST_F(SimulationBodies, ABodyAFifthLighterThanWaterFloatsAndOneAFifthHeavierSinks) {
+    const Settled light = playCube(0.9f, kSide, startHeight(0.9f), 2.5f);
+    EXPECT_NEAR(light.share, 0.9, 0.05);
+    EXPECT_LT(light.share, 0.999) << "ratio 0.9 must keep part of itself above the surface";
+    EXPECT_EQ(light.body.contacts, 0u);
+    const Settled heavy = playCube(1.1f, kSide, startHeight(1.1f), 2.5f);
+    EXPECT_GT(heavy.body.contacts, 0u) << "ratio 1.1 must reach the floor";
+    EXPECT_LT(lowestPoint(heavy.body, kSide), 0.5 * kSpacing);
+    expectHealthy(light);
+    expectHealthy(heavy);
+}
+
+TEST_F(SimulationBodies, AHeavyBodyRestsOnTheFloorWithoutSinkingIntoIt) {
+    const Settled s = playCube(2.0f, kSide, startHeight(2.0f), 2.5f);
+    EXPECT_GT(s.body.contacts, 0u);
+    const double lowest = lowestPoint(s.body, kSide);
+    EXPECT_GT(lowest, -0.5 * kSpacing) << "penetration of the floor";
+    EXPECT_LT(lowest, 0.25 * kSpacing) << "resting on the floor";
+    EXPECT_LT(s.body.contactDepth, 0.5 * kSpacing);
+    EXPECT_LT(s.verticalRms, 0.02);
+    expectHealthy(s);
+}
+
+TEST_F(SimulationBodies, ALightBodyReleasedOnTheFloorRisesToTheSurface) {
+    const Settled s = playCube(0.5f, kSide, 0.5f * kSide + 0.25f * kSpacing, 3.0f);
+    EXPECT_NEAR(s.share, 0.5, 0.1) << "it must have risen and float";
+    EXPECT_EQ(s.body.contacts, 0u);
+    expectHealthy(s);
+}
+
+glm::dvec3 fluidMomentum(const std::vector<ParticleState>& particles, double mass) {
+    glm::dvec3 sum(0.0);
+    for (const ParticleState& p : particles)
+        sum += glm::dvec3(p.velocity);
+    return sum * mass;
+}
+
+// Weightless water: a ball at rest in open space (no walls, no gravity) and a cube flying into
+// it. Nothing outside the pair can push, so their total momentum must stay what it was.
+format::Scene collisionScene(std::uint32_t substeps) {
+    format::Scene scene;
+    scene.path = "momentum.json";
+    scene.name = "momentum";
+    format::FluidBlock ball;
+    ball.shape = format::FluidBlock::Shape::Sphere;
+    ball.center = glm::vec3(0.0f);
+    ball.radius = 0.12f;
+    scene.blocks.push_back(ball);
+    scene.simulation = testscene::defaultParams(kSpacing, substeps, 8000);
+    scene.simulation.gravity = glm::vec3(0.0f);
+    scene.simulation.vorticity = 0.0f; // confinement adds momentum by design
+    format::SceneCollider cube = cubeBody(glm::vec3(-0.25f, 0.0f, 0.0f), 0.5f);
+    cube.dynamic->linearVelocity = glm::vec3(1.0f, 0.0f, 0.0f);
+    scene.colliders.push_back(cube);
+    return scene;
+}
+
+TEST_F(SimulationBodies, TheBodyAndTheWaterExchangeEqualAndOppositeImpulses) {
+    format::Scene scene = collisionScene(1);
+    auto sim = Simulation::create(scene, {cubeAsset(kSide)});
+    ASSERT_TRUE(sim) << sim.error().message();
+    const double m = sim->constants().mass;
+    glm::dvec3 fluid = fluidMomentum(sim->downloadParticles(), m);
+    BodyState body = sim->bodies().at(0);
+    glm::dvec3 bodyMomentum = body.mass * glm::dvec3(body.linearVelocity);
+    const glm::dvec3 start = fluid + bodyMomentum;
+    int substepsWithContact = 0;
+    Health health;
+    for (int step = 1; step <= 60; ++step) { // 1 s, one substep per step
+        sim->step();
+        health.add(sim->readStats());
+        const glm::dvec3 fluidNow = fluidMomentum(sim->downloadParticles(), m);
+        body = sim->bodies().at(0);
+        const glm::dvec3 bodyNow = body.mass * glm::dvec3(body.linearVelocity);
+        const glm::dvec3 bodyImpulse = bodyNow - bodyMomentum;
+        const glm::dvec3 fluidImpulse = fluidNow - fluid;
+        if (glm::length(bodyImpulse) > 1e-6) {
+            ++substepsWithContact;
+            EXPECT_LT(glm::length(bodyImpulse + fluidImpulse), 1e-4 * glm::length(bodyImpulse))
+                << "step " << step << ": body impulse " << bodyImpulse.x << ", fluid impulse "
+                << fluidImpulse.x;
+        }
+        fluid = fluidNow;
+        bodyMomentum = bodyNow;
+    }
+    const glm::dvec3 end = fluid + bodyMomentum;
+    std::printf("momentum: start %.6f, end %.6f kg m/s (x); body at %.4f m/s after 1 s; %d "
+                "substeps with contact\n",
+                start.x, end.x, body.linearVelocity.x, substepsWithContact);
+    EXPECT_GT(substepsWithContact, 20) << "the cube must plough into the water";
+    EXPECT_LT(body.linearVelocity.x, 0.9f) << "the water must slow the cube down";
+    EXPECT_LT(glm::length(end - start), 0.01 * glm::length(start));
+    EXPECT_EQ(health.nonFinite, 0u);
+    EXPECT_EQ(health.inside, 0u);
+}
+
+TEST_F(SimulationBodies, ThreeStackedBoxesStayPutOnTheFloor) {
+    format::Scene scene = testscene::emptyScene(kSpacing, 8, 16);
+    scene.domainMin = glm::vec3(0.0f);
+    scene.domainMax = glm::vec3(0.4f, 0.5f, 0.4f);
+    for (int i = 0; i < 3; ++i)
+        scene.colliders.push_back(
+            cubeBody(glm::vec3(0.2f, (0.5f + float(i)) * kSide, 0.2f), 0.8f));
+    std::vector<format::ColliderAsset> assets(3, cubeAsset(kSide));
+    auto sim = Simulation::create(scene, std::move(assets));
+    ASSERT_TRUE(sim) << sim.error().message();
+    for (int step = 0; step < 30; ++step) // settle for 0.5 s
+        sim->step();
+    const std::vector<BodyState> settled = sim->bodies();
+    double worstSpeed = 0.0;
+    for (int step = 0; step < 300; ++step) { // then 5 s
+        sim->step();
+        for (const BodyState& b : sim->bodies())
+            worstSpeed = std::max(worstSpeed, double(glm::length(b.linearVelocity)));
+    }
+    const std::vector<BodyState> end = sim->bodies();
+    for (int i = 0; i < 3; ++i) {
+        const double drift = glm::length(end[i].position - settled[i].position) / 5.0;
+        std::printf("box %d: centre %.5f m, drift %.5f m/s over 5 s, %u contacts\n", i,
+                    end[i].position.y, drift, end[i].contacts);
+        EXPECT_LT(drift, 1e-3) << "box " << i;
+        EXPECT_NEAR(end[i].position.y, (0.5 + i) * kSide, 0.5 * kSpacing) << "box " << i;
+        EXPECT_TRUE(finite(end[i]));
+    }
+    std::printf("stack: worst speed %.5f m/s\n", worstSpeed);
+}
+
+TEST_F(SimulationBodies, ParticlesStartingInsideABodyAreLeftOutAndCounted) {
+    format::Scene scene = tankScene(kTank, kDepth, 0.5f);
+    // The cube's lower half is under water: rows 0.13 .. 0.27 in x and z (8 each), and the
+    // layers with centres 0.13 .. 0.19 in y (4), lie inside it.
+    scene.colliders.push_back(cubeBody(glm::vec3(0.2f, 0.2f, 0.2f), 0.5f));
+    const std::size_t blocks = fillBlocks(scene).size();
+    auto sim = Simulation::create(scene, {cubeAsset(kSide)});
+    ASSERT_TRUE(sim) << sim.error().message();
+    EXPECT_EQ(sim->particlesRemovedAtSpawn(), 8u * 8u * 4u);
+    EXPECT_EQ(sim->particleCount(), blocks - 8 * 8 * 4);
+    std::uint32_t maxId = 0;
+    for (const ParticleState& p : sim->downloadParticles())
+        maxId = std::max(maxId, p.id);
+    EXPECT_EQ(maxId + 1, blocks) << "ids keep the blocks' numbering";
+}
+
+TEST_F(SimulationBodies, AnOpenMeshOrAFieldWithoutVolumeCannotBeABody) {
+    format::Scene scene = tankScene(kTank, kDepth, 0.5f);
+    scene.colliders.push_back(cubeBody(glm::vec3(0.2f, 0.3f, 0.2f), 0.5f));
+    format::ColliderAsset open = cubeAsset(kSide);
+    open.meta.mesh.triangles = 10;
+    open.meta.mesh.boundaryEdges = 4;
+    open.meta.mesh.closed = false;
+    auto sim = Simulation::create(scene, {open});
+    ASSERT_FALSE(sim);
+    EXPECT_EQ(sim.error().code, ErrorCode::InvalidArgument);
+    EXPECT_NE(sim.error().detail.find("tank.json: colliders[0].dynamic"), std::string::npos)
+        << sim.error().detail;
+    EXPECT_NE(sim.error().detail.find("open mesh"), std::string::npos) << sim.error().detail;
+
+    // A field that is positive everywhere encloses nothing.
+    format::ColliderAsset empty = testscene::assetOverBox(
+        glm::dvec3(-0.1), glm::dvec3(0.1), 0.01, 0.0, [](const glm::dvec3&) { return 0.05; });
+    auto none = Simulation::create(scene, {empty});
+    ASSERT_FALSE(none);
+    EXPECT_EQ(none.error().code, ErrorCode::InvalidArgument);
+    EXPECT_NE(none.error().detail.find("colliders[0].dynamic"), std::string::npos);
+    EXPECT_NE(none.error().detail.find("no volume"), std::string::npos) << none.error().detail;
+}
+
+TEST_F(SimulationBodies, DeterministicRunsWithBodiesGiveIdenticalBytes) {
+    auto run = [](std::vector<ParticleState>& particles, std::vector<BodyState>& bodies) {
+        format::Scene scene = tankScene(glm::vec2(0.3f, 0.3f), 0.12f, 0.4f);
+        scene.colliders.push_back(cubeBody(glm::vec3(0.12f, 0.2f, 0.15f), 0.5f));
+        scene.colliders.push_back(cubeBody(glm::vec3(0.2f, 0.3f, 0.16f), 1.5f));
+        SimulationOptions options;
+        options.deterministic = true;
+        auto sim = Simulation::create(scene, {cubeAsset(0.1f), cubeAsset(0.08f)}, options);
+        ASSERT_TRUE(sim) << sim.error().message();
+        for (int step = 0; step < 30; ++step)
+            sim->step();
+        particles = sim->downloadParticles();
+        bodies = sim->bodies();
+    };
+    std::vector<ParticleState> p1, p2;
+    std::vector<BodyState> b1, b2;
+    run(p1, b1);
+    run(p2, b2);
+    ASSERT_EQ(p1.size(), p2.size());
+    ASSERT_EQ(b1.size(), 2u);
+    ASSERT_EQ(b2.size(), 2u);
+    EXPECT_EQ(0, std::memcmp(p1.data(), p2.data(), p1.size() * sizeof(ParticleState)));
+    for (std::size_t b = 0; b < b1.size(); ++b) {
+        EXPECT_EQ(0, std::memcmp(&b1[b].position, &b2[b].position, sizeof(glm::vec3)));
+        EXPECT_EQ(0, std::memcmp(&b1[b].orientation, &b2[b].orientation, sizeof(glm::quat)));
+        EXPECT_EQ(0, std::memcmp(&b1[b].linearVelocity, &b2[b].linearVelocity,
+                                 sizeof(glm::vec3)));
+        EXPECT_EQ(0, std::memcmp(&b1[b].force, &b2[b].force, sizeof(glm::vec3)));
+        EXPECT_GT(glm::length(b1[b].position - glm::vec3(0.0f)), 0.0f);
     }
 }
 

@@ -50,7 +50,6 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
                         " colliders in the scene but " + std::to_string(colliders.size()) +
                         " collider assets given to the renderer");
     ColliderPass pass;
-    pass.m_placements = scene.colliders;
     for (std::size_t i = 0; i < colliders.size(); ++i) {
         const format::ColliderAsset& asset = colliders[i];
         auto texture =
@@ -78,33 +77,34 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
     return pass;
 }
 
-void ColliderPass::drawOpaque(double time, bool glassWalls) const {
+void ColliderPass::drawOpaque(const std::vector<ColliderPose>& poses, bool glassWalls) const {
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    draw(m_opaque, time, glassWalls);
+    draw(m_opaque, poses, glassWalls);
 }
 
-void ColliderPass::drawGlass(double time) const {
+void ColliderPass::drawGlass(const std::vector<ColliderPose>& poses) const {
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_FALSE);
-    draw(m_glass, time, true);
+    draw(m_glass, poses, true);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
 }
 
-void ColliderPass::draw(const gpu::Program& program, double time, bool glassWalls) const {
+void ColliderPass::draw(const gpu::Program& program, const std::vector<ColliderPose>& poses,
+                        bool glassWalls) const {
     // Each pixel keeps only its exit face (see render_collider.frag), so no face culling.
     glDisable(GL_CULL_FACE);
     program.use();
     program.set("uGlassWalls", std::int32_t(glassWalls ? 1 : 0));
-    for (std::size_t i = 0; i < m_colliders.size(); ++i) {
+    for (std::size_t i = 0; i < m_colliders.size() && i < poses.size(); ++i) {
         const Collider& collider = m_colliders[i];
-        const glm::mat4 toWorld = localToWorld(colliderPose(m_placements[i], float(time)));
+        const glm::mat4 toWorld = localToWorld(poses[i]);
         const glm::vec3 boxMax = collider.origin + (collider.dims - 1.0f) * collider.voxel;
         program.set("uLocalToWorld", toWorld);
         program.set("uWorldToLocal", glm::inverse(toWorld));

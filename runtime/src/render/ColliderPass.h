@@ -12,6 +12,8 @@
 #include "sluice/gpu/Program.h"
 #include "sluice/gpu/Texture3D.h"
 
+#include "sluice/rt/SceneSetup.h"
+
 namespace sluice::rt {
 
 /// Ray-marched colliders. Needs the frame block bound (shared/Render.h) and an empty vertex
@@ -24,11 +26,12 @@ public:
     static Result<ColliderPass> create(const format::Scene& scene,
                                        const std::vector<format::ColliderAsset>& colliders);
 
-    /// The opaque surfaces at simulated time `time` [s]: depth test and write on. With
-    /// `glassWalls`, surfaces with more of the same collider behind them are left to drawGlass.
-    void drawOpaque(double time, bool glassWalls) const;
+    /// The opaque surfaces with collider i at poses[i] (Simulation::colliderPoses: dynamic
+    /// bodies where the solver moved them): depth test and write on. With `glassWalls`,
+    /// surfaces with more of the same collider behind them are left to drawGlass.
+    void drawOpaque(const std::vector<ColliderPose>& poses, bool glassWalls) const;
     /// The glass surfaces, blended over what is drawn, depth test on and depth write off.
-    void drawGlass(double time) const;
+    void drawGlass(const std::vector<ColliderPose>& poses) const;
 
     std::size_t count() const { return m_colliders.size(); }
 
@@ -41,9 +44,9 @@ private:
         glm::vec3 colour{0.0f};
     };
 
-    void draw(const gpu::Program& program, double time, bool glassWalls) const;
+    void draw(const gpu::Program& program, const std::vector<ColliderPose>& poses,
+              bool glassWalls) const;
 
-    std::vector<format::SceneCollider> m_placements;
     std::vector<Collider> m_colliders;
     gpu::Program m_opaque;
     gpu::Program m_glass;

@@ -248,8 +248,10 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
     r.passTimer(RenderPass::Backdrop).end();
 
     r.passTimer(RenderPass::Colliders).begin();
+    const std::vector<ColliderPose> poses =
+        settings.drawColliders ? sim.colliderPoses() : std::vector<ColliderPose>{};
     if (settings.drawColliders)
-        r.colliders.drawOpaque(sim.time(), settings.glassWalls);
+        r.colliders.drawOpaque(poses, settings.glassWalls);
     r.passTimer(RenderPass::Colliders).end();
 
     const std::uint32_t count = sim.particleCount();
@@ -274,7 +276,7 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
     glBindFramebuffer(GL_FRAMEBUFFER, r.output);
     r.passTimer(RenderPass::Glass).begin();
     if (settings.drawColliders && settings.glassWalls)
-        r.colliders.drawGlass(sim.time());
+        r.colliders.drawGlass(poses);
     r.passTimer(RenderPass::Glass).end();
     r.timer.end();
     glBindVertexArray(0);

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -77,9 +78,28 @@ struct BodyState {
     glm::vec3 angularVelocity{0.0f}; ///< [rad/s], world
     glm::vec3 force{0.0f};           ///< the fluid's force, last substep [N]
     glm::vec3 torque{0.0f};          ///< the fluid's torque about the centre of mass [N m]
+    /// The fluid's upward force over the weight of water the whole body would displace:
+    /// Archimedes' submerged share (noisy: last substep only; 0 out of the water).
+    double submergedShare = 0.0;
     std::uint32_t contacts = 0;      ///< contact points touching a wall, collider or body
     float contactDepth = 0.0f;       ///< deepest of them before correction [m]
     ColliderPose pose;               ///< where the asset frame is: world = pose.toWorld(local)
+};
+
+/// A mouse spring on a dynamic body (the viewer's drag): its point `anchor` is pulled towards
+/// `target` by a critically damped spring, about 3 Hz whatever the body's mass.
+struct BodyDrag {
+    std::uint32_t body = 0;    ///< index into bodies()
+    glm::vec3 anchor{0.0f};    ///< the grabbed point, asset frame [asset units]
+    glm::vec3 target{0.0f};    ///< where it is pulled [m]
+};
+
+/// Where a ray meets a dynamic body (Simulation::pickBody).
+struct BodyHit {
+    std::uint32_t body = 0;  ///< index into bodies()
+    glm::vec3 point{0.0f};   ///< world [m]
+    glm::vec3 anchor{0.0f};  ///< the same point in the body's asset frame [asset units]
+    float distance = 0.0f;   ///< along the ray [m]
 };
 
 /// GPU time per pass group of the latest step whose timer queries are complete [ms];
@@ -171,6 +191,15 @@ public:
     /// Each scene collider's pose now: kinematic ones from the scene, dynamic ones from the GPU
     /// (one small readback when there are bodies).
     std::vector<ColliderPose> colliderPoses() const;
+
+    /// Pulls a body with the mouse spring from the next step on; nullopt lets go. Fails with
+    /// InvalidArgument for a body index out of range or a non-finite point.
+    Result<void> setDrag(const std::optional<BodyDrag>& drag);
+
+    /// The nearest dynamic body the ray from `origin` along `direction` (need not be unit)
+    /// meets, by sphere tracing each body's field at its current pose on the CPU; nullopt when
+    /// it meets none. Reads the bodies back (a sync).
+    std::optional<BodyHit> pickBody(glm::vec3 origin, glm::vec3 direction) const;
 
     /// Particles of the fluid blocks left out at the start because their centre was inside a
     /// dynamic body.
