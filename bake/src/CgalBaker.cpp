@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "MeshMass.h"
 #include "sluice/bake/CgalReference.h"
 
 namespace sluice::bake {
@@ -68,6 +69,8 @@ format::ColliderMeta bakeProvenance(const ImportedMesh& mesh, const GridSpec& gr
     meta.bake.scale = settings.scale;
     meta.toolVersion = std::string("sluice-bake ") + SLUICE_VERSION;
     meta.mesh = mesh.diagnostics;
+    // The soup is already in world units after the import scale, the frame of the grid.
+    meta.meshMass = closedMeshMass(mesh.soup, mesh.diagnostics);
     return meta;
 }
 

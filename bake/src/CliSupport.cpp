@@ -125,6 +125,16 @@ nlohmann::ordered_json toJson(const format::ValidationFigures& figures) {
             {"eikonalOutsideShare", figures.eikonalOutsideShare}};
 }
 
+nlohmann::ordered_json toJson(const std::optional<format::MassProperties>& mass) {
+    if (!mass)
+        return nullptr;
+    nlohmann::ordered_json inertia = nlohmann::ordered_json::array();
+    for (int row = 0; row < 3; ++row)
+        inertia.push_back({mass->inertia[0][row], mass->inertia[1][row], mass->inertia[2][row]});
+    const glm::dvec3& c = mass->centerOfMass;
+    return {{"volume", mass->volume}, {"centerOfMass", {c.x, c.y, c.z}}, {"inertia", inertia}};
+}
+
 nlohmann::ordered_json toJson(const format::ColliderMeta& meta) {
     const format::BakeParams& bake = meta.bake;
     return {{"dims", {meta.dims.x, meta.dims.y, meta.dims.z}},
@@ -145,7 +155,8 @@ nlohmann::ordered_json toJson(const format::ColliderMeta& meta) {
               {"scale", bake.scale}}},
             {"mesh", toJson(meta.mesh)},
             {"validation", toJson(meta.validation)},
-            {"quantizationError", meta.quantizationError}};
+            {"quantizationError", meta.quantizationError},
+            {"massProperties", toJson(meta.meshMass)}};
 }
 
 } // namespace sluice::bake::cli

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -104,9 +105,12 @@ std::string describeDims(const glm::uvec3& dims);
 std::string num(double value, int digits = 6);
 
 // JSON views of the metadata (field names as in ColliderAsset.h); validation figures that were
-// not recorded are null.
+// not recorded are null. Mass properties are {"volume", "centerOfMass": [x, y, z], "inertia":
+// [[row 0], [row 1], [row 2]]}, null when the asset has none; the metadata holds them as
+// "massProperties".
 nlohmann::ordered_json toJson(const format::MeshDiagnostics& mesh);
 nlohmann::ordered_json toJson(const format::ValidationFigures& figures);
+nlohmann::ordered_json toJson(const std::optional<format::MassProperties>& mass);
 nlohmann::ordered_json toJson(const format::ColliderMeta& meta);
 
 } // namespace sluice::bake::cli

@@ -30,6 +30,28 @@ format::AssetHeader readHeader(const std::filesystem::path& path) {
     return format::unpackAssetHeader(bytes);
 }
 
+/// The "mass" line: the closed mesh's exact mass properties, or why there are none.
+void printMass(const std::optional<format::MassProperties>& mass,
+               const format::AssetHeader& header) {
+    if (!mass) {
+        std::cout << "  mass          not recorded ("
+                  << (header.minor < format::kAssetMinorMeshMass
+                          ? "the asset predates format 1.1; re-bake to record it"
+                          : "the source mesh is not a closed, consistently wound surface")
+                  << ")\n";
+        return;
+    }
+    const glm::dvec3& c = mass->centerOfMass;
+    const glm::dmat3& i = mass->inertia; // column-major: i[col][row]
+    std::cout << "  mass          volume " << num(mass->volume)
+              << " world units^3, centre of mass (" << num(c.x) << ", " << num(c.y) << ", "
+              << num(c.z) << ") (exact, closed mesh)\n"
+              << "  inertia       about the centre of mass, unit density [world units^5]:\n";
+    for (int row = 0; row < 3; ++row)
+        std::cout << "                [" << num(i[0][row]) << ", " << num(i[1][row]) << ", "
+                  << num(i[2][row]) << "]\n";
+}
+
 void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vdb,
                const format::AssetHeader& header, float lo, float hi) {
     const format::ColliderMeta& m = asset.meta;
@@ -66,6 +88,7 @@ void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vd
               << ", padding " << num(b.padding) << " voxels, sign " << b.signMode << " -> "
               << signMethodName(b.signUsed) << ", scale " << num(b.scale) << '\n'
               << "  mesh          " << describeMesh(m.mesh) << '\n';
+    printMass(m.meshMass, header);
     const format::ValidationFigures& v = m.validation;
     if (!v.known) {
         std::cout << "  validation    not recorded (sluice-bake validate --write)\n";
@@ -157,7 +180,7 @@ Command addInfoCommand(CLI::App& parent) {
     auto args = std::make_shared<InfoArgs>();
     CLI::App* app = parent.add_subcommand(
         "info", "Print an asset's header and metadata: grid, provenance, mesh diagnostics, "
-                "validation figures. Also reads .vdb grids.");
+                "mass properties, validation figures. Also reads .vdb grids.");
     app->add_option("ASSET", args->asset, "collider asset (.slc) or .vdb file")->required();
     app->add_flag("--json", args->json, "print as JSON");
     CLI::Option* slice = app->add_option(

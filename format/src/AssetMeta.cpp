@@ -1,6 +1,9 @@
 // Cereal (PortableBinary) encoding of ColliderMeta, with bounded reads for untrusted files.
 #include "AssetMeta.h"
 
+#include <algorithm>
+#include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <streambuf>
@@ -17,6 +20,10 @@ namespace {
 
 using InArchive = cereal::PortableBinaryInputArchive;
 using OutArchive = cereal::PortableBinaryOutputArchive;
+
+// Relative to the largest element: how far apart I(i,j) and I(j,i) may be (a tensor written by
+// this code is exactly symmetric; the slack is for other writers' rounding).
+constexpr double kMassSymmetryTolerance = 1e-9;
 
 // A metadata field that decoded but cannot be right; turned into BadMetadata at the boundary.
 struct MetaError : std::runtime_error {
@@ -79,8 +86,34 @@ template <class E> void loadEnum(InArchive& ar, E& e, E last, const char* field)
     e = E(v);
 }
 
-// The field order below IS the file format (version 1.0); AssetHeader.h draws its start.
-// A later minor version appends fields at the end, read only when header minor >= that minor.
+// Mass properties (1.1): a presence byte, then volume, centre of mass and the inertia tensor
+// row by row, 13 doubles. Their values are judged by checkMassProperties, not here.
+void saveMass(OutArchive& ar, const std::optional<MassProperties>& mass) {
+    saveBool(ar, mass.has_value());
+    if (!mass)
+        return;
+    ar(mass->volume, mass->centerOfMass.x, mass->centerOfMass.y, mass->centerOfMass.z);
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col)
+            ar(mass->inertia[col][row]); // glm is column-major: [col][row]
+}
+
+void loadMass(InArchive& ar, std::optional<MassProperties>& mass) {
+    bool present = false;
+    loadBool(ar, present, "meshMass presence flag");
+    if (!present)
+        return;
+    MassProperties m;
+    ar(m.volume, m.centerOfMass.x, m.centerOfMass.y, m.centerOfMass.z);
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col)
+            ar(m.inertia[col][row]);
+    mass = m;
+}
+
+// The field order below IS the file format; AssetHeader.h draws its start. Version 1.0 ends
+// with quantizationError. A later minor version appends fields at the end, read only when the
+// header's minor >= that minor: 1.1 appends meshMass.
 void save(OutArchive& ar, const ColliderMeta& m) {
     ar(m.dims.x, m.dims.y, m.dims.z);
     ar(m.origin.x, m.origin.y, m.origin.z);
@@ -107,9 +140,11 @@ void save(OutArchive& ar, const ColliderMeta& m) {
     ar(v.eikonalMedian, v.eikonalP99, v.eikonalOutsideShare);
 
     ar(m.quantizationError);
+
+    saveMass(ar, m.meshMass);
 }
 
-void load(InArchive& ar, const SpanBuf& buf, ColliderMeta& m) {
+void load(InArchive& ar, const SpanBuf& buf, std::uint16_t minor, ColliderMeta& m) {
     ar(m.dims.x, m.dims.y, m.dims.z);
     ar(m.origin.x, m.origin.y, m.origin.z);
     ar(m.voxelSize);
@@ -137,9 +172,42 @@ void load(InArchive& ar, const SpanBuf& buf, ColliderMeta& m) {
     ar(v.eikonalMedian, v.eikonalP99, v.eikonalOutsideShare);
 
     ar(m.quantizationError);
+
+    if (minor >= kAssetMinorMeshMass)
+        loadMass(ar, m.meshMass);
 }
 
 } // namespace
+
+Result<void> checkMassProperties(const MassProperties& mass) {
+    auto nonFinite = [](const char* field) {
+        return fail(ErrorCode::NonFinite, std::string("meshMass.") + field + " is not finite");
+    };
+    if (!std::isfinite(mass.volume))
+        return nonFinite("volume");
+    if (!(mass.volume > 0.0))
+        return fail(ErrorCode::InvalidArgument,
+                    "meshMass.volume is " + std::to_string(mass.volume) + ", not > 0");
+    for (int a = 0; a < 3; ++a)
+        if (!std::isfinite(mass.centerOfMass[a]))
+            return nonFinite("centerOfMass");
+    double largest = 0.0;
+    for (int col = 0; col < 3; ++col)
+        for (int row = 0; row < 3; ++row) {
+            if (!std::isfinite(mass.inertia[col][row]))
+                return nonFinite("inertia");
+            largest = std::max(largest, std::abs(mass.inertia[col][row]));
+        }
+    for (int row = 0; row < 3; ++row)
+        for (int col = row + 1; col < 3; ++col)
+            if (std::abs(mass.inertia[col][row] - mass.inertia[row][col]) >
+                kMassSymmetryTolerance * largest)
+                return fail(ErrorCode::InvalidArgument,
+                            "meshMass.inertia is not symmetric (element " + std::to_string(row) +
+                                "," + std::to_string(col) + " differs from " + std::to_string(col) +
+                                "," + std::to_string(row) + ")");
+    return {};
+}
 
 std::vector<std::byte> encodeMeta(const ColliderMeta& meta) {
     std::ostringstream os(std::ios::binary);
@@ -152,7 +220,8 @@ std::vector<std::byte> encodeMeta(const ColliderMeta& meta) {
     return std::vector<std::byte>(p, p + s.size());
 }
 
-Result<ColliderMeta> decodeMeta(std::span<const std::byte> bytes, const std::string& name) {
+Result<ColliderMeta> decodeMeta(std::span<const std::byte> bytes, std::uint16_t minor,
+                                const std::string& name) {
     auto bad = [&](const std::string& what) {
         return fail(ErrorCode::BadMetadata,
                     name + ": metadata block is invalid (" + what + "); re-bake with sluice-bake");
@@ -167,7 +236,7 @@ Result<ColliderMeta> decodeMeta(std::span<const std::byte> bytes, const std::str
     ColliderMeta meta;
     try {
         InArchive ar(is, InArchive::Options::LittleEndian());
-        load(ar, buf, meta);
+        load(ar, buf, minor, meta);
     } catch (const MetaError& e) {
         return bad(e.what());
     } catch (const cereal::Exception& e) {

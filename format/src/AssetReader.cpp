@@ -72,6 +72,9 @@ Result<std::uint64_t> checkMeta(const ColliderMeta& m, const AssetHeader& h,
                    "sign convention " + std::to_string(int(m.signConvention)) + " (-1 or +1)");
     if (!std::isfinite(m.quantizationError) || m.quantizationError < 0.0)
         return bad(ErrorCode::BadMetadata, "quantization error is not a finite value >= 0");
+    if (m.meshMass)
+        if (Result<void> mass = detail::checkMassProperties(*m.meshMass); !mass)
+            return bad(ErrorCode::BadMetadata, mass.error().detail);
     if (!std::isfinite(m.voxelSize))
         return bad(ErrorCode::NonFinite, "voxel size is not finite");
     if (!(m.voxelSize > 0.0))
@@ -162,7 +165,7 @@ Result<ColliderAsset> decodeAsset(std::span<const std::byte> bytes,
                     name + ": checksum " + hex64(checksum) + " differs from the stored " +
                         hex64(h.checksum) + " (file corrupted after writing)" + kRebake);
 
-    auto meta = detail::decodeMeta(bytes.subspan(h.metaOffset, h.metaSize), name);
+    auto meta = detail::decodeMeta(bytes.subspan(h.metaOffset, h.metaSize), h.minor, name);
     if (!meta)
         return meta.error();
     auto points = checkMeta(*meta, h, name);

@@ -57,6 +57,9 @@ Result<void> checkWritable(const ColliderAsset& asset) {
         if (s->size() > kAssetMaxStringBytes)
             return bad(ErrorCode::InvalidArgument,
                        "a metadata string is longer than " + str(kAssetMaxStringBytes) + " bytes");
+    if (m.meshMass)
+        if (Result<void> mass = detail::checkMassProperties(*m.meshMass); !mass)
+            return bad(mass.error().code, mass.error().detail);
     for (std::size_t n = 0; n < asset.distances.size(); ++n)
         if (!std::isfinite(asset.distances[n]))
             return bad(ErrorCode::NonFinite,

@@ -122,6 +122,13 @@ TEST_P(GpuBakerMeshTest, MatchesTheCgalReferenceAtEveryGridPoint) {
     EXPECT_EQ(asset->meta.bake.signUsed, reference->signMethod());
     EXPECT_EQ(asset->meta.bake.signMode, cgal->meta.bake.signMode);
     EXPECT_EQ(asset->meta.sourceHash, cgal->meta.sourceHash);
+    ASSERT_EQ(asset->meta.meshMass.has_value(), cgal->meta.meshMass.has_value());
+    if (asset->meta.meshMass) {
+        EXPECT_EQ(asset->meta.meshMass->volume, cgal->meta.meshMass->volume);
+        EXPECT_EQ(asset->meta.meshMass->centerOfMass, cgal->meta.meshMass->centerOfMass);
+        EXPECT_EQ(asset->meta.meshMass->inertia, cgal->meta.meshMass->inertia);
+    }
+    EXPECT_EQ(asset->meta.meshMass.has_value(), c.exactSign) << "closed meshes, and only they";
 
     const Comparison r = compare(*asset, *reference);
     std::printf(

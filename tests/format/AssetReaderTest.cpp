@@ -69,14 +69,52 @@ TEST(AssetReader, RejectsANewerMinorVersion) {
     EXPECT_EQ(decodeError(bytes), ErrorCode::UnsupportedVersion);
 }
 
-TEST(AssetReader, AcceptsEveryMinorVersionUpToTheCurrentOne) {
-    // Version 1.0 has no older minor yet; when 1.1 lands, a committed 1.0 file joins this test.
-    for (std::uint16_t minor = 0; minor <= kAssetMinor; ++minor) {
-        auto bytes = smallFile();
-        poke<std::uint16_t>(bytes, ho::kMinor, minor);
-        auto r = decodeAsset(bytes, "minor.sdf");
-        EXPECT_TRUE(r.ok()) << "minor " << minor << ": " << r.error().message();
-    }
+TEST(AssetReader, LoadsTheCommittedVersion1_0FileWithNoMeshMass) {
+    // data/asset-v1.0.slc was written by the format 1.0 writer from makeAsset({3, 4, 5}) as it
+    // was then (every field but meshMass, which 1.0 does not have). Never regenerate it.
+    const auto path = std::filesystem::path(SLUICE_SOURCE_DIR) / "tests/format/data/asset-v1.0.slc";
+    auto bytes = readFileBytes(path, kMaxAssetFileBytes);
+    ASSERT_TRUE(bytes.ok()) << bytes.error().message();
+    ASSERT_EQ(headerOf(*bytes).minor, 0u);
+    auto r = readAsset(path);
+    ASSERT_TRUE(r.ok()) << r.error().message();
+    const ColliderAsset expected = makeAsset({3, 4, 5});
+    EXPECT_EQ(r->meta.dims, expected.meta.dims);
+    EXPECT_EQ(r->meta.origin, expected.meta.origin);
+    EXPECT_EQ(r->meta.voxelSize, expected.meta.voxelSize);
+    EXPECT_EQ(r->meta.sourceFile, expected.meta.sourceFile);
+    EXPECT_EQ(r->meta.bake.signUsed, expected.meta.bake.signUsed);
+    EXPECT_EQ(r->meta.toolVersion, expected.meta.toolVersion);
+    EXPECT_EQ(r->meta.mesh.boundaryEdges, expected.meta.mesh.boundaryEdges);
+    EXPECT_EQ(r->meta.validation.eikonalOutsideShare, expected.meta.validation.eikonalOutsideShare);
+    EXPECT_EQ(r->distances, expected.distances);
+    EXPECT_FALSE(r->meta.meshMass.has_value());
+    // Re-written, it becomes a current file that reads back the same.
+    auto again = decodeAsset(encodeOk(*r), "rewritten.slc");
+    ASSERT_TRUE(again.ok()) << again.error().message();
+    EXPECT_FALSE(again->meta.meshMass.has_value());
+    EXPECT_EQ(again->distances, expected.distances);
+}
+
+TEST(AssetReader, RejectsAFileLabelledWithAnotherMinorThanItsFieldsAsBadMetadata) {
+    // The header is not under the checksum; the metadata decoder notices: read as 1.0, a 1.1
+    // block has bytes left over, and a 1.0 block read as 1.1 ends before its meshMass flag.
+    auto current = smallFile();
+    poke<std::uint16_t>(current, ho::kMinor, 0);
+    auto r = decodeAsset(current, "relabelled.slc");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::BadMetadata);
+    EXPECT_NE(r.error().detail.find("unexpected bytes after the last field"), std::string::npos)
+        << r.error().detail;
+
+    const auto path = std::filesystem::path(SLUICE_SOURCE_DIR) / "tests/format/data/asset-v1.0.slc";
+    auto old = readFileBytes(path, kMaxAssetFileBytes);
+    ASSERT_TRUE(old.ok()) << old.error().message();
+    poke<std::uint16_t>(*old, ho::kMinor, kAssetMinorMeshMass);
+    r = decodeAsset(*old, "relabelled.slc");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::BadMetadata);
+    EXPECT_NE(r.error().detail.find("ends early"), std::string::npos) << r.error().detail;
 }
 
 TEST(AssetReader, RejectsAWrongHeaderSize) {

@@ -47,6 +47,12 @@ void expectSameMeta(const ColliderMeta& a, const ColliderMeta& b) {
     EXPECT_EQ(a.validation.eikonalMedian, b.validation.eikonalMedian);
     EXPECT_EQ(a.validation.eikonalP99, b.validation.eikonalP99);
     EXPECT_EQ(a.validation.eikonalOutsideShare, b.validation.eikonalOutsideShare);
+    ASSERT_EQ(a.meshMass.has_value(), b.meshMass.has_value());
+    if (a.meshMass) {
+        EXPECT_EQ(a.meshMass->volume, b.meshMass->volume);
+        EXPECT_EQ(a.meshMass->centerOfMass, b.meshMass->centerOfMass);
+        EXPECT_EQ(a.meshMass->inertia, b.meshMass->inertia);
+    }
 }
 
 // Half an fp16 ulp at |x| [same units as x]: the round-to-nearest bound for one sample.

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <numbers>
 #include <ostream>
 #include <span>
 #include <vector>
@@ -28,7 +29,8 @@ using format::ColliderAsset;
 using format::Storage;
 
 /// A small asset whose metadata fields all differ from their defaults; distances are a sphere of
-/// radius 0.3 around the grid centre (so negative inside, positive outside).
+/// radius 0.3 around the grid centre (so negative inside, positive outside), and meshMass holds
+/// that ball's.
 inline ColliderAsset makeAsset(glm::uvec3 dims = {3, 4, 5}, Storage storage = Storage::F32) {
     ColliderAsset a;
     format::ColliderMeta& m = a.meta;
@@ -45,6 +47,16 @@ inline ColliderAsset makeAsset(glm::uvec3 dims = {3, 4, 5}, Storage storage = St
     m.validation = {true, 4096, 0.04, 0.01, 0.015, 2, 0.99, 1.2, 0.003};
     m.quantizationError = 0.0;
     const glm::dvec3 centre = m.origin + glm::dvec3(dims - glm::uvec3(1)) * m.voxelSize * 0.5;
+    // The ball's mass properties, its tensor tilted by distinct off-diagonal terms so that every
+    // element differs from the others.
+    format::MassProperties mass;
+    mass.volume = 4.0 / 3.0 * std::numbers::pi * 0.3 * 0.3 * 0.3;
+    mass.centerOfMass = centre;
+    mass.inertia = glm::dmat3(0.4 * mass.volume * 0.09);
+    mass.inertia[1][0] = mass.inertia[0][1] = 1.0e-5;
+    mass.inertia[2][1] = mass.inertia[1][2] = -2.0e-5;
+    mass.inertia[0][2] = mass.inertia[2][0] = 3.0e-5;
+    m.meshMass = mass;
     a.distances.resize(a.pointCount());
     for (std::uint32_t k = 0; k < dims.z; ++k)
         for (std::uint32_t j = 0; j < dims.y; ++j)

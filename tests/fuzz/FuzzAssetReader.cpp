@@ -69,6 +69,10 @@ void checkAccepted(const ColliderAsset& asset, std::span<const std::byte> bytes)
         fuzz::violated("a re-encoded asset decodes", again.error().message().c_str());
     SLUICE_FUZZ_CHECK(again->meta.dims == m.dims, "round trip keeps dims");
     SLUICE_FUZZ_CHECK(again->meta.sourceFile == m.sourceFile, "round trip keeps strings");
+    SLUICE_FUZZ_CHECK(again->meta.meshMass.has_value() == m.meshMass.has_value() &&
+                          (!m.meshMass || (again->meta.meshMass->volume == m.meshMass->volume &&
+                                           again->meta.meshMass->inertia == m.meshMass->inertia)),
+                      "round trip keeps the mass properties");
     SLUICE_FUZZ_CHECK(again->distances.size() == asset.distances.size(), "round trip size");
     SLUICE_FUZZ_CHECK(std::memcmp(again->distances.data(), asset.distances.data(),
                                   asset.distances.size() * sizeof(float)) == 0,

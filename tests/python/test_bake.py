@@ -74,6 +74,21 @@ def test_bake_accepts_arrays(sphere_obj: Path) -> None:
     assert from_arrays.metadata["sourceFile"] == "arrays"
 
 
+def test_metadata_holds_the_mass_properties_of_closed_meshes_only(sphere_obj: Path) -> None:
+    mass = sluice.bake(sphere_obj, resolution=8, backend="cgal").metadata["massProperties"]
+    ball = 4.0 / 3.0 * np.pi * 0.25**3  # the demo sphere is a little inside this ball
+    assert 0.97 * ball < mass["volume"] < ball
+    assert np.allclose(mass["centerOfMass"], 0.0, atol=1e-12)
+    inertia = np.array(mass["inertia"])
+    assert inertia.shape == (3, 3) and np.array_equal(inertia, inertia.T)
+    # A tetrahedron without its base is open: no mass properties.
+    corners = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64)
+    sides = np.array([[0, 1, 3], [1, 2, 3], [2, 0, 3]], dtype=np.uint32)
+    opened = sluice.bake((corners, sides), resolution=8, backend="cgal")
+    assert opened.metadata["mesh"]["closed"] is False
+    assert opened.metadata["massProperties"] is None
+
+
 def test_values_is_a_view_of_the_collider_not_a_copy(tetra: Path) -> None:
     collider = sluice.bake(tetra, resolution=12, backend="cgal")
     a, b = collider.values, collider.values

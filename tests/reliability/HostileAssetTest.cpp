@@ -70,9 +70,17 @@ TEST_P(HostileAsset, EveryOtherValueOfEveryHeaderByteIsRejectedWithItsFieldsErro
             auto r = decodeAsset(bytes, "hostile.slc");
             EXPECT_LT(test::largestAllocation(), justified(bytes.size())) << "byte " << i;
             if (i >= ho::kMinor && i < ho::kHeaderSize &&
-                test::peek<std::uint16_t>(bytes, ho::kMinor) <= kAssetMinor &&
+                test::peek<std::uint16_t>(bytes, ho::kMinor) < kAssetMinor &&
                 test::peek<std::uint16_t>(bytes, ho::kMajor) == kAssetMajor) {
-                EXPECT_TRUE(r.ok()) << "an older minor version loads";
+                // An older minor loads (AssetReaderTest reads a committed 1.0 file), but this
+                // file's metadata has the current minor's fields: read as an older one, the
+                // newer fields are left over.
+                ASSERT_FALSE(r.ok()) << "byte " << i << " = " << v << " was accepted";
+                EXPECT_EQ(r.error().code, ErrorCode::BadMetadata) << r.error().message();
+                EXPECT_NE(r.error().detail.find("unexpected bytes after the last field"),
+                          std::string::npos)
+                    << r.error().detail;
+                ++seen[r.error().code];
                 continue;
             }
             ASSERT_FALSE(r.ok()) << "byte " << i << " = " << v << " was accepted";

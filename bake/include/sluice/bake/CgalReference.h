@@ -74,7 +74,8 @@ struct BakeSettings {
 };
 
 /// Metadata of a bake by `backend` ("cgal", "gpu"): grid, storage, sign convention, source file
-/// and hash, bake parameters, tool version and diagnostics. Distances are the caller's.
+/// and hash, bake parameters, tool version, diagnostics, and the exact mass properties of a
+/// closed mesh (meshMass; empty for an open one). Distances are the caller's.
 format::ColliderMeta bakeProvenance(const ImportedMesh& mesh, const GridSpec& grid,
                                     const BakeSettings& settings, const char* backend,
                                     format::SignMethod signUsed);

@@ -9,13 +9,13 @@
 namespace sluice::format {
 
 /*
- Collider asset file, version 1.0. All integers little-endian; offsets and sizes in bytes.
+ Collider asset file, version 1.1. All integers little-endian; offsets and sizes in bytes.
 
    offset  size  field
   +------+------+--------------------------------------------------------------------------+
   |    0 |    8 | magic  89 'S' 'L' 'C' 0D 0A 1A 0A   (PNG-style: catches text-mode copies)|
   |    8 |    2 | major version (u16) = 1      another major is rejected                   |
-  |   10 |    2 | minor version (u16) = 0      older minors load; newer ones are rejected  |
+  |   10 |    2 | minor version (u16) = 1      older minors load; newer ones are rejected  |
   |   12 |    4 | header size (u32) = 64                                                   |
   |   16 |    8 | file size (u64)              must equal the real size                    |
   |   24 |    8 | metadata offset (u64) = 64   (right after the header)                    |
@@ -33,6 +33,8 @@ namespace sluice::format {
   |      |      | +47  strings (u64 length + UTF-8 bytes): sourceFile, sourceHash, then    |
   |      |      |      bake params, toolVersion, mesh diagnostics, validation figures,     |
   |      |      |      quantizationError (f64); see AssetMeta.cpp for the exact order      |
+  |      |      | 1.1: u8 meshMass present (0 or 1); if 1, f64 volume, centerOfMass x y z, |
+  |      |      |      inertia (3x3, row-major): 13 f64 = 104 bytes (absent in 1.0 files)  |
   +------+------+--------------------------------------------------------------------------+
   |      |  0-15| zero padding so the payload starts on a 16-byte boundary                 |
   +------+------+--------------------------------------------------------------------------+
@@ -51,7 +53,9 @@ inline constexpr std::array<std::uint8_t, 8> kAssetMagic = {0x89, 'S',  'L',  'C
 /// Major version this build reads and writes; files with another major are rejected.
 inline constexpr std::uint16_t kAssetMajor = 1;
 /// Minor version this build writes; it reads this one and every older one.
-inline constexpr std::uint16_t kAssetMinor = 0;
+inline constexpr std::uint16_t kAssetMinor = 1;
+/// First minor version whose metadata ends with ColliderMeta::meshMass (1.1).
+inline constexpr std::uint16_t kAssetMinorMeshMass = 1;
 /// [bytes] size of the fixed header; the metadata block starts right after it.
 inline constexpr std::size_t kAssetHeaderSize = 64;
 /// [bytes] the payload starts on a multiple of this (zero padding after the metadata).

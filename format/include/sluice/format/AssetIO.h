@@ -39,8 +39,9 @@ struct EncodedAsset {
 /// asset.meta.storage says. asset.meta.quantizationError is ignored: the figure is measured
 /// here, returned, and stored in the file. Refuses assets a reader would reject, with an error:
 /// InvalidArgument for dims below 2, a voxel size that is not > 0, an unknown enum, a sample
-/// count that differs from dims, or a string over kAssetMaxStringBytes; SizeOverflow past
-/// kMaxAssetPoints; NonFinite for a NaN or infinite sample, origin, voxel size or far grid corner.
+/// count that differs from dims, a string over kAssetMaxStringBytes, or a meshMass with a
+/// volume that is not > 0 or an asymmetric inertia tensor; SizeOverflow past kMaxAssetPoints;
+/// NonFinite for a NaN or infinite sample, origin, voxel size, far grid corner or meshMass value.
 Result<EncodedAsset> encodeAsset(const ColliderAsset& asset);
 
 /// encodeAsset, then writeFileAtomic: `path` is replaced whole or left untouched. The file's
@@ -55,7 +56,9 @@ Result<void> writeAsset(const std::filesystem::path& path, const ColliderAsset& 
 /// overflow (SizeOverflow), metadata over kAssetMaxMetaBytes (SizeOverflow), sections outside the
 /// file, overlapping, or not packed as drawn in AssetHeader.h (OffsetOutOfRange); checksum
 /// (ChecksumMismatch); metadata decode, enums, strings, dims >= 2, sign convention +-1,
-/// quantization error finite >= 0 (BadMetadata); voxel size finite (NonFinite) and > 0
+/// quantization error finite >= 0, and from minor 1 on the meshMass presence byte (0 or 1) and
+/// its values: finite, volume > 0, inertia symmetric to 1e-9 relative (BadMetadata; a 1.0 file
+/// has no meshMass and loads without one); voxel size finite (NonFinite) and > 0
 /// (BadMetadata); origin and far grid corner finite (NonFinite);
 /// point count overflow or over kMaxAssetPoints (SizeOverflow); payload size vs. points *
 /// bytesPerSample (SizeMismatch); every sample finite (NonFinite). Allocates only after all of
