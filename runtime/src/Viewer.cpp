@@ -1,8 +1,10 @@
-// The viewer window: GLFW set-up, input to camera and actions, and the frame loop (render,
-// present with the panel, collect finished readbacks, step). Nothing in a frame waits for the
-// GPU: statistics, timers and captured frames all come back through fences a few frames later.
+// The viewer window: GLFW set-up, input to camera, actions and the body drag, and the frame loop
+// (render, present with the panel, collect finished readbacks, step). Nothing in a frame waits
+// for the GPU but the dynamic bodies' poses: statistics, timers and captured frames all come back
+// through fences a few frames later.
 #include "Viewer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -11,6 +13,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sluice/gpu/Gl.h" // glad first: GLFW must not include the system GL header
 #define GLFW_INCLUDE_NONE
@@ -20,8 +23,10 @@
 #include <imgui.h>
 
 #include "CaptureVideo.h"
+#include "ViewerBodies.h"
 #include "ViewerInput.h"
 #include "ViewerPanel.h"
+#include "ViewerPick.h"
 #include "ViewerSession.h"
 #include "sluice/rt/PlayCli.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
@@ -60,7 +65,7 @@ struct ReadbackPurpose {
     bool record = false;
 };
 
-class ViewerApp {
+class ViewerApp final : public ViewerControl {
 public:
     ViewerApp(GLFWwindow* window, const ViewerOptions& options, ViewerSession session)
         : m_window(window), m_options(options), m_session(std::move(session)) {
@@ -83,21 +88,17 @@ public:
         glfwSetCharCallback(window, ImGui_ImplGlfw_CharCallback);
         glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
             ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
-            if (action != GLFW_PRESS || !ImGui::GetIO().WantCaptureMouse)
-                of(w).m_input.mouseButton(w, button, action, mods);
+            glm::dvec2 cursor(0.0);
+            glfwGetCursorPos(w, &cursor.x, &cursor.y);
+            of(w).mouseButton(button, action, mods, cursor);
         });
         glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) {
             ImGui_ImplGlfw_ScrollCallback(w, dx, dy);
             if (!ImGui::GetIO().WantCaptureMouse)
                 of(w).m_camera.zoom(ViewerInput::zoomFactor(dy));
         });
-        glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
-            int width = 0;
-            int height = 0;
-            glfwGetWindowSize(w, &width, &height);
-            ViewerApp& app = of(w);
-            app.m_input.cursor(x, y, height, app.m_camera);
-        });
+        glfwSetCursorPosCallback(
+            window, [](GLFWwindow* w, double x, double y) { of(w).moveCursor(glm::dvec2(x, y)); });
         glfwSetWindowFocusCallback(window, ImGui_ImplGlfw_WindowFocusCallback);
         glfwSetCursorEnterCallback(window, ImGui_ImplGlfw_CursorEnterCallback);
     }
@@ -105,7 +106,7 @@ public:
     ViewerApp(const ViewerApp&) = delete;
     ViewerApp& operator=(const ViewerApp&) = delete;
 
-    ~ViewerApp() {
+    ~ViewerApp() override {
         glfwSetWindowUserPointer(m_window, nullptr);
         glfwSetKeyCallback(m_window, nullptr);
         glfwSetMouseButtonCallback(m_window, nullptr);
@@ -161,19 +162,48 @@ public:
         return m_failed ? kExitBadInput : kExitOk;
     }
 
+    // ViewerControl: the GLFW callbacks call these too.
+    std::uint64_t frames() const override { return m_frames; }
+
+    void mouseButton(int button, int action, int mods, glm::dvec2 cursor) override {
+        // A press on the panel is the panel's; a release always ends a drag.
+        if (action != GLFW_PRESS || !ImGui::GetIO().WantCaptureMouse)
+            m_input.mouseButton(button, action, mods, cursor);
+    }
+
+    void moveCursor(glm::dvec2 cursor) override {
+        m_input.cursor(cursor.x, cursor.y, int(windowSize().y), m_camera);
+    }
+
+    glm::uvec2 windowSize() const override {
+        int width = 0;
+        int height = 0;
+        glfwGetWindowSize(m_window, &width, &height);
+        return glm::uvec2(std::max(width, 0), std::max(height, 0));
+    }
+
+    const OrbitCamera& camera() const override { return m_camera; }
+    ViewerSession& session() override { return *m_session; }
+    ViewerUi& ui() override { return m_ui; }
+
 private:
     static ViewerApp& of(GLFWwindow* window) {
         return *static_cast<ViewerApp*>(glfwGetWindowUserPointer(window));
     }
 
     void frame() {
+        if (m_options.script)
+            m_options.script(*this);
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
+        updateBodies();
         if (m_ui.showPanel)
             drawViewerPanel(m_ui, figures(), m_actions);
         if (m_ui.showHelp)
             drawViewerHelp(m_ui.showHelp);
+        if (m_session->grab())
+            drawDragMarker(*m_session->grab(), m_bodies, m_camera, windowSize());
         ImGui::Render();
         handleActions();
 
@@ -227,7 +257,45 @@ private:
         f.passMs = m_session->simulation().passTimes();
         f.fluid = m_fluid;
         f.hasEmitters = !m_session->scene().emitters.empty();
+        if (m_session->hasBodies())
+            f.bodies = m_readout.rows();
+        if (m_session->grab())
+            f.heldBody = m_session->grab()->body;
         return f;
+    }
+
+    // The ray under the cursor; nullopt while the window has no area (minimised).
+    std::optional<Ray> rayUnderCursor() const {
+        const glm::uvec2 size = windowSize();
+        if (size.x == 0 || size.y == 0)
+            return std::nullopt;
+        return cursorRay(m_camera, m_input.cursorPosition(), glm::dvec2(size));
+    }
+
+    // The mouse spring follows the input: a Ctrl + left press picks, the held button drags (the
+    // target follows the cursor and the camera), the release lets go. The spring only acts in
+    // steps, so while paused the body waits. Then the bodies are read for the panel and the
+    // marker (a small sync; the renderer waits for their poses anyway).
+    void updateBodies() {
+        ViewerSession& session = *m_session;
+        const std::optional<Ray> ray = rayUnderCursor();
+        if (m_input.takeGrabRequest() && m_input.draggingBody() && ray) {
+            if (!session.hasBodies())
+                m_ui.status = "this scene has no dynamic bodies to pull";
+            else if (const auto hit = session.grabBody(*ray))
+                m_ui.status = "holding body " + std::to_string(hit->body);
+            else
+                m_ui.status = "no body under the cursor";
+        }
+        if (session.grab() && !m_input.draggingBody())
+            session.releaseBody();
+        if (session.grab() && ray)
+            session.dragBody(*ray);
+        m_bodies.clear();
+        if (session.hasBodies() && (m_ui.showPanel || session.grab())) {
+            m_bodies = session.simulation().bodies();
+            m_readout.update(session.scene(), m_bodies, session.time());
+        }
     }
 
     void measureStepRate(Clock::time_point now) {
@@ -419,6 +487,8 @@ private:
     Clock::time_point m_rateStart = Clock::now();
     std::uint64_t m_rateSteps = 0;
     ViewerInput m_input;
+    std::vector<BodyState> m_bodies; // read this frame; empty when not needed
+    BodyReadout m_readout;
     bool m_failed = false;
     bool m_shotAtTaken = false;
     bool m_panelShotPending = false; // this frame's screenshot waits for the panel

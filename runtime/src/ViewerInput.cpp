@@ -73,16 +73,26 @@ void ViewerInput::key(int key, int action, int mods, ViewerUi& ui, ViewerActions
     }
 }
 
-void ViewerInput::mouseButton(GLFWwindow* window, int button, int action, int mods) {
+void ViewerInput::mouseButton(int button, int action, int mods, glm::dvec2 cursor) {
+    m_cursor = cursor;
     if (action == GLFW_RELEASE) {
         m_drag = Drag::None;
+        m_grabRequest = false;
         return;
     }
-    if (button == GLFW_MOUSE_BUTTON_LEFT)
-        m_drag = (mods & GLFW_MOD_SHIFT) != 0 ? Drag::Pan : Drag::Orbit;
-    else if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE)
+    if (action != GLFW_PRESS)
+        return;
+    if (button == GLFW_MOUSE_BUTTON_LEFT) {
+        // Ctrl, not Shift: Shift + left already pans, for one-button mice.
+        if ((mods & GLFW_MOD_CONTROL) != 0) {
+            m_drag = Drag::Body;
+            m_grabRequest = true;
+        } else {
+            m_drag = (mods & GLFW_MOD_SHIFT) != 0 ? Drag::Pan : Drag::Orbit;
+        }
+    } else if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE) {
         m_drag = Drag::Pan;
-    glfwGetCursorPos(window, &m_cursor.x, &m_cursor.y);
+    }
 }
 
 void ViewerInput::cursor(double x, double y, int height, OrbitCamera& camera) {
@@ -102,6 +112,12 @@ void ViewerInput::cursor(double x, double y, int height, OrbitCamera& camera) {
 
 float ViewerInput::zoomFactor(double dy) {
     return float(std::pow(0.9, dy));
+}
+
+bool ViewerInput::takeGrabRequest() {
+    const bool request = m_grabRequest;
+    m_grabRequest = false;
+    return request;
 }
 
 } // namespace sluice::rt

@@ -1,4 +1,5 @@
-// The ImGui panel: simulation parameters applied when an edit ends, render modes, statistics.
+// The ImGui panel: simulation parameters applied when an edit ends, render modes, statistics,
+// the dynamic bodies.
 #include "ViewerPanel.h"
 
 #include <algorithm>
@@ -74,6 +75,22 @@ void statistics(const ViewerFigures& f) {
                 ImGui::TextUnformatted("-");
         }
         ImGui::EndTable();
+    }
+}
+
+// Three short wrapped lines per body: the panel is narrow, and a table of six columns would not
+// fit.
+void bodies(const ViewerFigures& f) {
+    ImGui::TextWrapped("Ctrl + left drag pulls a body (while running)");
+    for (std::size_t b = 0; b < f.bodies.size(); ++b) {
+        const BodyRow& row = f.bodies[b];
+        const bool held = f.heldBody && *f.heldBody == b;
+        ImGui::Separator();
+        ImGui::TextWrapped("%zu: %s (collider %u)%s", b, row.asset.c_str(), row.collider,
+                           held ? ", held" : "");
+        ImGui::TextWrapped("%.3g kg, %.2f m/s, %s", row.mass, row.speed,
+                           row.touching ? "in contact" : "no contact");
+        ImGui::TextWrapped("submerged (by buoyancy) %.0f %%", 100.0 * row.submerged);
     }
 }
 
@@ -155,6 +172,7 @@ void renderModes(ViewerUi& ui) {
 const char* viewerKeyHelp() {
     return "Left drag       orbit\n"
            "Right/mid drag  pan (or Shift + left drag)\n"
+           "Ctrl+left drag  pull a dynamic body (a spring; it acts while running)\n"
            "Wheel           zoom\n"
            "Space           pause / resume\n"
            "N, Right        one step (paused)\n"
@@ -215,6 +233,10 @@ void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& 
     if (figures.hasEmitters && ImGui::Checkbox("emitters", &ui.emitters))
         actions.emitters = ui.emitters;
 
+    // Bodies first: in a scene that has them they are what one watches.
+    if (!figures.bodies.empty() &&
+        ImGui::CollapsingHeader("Bodies", ImGuiTreeNodeFlags_DefaultOpen))
+        bodies(figures);
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen))
         statistics(figures);
     if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen))
@@ -231,6 +253,28 @@ void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& 
         ImGui::TextWrapped("%s", ui.status.c_str());
     ImGui::PopItemWidth();
     ImGui::End();
+}
+
+void drawDragMarker(const BodyGrab& grab, const std::vector<BodyState>& bodies,
+                    const OrbitCamera& camera, glm::uvec2 window) {
+    if (window.x == 0 || window.y == 0)
+        return;
+    const ImU32 colour = IM_COL32(255, 200, 40, 230);
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
+    // project() gives a depth outside [0, 1] for points behind the eye or past the far plane.
+    const glm::vec3 target = camera.project(grab.target, window);
+    if (target.z < 0.0f || target.z > 1.0f)
+        return;
+    const ImVec2 to(target.x, target.y);
+    draw->AddCircle(to, 6.0f, colour, 16, 2.0f);
+    if (grab.body >= bodies.size())
+        return;
+    const glm::vec3 anchor = camera.project(bodies[grab.body].pose.toWorld(grab.anchor), window);
+    if (anchor.z < 0.0f || anchor.z > 1.0f)
+        return;
+    const ImVec2 from(anchor.x, anchor.y);
+    draw->AddLine(from, to, colour, 2.0f);
+    draw->AddCircleFilled(from, 3.0f, colour);
 }
 
 void drawViewerHelp(bool& open) {

@@ -1,16 +1,20 @@
-// The viewer's Dear ImGui panel (live parameters, modes, statistics, capture) and its help
-// overlay with the key bindings.
+// The viewer's Dear ImGui panel (live parameters, modes, statistics, dynamic bodies, capture)
+// and its help overlay with the key bindings.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
+#include "ViewerBodies.h"
+#include "ViewerPick.h"
 #include "sluice/format/Scene.h"
 #include "sluice/rt/Simulation.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
+#include "sluice/rt/render/OrbitCamera.h"
 #include "sluice/rt/render/Renderer.h"
 
 namespace sluice::rt {
@@ -56,6 +60,8 @@ struct ViewerFigures {
     PassTimes passMs{};             ///< the simulation's GPU time per pass, negative if unknown
     std::optional<FluidStats> fluid;
     bool hasEmitters = false;
+    std::vector<BodyRow> bodies;           ///< the dynamic bodies; empty: no Bodies section
+    std::optional<std::uint32_t> heldBody; ///< the body the mouse spring holds
 };
 
 /// The panel's widest share of the window's width.
@@ -78,6 +84,12 @@ PanelLayout panelLayout(float labelWidth, float fontSize, glm::vec2 display);
 
 /// Draws the panel (inside an ImGui frame) and records the user's requests in `actions`.
 void drawViewerPanel(ViewerUi& ui, const ViewerFigures& figures, ViewerActions& actions);
+
+/// Draws, behind the ImGui windows and over the scene, a ring where the mouse spring pulls and a
+/// line to it from the grabbed point (at its body's pose in `bodies`, when it is there), seen by
+/// `camera` in a window of `window` [screen coordinates].
+void drawDragMarker(const BodyGrab& grab, const std::vector<BodyState>& bodies,
+                    const OrbitCamera& camera, glm::uvec2 window);
 
 /// Draws the key and mouse bindings in a window in the middle of the screen.
 void drawViewerHelp(bool& open);

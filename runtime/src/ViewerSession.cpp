@@ -1,7 +1,10 @@
-// Live scene changes for the viewer: parameters and emitters through the simulation's setters,
-// reset and reload by building it again.
+// Live scene changes for the viewer: parameters, emitters and the mouse spring through the
+// simulation's setters, reset and reload by building it again.
 #include "ViewerSession.h"
 
+#include <algorithm>
+
+#include "sluice/format/Assert.h"
 #include "sluice/format/SceneIO.h"
 
 namespace sluice::rt {
@@ -42,7 +45,8 @@ Result<void> ViewerSession::reset() {
     if (!sim)
         return sim.error();
     sim->setEmittersEnabled(m_emittersOn);
-    m_sim.emplace(std::move(*sim));
+    m_sim.emplace(std::move(*sim)); // a fresh simulation holds no drag
+    m_grab.reset();
     return {};
 }
 
@@ -53,7 +57,7 @@ Result<void> ViewerSession::reload() {
     // The old simulation and renderer go first (they share the context with the new ones).
     m_sim.reset();
     m_renderer.reset();
-    *this = std::move(*fresh);
+    *this = std::move(*fresh); // the fresh session holds no grab
     return {};
 }
 
@@ -67,6 +71,40 @@ Result<void> ViewerSession::applyParameters(const format::SimulationParams& para
 void ViewerSession::setEmittersEnabled(bool on) {
     m_emittersOn = on;
     m_sim->setEmittersEnabled(on);
+}
+
+std::optional<BodyHit> ViewerSession::grabBody(const Ray& ray) {
+    releaseBody();
+    const std::optional<BodyHit> hit = m_sim->pickBody(ray.origin, ray.direction);
+    if (!hit)
+        return std::nullopt;
+    m_grab = BodyGrab{hit->body, hit->anchor, hit->distance, hit->point};
+    // The target starts where the anchor is, so the grab itself does not pull.
+    const auto ok = m_sim->setDrag(BodyDrag{hit->body, hit->anchor, hit->point});
+    SLUICE_ASSERT(ok, "ViewerSession::grabBody: the picked body was refused");
+    return hit;
+}
+
+void ViewerSession::dragBody(const Ray& ray) {
+    if (!m_grab)
+        return;
+    const glm::vec3 target = ray.at(m_grab->distance);
+    // A degenerate ray (a camera state that gives non-finite numbers) keeps the last target.
+    if (!m_sim->setDrag(BodyDrag{m_grab->body, m_grab->anchor, target}))
+        return;
+    m_grab->target = target;
+}
+
+void ViewerSession::releaseBody() {
+    if (!m_grab)
+        return;
+    m_grab.reset();
+    (void)m_sim->setDrag(std::nullopt); // letting go cannot fail
+}
+
+bool ViewerSession::hasBodies() const {
+    return std::any_of(m_scene.colliders.begin(), m_scene.colliders.end(),
+                       [](const format::SceneCollider& c) { return c.dynamic.has_value(); });
 }
 
 } // namespace sluice::rt

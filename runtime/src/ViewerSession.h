@@ -1,5 +1,6 @@
 // The scene a viewer plays: its file, colliders, simulation and renderer, with the live changes
-// the panel makes (parameters, emitters on or off, reset, reload from disk).
+// the panel and the mouse make (parameters, emitters on or off, reset, reload from disk, a body
+// pulled by the mouse spring).
 #pragma once
 
 #include <cstdint>
@@ -9,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "ViewerPick.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/format/Scene.h"
@@ -27,10 +29,10 @@ public:
     /// One simulation step (queues GPU work only).
     void step();
 
-    /// Puts the (edited) scene back at its initial state.
+    /// Puts the (edited) scene back at its initial state; a grabbed body is let go.
     Result<void> reset();
-    /// Reads the scene file and its colliders again; edits are dropped. On failure the session
-    /// is unchanged and the error says why.
+    /// Reads the scene file and its colliders again; edits are dropped and a grabbed body is
+    /// let go. On failure the session is unchanged and the error says why.
     Result<void> reload();
 
     /// Runs on with `params` from the next step (Simulation::setParameters: the particles, the
@@ -39,6 +41,20 @@ public:
     Result<void> applyParameters(const format::SimulationParams& params);
     /// Turns the scene's emitters on or off from now on; reset keeps the choice.
     void setEmittersEnabled(bool on);
+
+    /// Grabs the dynamic body `ray` meets first (Simulation::pickBody, a sync) with the mouse
+    /// spring, its target at the hit point; the spring acts from the next step. nullopt, with
+    /// nothing grabbed, when the ray meets no body.
+    std::optional<BodyHit> grabBody(const Ray& ray);
+    /// Moves the grabbed point's target to `ray` at the grab distance (the cursor moved or the
+    /// camera did). Nothing happens without a grab.
+    void dragBody(const Ray& ray);
+    /// Lets go of the grabbed body (nothing happens without a grab).
+    void releaseBody();
+    /// The body held by the mouse spring, if any.
+    const std::optional<BodyGrab>& grab() const { return m_grab; }
+    /// The scene has dynamic colliders.
+    bool hasBodies() const;
 
     Simulation& simulation() { return *m_sim; }
     const Simulation& simulation() const { return *m_sim; }
@@ -60,6 +76,7 @@ private:
     bool m_emittersOn = true;
     std::optional<Simulation> m_sim;
     std::optional<Renderer> m_renderer;
+    std::optional<BodyGrab> m_grab;
 };
 
 } // namespace sluice::rt

@@ -1,13 +1,16 @@
 // The viewer's live changes: parameters applied without moving a particle or refused without a
-// change, emitters off and on, reset and reload.
+// change, emitters off and on, reset and reload, and a body picked and pulled by the mouse.
 #include <algorithm>
 #include <fstream>
+#include <optional>
 
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
 #include "RenderTestSupport.h"
+#include "ViewerPick.h"
 #include "ViewerSession.h"
+#include "ViewerTestScene.h"
 
 namespace sluice::rt {
 namespace {
@@ -112,6 +115,109 @@ TEST_F(ViewerSessionTest, ReloadOfABrokenSceneKeepsTheSessionAndSaysWhy) {
     EXPECT_NE(reloaded.error().detail.find("scene.json"), std::string::npos);
     EXPECT_GT(session->simulation().particleCount(), 0u);
     session->step();
+}
+
+// The floating-box scene with the camera sluice-play gives it in a window of `size`.
+struct BoxView {
+    std::optional<ViewerSession> session;
+    OrbitCamera camera;
+    glm::dvec2 window{320.0, 240.0};
+
+    explicit BoxView(const std::string& name) {
+        auto opened = ViewerSession::open(writeFloatingBoxScene(tempDir(name)).string(), false,
+                                          glm::uvec2(window));
+        EXPECT_TRUE(opened) << opened.error().message();
+        if (!opened)
+            return;
+        session.emplace(std::move(*opened));
+        camera =
+            sceneCamera(session->scene(), session->renderer().bounds(), float(window.x / window.y));
+    }
+
+    BodyState body() const { return session->simulation().bodies().at(0); }
+    // The ray through the pixel where `world` appears.
+    Ray rayTo(glm::vec3 world) const {
+        const glm::vec3 pixel = camera.project(world, glm::uvec2(window));
+        return cursorRay(camera, glm::dvec2(pixel.x, pixel.y), window);
+    }
+};
+
+TEST_F(ViewerSessionTest, ARayThroughABodysCentrePixelGrabsItAndOneBesideItGrabsNothing) {
+    BoxView view("grab");
+    ASSERT_TRUE(view.session);
+    ASSERT_TRUE(view.session->hasBodies());
+    const BodyState body = view.body();
+    const auto hit = view.session->grabBody(view.rayTo(body.position));
+    ASSERT_TRUE(hit) << "the ray through the box's centre pixel missed it";
+    EXPECT_EQ(hit->body, 0u);
+    // The point is on the box's surface facing the camera: in its frame, on a face.
+    const glm::vec3 local = glm::abs(hit->anchor);
+    const float half = 0.5f * kFloatingBoxSide;
+    EXPECT_NEAR(std::max({local.x, local.y, local.z}), half, 0.004f);
+    EXPECT_LT(glm::distance(view.camera.eye(), hit->point),
+              glm::distance(view.camera.eye(), body.position));
+    ASSERT_TRUE(view.session->grab());
+    EXPECT_EQ(view.session->grab()->body, 0u);
+    EXPECT_NEAR(view.session->grab()->distance, glm::distance(view.camera.eye(), hit->point),
+                1e-4f);
+    EXPECT_LT(glm::distance(view.session->grab()->target, hit->point), 1e-5f);
+
+    // Dragging moves the target along the new ray at the grab distance.
+    const Ray up = view.rayTo(body.position + glm::vec3(0.0f, 0.05f, 0.0f));
+    view.session->dragBody(up);
+    EXPECT_LT(glm::distance(view.session->grab()->target, up.at(hit->distance)), 1e-5f);
+
+    // A ray past the box's corner (above the water, well clear of it) grabs nothing and lets go.
+    const auto missed =
+        view.session->grabBody(view.rayTo(body.position + glm::vec3(0.0f, 0.15f, 0.0f)));
+    EXPECT_FALSE(missed);
+    EXPECT_FALSE(view.session->grab());
+}
+
+TEST_F(ViewerSessionTest, ABodyPulledUpRisesAndFallsBackWhenLetGo) {
+    BoxView view("lift");
+    ASSERT_TRUE(view.session);
+    ViewerSession& session = *view.session;
+    for (int i = 0; i < 10; ++i)
+        session.step();
+    const glm::vec3 start = view.body().position;
+    ASSERT_TRUE(session.grabBody(view.rayTo(start)));
+    // The target rises 0.15 m over a third of a second, then holds.
+    for (int i = 1; i <= 45; ++i) {
+        const float lift = 0.15f * std::min(1.0f, float(i) / 20.0f);
+        session.dragBody(view.rayTo(start + glm::vec3(0.0f, lift, 0.0f)));
+        session.step();
+    }
+    const glm::vec3 lifted = view.body().position;
+    session.releaseBody();
+    for (int i = 0; i < 45; ++i)
+        session.step();
+    const glm::vec3 after = view.body().position;
+    // The 3 Hz spring lifts the box most of the way (it sags by g / omega^2 = 2.8 cm under the
+    // box's whole weight); let go, it drops back into the water and bobs about its draft.
+    EXPECT_GT(lifted.y, start.y + 0.05f) << "start " << start.y;
+    EXPECT_LT(after.y, lifted.y - 0.05f);
+    EXPECT_NEAR(after.y, start.y, 0.02f);
+    EXPECT_EQ(session.simulation().readStats().nonFinite, 0u);
+}
+
+TEST_F(ViewerSessionTest, ResetAndReloadLetGoOfAHeldBody) {
+    BoxView view("let-go");
+    ASSERT_TRUE(view.session);
+    ViewerSession& session = *view.session;
+    ASSERT_TRUE(session.grabBody(view.rayTo(view.body().position)));
+    session.step();
+    ASSERT_TRUE(session.reset());
+    EXPECT_FALSE(session.grab());
+    ASSERT_TRUE(session.grabBody(view.rayTo(view.body().position)));
+    ASSERT_TRUE(session.reload());
+    EXPECT_FALSE(session.grab());
+    // Dragging without a grab is a no-op, and the scene runs on.
+    session.dragBody(view.rayTo(glm::vec3(0.0f, 0.3f, 0.0f)));
+    session.releaseBody();
+    for (int i = 0; i < 3; ++i)
+        session.step();
+    EXPECT_EQ(session.simulation().readStats().nonFinite, 0u);
 }
 
 } // namespace

@@ -1,15 +1,32 @@
 // The viewer window under Xvfb (skipped where xvfb-run is missing): a fixed number of frames and
 // a clean exit, its screenshot against the headless render of the same step, its --frames
-// capture, screenshots with the panel, and the message and exit code when there is no display
-// at all.
+// capture, screenshots with the panel, a body pulled up by a scripted mouse drag, and the
+// message and exit code when there is no display at all.
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cstdlib>
+#include <optional>
+#include <string>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
+#include "sluice/gpu/Gl.h" // glad first: GLFW must not include the system GL header
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
 #include "CaptureFrames.h"
 #include "RenderTestSupport.h"
+#include "Viewer.h"
 #include "ViewerPanel.h"
+#include "ViewerTestScene.h"
+
+extern char** environ;
 
 namespace sluice::rt {
 namespace {
@@ -130,6 +147,143 @@ TEST(ViewerWindow, ScreenshotWithThePanelDiffersFromThePlainOneOnlyInsideThePane
     EXPECT_LT(hi.x, 10u + std::uint32_t(kPanelMaxWidthFraction * 960.0f));
     EXPECT_LE(hi.x - lo.x + 1, std::uint32_t(kPanelMaxWidthFraction * 960.0f));
     EXPECT_GT(hi.x - lo.x + 1, 200u); // the labels and sliders fit
+}
+
+// An Xvfb server of this process's own, for windows opened in the test itself: DISPLAY names it
+// while the object lives. The server picks a free display number and writes it to a pipe
+// (-displayfd), so parallel tests never collide.
+class XvfbServer {
+public:
+    XvfbServer() = default;
+    XvfbServer(const XvfbServer&) = delete;
+    XvfbServer& operator=(const XvfbServer&) = delete;
+    ~XvfbServer() {
+        if (m_pid <= 0)
+            return;
+        if (m_oldDisplay)
+            setenv("DISPLAY", m_oldDisplay->c_str(), 1);
+        else
+            unsetenv("DISPLAY");
+        kill(m_pid, SIGTERM);
+        waitpid(m_pid, nullptr, 0);
+    }
+
+    /// Starts `Xvfb` with one screen of `screen` (WIDTHxHEIGHT) pixels; false when it will not.
+    bool start(const std::string& screen) {
+        int fds[2];
+        if (pipe(fds) != 0)
+            return false;
+        const std::string fd = std::to_string(fds[1]);
+        const std::string depth = screen + "x24";
+        const char* args[] = {"Xvfb",        "-displayfd", fd.c_str(), "-screen", "0",
+                              depth.c_str(), "-nolisten",  "tcp",      nullptr};
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_addclose(&actions, fds[0]);
+        posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+        posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+        const int spawned = posix_spawnp(&m_pid, "Xvfb", &actions, nullptr,
+                                         const_cast<char* const*>(args), environ);
+        posix_spawn_file_actions_destroy(&actions);
+        close(fds[1]);
+        if (spawned != 0) {
+            m_pid = -1;
+            close(fds[0]);
+            return false;
+        }
+        // The display number and a newline once the server accepts clients; nothing if it dies.
+        std::string number;
+        char c = 0;
+        while (read(fds[0], &c, 1) == 1 && c != '\n')
+            number += c;
+        close(fds[0]);
+        if (number.empty())
+            return false;
+        if (const char* old = std::getenv("DISPLAY"))
+            m_oldDisplay = old;
+        setenv("DISPLAY", (":" + number).c_str(), 1);
+        return true;
+    }
+
+private:
+    pid_t m_pid = -1;
+    std::optional<std::string> m_oldDisplay;
+};
+
+bool haveXvfbServer() {
+    return std::system("command -v Xvfb >/dev/null 2>&1") == 0;
+}
+
+// What the scripted drag saw, frame by frame.
+struct DragRun {
+    float start = 0.0f;  // the box's centre of mass when grabbed [m]
+    float lifted = 0.0f; // when let go [m]
+    float after = 0.0f;  // 45 frames later [m]
+    bool held = false;   // the session held the box the frame after the press
+    bool letGo = false;  // and no longer after the release
+    std::string status;  // the panel's message after the press
+};
+
+TEST(ViewerWindow, AControlDragLiftsAFloatingBoxAndReleaseDropsIt) {
+    if (!haveXvfbServer())
+        GTEST_SKIP() << "Xvfb is not installed (Debian: apt-get install xvfb)";
+    (void)glDriverPreload(); // ASan builds: keep Mesa's driver mapped past glfwTerminate
+    XvfbServer server;
+    ASSERT_TRUE(server.start("640x480")) << "Xvfb did not start";
+
+    // One step per frame: frame n shows step n. The box settles for 10 frames, is grabbed at its
+    // centre pixel, pulled up 0.15 m over 20 frames, held for 25, let go, and watched for 45.
+    constexpr std::uint64_t kGrab = 10;
+    constexpr std::uint64_t kRelease = kGrab + 45;
+    constexpr std::uint64_t kEnd = kRelease + 45;
+    ViewerOptions options;
+    options.scene = writeFloatingBoxScene(tempDir("window-drag")).string();
+    options.size = {320, 240};
+    options.vsync = false;
+    options.quiet = true;
+    options.maxFrames = kEnd + 1;
+    DragRun run;
+    glm::dvec2 cursor(0.0);
+    double pixelsUp = 0.0; // cursor travel for a 0.15 m lift at the box's depth
+    options.script = [&](ViewerControl& viewer) {
+        const std::uint64_t frame = viewer.frames();
+        ViewerSession& session = viewer.session();
+        const auto centre = [&] { return session.simulation().bodies().at(0).position; };
+        const glm::uvec2 window = viewer.windowSize();
+        if (frame == kGrab) {
+            run.start = centre().y;
+            const glm::vec3 at = viewer.camera().project(centre(), window);
+            const glm::vec3 above =
+                viewer.camera().project(centre() + glm::vec3(0.0f, 0.15f, 0.0f), window);
+            pixelsUp = double(at.y - above.y);
+            cursor = glm::dvec2(at.x, at.y);
+            viewer.moveCursor(cursor);
+            viewer.mouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, GLFW_MOD_CONTROL, cursor);
+        } else if (frame > kGrab && frame <= kGrab + 20) {
+            if (frame == kGrab + 1) {
+                run.held = session.grab().has_value();
+                run.status = viewer.ui().status;
+            }
+            cursor.y -= pixelsUp / 20.0;
+            viewer.moveCursor(cursor);
+        } else if (frame == kRelease) {
+            run.lifted = centre().y;
+            viewer.mouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, GLFW_MOD_CONTROL, cursor);
+        } else if (frame == kRelease + 1) {
+            run.letGo = !session.grab().has_value();
+        } else if (frame == kEnd) {
+            run.after = centre().y;
+        }
+    };
+    ASSERT_EQ(runViewer(options), 0);
+    EXPECT_TRUE(run.held) << run.status;
+    EXPECT_EQ(run.status, "holding body 0");
+    EXPECT_TRUE(run.letGo);
+    // As in ViewerSessionTest.ABodyPulledUpRisesAndFallsBackWhenLetGo, through the window's
+    // mouse path: the box rises most of the 0.15 m, then drops back to about its draft.
+    EXPECT_GT(run.lifted, run.start + 0.05f) << "start " << run.start;
+    EXPECT_LT(run.after, run.lifted - 0.05f);
+    EXPECT_NEAR(run.after, run.start, 0.02f);
 }
 
 TEST(ViewerWindow, WithoutADisplayItSaysHowToRunHeadlessAndExitsThree) {
