@@ -30,7 +30,7 @@ out=$(cd "$out" && pwd) # the manifest below names files by absolute path
 # [m] one grid spacing for every collider, as a scene would use: 2.7 voxels across the 2 cm
 # walls of the funnel and pea shooter, 4 across the tank's 3 cm walls, and a demo of seconds.
 voxel_size=0.0075
-meshes=(sphere funnel peashooter tank)
+meshes=(sphere funnel peashooter tank crate)
 
 "$exe" --version
 demo_start=$(date +%s%N)

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Generates the demo collider meshes (OBJ) in this folder: sphere, funnel, pea shooter, tank.
+"""Generates the demo collider meshes (OBJ) in this folder: sphere, funnel, pea shooter, crate,
+tank.
 
 Standard library only. The .obj files it writes are committed, so nothing is generated at build
 time; run it again only to change a shape: `python3 assets/make_meshes.py`.
@@ -105,6 +106,18 @@ def open_box(width, height, depth, wall, floor):
                 tri = (tri[0], tri[2], tri[1])
             tris.append(tri)
     return verts, tris
+
+
+def box(width, height, depth):
+    """A solid axis-aligned box centred on the origin, each face split into two triangles."""
+    hx, hy, hz = width / 2.0, height / 2.0, depth / 2.0
+    verts = [(x, y, z) for z in (-hz, hz) for y in (-hy, hy) for x in (-hx, hx)]
+    # Corner i has x = bit 0, y = bit 1, z = bit 2; quads listed outward counter-clockwise.
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    tris = []
+    for a, b, c, d in quads:
+        tris += [(a, b, c), (a, c, d)]
+    return orient_outward(verts, tris)
 
 
 def rotate_y_to_x(verts):
@@ -214,6 +227,9 @@ def main():
     verts = [(x - 0.3, y, z) for x, y, z in rotate_y_to_x(verts)]
     write_obj("peashooter", "pea shooter tube along +x from -0.3 to 0.3 m, 0.03 m bore, "
               "mouthpiece at -x", verts, tris)
+
+    verts, tris = box(0.12, 0.12, 0.12)
+    write_obj("crate", "solid cube 0.12 m on a side centred on the origin", verts, tris)
 
     verts, tris = open_box(0.8, 0.4, 0.5, 0.03, 0.03)
     write_obj("tank", "open-top tank 0.8 x 0.4 x 0.5 m (x, y up, z), 0.03 m walls and floor",

@@ -21,6 +21,10 @@ uniform uint dragBody;
 uniform vec3 dragAnchor;
 uniform vec3 dragTarget;
 uniform float dragOmega;
+// The force and torque a body reports are means over the step's substeps: the first substep
+// of a step starts them again, each adds its share.
+uniform uint firstSubstep;
+uniform float substepShare;
 
 // Jacobi sweeps over the bodies; inside a sweep each body visits its own points in order.
 const uint kContactSweeps = 4u;
@@ -220,6 +224,10 @@ void main() {
         }
         x = x0 + P.dt * v;
         q = normalize(q0 + 0.5 * P.dt * quatMul(vec4(w, 0.0), q0));
+        if (bodies[b].invMass == 0.0) { // infinite mass (no scene gives one): stays put
+            x = x0;
+            q = q0;
+        }
     }
 
     float deepest = 0.0;
@@ -232,7 +240,7 @@ void main() {
         }
         memoryBarrierShared();
         barrier();
-        if (live)
+        if (live && bodies[b].invMass > 0.0)
             sweep(b, x0, q0, x, q, it == 0u, deepest, touching, normalSum);
         memoryBarrierShared();
         barrier();
@@ -258,8 +266,8 @@ void main() {
     body.orientation = q;
     body.linearVelocity = vNew;
     body.angularVelocity = wNew;
-    body.force = force;
-    body.torque = torque;
+    body.force = (firstSubstep != 0u ? vec3(0.0) : body.force) + substepShare * force;
+    body.torque = (firstSubstep != 0u ? vec3(0.0) : body.torque) + substepShare * torque;
     body.contactDepth = deepest;
     body.contacts = touching;
     bodies[b] = body;

@@ -109,6 +109,19 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
                         scene.path + ": " + colliderPath(c) +
                             ": the body's mass or inertia is not positive (volume " +
                             std::to_string(volume) + " m^3); is the mesh closed?");
+        // The GPU works in float: a mass or inertia whose inverse a float cannot hold would
+        // turn the body's state into infinities.
+        const glm::mat3 invInertia = glm::mat3(glm::inverse(inertia));
+        bool usable = std::isfinite(float(1.0 / bodyMass)) && float(bodyMass) > 0.0f;
+        for (int col = 0; col < 3; ++col)
+            for (int row = 0; row < 3; ++row)
+                usable = usable && std::isfinite(invInertia[col][row]);
+        if (!usable)
+            return fail(ErrorCode::InvalidArgument,
+                        scene.path + ": " + colliderPath(c) + ": a mass of " +
+                            std::to_string(bodyMass) +
+                            " kg is too small to simulate in single precision; give the body a "
+                            "density of at least a few kg/m^3");
 
         // Contact points about half a particle spacing apart, at most one per voxel.
         const double gap = std::max(asset.meta.voxelSize, 0.5 * double(2.0f * k.radius) / s);
@@ -127,7 +140,7 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
         b.linearVelocity = d.linearVelocity;
         b.angularVelocity = glm::radians(d.angularVelocityDegrees);
         b.collider = std::uint32_t(c);
-        b.invInertia = glm::mat4(glm::mat3(glm::inverse(inertia)));
+        b.invInertia = glm::mat4(invInertia);
         b.centerLocal = glm::vec3(mass->centerOfMass);
         b.scale = float(s);
         b.boundRadius = float(s * (reach + asset.meta.voxelSize));

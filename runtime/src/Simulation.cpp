@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <cstdlib>
 #include <span>
 #include <string>
 
@@ -30,6 +31,9 @@ namespace {
 constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
 constexpr std::uint32_t kNoStop = 0xffffffffu;
 constexpr std::size_t kStatsHeaderBytes = sizeof(shared::PbfStats);
+// docs/bodies.md, "Surface offset": the first fluid layer of a body sits on average this many
+// spacings further out than the contact distance, so the fluid sees the surface this far in.
+constexpr float kBodyOffsetSpacings = 0.15f;
 
 std::uint32_t groupsFor(std::uint32_t items) {
     return gpu::groupCount(items, shared::kPbfLocalSize);
@@ -70,6 +74,10 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
                                                 "]: " + asset.error().detail);
         assets.push_back(std::move(*asset));
     }
+    // Dynamic bodies need a volume and a usable mass: checked here, on the CPU, before any
+    // output or GL context exists.
+    if (auto bodies = setUpBodies(scene, assets, deriveConstants(scene.simulation)); !bodies)
+        return bodies.error();
     return assets;
 }
 
@@ -96,6 +104,7 @@ struct Simulation::Impl {
     std::uint32_t bodyCount = 0;
     std::uint32_t removedAtSpawn = 0; // particles of the blocks that started inside a body
     std::optional<BodyDrag> drag;      // the viewer's mouse spring
+    std::uint32_t substepInStep = 0;   // which substep of the step is running
 
     gpu::Program predict, scatter, bucketSort, reorder, lambda, delta, velocity, vorticity,
         confine, stats, bodies;
@@ -316,6 +325,7 @@ void Simulation::Impl::uploadParams() {
     p.bodyCount = bodyCount;
     p.particleMass = k.mass;
     p.boundaryScale = k.boundaryScale;
+    p.bodyOffset = kBodyOffsetSpacings * s.spacing;
     params.upload(std::span(&p, 1));
 }
 
@@ -522,6 +532,8 @@ void Simulation::Impl::integrateBodies() {
     bodies.set("dragAnchor", drag ? drag->anchor : glm::vec3(0.0f));
     bodies.set("dragTarget", drag ? drag->target : glm::vec3(0.0f));
     bodies.set("dragOmega", 2.0f * 3.14159265f * 3.0f);
+    bodies.set("firstSubstep", substepInStep == 0 ? 1u : 0u);
+    bodies.set("substepShare", 1.0f / float(std::max(1u, scene.simulation.substeps)));
     bodies.use();
     glDispatchCompute(1, 1, 1);
     barrier();
@@ -648,8 +660,10 @@ void Simulation::step() {
     s.fillStats(offsetof(shared::PbfStats, nonFinite), sizeof(std::uint32_t), 0);
     s.fillStats(offsetof(shared::PbfStats, maskOverflow), 4 * sizeof(std::uint32_t), 0);
     const std::uint32_t substeps = std::max(1u, s.scene.simulation.substeps);
-    for (std::uint32_t i = 0; i < substeps; ++i)
+    for (std::uint32_t i = 0; i < substeps; ++i) {
+        s.substepInStep = i;
         s.substep();
+    }
 
     // Step statistics: max speed and particles inside colliders, from the final state.
     s.begin(Pass::Stats);

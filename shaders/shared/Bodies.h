@@ -36,9 +36,9 @@ struct GpuBody {
     /*  64 */ mat4 invInertia;      ///< body-local inverse inertia about the centre of mass (3x3) [1/(kg m^2)]
     /* 128 */ vec3 centerLocal;     ///< centre of mass in the asset frame [asset units]
     /* 140 */ float scale;          ///< uniform placement scale: asset units -> m
-    /* 144 */ vec3 force;           ///< the fluid's force on the body over the last substep [N]
+    /* 144 */ vec3 force;           ///< the fluid's force on the body, mean over the last step [N]
     /* 156 */ float sumScale;       ///< fixed-point units per metre of the dx sums
-    /* 160 */ vec3 torque;          ///< the fluid's torque about the centre of mass [N m]
+    /* 160 */ vec3 torque;          ///< the fluid's torque about the centre of mass, mean [N m]
     /* 172 */ float momentScale;    ///< fixed-point units per m^2 of the r x dx sums
     /* 176 */ uint sampleOffset;    ///< first contact point in the samples buffer
     /* 180 */ uint sampleCount;     ///< contact points

@@ -96,7 +96,7 @@ struct PbfParams {
     /* 140 */ uint maxIterations; ///< solver iterations at most
     // Dense cell grid over the domain box, when it replaces the hash.
     /* 144 */ vec3 gridOrigin; ///< its minimum corner (the domain's) [m]
-    /* 156 */ uint pad1;
+    /* 156 */ float bodyOffset; ///< bodies' fluid-facing surface lies this far inside phi = 0 [m]
     /* 160 */ uvec3 gridDims;  ///< cells per axis; cell (x, y, z) is bucket x + nx (y + ny z)
     /* 172 */ uint denseGrid;  ///< 1 when the dense grid replaces the hash, 0 for the hash
     // Dynamic bodies (shared/Bodies.h).
@@ -179,7 +179,7 @@ SLUICE_PBF_AT(PbfParams, minIterations, 124);
 SLUICE_PBF_AT(PbfParams, solveChunks, 128);
 SLUICE_PBF_AT(PbfParams, maxIterations, 140);
 SLUICE_PBF_AT(PbfParams, gridOrigin, 144);
-SLUICE_PBF_AT(PbfParams, pad1, 156);
+SLUICE_PBF_AT(PbfParams, bodyOffset, 156);
 SLUICE_PBF_AT(PbfParams, gridDims, 160);
 SLUICE_PBF_AT(PbfParams, denseGrid, 172);
 SLUICE_PBF_AT(PbfParams, bodyCount, 176);

@@ -216,6 +216,8 @@ vec3 collide(vec3 x, vec3 xOld) {
     for (uint c = 0u; c < n; ++c) {
         vec3 normal;
         float phi = colliderDistance(c, x, normal);
+        if (colliders[c].body != kNoBody)
+            phi += P.bodyOffset; // docs/bodies.md, "Surface offset"
         float len = length(normal);
         if (!(phi < PBF_RADIUS) || !(len > 0.0))
             continue;
@@ -262,7 +264,8 @@ float boundaryShareSlope(float phi) {
 }
 
 // Distance and outward unit normal of body b at world x, when the particle's kernel reaches
-// it (phi < h); false otherwise. A bounding-sphere test first skips far bodies.
+// it (phi < h); false otherwise. A bounding-sphere test first skips far bodies. phi is measured
+// from the body's fluid-facing surface, P.bodyOffset inside its zero level set.
 bool bodyBoundary(uint b, vec3 x, out float phi, out vec3 normal) {
     vec3 toCentre = x - bodies[b].position;
     float reach = bodies[b].boundRadius + PBF_H;
@@ -270,7 +273,7 @@ bool bodyBoundary(uint b, vec3 x, out float phi, out vec3 normal) {
     normal = vec3(0.0);
     if (dot(toCentre, toCentre) >= reach * reach)
         return false;
-    phi = colliderDistance(bodies[b].collider, x, normal);
+    phi = colliderDistance(bodies[b].collider, x, normal) + P.bodyOffset;
     float len = length(normal);
     if (!(phi < PBF_H) || !(len > 0.0))
         return false;

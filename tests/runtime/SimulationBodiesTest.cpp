@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <cstdlib>
 #include <map>
 #include <vector>
 
@@ -196,14 +197,18 @@ TEST_F(SimulationBodies, CubesFloatAtTheDraftArchimedesGives) {
     }
 }
 
-TEST_F(SimulationBodies, ABodyAFifthLighterThanWaterFloatsAndOneAFifthHeavierSinks) {
-    const Settled light = playCube(0.9f, kSide, startHeight(0.9f), 2.5f);
-    EXPECT_NEAR(light.share, 0.9, 0.05);
-    EXPECT_LT(light.share, 0.999) << "ratio 0.9 must keep part of itself above the surface";
+TEST_F(SimulationBodies, ABodyATenthLighterThanWaterFloatsAndOneATenthHeavierSinks) {
+    // Both start with their top level with the surface, fully under water.
+    const float start = kDepth - 0.5f * kSide;
+    const Settled light = playCube(0.9f, kSide, start, 2.5f);
+    EXPECT_LT(light.share, 0.95) << "ratio 0.9 must rise until part of it is out of the water";
+    EXPECT_GT(light.share, 0.75);
+    EXPECT_GT(light.body.position.y, start + 0.01f) << "it must have risen";
     EXPECT_EQ(light.body.contacts, 0u);
-    const Settled heavy = playCube(1.1f, kSide, startHeight(1.1f), 2.5f);
-    EXPECT_GT(heavy.body.contacts, 0u) << "ratio 1.1 must reach the floor";
-    EXPECT_LT(lowestPoint(heavy.body, kSide), 0.5 * kSpacing);
+    const Settled heavy = playCube(1.1f, kSide, start, 4.0f);
+    EXPECT_GT(heavy.share, 0.99) << "ratio 1.1 must stay under water";
+    EXPECT_LT(heavy.body.position.y, start - 0.02f) << "it must have sunk";
+    EXPECT_LT(heavy.body.linearVelocity.y, 0.01f);
     expectHealthy(light);
     expectHealthy(heavy);
 }

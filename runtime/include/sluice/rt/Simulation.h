@@ -76,10 +76,10 @@ struct BodyState {
     glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f}; ///< asset frame -> world
     glm::vec3 linearVelocity{0.0f};  ///< [m/s]
     glm::vec3 angularVelocity{0.0f}; ///< [rad/s], world
-    glm::vec3 force{0.0f};           ///< the fluid's force, last substep [N]
-    glm::vec3 torque{0.0f};          ///< the fluid's torque about the centre of mass [N m]
+    glm::vec3 force{0.0f};           ///< the fluid's force, mean over the last step [N]
+    glm::vec3 torque{0.0f};          ///< the fluid's torque about the centre of mass, mean [N m]
     /// The fluid's upward force over the weight of water the whole body would displace:
-    /// Archimedes' submerged share (noisy: last substep only; 0 out of the water).
+    /// Archimedes' submerged share (mean over the last step; 0 out of the water).
     double submergedShare = 0.0;
     std::uint32_t contacts = 0;      ///< contact points touching a wall, collider or body
     float contactDepth = 0.0f;       ///< deepest of them before correction [m]
@@ -193,7 +193,7 @@ public:
     std::vector<ColliderPose> colliderPoses() const;
 
     /// Pulls a body with the mouse spring from the next step on; nullopt lets go. Fails with
-    /// InvalidArgument for a body index out of range or a non-finite point.
+    /// InvalidArgument for a body index out of range, NonFinite for a non-finite point.
     Result<void> setDrag(const std::optional<BodyDrag>& drag);
 
     /// The nearest dynamic body the ray from `origin` along `direction` (need not be unit)

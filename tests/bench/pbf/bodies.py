@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""What dynamic bodies cost: sluice-play --bench on a pool with 0, 1, 16 and 64 floating crates,
+the same water in every run, interleaved and repeated.
+
+The crates (assets/crate.obj baked by the build, scaled so N of them fit side by side) start
+just above the water at half its density and land during the warm-up. Each run reports the
+median GPU step time and its passes; the coupling's cost is the step time over the fluid-only
+run's (the boundary volume in the lambda and delta passes and the reaction sums) plus the body
+pass itself, both from the same run. Results: docs/results/pbf_bodies_<machine>.json.
+
+    python3 tests/bench/pbf/bodies.py --build build/dev --repeat 3
+"""
+
+import argparse
+import datetime
+import json
+import math
+import os
+import statistics
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
+sys.path.insert(0, HERE)
+
+import sweep  # noqa: E402
+
+# The tank of assets/float.json: interior x [-0.37, 0.37], z [-0.22, 0.22], floor at y = 0.03.
+POOL = {"min": [-0.365, 0.035, -0.215], "max": [0.365, 0.155, 0.215]}
+CRATE = 0.12  # [m] side of assets/crate.obj
+
+
+def make_scene(bodies, spacing):
+    colliders = [{"asset": "tank.slc", "friction": 0.1}]
+    if bodies:
+        k = math.ceil(math.sqrt(bodies))
+        cell_x, cell_z = 0.7 / k, 0.42 / k
+        size = min(CRATE, 0.7 * min(cell_x, cell_z))
+        for i in range(bodies):
+            x = -0.35 + (i % k + 0.5) * cell_x
+            z = -0.21 + (i // k + 0.5) * cell_z
+            colliders.append({"asset": "crate.slc", "scale": size / CRATE,
+                              "translation": [x, POOL["max"][1] + 0.6 * size + 0.01, z],
+                              "dynamic": {"density": 500}})
+    return {"version": 1, "name": f"bodies-{bodies}",
+            "simulation": {"spacing": spacing},
+            "fluid": [{"box": POOL}],
+            "colliders": colliders,
+            "domain": {"min": [-0.5, 0.0, -0.35], "max": [0.5, 0.7, 0.35]}}
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--build", default="build/dev")
+    p.add_argument("--bodies", default="0,1,16,64")
+    p.add_argument("--spacing", type=float, default=0.02)
+    p.add_argument("--warmup", type=int, default=30)
+    p.add_argument("--steps", type=int, default=10)
+    p.add_argument("--repeat", type=int, default=3, help="runs per body count, interleaved")
+    p.add_argument("--machine", default="llvmpipe")
+    p.add_argument("--out")
+    a = p.parse_args()
+    a.out = a.out or os.path.join(ROOT, "docs", "results", f"pbf_bodies_{a.machine}.json")
+    build = os.path.abspath(a.build)
+    play = os.path.join(build, "bin", "sluice-play")
+    assets = os.path.join(build, "assets")
+    counts = [int(c) for c in a.bodies.split(",")]
+    runs = []
+    for rep in range(a.repeat):
+        for n in counts:
+            scene = make_scene(n, a.spacing)
+            path = os.path.join(assets, f"bench-bodies-{n}.json")
+            with open(path, "w") as f:
+                json.dump(scene, f, indent=4)
+            cmd, bench, wall, extra, error = sweep.run_bench(
+                play, path, a.warmup, a.steps, path.replace(".json", ".bench.json"), 1800)
+            if error:
+                raise SystemExit(f"{n} bodies: {error}")
+            passes = bench["medianPassMs"]
+            rec = {"bodies": n, "repeat": rep, "stepMs": bench["medianStepMs"],
+                   "bodiesPassMs": passes.get("bodies", 0.0), "solveMs": passes["solve"],
+                   "particles": bench["particles"], "wallSeconds": wall,
+                   "cpuSeconds": extra["cpuSeconds"], "loadBefore": extra["loadBefore"]}
+            runs.append(rec)
+            print(f"{n:3d} bodies rep {rep}: step {rec['stepMs']:8.2f} ms, solve "
+                  f"{rec['solveMs']:8.2f}, body pass {rec['bodiesPassMs']:6.3f} ms, "
+                  f"{rec['particles']} particles, load {extra['loadBefore'][0]:.1f}", flush=True)
+    summary = []
+    base = [r["stepMs"] for r in runs if r["bodies"] == 0]
+    for n in counts:
+        steps = [r["stepMs"] for r in runs if r["bodies"] == n]
+        passes = [r["bodiesPassMs"] for r in runs if r["bodies"] == n]
+        med = statistics.median(steps)
+        row = {"bodies": n, "medianStepMs": med, "rangeStepMs": [min(steps), max(steps)],
+               "medianBodiesPassMs": statistics.median(passes)}
+        if base and n:
+            row["stepOverFluidOnly"] = med / statistics.median(base)
+            row["couplingShareOfStep"] = 1.0 - statistics.median(base) / med
+            row["bodyPassShareOfStep"] = row["medianBodiesPassMs"] / med
+        summary.append(row)
+        print(json.dumps(row))
+    doc = {"what": "sluice-play --bench with dynamic bodies (tests/bench/pbf/bodies.py)",
+           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+           "machineName": a.machine, "machine": sweep.machine_info(),
+           "warmup": a.warmup, "steps": a.steps, "runs": runs, "summary": summary}
+    os.makedirs(os.path.dirname(a.out), exist_ok=True)
+    with open(a.out, "w") as f:
+        json.dump(doc, f, indent=2)
+        f.write("\n")
+    print(f"wrote {a.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
