@@ -101,17 +101,58 @@ float bodyDistance(uint o, vec3 w, out vec3 normal) {
     return s * phi;
 }
 
+// Whether a static collider can touch body b (centre x, bounding radius reach): false when the
+// centre lies inside the collider's grid box, where phi is the interpolated distance, and phi
+// there exceeds the reach. Outside the box phi may overestimate, so every point is tested.
+bool mayTouch(uint c, vec3 x, float reach) {
+    vec3 q = (colliders[c].worldToGrid * vec4(x, 1.0)).xyz;
+    if (any(lessThan(q, colliders[c].origin)) || any(greaterThan(q, colliders[c].boxMax)))
+        return true;
+    vec3 n;
+    return colliderDistance(c, x, n) <= reach;
+}
+
 // One sweep of body b's contact points against the domain box, the static colliders and the
-// other bodies' poses of this sweep.
+// other bodies' poses of this sweep. What the body's bounding sphere cannot reach is skipped.
 void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
            inout float deepest, inout uint touching, inout vec3 normalSum) {
     GpuBody body = bodies[b];
+    float reach = body.boundRadius;
+    // What this sweep tests, decided once from the pose at its start (a sweep moves the body
+    // by a small fraction of its size).
+    bvec3 wallLo = bvec3(false), wallHi = bvec3(false);
+    if (P.hasDomain != 0u) {
+        wallLo = lessThan(x - reach, P.domainMin - PBF_RADIUS);
+        wallHi = greaterThan(x + reach, P.domainMax + PBF_RADIUS);
+    }
+    uint staticMask = 0u; // bit c: static collider c may touch (colliders beyond 32 always)
+    for (uint c = 0u; c < min(P.colliderCount, 32u); ++c)
+        if (colliders[c].body == kNoBody && mayTouch(c, x, reach))
+            staticMask |= 1u << c;
+    uint bodyMask = 0u, bodyMaskHigh = 0u; // bit o: body o's sphere meets this one's
+    for (uint o = 0u; o < P.bodyCount; ++o) {
+        vec3 d = sPosition[o] - x;
+        float r = reach + bodies[o].boundRadius;
+        if (o != b && dot(d, d) < r * r) {
+            if (o < 32u)
+                bodyMask |= 1u << o;
+            else
+                bodyMaskHigh |= 1u << (o - 32u);
+        }
+    }
+    bool anyWall = any(wallLo) || any(wallHi);
+    if (!anyWall && staticMask == 0u && P.colliderCount <= 32u && bodyMask == 0u &&
+        bodyMaskHigh == 0u)
+        return;
+
     for (uint s = 0u; s < body.sampleCount; ++s) {
         vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
         vec3 pStart = x0 + rotate(q0, arm);
         // The domain's walls sit one particle radius beyond the box particles are kept in.
-        if (P.hasDomain != 0u) {
+        if (anyWall) {
             for (int a = 0; a < 3; ++a) {
+                if (!wallLo[a] && !wallHi[a])
+                    continue;
                 vec3 w = x + rotate(q, arm);
                 float below = (P.domainMin[a] - PBF_RADIUS) - w[a];
                 float above = w[a] - (P.domainMax[a] + PBF_RADIUS);
@@ -130,7 +171,7 @@ void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
             }
         }
         for (uint c = 0u; c < P.colliderCount; ++c) {
-            if (colliders[c].body != kNoBody)
+            if (colliders[c].body != kNoBody || (c < 32u && (staticMask & (1u << c)) == 0u))
                 continue;
             vec3 w = x + rotate(q, arm);
             vec3 n;
@@ -146,7 +187,9 @@ void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
             resolve(b, x, q, arm, pStart, n / len, -phi, 1.0);
         }
         for (uint o = 0u; o < P.bodyCount; ++o) {
-            if (o == b)
+            bool near = o < 32u ? (bodyMask & (1u << o)) != 0u
+                                : (bodyMaskHigh & (1u << (o - 32u))) != 0u;
+            if (!near)
                 continue;
             vec3 w = x + rotate(q, arm);
             vec3 toOther = w - sPosition[o];

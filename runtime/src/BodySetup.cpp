@@ -123,8 +123,9 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
                             " kg is too small to simulate in single precision; give the body a "
                             "density of at least a few kg/m^3");
 
-        // Contact points about half a particle spacing apart, at most one per voxel.
-        const double gap = std::max(asset.meta.voxelSize, 0.5 * double(2.0f * k.radius) / s);
+        // Contact points about one particle spacing apart (what the fluid resolves), at most
+        // one per voxel.
+        const double gap = std::max(asset.meta.voxelSize, double(2.0f * k.radius) / s);
         const std::vector<glm::vec3> points = surfacePoints(asset, gap);
         double reach = 0.0;
         for (const glm::vec3& p : points)

@@ -63,7 +63,8 @@ TEST_P(ShippedScene, KeepsEveryParticleOutOfCollidersAndFinite) {
 
 INSTANTIATE_TEST_SUITE_P(Assets, ShippedScene,
                          ::testing::Values("drop.json", "dam-break.json", "wave-sphere.json",
-                                           "funnel.json", "martin-moyce.json"),
+                                           "funnel.json", "martin-moyce.json", "float.json",
+                                           "crates.json"),
                          [](const auto& paramInfo) {
                              std::string name = paramInfo.param;
                              name = name.substr(0, name.find('.'));

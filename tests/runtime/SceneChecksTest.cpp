@@ -64,7 +64,8 @@ TEST_P(ShippedSceneChecks, GiveNoWarnings) {
 
 INSTANTIATE_TEST_SUITE_P(Assets, ShippedSceneChecks,
                          ::testing::Values("drop.json", "dam-break.json", "wave-sphere.json",
-                                           "funnel.json", "martin-moyce.json"),
+                                           "funnel.json", "martin-moyce.json", "float.json",
+                                           "crates.json"),
                          [](const auto& paramInfo) {
                              std::string name = paramInfo.param;
                              name = name.substr(0, name.find('.'));
