@@ -1,4 +1,4 @@
-// CPU reference of the PBF substep, written straight from docs/pbf.md.
+// CPU reference of the PBF substep, written straight from docs/pbf.md and docs/bodies.md.
 #include "ReferencePbf.h"
 
 #include <algorithm>
@@ -14,6 +14,10 @@
 namespace sluice::ref {
 
 namespace {
+
+// docs/bodies.md, "Surface offset": the fluid sees a body's surface this many spacings inside
+// its zero level set.
+constexpr float kBodyOffsetSpacings = 0.15f;
 
 bool isFinite(glm::vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -38,14 +42,42 @@ ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceColl
     }
     for (const ReferenceCollider& c : colliders) {
         SLUICE_ASSERT(c.asset != nullptr, "ReferencePbf: collider without an asset");
-        m_colliders.push_back({c.placement, format::SdfSampler(*c.asset)});
+        Collider collider{c.placement, format::SdfSampler(*c.asset)};
+        if (c.placement.dynamic) {
+            collider.body = std::uint32_t(m_bodies.size());
+            Body body;
+            body.collider = m_colliders.size();
+            body.pose = c.bodyPose ? *c.bodyPose : rt::colliderPose(c.placement, 0.0f);
+            body.centerOfMass = c.centerOfMass;
+            m_bodies.push_back(body);
+        }
+        m_colliders.push_back(collider);
     }
+    m_bodyOffset = kBodyOffsetSpacings * m_params.spacing;
     m_particles = rt::fillBlocks(scene);
+    // Ids keep the blocks' numbering: emitted particles continue after the blocks' full count.
+    m_nextId = std::uint32_t(m_particles.size());
+    removeParticlesInBodies();
     if (m_particles.size() > m_params.capacity) {
         m_particles.resize(m_params.capacity);
         m_stats.capacityReached = true;
+        m_nextId = m_particles.empty() ? 0 : m_particles.back().id + 1;
     }
-    m_nextId = std::uint32_t(m_particles.size());
+}
+
+// docs/bodies.md: a particle whose centre starts inside a body (phi < 0 at the placement's pose
+// at t = 0, no offset) is left out.
+void ReferencePbf::removeParticlesInBodies() {
+    for (const Body& body : m_bodies) {
+        const Collider& c = m_colliders[body.collider];
+        const rt::ColliderPose start = rt::colliderPose(c.placement, 0.0f);
+        const auto inside = [&](const rt::ParticleState& p) {
+            return c.sampler.value(glm::dvec3(start.toLocal(p.position))) < 0.0f;
+        };
+        const auto first = std::remove_if(m_particles.begin(), m_particles.end(), inside);
+        m_removedAtSpawn += std::uint32_t(m_particles.end() - first);
+        m_particles.erase(first, m_particles.end());
+    }
 }
 
 float ReferencePbf::timeAt(std::uint64_t substepIndex) const {
@@ -71,19 +103,23 @@ glm::vec3 ReferencePbf::gradW(glm::vec3 x) const {
 void ReferencePbf::substep() {
     m_stats.nonFinite = 0;
     m_stats.capacityReached = false;
-    substepImpl();
+    startBodyStep();
+    substepImpl(1.0);
     finishStats();
 }
 
 void ReferencePbf::step() {
     m_stats.nonFinite = 0;
     m_stats.capacityReached = false;
+    startBodyStep();
+    // Bodies report the mean force and torque over the step's substeps.
+    const double share = 1.0 / double(std::max(1u, m_params.substeps));
     for (std::uint32_t n = 0; n < m_params.substeps; ++n)
-        substepImpl();
+        substepImpl(share);
     finishStats();
 }
 
-void ReferencePbf::substepImpl() {
+void ReferencePbf::substepImpl(double bodyShare) {
     const float t = timeAt(m_substepIndex);
     const float dt = m_c.dt;
 
@@ -128,12 +164,88 @@ void ReferencePbf::substepImpl() {
     // 6. Vorticity confinement and XSPH, from the velocities of step 5.
     vorticityAndXsph(velocity);
 
-    // 7. Commit.
+    // 7. Commit; the bodies take the reaction of the substep (they stay where they are).
     for (std::size_t i = 0; i < n; ++i) {
         m_particles[i].position = m_predicted[i];
         m_particles[i].velocity = velocity[i];
     }
+    finishBodySubstep(bodyShare);
     ++m_substepIndex;
+}
+
+void ReferencePbf::startBodyStep() {
+    for (Body& b : m_bodies) {
+        b.force = glm::dvec3(0.0);
+        b.torque = glm::dvec3(0.0);
+    }
+}
+
+// docs/bodies.md, "The body pass": every correction dx a body gave a particle is an impulse
+// m dx / dt on the particle; the body takes -m dx / dt, so its force over the substep is
+// -m sum dx / dt^2 and its torque -m sum (x - c) x dx / dt^2.
+void ReferencePbf::finishBodySubstep(double share) {
+    const double m = m_c.mass;
+    const double dt = m_c.dt;
+    for (Body& b : m_bodies) {
+        b.force += share * (-m * b.sumDx / (dt * dt));
+        b.torque += share * (-m * b.sumMoment / (dt * dt));
+        b.sumDx = glm::dvec3(0.0);
+        b.sumMoment = glm::dvec3(0.0);
+    }
+}
+
+void ReferencePbf::addReaction(Body& body, glm::vec3 x, glm::vec3 dx) {
+    const glm::dvec3 d(dx);
+    body.sumDx += d;
+    body.sumMoment += glm::cross(glm::dvec3(x) - glm::dvec3(body.centerOfMass), d);
+}
+
+glm::dvec3 ReferencePbf::bodyForce(std::size_t b) const {
+    SLUICE_ASSERT(b < m_bodies.size(), "ReferencePbf::bodyForce: no such body");
+    return m_bodies[b].force;
+}
+
+glm::dvec3 ReferencePbf::bodyTorque(std::size_t b) const {
+    SLUICE_ASSERT(b < m_bodies.size(), "ReferencePbf::bodyTorque: no such body");
+    return m_bodies[b].torque;
+}
+
+// docs/bodies.md, "Boundary volume": the part of the poly6 support behind a flat boundary at
+// distance phi, B(phi) = k (1/2 - 315/256 F(u)), F(u) = u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9,
+// u = phi / h clamped to [-1, 1]. Evaluated in double, stored as float like the solver's.
+float ReferencePbf::boundaryShare(float phi) const {
+    const double u = std::clamp(double(phi) / double(m_c.h), -1.0, 1.0);
+    const double u2 = u * u;
+    const double F = u - 4.0 / 3.0 * u * u2 + 6.0 / 5.0 * u * u2 * u2 -
+                     4.0 / 7.0 * u * u2 * u2 * u2 + 1.0 / 9.0 * u * u2 * u2 * u2 * u2;
+    return float(double(m_c.boundaryScale) * (0.5 - 315.0 / 256.0 * F));
+}
+
+// B'(phi) = dB/dphi = -k 315/256 F'(u) / h, F'(u) = (1 - u^2)^4; 0 for |u| >= 1 [1/m].
+float ReferencePbf::boundaryShareSlope(float phi) const {
+    const double u = double(phi) / double(m_c.h);
+    if (std::abs(u) >= 1.0)
+        return 0.0f;
+    const double a = 1.0 - u * u;
+    return float(-double(m_c.boundaryScale) * 315.0 / 256.0 / double(m_c.h) * a * a * a * a);
+}
+
+// phi_b at x, from the body's fluid-facing surface (bodyOffset inside its zero level set), and
+// its outward unit world normal; false when the kernel does not reach the body (phi_b >= h) or
+// the gradient is zero.
+bool ReferencePbf::bodyBoundary(const Body& body, glm::vec3 x, float& phi,
+                                glm::vec3& normal) const {
+    const format::SdfSampler& sampler = m_colliders[body.collider].sampler;
+    const glm::vec3 q = body.pose.toLocal(x);
+    phi = body.pose.scale * sampler.value(glm::dvec3(q)) + m_bodyOffset;
+    if (!(phi < m_c.h))
+        return false;
+    const glm::vec3 grad = body.pose.rotation * glm::vec3(sampler.gradient(glm::dvec3(q)));
+    const float gradLength = glm::length(grad);
+    if (!(gradLength > 0.0f))
+        return false;
+    normal = grad / gradLength;
+    return true;
 }
 
 void ReferencePbf::buildNeighbours() {
@@ -215,8 +327,19 @@ void ReferencePbf::solve() {
                 gSum += g;
                 gSq += glm::dot(g, g);
             }
+            // Bodies fill part of the support and stiffen the particle's own gradient
+            // (docs/bodies.md, "Boundary volume").
+            float boundary = 0.0f;
+            for (const Body& b : m_bodies) {
+                float phi;
+                glm::vec3 normal;
+                if (!bodyBoundary(b, m_predicted[i], phi, normal))
+                    continue;
+                boundary += boundaryShare(phi);
+                gSum += boundaryShareSlope(phi) * normal;
+            }
             const float rho = m * wSum;
-            const float C = std::max(rho / rho0 - 1.0f, 0.0f);
+            const float C = std::max(rho / rho0 + boundary - 1.0f, 0.0f);
             m_constraint[i] = C;
             m_lambda[i] = -C / (gSq + glm::dot(gSum, gSum) + m_c.epsilon);
             errorSum += C;
@@ -239,11 +362,28 @@ void ReferencePbf::solve() {
             dp[i] = V * sum;
         }
 
-        // 4.4 Apply, collide in scene order, clamp into the domain shrunk by r.
+        // 4.4 Apply, push off the bodies' boundaries, collide in scene order, clamp into the
+        // domain shrunk by r.
         for (std::size_t i = 0; i < n; ++i) {
-            glm::vec3 x = m_predicted[i] + dp[i];
+            const glm::vec3 xi = m_predicted[i];
+            glm::vec3 x = xi + dp[i];
             if (!isFinite(x))
-                x = m_predicted[i]; // a non-finite correction is dropped (step 4.4)
+                x = xi; // a non-finite correction is dropped (step 4.4)
+            // docs/bodies.md: each body, a constraint partner of infinite mass, pushes with the
+            // particle's own lambda along its normal at x*_i, and takes the reaction.
+            for (Body& b : m_bodies) {
+                float phi;
+                glm::vec3 normal;
+                if (!bodyBoundary(b, xi, phi, normal))
+                    continue;
+                const glm::vec3 push = m_lambda[i] * boundaryShareSlope(phi) * normal;
+                if (!isFinite(push))
+                    continue;
+                x += push;
+                addReaction(b, x, push);
+            }
+            if (!isFinite(x))
+                x = xi;
             collide(x, xOld[i], t0, t1);
             if (!isFinite(x))
                 x = m_predicted[i];
@@ -265,12 +405,15 @@ void ReferencePbf::solve() {
     m_stats.iterationsLastSubstep = updates;
 }
 
-void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1) const {
+void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1) {
     const float r = m_c.radius;
     for (const Collider& c : m_colliders) {
-        const rt::ColliderPose now = rt::colliderPose(c.placement, t1);
+        Body* body = c.body != kNoBody ? &m_bodies[c.body] : nullptr;
+        const rt::ColliderPose now = body ? body->pose : rt::colliderPose(c.placement, t1);
         const glm::vec3 q = now.toLocal(x);
-        const float phi = now.scale * c.sampler.value(glm::dvec3(q));
+        float phi = now.scale * c.sampler.value(glm::dvec3(q));
+        if (body)
+            phi += m_bodyOffset; // its fluid-facing surface (docs/bodies.md, "Surface offset")
         if (!(phi < r))
             continue;
         const glm::vec3 grad = now.rotation * glm::vec3(c.sampler.gradient(glm::dvec3(q)));
@@ -278,14 +421,23 @@ void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1) con
         if (!(gradLength > 0.0f))
             continue; // no direction to push along (a flat spot of the interpolant)
         const glm::vec3 normal = grad / gradLength;
+        const glm::vec3 xBefore = x;
         x += (r - phi) * normal;
         // Friction: remove the slip relative to the collider's own motion of the contact point,
-        // c = x - T(t) T(t + dt)^-1 x.
-        const rt::ColliderPose before = rt::colliderPose(c.placement, t0);
-        const glm::vec3 carried = x - before.toWorld(now.toLocal(x));
+        // c = x - T(t) T(t + dt)^-1 x (0 for a body: it is held where it is).
+        glm::vec3 carried(0.0f);
+        if (!body) {
+            const rt::ColliderPose before = rt::colliderPose(c.placement, t0);
+            carried = x - before.toWorld(now.toLocal(x));
+        }
         const glm::vec3 slip = (x - xOld) - carried;
         const glm::vec3 tangential = slip - glm::dot(slip, normal) * normal;
         x -= c.placement.friction * tangential;
+        // A body takes the opposite of its push-out and friction together (docs/bodies.md,
+        // "Reaction"), with the moment arm from where the particle ends (the same moment as from
+        // where it started, since dx x dx = 0, up to rounding).
+        if (body)
+            addReaction(*body, x, x - xBefore);
     }
 }
 
@@ -323,7 +475,8 @@ void ReferencePbf::vorticityAndXsph(std::vector<glm::vec3>& velocity) const {
 float ReferencePbf::colliderDistance(glm::vec3 x, float t) const {
     float best = std::numeric_limits<float>::infinity();
     for (const Collider& c : m_colliders) {
-        const rt::ColliderPose pose = rt::colliderPose(c.placement, t);
+        const rt::ColliderPose pose =
+            c.body != kNoBody ? m_bodies[c.body].pose : rt::colliderPose(c.placement, t);
         best = std::min(best, pose.scale * c.sampler.value(glm::dvec3(pose.toLocal(x))));
     }
     return best;

@@ -1,7 +1,10 @@
-// CPU reference of the PBF substep of docs/pbf.md: plain loops, float state, no GPU.
+// CPU reference of the PBF substep of docs/pbf.md and docs/bodies.md: plain loops, float state,
+// no GPU.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sluice/format/ColliderAsset.h"
@@ -12,10 +15,17 @@
 namespace sluice::ref {
 
 /// A collider for the reference: its baked asset (not owned; must outlive the ReferencePbf) and
-/// its placement in the scene.
+/// its placement in the scene. With placement.dynamic set it is a rigid body (docs/bodies.md),
+/// held at one pose: it fills part of the kernel support of the particles near it, pushes them,
+/// and takes the reaction; the reference does not move it.
 struct ReferenceCollider {
     const format::ColliderAsset* asset = nullptr;
     format::SceneCollider placement;
+    /// Bodies only: the centre of mass, world [m]. The reaction's moment arms x - c, and so
+    /// ReferencePbf::bodyTorque, are about it.
+    glm::vec3 centerOfMass{0.0f};
+    /// Bodies only: the pose the body is held at; unset, the placement's pose at t = 0.
+    std::optional<rt::ColliderPose> bodyPose;
 };
 
 /// Runs the PBF step of docs/pbf.md on the CPU, one particle at a time, as the contract the GPU
@@ -28,6 +38,14 @@ struct ReferenceCollider {
 /// shaders.
 ///
 /// Time: substep n (from 0) starts at t = float(n * double(dt)), computed, not accumulated.
+///
+/// Dynamic bodies (docs/bodies.md) are on only for colliders whose placement has `dynamic`:
+/// the blocks' particles whose centre starts inside one are left out (ids keep the blocks'
+/// numbering), its boundary volume joins the density constraint, its boundary push and its
+/// push-out and friction are summed per body in double as sum dx and sum (x - c) x dx, and
+/// bodyForce / bodyTorque turn them into the fluid's force and torque. The body stays at its
+/// pose: the reference checks the fluid's side and the reaction of a substep, not the body's
+/// motion (pbf_bodies.comp's integration and contacts).
 class ReferencePbf {
 public:
     /// Statistics of the last step() (or of the last substep() when called alone), as
@@ -43,8 +61,10 @@ public:
     };
 
     /// Sets up the scene's blocks (ids from 0) at t = 0. `colliders` stand for the scene's
-    /// colliders, in scene order (scene.colliders itself is not read). Particles past
-    /// scene.simulation.capacity are dropped and reported in stats().capacityReached.
+    /// colliders, in scene order (scene.colliders itself is not read). Particles whose centre
+    /// starts inside a dynamic body (phi < 0 at its placement's pose at t = 0) are left out;
+    /// then particles past scene.simulation.capacity are dropped and reported in
+    /// stats().capacityReached.
     /// Precondition: every SimulationParams field set as readScene sets it.
     ReferencePbf(const format::Scene& scene, std::vector<ReferenceCollider> colliders);
 
@@ -54,8 +74,8 @@ public:
     /// scene.simulation.substeps substeps; stats() then describe the whole step.
     void step();
 
-    /// Current particles: x, v and id, in id order (particles are never removed, so the index
-    /// is the id).
+    /// Current particles: x, v and id, in id order. Particles are never removed during the run,
+    /// so the index is the id, except when dynamic bodies left particles out at the start.
     const std::vector<rt::ParticleState>& particles() const { return m_particles; }
 
     /// Test hook: the particles, writable (e.g. to inject a NaN velocity).
@@ -70,21 +90,58 @@ public:
     /// The derived constants in use.
     const rt::PbfConstants& constants() const { return m_c; }
 
-    /// min over colliders of the signed distance at `x` [m], posed at time `t` [s]; +inf
-    /// without colliders.
+    /// min over colliders of the signed distance at `x` [m], posed at time `t` [s] (bodies at
+    /// their held pose, from their zero level set); +inf without colliders.
     float colliderDistance(glm::vec3 x, float t) const;
 
+    /// Dynamic bodies, in scene order of their colliders.
+    std::size_t bodyCount() const { return m_bodies.size(); }
+
+    /// The fluid's force on body `b` [N]: F = -m sum dx / dt^2 over every correction the body
+    /// gave a particle in the last substep (boundary push, push-out and friction), m the
+    /// particle mass, dt the substep; after step(), the mean over its substeps.
+    glm::dvec3 bodyForce(std::size_t b) const;
+
+    /// The fluid's torque on body `b` about its centre of mass [N m]:
+    /// -m sum (x - c) x dx / dt^2, x the particle's position after the correction dx; after
+    /// step(), the mean over its substeps.
+    glm::dvec3 bodyTorque(std::size_t b) const;
+
+    /// Particles of the blocks left out because their centre started inside a body.
+    std::uint32_t particlesRemovedAtSpawn() const { return m_removedAtSpawn; }
+
 private:
+    static constexpr std::uint32_t kNoBody = 0xffffffffu;
+
     struct Collider {
         format::SceneCollider placement;
         format::SdfSampler sampler;
+        std::uint32_t body = kNoBody; // index into m_bodies, or kNoBody
+    };
+
+    /// A dynamic body: where it is held and its reaction sums.
+    struct Body {
+        std::size_t collider = 0;
+        rt::ColliderPose pose;
+        glm::vec3 centerOfMass{0.0f};
+        glm::dvec3 sumDx{0.0};     // sum dx of the current substep [m]
+        glm::dvec3 sumMoment{0.0}; // sum (x - c) x dx of the current substep [m^2]
+        glm::dvec3 force{0.0};     // of the last substep, or the mean over the last step [N]
+        glm::dvec3 torque{0.0};    // [N m]
     };
 
     float timeAt(std::uint64_t substepIndex) const;
-    void substepImpl();
+    void substepImpl(double bodyShare);
     void buildNeighbours();
     void solve();
-    void collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1) const;
+    void removeParticlesInBodies();
+    bool bodyBoundary(const Body& body, glm::vec3 x, float& phi, glm::vec3& normal) const;
+    float boundaryShare(float phi) const;
+    float boundaryShareSlope(float phi) const;
+    void addReaction(Body& body, glm::vec3 x, glm::vec3 dx);
+    void startBodyStep();
+    void finishBodySubstep(double share);
+    void collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1);
     void vorticityAndXsph(std::vector<glm::vec3>& velocity) const;
     void finishStats();
 
@@ -97,6 +154,9 @@ private:
     bool m_hasDomain = false;
     glm::vec3 m_domainMin{0.0f}, m_domainMax{0.0f};
     std::vector<Collider> m_colliders;
+    std::vector<Body> m_bodies;
+    float m_bodyOffset = 0.0f; // bodies' fluid-facing surface lies this far inside phi = 0 [m]
+    std::uint32_t m_removedAtSpawn = 0;
     rt::EmitterSchedule m_schedule;
     std::uint32_t m_nextId = 0;
     std::uint64_t m_substepIndex = 0;

@@ -489,3 +489,91 @@ TEST(ReferencePbf, OneIterationMatchesABruteForceDoubleEvaluationOfPbfMd) {
     EXPECT_GT(sim.stats().avgDensityError, 0.05); // compressed: the solve moved particles
     EXPECT_GT(expected.confinementShare, 1e-2);   // and confinement changed velocities
 }
+
+namespace {
+
+/// A dynamic box, the solid [-0.1, 0.1] x [-0.1, 0] x [-0.1, 0.1] (top face y = 0), placed by
+/// `translation` and Euler `degrees`, its centre of mass at `centre` (the reference takes it as
+/// given), no friction.
+ref::ReferenceCollider bodyCollider(glm::vec3 translation, glm::vec3 degrees, glm::vec3 centre) {
+    static const format::ColliderAsset asset =
+        testscene::boxColliderAsset({-0.1, -0.1, -0.1}, {0.1, 0.0, 0.1}, 0.005);
+    ref::ReferenceCollider c;
+    c.asset = &asset;
+    c.placement.asset = "body.sdf";
+    c.placement.translation = translation;
+    c.placement.rotationDegrees = degrees;
+    c.placement.dynamic = format::DynamicBody{};
+    c.centerOfMass = centre;
+    return c;
+}
+
+} // namespace
+
+TEST(ReferencePbf, ABodyPushesALoneParticleOutToItsFluidFacingSurfaceAndTakesTheReaction) {
+    format::Scene scene = oneParticleScene();
+    scene.simulation.gravity = glm::vec3(0.0f);
+    scene.simulation.minIterations = 1;
+    scene.simulation.maxIterations = 1;
+    // Tilted 20 degrees about z: the top face's world normal is n = (-sin 20, cos 20, 0).
+    const glm::vec3 centre(0.3f, 0.45f, 0.2f);
+    ref::ReferencePbf sim(scene, {bodyCollider({0.3f, 0.5f, 0.2f}, {0.0f, 0.0f, 20.0f}, centre)});
+    ASSERT_EQ(sim.bodyCount(), 1u);
+    EXPECT_EQ(sim.particlesRemovedAtSpawn(), 0u);
+    const float angle = glm::radians(20.0f);
+    const glm::vec3 n(-std::sin(angle), std::cos(angle), 0.0f);
+    const glm::vec3 across(std::cos(angle), std::sin(angle), 0.0f);
+    // 1.5 spacings under the top face: deep enough that the boundary volume alone (about 0.87
+    // of the support) with the particle's own W(0) compresses it, so lambda pushes it first.
+    const glm::vec3 x0 =
+        glm::vec3(0.3f, 0.5f, 0.2f) + 0.02f * across + glm::vec3(0, 0, 0.03f) - 1.5f * kSpacing * n;
+    place(sim, 0, x0, glm::vec3(0.0f));
+    sim.substep();
+    EXPECT_GT(sim.stats().maxDensityError, 0.01);
+    const glm::vec3 x1 = sim.particles()[0].position;
+    // Out along n to r from the fluid-facing surface, 0.15 s inside the zero level set.
+    EXPECT_NEAR(sim.colliderDistance(x1, sim.time()), kRadius - 0.15f * kSpacing, 1e-6f);
+    EXPECT_LT(glm::length(glm::cross(x1 - x0, n)), 1e-6f);
+    // The body takes -m dx / dt^2 about its centre of mass (both corrections lie along n, so
+    // their moments add up to (x0 - c) x F).
+    const double m = sim.constants().mass, dt = sim.constants().dt;
+    const glm::dvec3 force = -m * glm::dvec3(x1 - x0) / (dt * dt);
+    const glm::dvec3 torque = glm::cross(glm::dvec3(x0) - glm::dvec3(centre), force);
+    EXPECT_LT(glm::length(sim.bodyForce(0) - force), 1e-5 * glm::length(force));
+    EXPECT_LT(glm::length(sim.bodyTorque(0) - torque), 1e-5 * glm::length(torque));
+    EXPECT_GT(glm::length(torque), 0.02 * glm::length(force)); // a lever of a few cm
+}
+
+TEST(ReferencePbf, ABodyLeavesOutTheParticlesItStartsOnAndTakesTheWatersMomentumChange) {
+    // Weightless water, no walls, no confinement: the fluid's own corrections and XSPH conserve
+    // momentum, so what the water gains over a step is what its body gave it, -F dt.
+    format::Scene scene = testscene::emptyScene(kSpacing, 4, 512);
+    scene.simulation.gravity = glm::vec3(0.0f);
+    scene.simulation.vorticity = 0.0f;
+    format::FluidBlock block;
+    block.max = glm::vec3(8.0f * kSpacing);
+    scene.blocks.push_back(block);
+    // The tilted box fills the block's corner at the origin, up to about 3.3 spacings.
+    const glm::vec3 centre(0.0f, -0.03f, 0.02f);
+    ref::ReferencePbf sim(scene,
+                          {bodyCollider({0.0f, 0.066f, 0.0f}, {10.0f, 0.0f, 15.0f}, centre)});
+    const std::uint32_t removed = sim.particlesRemovedAtSpawn();
+    EXPECT_GT(removed, 40u);
+    EXPECT_LT(removed, 300u);
+    ASSERT_EQ(sim.particles().size(), 512u - removed);
+    std::uint32_t previous = 0;
+    for (const rt::ParticleState& p : sim.particles()) {
+        EXPECT_GE(sim.colliderDistance(p.position, 0.0f), 0.0f) << "id " << p.id;
+        EXPECT_TRUE(p.id == 0 || p.id > previous) << "ids keep the blocks' numbering, in order";
+        previous = p.id;
+    }
+    EXPECT_EQ(sim.particles().back().id, 511u);
+
+    sim.step();
+    glm::dvec3 momentum(0.0);
+    for (const rt::ParticleState& p : sim.particles())
+        momentum += double(sim.constants().mass) * glm::dvec3(p.velocity);
+    const glm::dvec3 impulse = sim.bodyForce(0) * double(scene.simulation.timeStep);
+    EXPECT_GT(glm::length(impulse), 1e-4); // [N s]: the body pushed
+    EXPECT_LT(glm::length(momentum + impulse), 1e-4 * glm::length(impulse));
+}
