@@ -66,12 +66,10 @@ float inverseMassAt(uint o, mat3 invI, vec3 r, vec3 n) {
     return bodies[o].invMass + dot(rn, invI * rn);
 }
 
-// One contact of body b: its point at arm r (world) from the centre is `depth` inside
-// something whose surface normal there is n; `share` of the correction is the body's. Pushes
-// out along n and, within the Coulomb cone, removes the point's tangential motion since the
-// substep start (slip); position-level, so the velocities follow from the pose change.
-void resolve(uint b, inout vec3 x, inout vec4 q, vec3 arm, vec3 pStart, vec3 n, float depth,
-             float share) {
+// The correction `resolve` would make, without making it: the position step and the rotation
+// step (the quaternion increment's vector part, to be applied as q += (turn, 0) q / 2).
+void correction(uint b, vec3 x, vec4 q, vec3 arm, vec3 pStart, vec3 n, float depth, float share,
+                out vec3 dx, out vec3 turn) {
     mat3 invI = worldInvInertia(b, q);
     vec3 r = rotate(q, arm);
     float dn = share * depth / inverseMassAt(b, invI, r, n);
@@ -84,8 +82,19 @@ void resolve(uint b, inout vec3 x, inout vec4 q, vec3 arm, vec3 pStart, vec3 n, 
         float dtan = min(share * slipLength / inverseMassAt(b, invI, r, t), bodies[b].friction * dn);
         p -= dtan * t;
     }
-    x += p * bodies[b].invMass;
-    vec3 turn = invI * cross(r, p);
+    dx = p * bodies[b].invMass;
+    turn = invI * cross(r, p);
+}
+
+// One contact of body b resolved at once (Gauss-Seidel): its point at arm r (world) from the
+// centre is `depth` inside something whose surface normal there is n; `share` of the correction
+// is the body's. Pushes out along n and, within the Coulomb cone, removes the point's tangential
+// motion since the substep start (slip); position-level, so velocities follow from the pose.
+void resolve(uint b, inout vec3 x, inout vec4 q, vec3 arm, vec3 pStart, vec3 n, float depth,
+             float share) {
+    vec3 dx, turn;
+    correction(b, x, q, arm, pStart, n, depth, share, dx, turn);
+    x += dx;
     q = normalize(q + 0.5 * quatMul(vec4(turn, 0.0), q));
 }
 
@@ -141,10 +150,58 @@ void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
         }
     }
     bool anyWall = any(wallLo) || any(wallHi);
+    vec3 pairDx = vec3(0.0), pairTurn = vec3(0.0);
+    uint pairCount = 0u;
     if (!anyWall && staticMask == 0u && P.colliderCount <= 32u && bodyMask == 0u &&
         bodyMaskHigh == 0u)
         return;
 
+    // Other bodies first, from the pose at the sweep's start, their corrections averaged;
+    // then the walls and static colliders point by point, so their friction acts on what the
+    // pairs left.
+    if (bodyMask != 0u || bodyMaskHigh != 0u) {
+        for (uint s = 0u; s < body.sampleCount; ++s) {
+            vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
+            vec3 pStart = x0 + rotate(q0, arm);
+            for (uint o = 0u; o < P.bodyCount; ++o) {
+                bool near = o < 32u ? (bodyMask & (1u << o)) != 0u
+                                    : (bodyMaskHigh & (1u << (o - 32u))) != 0u;
+                if (!near)
+                    continue;
+                vec3 w = x + rotate(q, arm);
+                vec3 toOther = w - sPosition[o];
+                if (dot(toOther, toOther) >= bodies[o].boundRadius * bodies[o].boundRadius)
+                    continue;
+                vec3 n;
+                float phi = bodyDistance(o, w, n);
+                float len = length(n);
+                if (!(phi < 0.0) || !(len > 0.0))
+                    continue;
+                n /= len;
+                // The pair splits the correction by their inverse masses at the point; the other
+                // body moves its share when it tests its own points against this one.
+                float mine = inverseMassAt(b, worldInvInertia(b, q), w - x, n);
+                float theirs = inverseMassAt(o, worldInvInertia(o, sOrientation[o]), toOther, n);
+                if (first) {
+                    deepest = max(deepest, -phi);
+                    ++touching;
+                }
+                normalSum += n;
+                // Against another body the corrections of the sweep are averaged, not chained:
+                // each point would otherwise see the depth the previous one left and take its
+                // share of that again, and both bodies together would move the whole depth each.
+                vec3 dx, turn;
+                correction(b, x, q, arm, pStart, n, -phi, mine / (mine + theirs), dx, turn);
+                pairDx += dx;
+                pairTurn += turn;
+                ++pairCount;
+            }
+        }
+        if (pairCount > 0u) {
+            x += pairDx / float(pairCount);
+            q = normalize(q + 0.5 * quatMul(vec4(pairTurn / float(pairCount), 0.0), q));
+        }
+    }
     for (uint s = 0u; s < body.sampleCount; ++s) {
         vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
         vec3 pStart = x0 + rotate(q0, arm);
@@ -185,32 +242,6 @@ void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
             }
             normalSum += n / len;
             resolve(b, x, q, arm, pStart, n / len, -phi, 1.0);
-        }
-        for (uint o = 0u; o < P.bodyCount; ++o) {
-            bool near = o < 32u ? (bodyMask & (1u << o)) != 0u
-                                : (bodyMaskHigh & (1u << (o - 32u))) != 0u;
-            if (!near)
-                continue;
-            vec3 w = x + rotate(q, arm);
-            vec3 toOther = w - sPosition[o];
-            if (dot(toOther, toOther) >= bodies[o].boundRadius * bodies[o].boundRadius)
-                continue;
-            vec3 n;
-            float phi = bodyDistance(o, w, n);
-            float len = length(n);
-            if (!(phi < 0.0) || !(len > 0.0))
-                continue;
-            n /= len;
-            // The pair splits the correction by their inverse masses at the point; the other
-            // body moves its share when it tests its own points against this one.
-            float mine = inverseMassAt(b, worldInvInertia(b, q), w - x, n);
-            float theirs = inverseMassAt(o, worldInvInertia(o, sOrientation[o]), toOther, n);
-            if (first) {
-                deepest = max(deepest, -phi);
-                ++touching;
-            }
-            normalSum += n;
-            resolve(b, x, q, arm, pStart, n, -phi, mine / (mine + theirs));
         }
     }
 }

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Dict, Iterable, Optional, Tuple, Union
+from typing import Any, Dict, Iterable, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -322,6 +322,14 @@ class Simulation:
         """The latest step's statistics, as each entry of ``sluice-play --stats-json``'s
         ``steps``."""
         return json.loads(self._s.stats_json())
+
+    @property
+    def bodies(self) -> List[Dict[str, Any]]:
+        """Every dynamic body after the latest step (docs/bodies.md), as ``--stats-json``'s
+        ``bodies``: collider, mass, position (centre of mass), orientation [x, y, z, w],
+        linearVelocity, angularVelocity, the fluid's force and torque, contacts. Empty
+        without bodies."""
+        return json.loads(self._s.bodies_json())
 
     @property
     def parameters(self) -> Dict[str, Any]:

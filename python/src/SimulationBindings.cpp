@@ -145,7 +145,16 @@ void bindSimulation(nb::module_& m) {
             nb::arg("text"), nb::arg("path"), nb::arg("deterministic") = false)
         .def("step", &step, nb::arg("n") = 1)
         .def("stats_json",
-             [](PySimulation& s) { return rt::statsJson(s.current().readStats()).dump(); })
+             [](PySimulation& s) {
+                 // As each row of sluice-play --stats-json: with bodies, their state too.
+                 nlohmann::json row = rt::statsJson(s.current().readStats());
+                 const std::vector<rt::BodyState> bodies = s.current().bodies();
+                 if (!bodies.empty())
+                     row["bodies"] = rt::bodiesJson(bodies);
+                 return row.dump();
+             })
+        .def("bodies_json",
+             [](PySimulation& s) { return rt::bodiesJson(s.current().bodies()).dump(); })
         .def("parameters_json",
              [](PySimulation& s) {
                  rt::Simulation& sim = s.current();
