@@ -73,7 +73,9 @@ std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double 
         std::vector<glm::vec3> kept;
         std::unordered_set<std::uint64_t> cells;
         for (const glm::vec3& p : onSurface) {
-            const glm::dvec3 c = glm::floor((glm::dvec3(p) - m.origin) / gap);
+            // Cells from the grid's corner; points lie inside the grid box (bakes pad it).
+            const glm::dvec3 c =
+                glm::clamp(glm::floor((glm::dvec3(p) - m.origin) / gap), 0.0, 2097151.0);
             const std::uint64_t key = std::uint64_t(c.x) | (std::uint64_t(c.y) << 21) |
                                       (std::uint64_t(c.z) << 42);
             if (cells.insert(key).second)

@@ -217,10 +217,10 @@ TEST(SceneReader, ShippedScenesHoldTheParticleCountsTheirDescriptionsGive) {
     EXPECT_EQ(capacity("wave-sphere.json"), 4725u);
     EXPECT_EQ(capacity("funnel.json"), 5200u);
     EXPECT_EQ(capacity("drop.json"), 36u * 4u * 21u + bruteSphere(0.12, 0.02));
-    // A 36 x 8 x 21 pool; the dam-break block + a 21 x 2 x 21 pool (before the crates take
+    // A 36 x 8 x 21 pool; the dam-break block + a 21 x 6 x 21 pool (before the crates take
     // their share out at the start).
     EXPECT_EQ(capacity("float.json"), 36u * 8u * 21u);
-    EXPECT_EQ(capacity("crates.json"), 4725u + 21u * 2u * 21u);
+    EXPECT_EQ(capacity("crates.json"), 4725u + 21u * 6u * 21u);
 }
 
 TEST(SceneReader, ShippedMartinMoyceIsAQuasi2dColumnInTheDomainCorner) {
