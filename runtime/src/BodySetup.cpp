@@ -76,8 +76,8 @@ std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double 
             // Cells from the grid's corner; points lie inside the grid box (bakes pad it).
             const glm::dvec3 c =
                 glm::clamp(glm::floor((glm::dvec3(p) - m.origin) / gap), 0.0, 2097151.0);
-            const std::uint64_t key = std::uint64_t(c.x) | (std::uint64_t(c.y) << 21) |
-                                      (std::uint64_t(c.z) << 42);
+            const std::uint64_t key =
+                std::uint64_t(c.x) | (std::uint64_t(c.y) << 21) | (std::uint64_t(c.z) << 42);
             if (cells.insert(key).second)
                 kept.push_back(p);
         }
@@ -136,8 +136,8 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
         const ColliderPose start = colliderPose(sc, 0.0f);
         shared::GpuBody b{};
         b.position = start.toWorld(glm::vec3(mass->centerOfMass));
-        b.orientation = glm::vec4(start.rotation.x, start.rotation.y, start.rotation.z,
-                                  start.rotation.w);
+        b.orientation =
+            glm::vec4(start.rotation.x, start.rotation.y, start.rotation.z, start.rotation.w);
         b.mass = float(bodyMass);
         b.invMass = float(1.0 / bodyMass);
         b.linearVelocity = d.linearVelocity;
@@ -184,8 +184,8 @@ std::uint32_t removeParticlesInBodies(const format::Scene& scene,
 
 ColliderPose bodyPose(const shared::GpuBody& body) {
     ColliderPose pose;
-    pose.rotation = glm::quat(body.orientation.w, body.orientation.x, body.orientation.y,
-                              body.orientation.z);
+    pose.rotation =
+        glm::quat(body.orientation.w, body.orientation.x, body.orientation.y, body.orientation.z);
     pose.scale = body.scale;
     pose.translation = body.position - pose.rotation * (body.scale * body.centerLocal);
     return pose;

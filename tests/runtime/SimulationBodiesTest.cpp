@@ -31,8 +31,7 @@ format::Scene tankScene(glm::vec2 tank, float depth, float height, std::uint32_t
     const glm::uvec3 counts(std::uint32_t(std::lround(tank.x / kSpacing)),
                             std::uint32_t(std::lround(depth / kSpacing)),
                             std::uint32_t(std::lround(tank.y / kSpacing)));
-    scene.simulation =
-        testscene::defaultParams(kSpacing, substeps, counts.x * counts.y * counts.z);
+    scene.simulation = testscene::defaultParams(kSpacing, substeps, counts.x * counts.y * counts.z);
     scene.simulation.targetDensityError = 0.005f;
     format::FluidBlock block;
     block.min = glm::vec3(0.0f);
@@ -119,18 +118,19 @@ struct Health {
 };
 
 bool finite(const BodyState& b) {
-    const float values[] = {b.position.x,       b.position.y,       b.position.z,
-                            b.linearVelocity.x, b.linearVelocity.y, b.linearVelocity.z,
+    const float values[] = {b.position.x,        b.position.y,        b.position.z,
+                            b.linearVelocity.x,  b.linearVelocity.y,  b.linearVelocity.z,
                             b.angularVelocity.x, b.angularVelocity.y, b.angularVelocity.z,
-                            b.orientation.x,    b.orientation.y,    b.orientation.z,
+                            b.orientation.x,     b.orientation.y,     b.orientation.z,
                             b.orientation.w};
     return std::all_of(std::begin(values), std::end(values),
                        [](float v) { return std::isfinite(v); });
 }
 
 struct Settled {
-    double share = 0.0;       ///< submerged share at the end
-    double verticalRms = 0.0; ///< rms vertical speed of the body's frames over the last second [m/s]
+    double share = 0.0; ///< submerged share at the end
+    double verticalRms =
+        0.0; ///< rms vertical speed of the body's frames over the last second [m/s]
     BodyState body;
     Health health;
     bool bodyFinite = true;
@@ -170,14 +170,13 @@ Settled playCube(float ratio, float side, float y, float seconds) {
         }
     }
     out.body = sim->bodies().at(0);
-    const double level = waterLevel(sim->downloadParticles(), out.body.position, 0.6 * side,
-                                    kTank, sim->constants().volume, lowestPoint(out.body, side));
+    const double level = waterLevel(sim->downloadParticles(), out.body.position, 0.6 * side, kTank,
+                                    sim->constants().volume, lowestPoint(out.body, side));
     out.share = submergedShare(out.body, side, level);
     out.verticalRms = std::sqrt(squares / std::max(counted, 1));
     std::printf("cube at %.2f x water density: submerged share %.3f (surface %.4f m), vertical "
                 "rms %.4f m/s over the last second, centre at %.4f m, %u contacts\n",
-                ratio, out.share, level, out.verticalRms, out.body.position.y,
-                out.body.contacts);
+                ratio, out.share, level, out.verticalRms, out.body.position.y, out.body.contacts);
     return out;
 }
 
@@ -190,7 +189,9 @@ void expectHealthy(const Settled& s) {
 const float kSide = 8 * kSpacing; // the smallest cube the issue allows: 8 spacings wide
 
 // Start with the cube 0.1 of its height higher than Archimedes' draft, so it has to settle.
-float startHeight(float ratio) { return kDepth + kSide * (0.5f - (ratio - 0.1f)); }
+float startHeight(float ratio) {
+    return kDepth + kSide * (0.5f - (ratio - 0.1f));
+}
 
 TEST_F(SimulationBodies, CubesFloatAtTheDraftArchimedesGives) {
     for (float ratio : {0.25f, 0.5f, 0.75f}) {
@@ -291,10 +292,10 @@ TEST_F(SimulationBodies, TheBodyAndTheWaterExchangeEqualAndOppositeImpulses) {
         const glm::dvec3 fluidImpulse = fluidNow - fluid;
         // The fluid's momentum is read from float velocities v = (x* - x) / dt, each off by
         // up to an ulp of its position over dt: summed over N particles at random, about
-        // m sqrt(N) ulp(|x|max) / dt (8 of those are the floor here). The body's impulse is the particles' by construction
-        // (fixed-point sums, 2^-28 h a correction); what this test can see of that is 1e-4 of
-        // the impulse above that floor. (The CPU reference, in double, shows it to 5e-6:
-        // BodyParity and ReferencePbfTest.)
+        // m sqrt(N) ulp(|x|max) / dt (8 of those are the floor here). The body's impulse is the
+        // particles' by construction (fixed-point sums, 2^-28 h a correction); what this test can
+        // see of that is 1e-4 of the impulse above that floor. (The CPU reference, in double, shows
+        // it to 5e-6: BodyParity and ReferencePbfTest.)
         const std::vector<ParticleState> particles = sim->downloadParticles();
         float reach = 0.0f;
         for (const ParticleState& p : particles)
@@ -329,8 +330,7 @@ TEST_F(SimulationBodies, ThreeStackedBoxesStayPutOnTheFloor) {
     scene.domainMin = glm::vec3(0.0f);
     scene.domainMax = glm::vec3(0.4f, 0.5f, 0.4f);
     for (int i = 0; i < 3; ++i)
-        scene.colliders.push_back(
-            cubeBody(glm::vec3(0.2f, (0.5f + float(i)) * kSide, 0.2f), 0.8f));
+        scene.colliders.push_back(cubeBody(glm::vec3(0.2f, (0.5f + float(i)) * kSide, 0.2f), 0.8f));
     std::vector<format::ColliderAsset> assets(3, cubeAsset(kSide));
     auto sim = Simulation::create(scene, std::move(assets));
     ASSERT_TRUE(sim) << sim.error().message();
@@ -420,8 +420,7 @@ TEST_F(SimulationBodies, DeterministicRunsWithBodiesGiveIdenticalBytes) {
     for (std::size_t b = 0; b < b1.size(); ++b) {
         EXPECT_EQ(0, std::memcmp(&b1[b].position, &b2[b].position, sizeof(glm::vec3)));
         EXPECT_EQ(0, std::memcmp(&b1[b].orientation, &b2[b].orientation, sizeof(glm::quat)));
-        EXPECT_EQ(0, std::memcmp(&b1[b].linearVelocity, &b2[b].linearVelocity,
-                                 sizeof(glm::vec3)));
+        EXPECT_EQ(0, std::memcmp(&b1[b].linearVelocity, &b2[b].linearVelocity, sizeof(glm::vec3)));
         EXPECT_EQ(0, std::memcmp(&b1[b].force, &b2[b].force, sizeof(glm::vec3)));
         EXPECT_GT(glm::length(b1[b].position - glm::vec3(0.0f)), 0.0f);
     }
