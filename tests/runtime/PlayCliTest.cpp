@@ -1,7 +1,6 @@
 // sluice-play end to end: the shipped scenes with their build-baked colliders, determinism of
 // statistics and PLY files, and bad scenes failing with exit code 2 and a message that says where.
 #include <cstdint>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -103,43 +102,6 @@ TEST(SluicePlay, DeterministicRunsWriteIdenticalStatisticsAndPlyFiles) {
     const std::size_t header = bytes[0][2].find("end_header\n") + 11;
     EXPECT_EQ(bytes[0][2].size() - header, std::size_t(particles) * 28);
     EXPECT_FALSE(stats.contains("timing")); // wall and GPU times differ run to run
-}
-
-// A scene with dynamic bodies: the start-up lines name them, every statistics row has each
-// body's state, and each PLY frame has a body-transforms file whose matrix places the body's
-// asset frame where the statistics put its centre of mass.
-TEST(SluicePlay, WritesEachBodysStateAndTransformsBesideThePlyFrames) {
-    const fs::path dir = tempDir("bodies");
-    const auto result = play(dir, {(kAssets / "float.json").string(), "--headless", "--steps",
-                                   "4", "--stats-every", "2", "--deterministic", "--stats-json",
-                                   (dir / "stats.json").string(), "--dump-ply",
-                                   (dir / "ply").string(), "--dump-every", "2"});
-    ASSERT_EQ(result.code, 0) << shown(result);
-    EXPECT_NE(result.out.find("body: collider 1, 0.432 kg, 1.728 L"), std::string::npos)
-        << result.out;
-    const auto stats = nlohmann::json::parse(testrun::readText(dir / "stats.json"));
-    ASSERT_EQ(stats["steps"].size(), 2u);
-    const auto& bodies = stats["steps"][1]["bodies"];
-    ASSERT_EQ(bodies.size(), 4u); // three crates and the ball
-    EXPECT_EQ(bodies[0]["collider"].get<int>(), 1);
-    EXPECT_NEAR(bodies[0]["mass"].get<double>(), 250 * 0.12 * 0.12 * 0.12, 1e-6);
-    EXPECT_LT(bodies[3]["linearVelocity"][1].get<double>(), -0.1) << "the ball is falling";
-    for (const int step : {0, 2, 4}) {
-        char name[40];
-        std::snprintf(name, sizeof name, "frame_%06d.bodies.json", step);
-        ASSERT_TRUE(fs::exists(dir / "ply" / name)) << name;
-    }
-    const auto frame = nlohmann::json::parse(testrun::readText(dir / "ply" / "frame_000004.bodies.json"));
-    EXPECT_EQ(frame["step"].get<int>(), 4);
-    ASSERT_EQ(frame["bodies"].size(), 4u);
-    const auto& crate = frame["bodies"][0];
-    EXPECT_EQ(crate["asset"].get<std::string>(), "crate.slc");
-    // The crate mesh's centre of mass is its origin, so the matrix's translation column is the
-    // centre of mass of the statistics.
-    for (int axis = 0; axis < 3; ++axis)
-        EXPECT_NEAR(crate["matrix"][axis][3].get<double>(),
-                    bodies[0]["position"][axis].get<double>(), 1e-6);
-    EXPECT_EQ(crate["matrix"][3], nlohmann::json::parse("[0.0, 0.0, 0.0, 1.0]"));
 }
 
 TEST(SluicePlay, PrintsTheStatisticsTableAndTimings) {
