@@ -9,9 +9,6 @@
 #include <string>
 #include <vector>
 
-#include <dlfcn.h>
-#include <link.h>
-
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
@@ -25,28 +22,6 @@ using gpu::test::GpuTest;
 
 class SimulationBodies : public GpuTest {};
 
-// Mesa unloads its GL driver (*_dri.so) with the last context; under ASan, LeakSanitizer then
-// reports the driver's caches (first filled by these shaders) as leaks at exit. Keeping the
-// driver mapped for the whole process (as RenderTestSupport.h does for the render tests) leaves
-// every other allocation checked. Harmless without ASan.
-class KeepGlDriverLoaded : public ::testing::Environment {
-public:
-    void SetUp() override {
-        auto context = gpu::Context::createHeadless();
-        if (!context)
-            return; // the tests themselves report it
-        dl_iterate_phdr(
-            [](dl_phdr_info* info, std::size_t, void*) {
-                const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
-                if (name.find("_dri.so") != std::string::npos)
-                    dlopen(name.c_str(), RTLD_NOW | RTLD_NODELETE);
-                return 0;
-            },
-            nullptr);
-    }
-};
-[[maybe_unused]] const auto* const kKeepGlDriverLoaded =
-    ::testing::AddGlobalTestEnvironment(new KeepGlDriverLoaded);
 
 constexpr float kSpacing = 0.02f;
 
