@@ -298,10 +298,6 @@ void main() {
         }
         x = x0 + P.dt * v;
         q = normalize(q0 + 0.5 * P.dt * quatMul(vec4(w, 0.0), q0));
-        if (bodies[b].invMass == 0.0) { // infinite mass (no scene gives one): stays put
-            x = x0;
-            q = q0;
-        }
     }
 
     float deepest = 0.0;
@@ -314,7 +310,7 @@ void main() {
         }
         memoryBarrierShared();
         barrier();
-        if (live && bodies[b].invMass > 0.0)
+        if (live)
             sweep(b, x0, q0, x, q, it == 0u, deepest, touching, normalSum);
         memoryBarrierShared();
         barrier();

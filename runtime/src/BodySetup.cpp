@@ -44,7 +44,61 @@ Result<format::MassProperties> massOf(const format::Scene& scene, std::size_t c,
     return *field;
 }
 
+// A dynamic collider's mass, inertia and volume in the world, from the asset's mass properties
+// scaled by the placement and the density (or the density that gives the scene's mass).
+struct BodyMass {
+    double mass = 0.0;       // [kg]
+    double volume = 0.0;     // [m^3]
+    glm::dvec3 centerLocal{0.0}; // centre of mass in the asset frame [asset units]
+    glm::mat3 invInertia{0.0f};  // body-local inverse inertia [1/(kg m^2)]
+    bool fromMesh = false;
+};
+
+Result<BodyMass> bodyMass(const format::Scene& scene, std::size_t c,
+                          const format::ColliderAsset& asset) {
+    const format::SceneCollider& sc = scene.colliders[c];
+    const format::DynamicBody& d = *sc.dynamic;
+    BodyMass out;
+    auto unit = massOf(scene, c, asset, out.fromMesh);
+    if (!unit)
+        return unit.error();
+    const double s = sc.scale;
+    out.volume = unit->volume * s * s * s;
+    out.centerLocal = unit->centerOfMass;
+    const double density = d.density ? double(*d.density) : double(*d.mass) / out.volume;
+    out.mass = density * out.volume;
+    const glm::dmat3 inertia = unit->inertia * (density * s * s * s * s * s); // [kg m^2]
+    if (!(out.mass > 0.0) || !std::isfinite(out.mass) || !(glm::determinant(inertia) > 0.0))
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": " + colliderPath(c) +
+                        ": the body's mass or inertia is not positive (volume " +
+                        std::to_string(out.volume) + " m^3); is the mesh closed?");
+    // The GPU works in float: a mass or inertia whose inverse a float cannot hold would turn
+    // the body's state into infinities.
+    out.invInertia = glm::mat3(glm::inverse(inertia));
+    bool usable = std::isfinite(float(1.0 / out.mass)) && float(out.mass) > 0.0f;
+    for (int col = 0; col < 3; ++col)
+        for (int row = 0; row < 3; ++row)
+            usable = usable && std::isfinite(out.invInertia[col][row]);
+    if (!usable)
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": " + colliderPath(c) + ": a mass of " +
+                        std::to_string(out.mass) +
+                        " kg is too small to simulate in single precision; give the body a "
+                        "density of at least a few kg/m^3");
+    return out;
+}
+
 } // namespace
+
+Result<void> checkBodies(const format::Scene& scene,
+                         const std::vector<format::ColliderAsset>& assets) {
+    for (std::size_t c = 0; c < scene.colliders.size() && c < assets.size(); ++c)
+        if (scene.colliders[c].dynamic)
+            if (auto mass = bodyMass(scene, c, assets[c]); !mass)
+                return mass.error();
+    return {};
+}
 
 std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double gap) {
     const format::SdfSampler sampler(asset);
@@ -95,35 +149,12 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
         const format::SceneCollider& sc = scene.colliders[c];
         if (!sc.dynamic)
             continue;
-        const format::DynamicBody& d = *sc.dynamic;
         const format::ColliderAsset& asset = assets[c];
-        bool fromMesh = false;
-        auto mass = massOf(scene, c, asset, fromMesh);
+        auto mass = bodyMass(scene, c, asset);
         if (!mass)
             return mass.error();
+        const format::DynamicBody& d = *sc.dynamic;
         const double s = sc.scale;
-        const double volume = mass->volume * s * s * s; // [m^3]
-        const double density = d.density ? double(*d.density) : double(*d.mass) / volume;
-        const double bodyMass = density * volume;
-        const glm::dmat3 inertia = mass->inertia * (density * s * s * s * s * s); // [kg m^2]
-        if (!(bodyMass > 0.0) || !std::isfinite(bodyMass) || !(glm::determinant(inertia) > 0.0))
-            return fail(ErrorCode::InvalidArgument,
-                        scene.path + ": " + colliderPath(c) +
-                            ": the body's mass or inertia is not positive (volume " +
-                            std::to_string(volume) + " m^3); is the mesh closed?");
-        // The GPU works in float: a mass or inertia whose inverse a float cannot hold would
-        // turn the body's state into infinities.
-        const glm::mat3 invInertia = glm::mat3(glm::inverse(inertia));
-        bool usable = std::isfinite(float(1.0 / bodyMass)) && float(bodyMass) > 0.0f;
-        for (int col = 0; col < 3; ++col)
-            for (int row = 0; row < 3; ++row)
-                usable = usable && std::isfinite(invInertia[col][row]);
-        if (!usable)
-            return fail(ErrorCode::InvalidArgument,
-                        scene.path + ": " + colliderPath(c) + ": a mass of " +
-                            std::to_string(bodyMass) +
-                            " kg is too small to simulate in single precision; give the body a "
-                            "density of at least a few kg/m^3");
 
         // Contact points about one particle spacing apart (what the fluid resolves), at most
         // one per voxel.
@@ -131,20 +162,20 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
         const std::vector<glm::vec3> points = surfacePoints(asset, gap);
         double reach = 0.0;
         for (const glm::vec3& p : points)
-            reach = std::max(reach, glm::length(glm::dvec3(p) - mass->centerOfMass));
+            reach = std::max(reach, glm::length(glm::dvec3(p) - mass->centerLocal));
 
         const ColliderPose start = colliderPose(sc, 0.0f);
         shared::GpuBody b{};
-        b.position = start.toWorld(glm::vec3(mass->centerOfMass));
+        b.position = start.toWorld(glm::vec3(mass->centerLocal));
         b.orientation =
             glm::vec4(start.rotation.x, start.rotation.y, start.rotation.z, start.rotation.w);
-        b.mass = float(bodyMass);
-        b.invMass = float(1.0 / bodyMass);
+        b.mass = float(mass->mass);
+        b.invMass = float(1.0 / mass->mass);
         b.linearVelocity = d.linearVelocity;
         b.angularVelocity = glm::radians(d.angularVelocityDegrees);
         b.collider = std::uint32_t(c);
-        b.invInertia = glm::mat4(invInertia);
-        b.centerLocal = glm::vec3(mass->centerOfMass);
+        b.invInertia = glm::mat4(mass->invInertia);
+        b.centerLocal = glm::vec3(mass->centerLocal);
         b.scale = float(s);
         b.boundRadius = float(s * (reach + asset.meta.voxelSize));
         b.sumScale = float(kSumUnitsPerH / k.h);
@@ -157,8 +188,8 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
             out.samples.emplace_back(p, 0.0f);
         out.bodyOfCollider[c] = std::uint32_t(out.records.size());
         out.records.push_back(b);
-        out.volumes.push_back(volume);
-        out.fromMesh.push_back(fromMesh);
+        out.volumes.push_back(mass->volume);
+        out.fromMesh.push_back(mass->fromMesh);
     }
     return out;
 }

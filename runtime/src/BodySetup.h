@@ -33,6 +33,11 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
                               const std::vector<format::ColliderAsset>& assets,
                               const PbfConstants& k);
 
+/// setUpBodies' checks without its contact points: every dynamic collider has a volume and a
+/// mass and inertia a float can invert. Errors as setUpBodies'.
+Result<void> checkBodies(const format::Scene& scene,
+                         const std::vector<format::ColliderAsset>& assets);
+
 /// Points on the zero level set of `asset`, about `gap` apart [asset units], in grid order:
 /// grid points near the surface moved onto it along the gradient, one per gap-sized cell. At
 /// most kMaxBodySamples (the gap grows until they fit).

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-#include <cstdlib>
 #include <span>
 #include <string>
 
@@ -31,9 +30,6 @@ namespace {
 constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
 constexpr std::uint32_t kNoStop = 0xffffffffu;
 constexpr std::size_t kStatsHeaderBytes = sizeof(shared::PbfStats);
-// docs/bodies.md, "Surface offset": the first fluid layer of a body sits on average this many
-// spacings further out than the contact distance, so the fluid sees the surface this far in.
-constexpr float kBodyOffsetSpacings = 0.15f;
 
 std::uint32_t groupsFor(std::uint32_t items) {
     return gpu::groupCount(items, shared::kPbfLocalSize);
@@ -75,9 +71,9 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
         assets.push_back(std::move(*asset));
     }
     // Dynamic bodies need a volume and a usable mass: checked here, on the CPU, before any
-    // output or GL context exists.
-    if (auto bodies = setUpBodies(scene, assets, deriveConstants(scene.simulation)); !bodies)
-        return bodies.error();
+    // output or GL context exists (Simulation::create sets them up).
+    if (auto ok = checkBodies(scene, assets); !ok)
+        return ok.error();
     return assets;
 }
 
@@ -325,7 +321,7 @@ void Simulation::Impl::uploadParams() {
     p.bodyCount = bodyCount;
     p.particleMass = k.mass;
     p.boundaryScale = k.boundaryScale;
-    p.bodyOffset = kBodyOffsetSpacings * s.spacing;
+    p.bodyOffset = k.bodyOffset;
     params.upload(std::span(&p, 1));
 }
 
@@ -612,9 +608,9 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
         if (r.body == shared::kNoBody)
             continue;
         // A body's record starts at its initial pose, at rest; the body pass moves it.
-        const glm::mat4 world = poseMatrix(bodyPose(impl->bodySetup.records[r.body]));
-        r.worldToGrid = glm::inverse(world);
-        r.rotation = glm::mat4_cast(bodyPose(impl->bodySetup.records[r.body]).rotation);
+        const ColliderPose start = bodyPose(impl->bodySetup.records[r.body]);
+        r.worldToGrid = glm::inverse(poseMatrix(start));
+        r.rotation = glm::mat4_cast(start.rotation);
         r.motion = glm::mat4(1.0f);
         r.scale = scene.colliders[c].scale;
     }
@@ -954,14 +950,11 @@ std::vector<BodyState> Simulation::bodies() const {
         state.torque = r.torque;
         state.contacts = r.contacts;
         state.contactDepth = r.contactDepth;
+        // The upward force over the weight of the water the whole body would displace.
         const glm::vec3 g = s.scene.simulation.gravity;
-        const double g2 = double(glm::dot(g, g));
-        const double displaced = double(s.scene.simulation.restDensity) * state.volume;
+        const double weight = double(glm::dot(g, g)) * s.scene.simulation.restDensity * state.volume;
         state.submergedShare =
-            g2 > 0.0 && displaced > 0.0
-                ? std::max(0.0, -double(glm::dot(r.force, g)) / (std::sqrt(g2) * displaced *
-                                                                    std::sqrt(g2)))
-                : 0.0;
+            weight > 0.0 ? std::max(0.0, -double(glm::dot(r.force, g)) / weight) : 0.0;
         out.push_back(state);
     }
     return out;

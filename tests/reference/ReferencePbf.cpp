@@ -15,10 +15,6 @@ namespace sluice::ref {
 
 namespace {
 
-// docs/bodies.md, "Surface offset": the fluid sees a body's surface this many spacings inside
-// its zero level set.
-constexpr float kBodyOffsetSpacings = 0.15f;
-
 bool isFinite(glm::vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
@@ -53,7 +49,7 @@ ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceColl
         }
         m_colliders.push_back(collider);
     }
-    m_bodyOffset = kBodyOffsetSpacings * m_params.spacing;
+    m_bodyOffset = m_c.bodyOffset;
     m_particles = rt::fillBlocks(scene);
     // Ids keep the blocks' numbering: emitted particles continue after the blocks' full count.
     m_nextId = std::uint32_t(m_particles.size());
