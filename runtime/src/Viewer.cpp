@@ -28,6 +28,7 @@
 #include "ViewerPanel.h"
 #include "ViewerPick.h"
 #include "ViewerSession.h"
+#include "sluice/gpu/Context.h"
 #include "sluice/rt/PlayCli.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
 #include "sluice/rt/render/FrameReadback.h"
@@ -545,6 +546,7 @@ int runViewer(const ViewerOptions& options) {
         glfwDestroyWindow(window);
         return kExitNoGlContext;
     }
+    gpu::keepDriverLoadedForLeakChecks(); // ASan builds: glfwTerminate unloads it
     int exitCode = kExitOk;
     {
         ImGuiScope imgui(window);

@@ -58,8 +58,7 @@ Image gradient(std::uint32_t w, std::uint32_t h) {
 }
 
 // --bench-frames: the final state rendered and timed frame by frame at --size, in the table and
-// the JSON; the render options are checked as for capture. (Here, not with the other --bench
-// test, for runPlay: under ASan the GL driver must stay loaded, see glDriverPreload.)
+// the JSON; the render options are checked as for capture.
 TEST(SluicePlay, BenchRendersAndTimesFramesOfTheFinalState) {
     const fs::path dir = tempDir("bench-render");
     const fs::path scenePath = kAssets / "drop.json";

@@ -16,13 +16,7 @@ using namespace test;
 
 constexpr glm::uvec2 kSize{320, 240};
 
-class RenderTest : public gpu::test::GpuTest {
-protected:
-    void SetUp() override {
-        glDriverPreload(); // ASan builds: keeps the driver's caches visible to LeakSanitizer
-        GpuTest::SetUp();
-    }
-};
+using RenderTest = gpu::test::GpuTest;
 
 // One scene, its simulation and renderer, and the camera of the file.
 struct Stage {

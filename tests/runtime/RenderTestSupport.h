@@ -8,9 +8,6 @@
 #include <string>
 #include <vector>
 
-#include <dlfcn.h>
-#include <link.h>
-
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
@@ -72,70 +69,9 @@ inline Image renderScene(const format::Scene& scene, glm::uvec2 size,
     return renderer->readPixels();
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-inline constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-inline constexpr bool kAddressSanitizer = true;
-#else
-inline constexpr bool kAddressSanitizer = false;
-#endif
-#else
-inline constexpr bool kAddressSanitizer = false;
-#endif
-
-/// Paths of the loaded shared objects whose file name contains `part`.
-inline std::vector<std::string> loadedObjects(const std::string& part) {
-    std::pair<std::string, std::vector<std::string>> search{part, {}};
-    dl_iterate_phdr(
-        [](dl_phdr_info* info, std::size_t, void* data) {
-            auto* s = static_cast<std::pair<std::string, std::vector<std::string>>*>(data);
-            const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
-            if (fs::path(name).filename().string().find(s->first) != std::string::npos)
-                s->second.push_back(name);
-            return 0;
-        },
-        &search);
-    return search.second;
-}
-
-/// ASan builds: Mesa unloads its GL driver (*_dri.so) when its last context goes
-/// (eglTerminate, glfwTerminate). LeakSanitizer then no longer sees the driver's static
-/// references to the caches it fills on the first draw, and reports them as leaks when the
-/// process exits. The render tests keep the driver mapped in their own process
-/// (RTLD_NODELETE) and preload it into the programs they start, so leaks are still checked
-/// everywhere else. Returns the LD_PRELOAD value for child processes ("" in other builds or
-/// where the driver is not Mesa's).
-inline const std::string& glDriverPreload() {
-    static const std::string preload = [] {
-        if (!kAddressSanitizer)
-            return std::string();
-        // Load the driver by creating (and dropping) a headless context, then pin it.
-        auto context = gpu::Context::createHeadless();
-        std::string list;
-        for (const std::string& driver : loadedObjects("_dri.so")) {
-            dlopen(driver.c_str(), RTLD_NOW | RTLD_NODELETE);
-            list += (list.empty() ? "" : " ") + driver;
-        }
-        if (list.empty())
-            return list;
-        // A dynamically linked ASan runtime must come first in the child's library list.
-        for (const std::string& asan : loadedObjects("libasan.so"))
-            list = asan + " " + list;
-        return list;
-    }();
-    return preload;
-}
-
-/// Runs sluice-play with `args` in `dir` (see testrun::runProgram), with the GL driver
-/// preloaded in ASan builds (glDriverPreload).
+/// Runs sluice-play with `args` in `dir` (see testrun::runProgram).
 inline testrun::RunResult runPlay(const fs::path& dir, const std::vector<std::string>& args) {
-    const std::string& preload = glDriverPreload();
-    if (preload.empty())
-        return testrun::runProgram(SLUICE_PLAY_EXE, dir, args);
-    std::vector<std::string> withEnv{"LD_PRELOAD=" + preload, SLUICE_PLAY_EXE};
-    withEnv.insert(withEnv.end(), args.begin(), args.end());
-    return testrun::runProgram("/usr/bin/env", dir, withEnv);
+    return testrun::runProgram(SLUICE_PLAY_EXE, dir, args);
 }
 
 /// A PNG file as an RGB image (empty if it cannot be read).

@@ -44,8 +44,6 @@ testrun::RunResult playInWindow(const fs::path& dir, const std::vector<std::stri
                                 const std::string& screen = "640x480") {
     std::string command =
         "cd " + quote(dir.string()) + " && xvfb-run -a -s '-screen 0 " + screen + "x24' ";
-    if (!glDriverPreload().empty())
-        command += "env " + quote("LD_PRELOAD=" + glDriverPreload()) + " ";
     command += quote(SLUICE_PLAY_EXE);
     for (const std::string& arg : args)
         command += " " + quote(arg);
@@ -227,7 +225,6 @@ struct DragRun {
 TEST(ViewerWindow, AControlDragLiftsAFloatingBoxAndReleaseDropsIt) {
     if (!haveXvfbServer())
         GTEST_SKIP() << "Xvfb is not installed (Debian: apt-get install xvfb)";
-    (void)glDriverPreload(); // ASan builds: keep Mesa's driver mapped past glfwTerminate
     XvfbServer server;
     ASSERT_TRUE(server.start("640x480")) << "Xvfb did not start";
 

@@ -110,4 +110,12 @@ private:
     std::unique_ptr<DebugState> m_debug; // heap, so the callback's pointer survives moves
 };
 
+/// AddressSanitizer builds only (a no-op otherwise): keeps the GL driver libraries that the
+/// current context loaded (Mesa's *_dri.so) mapped until the process exits. Mesa unloads its
+/// driver with the last context (eglTerminate, glfwTerminate); LeakSanitizer then no longer
+/// sees the driver's static references to the caches it filled and reports them as leaks at
+/// exit. createHeadless() calls it; a program that makes its own context (the GLFW viewer)
+/// calls it once that context is current. Every other allocation is still leak-checked.
+void keepDriverLoadedForLeakChecks();
+
 } // namespace sluice::gpu
