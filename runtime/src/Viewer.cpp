@@ -51,7 +51,10 @@ struct GlfwLibrary {
     GlfwLibrary() = default;
     GlfwLibrary(const GlfwLibrary&) = delete;
     GlfwLibrary& operator=(const GlfwLibrary&) = delete;
-    ~GlfwLibrary() { glfwTerminate(); }
+    ~GlfwLibrary() {
+        gpu::keepDriverLoadedForLeakChecks(); // ASan builds: glfwTerminate would unload it
+        glfwTerminate();
+    }
 };
 
 // Frames per second [Hz] of a video that plays the simulation in real time.
@@ -546,7 +549,6 @@ int runViewer(const ViewerOptions& options) {
         glfwDestroyWindow(window);
         return kExitNoGlContext;
     }
-    gpu::keepDriverLoadedForLeakChecks(); // ASan builds: glfwTerminate unloads it
     int exitCode = kExitOk;
     {
         ImGuiScope imgui(window);

@@ -123,7 +123,6 @@ Result<Context> Context::createHeadless(const ContextOptions& options) {
     info.deviceName = egl->deviceName;
     info.eglVersion = egl->eglVersion;
     queryInfo(info);
-    keepDriverLoadedForLeakChecks();
 
     if (options.debug) {
         context.m_debug = std::make_unique<DebugState>();

@@ -10,6 +10,7 @@
 
 #include <glad/egl.h>
 
+#include "sluice/gpu/Context.h"
 #include "sluice/gpu/Gl.h"
 #include "sluice/gpu/Program.h"
 
@@ -162,6 +163,7 @@ void releaseDisplay(EGLDisplay display) {
         return;
     if (--it->second == 0) {
         // Joins llvmpipe's worker threads; without it they can still run during exit.
+        keepDriverLoadedForLeakChecks(); // ASan builds: eglTerminate would unload it
         eglTerminate(display);
         g_displayUsers.erase(it);
     }

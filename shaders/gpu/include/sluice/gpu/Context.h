@@ -110,12 +110,13 @@ private:
     std::unique_ptr<DebugState> m_debug; // heap, so the callback's pointer survives moves
 };
 
-/// AddressSanitizer builds only (a no-op otherwise): keeps the GL driver libraries that the
-/// current context loaded (Mesa's *_dri.so) mapped until the process exits. Mesa unloads its
-/// driver with the last context (eglTerminate, glfwTerminate); LeakSanitizer then no longer
-/// sees the driver's static references to the caches it filled and reports them as leaks at
-/// exit. createHeadless() calls it; a program that makes its own context (the GLFW viewer)
-/// calls it once that context is current. Every other allocation is still leak-checked.
+/// AddressSanitizer builds only (a no-op otherwise): keeps the GL driver libraries loaded in
+/// the process (Mesa's *_dri.so) mapped until it exits. Mesa unloads its driver with its
+/// display (eglTerminate, glfwTerminate); LeakSanitizer then no longer sees the driver's static
+/// references to the caches it filled and reports them as leaks at exit. Context calls it
+/// before every eglTerminate, whether or not a context was made; a program that makes its own
+/// context (the GLFW viewer) calls it once that context is current. Every other allocation is
+/// still leak-checked.
 void keepDriverLoadedForLeakChecks();
 
 } // namespace sluice::gpu
