@@ -55,6 +55,24 @@ void initOpenVdb() {
     std::call_once(once, [] { openvdb::initialize(); });
 }
 
+/// A NanoVDB buffer type (what GridHandle and openToNanoVDB need of one) over GridBytes, so the
+/// converted grid is moved into the asset instead of copied: one grid in memory, not two.
+struct GridBytesBuffer {
+    std::shared_ptr<format::GridBytes> bytes = std::make_shared<format::GridBytes>();
+    static GridBytesBuffer create(std::uint64_t size, const GridBytesBuffer* = nullptr) {
+        GridBytesBuffer buffer;
+        buffer.bytes->resize(size);
+        return buffer;
+    }
+    std::uint8_t* data() { return reinterpret_cast<std::uint8_t*>(bytes->data()); }
+    const std::uint8_t* data() const {
+        return reinterpret_cast<const std::uint8_t*>(bytes->data());
+    }
+    std::uint64_t size() const { return bytes->size(); }
+    bool empty() const { return bytes->empty(); }
+    void clear() { bytes = std::make_shared<format::GridBytes>(); }
+};
+
 bool insideDomain(const glm::ivec3& p, const glm::uvec3& dims) {
     return p.x < std::int32_t(dims.x) && p.y < std::int32_t(dims.y) && p.z < std::int32_t(dims.z);
 }
@@ -178,16 +196,16 @@ Result<format::GridBytes> SparseGridBuilder::finish() {
     vdb->setGridClass(openvdb::GRID_LEVEL_SET);
     vdb->setName("sdf");
     try {
-        auto handle = nanovdb::openToNanoVDB(*vdb);
-        vdb.reset(); // the OpenVDB tree goes before the copy: peak = tree + grid, not more
+        auto handle = nanovdb::openToNanoVDB<GridBytesBuffer>(*vdb);
+        vdb.reset();
         if (handle.size() > format::kMaxNanoVdbBytes)
             return fail(ErrorCode::SizeOverflow,
                         "the sparse grid needs " + std::to_string(handle.size()) +
                             " bytes, over the limit of " +
                             std::to_string(format::kMaxNanoVdbBytes) +
                             "; use a coarser resolution or a narrower band");
-        const auto* bytes = reinterpret_cast<const std::byte*>(handle.data());
-        return format::GridBytes(bytes, bytes + handle.size());
+        const std::shared_ptr<format::GridBytes> bytes = handle.buffer().bytes;
+        return std::move(*bytes);
     } catch (const std::bad_alloc&) {
         return fail(ErrorCode::SizeOverflow, "out of memory while building the sparse grid");
     } catch (const std::exception& e) {
