@@ -316,11 +316,13 @@ Command addBakeCommand(CLI::App& parent) {
         ->capture_default_str();
     app->add_option("--storage", args->storage, "sample type in the file: f32 or f16")
         ->capture_default_str();
-    app->add_flag("--sparse", args->sparse,
-                  "write a sparse collider: a NanoVDB narrow band of exact distances with "
-                  "signed tiles elsewhere; no dense point limit (resolution up to 4096)");
+    CLI::Option* sparse =
+        app->add_flag("--sparse", args->sparse,
+                      "write a sparse collider: a NanoVDB narrow band of exact distances with "
+                      "signed tiles elsewhere; no dense point limit (resolution up to 4096)");
     app->add_option("--band", args->band,
                     "[voxels] --sparse: half-width of the band of exact distances, 1..64")
+        ->needs(sparse)
         ->check(finiteNumber(false))
         ->capture_default_str();
     app->add_flag("-q,--quiet", args->quiet, "no progress bar and no summary");

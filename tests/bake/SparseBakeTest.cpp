@@ -271,6 +271,12 @@ TEST(SparseBake, TheCommandLineBakesInfoExportsAndRejectsHostileGridsWithExit2) 
     run = runBake(dir, {"bake", obj.string(), "-o", (dir / "x.slc").string(), "--sparse",
                         "--storage", "f16"});
     EXPECT_EQ(run.code, 2) << shown(run);
+    run = runBake(dir, {"bake", obj.string(), "-o", (dir / "x.slc").string(), "--band", "2"});
+    EXPECT_EQ(run.code, 2) << shown(run);
+    run = runBake(
+        dir, {"bake", obj.string(), "-o", (dir / "x.slc").string(), "--sparse", "--band", "0.5"});
+    EXPECT_EQ(run.code, 2) << shown(run);
+    EXPECT_FALSE(fs::exists(dir / "x.slc"));
 
     // Hostile: a huge leaf count inside a valid container, and a truncated .nvdb.
     auto asset = format::readAsset(dir / "s.slc");
