@@ -19,7 +19,7 @@ esac
 packages=(
   cmake ninja-build g++ pkg-config python3 python3-venv python3-dev
   libassimp-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libboost-iostreams-dev libeigen3-dev
-  libopenvdb-dev libtbb-dev libcereal-dev libcli11-dev libglm-dev libstb-dev libxxhash-dev
+  libopenvdb-dev libtbb-dev libcereal-dev libcli11-dev libglm-dev libstb-dev libxxhash-dev libnanovdb-dev libnanovdb-tools
   libspdlog-dev libfmt-dev nlohmann-json3-dev rapidjson-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev glslang-tools

@@ -10,6 +10,7 @@
 #include "sluice/bake/Cli.h"
 #include "sluice/bake/GpuBaker.h"
 #include "sluice/bake/Grid.h"
+#include "sluice/bake/SparseBaker.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/gpu/Context.h"
@@ -50,6 +51,7 @@ struct BakeJob {
     std::string renderer;
     GpuBakeStats gpuStats;
     std::optional<format::ColliderAsset> asset;
+    SparseBakeStats sparseStats;
     std::size_t bytes = 0; ///< [bytes] of the written file
     double importSeconds = 0.0;
     double bakeSeconds = 0.0;
@@ -74,6 +76,10 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
         return reportBadInput(kCmd, settings.error().detail);
     if (Result<void> out = prepareOutputPath(args.output); !out)
         return reportFileError(kCmd, "cannot write", args.output, out.error());
+    if (args.sparse && settings->storage != format::Storage::F32)
+        return reportBadInput(kCmd, "--sparse stores f32 values; leave out --storage f16");
+    if (args.sparse && *backend == Backend::Gpu)
+        return reportBadInput(kCmd, "--sparse bakes with --backend cgal in this version");
     if (!hasExtension(args.output, ".slc"))
         std::cerr << "sluice-bake bake: warning: '" << args.output
                   << "' does not end in .slc; it will hold a collider asset all the same\n";
@@ -90,7 +96,8 @@ int importAndPlan(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot read mesh", args.mesh, mesh.error());
     job.importSeconds = secondsSince(start);
     job.meshBox = mesh->soup.bounds();
-    Result<GridSpec> grid = gridFor(job.meshBox, job.settings.grid);
+    Result<GridSpec> grid = args.sparse ? sparseGridFor(job.meshBox, job.settings.grid, args.band)
+                                        : gridFor(job.meshBox, job.settings.grid);
     if (!grid)
         return reportFileError(kCmd, "cannot bake", args.mesh, grid.error());
     job.points = grid->pointCount();
@@ -99,9 +106,11 @@ int importAndPlan(const BakeArgs& args, BakeJob& job) {
 }
 
 /// Resolves auto to gpu where a GL 4.5 context opens, else to cgal; gpu without a context fails.
-int openBackend(BakeJob& job) {
-    if (job.backend == Backend::Cgal)
+int openBackend(const BakeArgs& args, BakeJob& job) {
+    if (job.backend == Backend::Cgal || args.sparse) {
+        job.backend = Backend::Cgal;
         return kExitOk;
+    }
     Result<gpu::Context> context = gpu::Context::createHeadless();
     if (!context && job.backend == Backend::Gpu)
         return reportError(kCmd, "no GPU context for --backend gpu (use --backend cgal)",
@@ -124,7 +133,10 @@ int bakeField(const BakeArgs& args, BakeJob& job) {
     const auto start = std::chrono::steady_clock::now();
     const ImportedMesh& mesh = *job.mesh;
     std::optional<Result<format::ColliderAsset>> asset;
-    if (job.backend == Backend::Gpu) {
+    if (args.sparse) {
+        asset.emplace(
+            bakeSparseCgal(mesh, job.settings, {.band = args.band}, !args.quiet, &job.sparseStats));
+    } else if (job.backend == Backend::Gpu) {
         Progress progress("baking " + mesh.sourceFile + " on the GPU", job.points, !args.quiet);
         asset.emplace(bakeGpu(mesh, job.settings, *job.context, &progress,
                               {.profile = args.profile}, &job.gpuStats));
@@ -153,9 +165,27 @@ int writeOutput(const BakeArgs& args, BakeJob& job) {
     return kExitOk;
 }
 
-/// [grid points / s] of the bake.
+/// [grid points / s] of the bake (dense), [band voxels computed / s] (sparse).
 double pointsPerSecond(const BakeJob& job) {
-    return job.bakeSeconds > 0.0 ? double(job.asset->pointCount()) / job.bakeSeconds : 0.0;
+    const double points = job.asset->sparse() ? double(job.sparseStats.voxelsComputed)
+                                              : double(job.asset->pointCount());
+    return job.bakeSeconds > 0.0 ? points / job.bakeSeconds : 0.0;
+}
+
+/// The sparse bake's work and memory, for the summary and JSON.
+nlohmann::ordered_json sparseJson(const BakeJob& job) {
+    const SparseBakeStats& s = job.sparseStats;
+    return {{"band", job.asset->meta.bandWidth},
+            {"bricks", s.bricks},
+            {"uniformBlocks", s.uniformBlocks},
+            {"voxelsComputed", s.voxelsComputed},
+            {"distanceQueries", s.distanceQueries},
+            {"activeVoxels", s.activeVoxels},
+            {"gridBytes", s.gridBytes},
+            {"planSeconds", s.planSeconds},
+            {"distanceSeconds", s.distanceSeconds},
+            {"buildSeconds", s.buildSeconds},
+            {"peakRssBytes", peakRssBytes()}};
 }
 
 void printJson(const BakeArgs& args, const BakeJob& job) {
@@ -168,6 +198,8 @@ void printJson(const BakeArgs& args, const BakeJob& job) {
                                   {"bakeSeconds", job.bakeSeconds},
                                   {"pointsPerSecond", pointsPerSecond(job)},
                                   {"asset", toJson(job.asset->meta)}};
+    if (job.asset->sparse())
+        out["sparse"] = sparseJson(job);
     if (job.backend == Backend::Gpu) {
         const GpuBakeStats& gpu = job.gpuStats;
         out["gpu"] = {{"renderer", job.renderer},     {"triangles", gpu.triangles},
@@ -202,6 +234,17 @@ void printSummary(const BakeArgs& args, const BakeJob& job) {
     std::cout << "\n  time     import " << num(job.importSeconds, 3) << " s, bake "
               << num(job.bakeSeconds, 3) << " s (" << num(pointsPerSecond(job), 3)
               << " voxels/s)\n";
+    if (meta.layout == format::Layout::Sparse) {
+        const SparseBakeStats& s = job.sparseStats;
+        std::cout << "  sparse   band " << num(meta.bandWidth)
+                  << " voxels: " << plural(s.bricks, "brick") << " (" << s.voxelsComputed
+                  << " exact distances), " << plural(s.uniformBlocks, "uniform block") << ", "
+                  << s.activeVoxels << " active voxels, grid " << s.gridBytes << " bytes\n"
+                  << "           cull " << num(s.planSeconds, 3) << " s (" << s.distanceQueries
+                  << " queries), distances " << num(s.distanceSeconds, 3) << " s, build "
+                  << num(s.buildSeconds, 3) << " s, peak memory "
+                  << num(double(peakRssBytes()) / (1 << 20), 4) << " MiB\n";
+    }
     if (job.backend == Backend::Gpu) {
         const GpuBakeStats& gpu = job.gpuStats;
         std::cout << "  gpu      " << job.renderer << ", BVH of " << plural(gpu.nodes, "node")
@@ -221,7 +264,7 @@ int runBake(const BakeArgs& args) {
         return code;
     if (const int code = importAndPlan(args, job); code != kExitOk)
         return code;
-    if (const int code = openBackend(job); code != kExitOk)
+    if (const int code = openBackend(args, job); code != kExitOk)
         return code;
     if (const int code = bakeField(args, job); code != kExitOk)
         return code;
@@ -272,6 +315,15 @@ Command addBakeCommand(CLI::App& parent) {
         ->check(finiteNumber(false))
         ->capture_default_str();
     app->add_option("--storage", args->storage, "sample type in the file: f32 or f16")
+        ->capture_default_str();
+    CLI::Option* sparse =
+        app->add_flag("--sparse", args->sparse,
+                      "write a sparse collider: a NanoVDB narrow band of exact distances with "
+                      "signed tiles elsewhere; no dense point limit (resolution up to 4096)");
+    app->add_option("--band", args->band,
+                    "[voxels] --sparse: half-width of the band of exact distances, 1..64")
+        ->needs(sparse)
+        ->check(finiteNumber(false))
         ->capture_default_str();
     app->add_flag("-q,--quiet", args->quiet, "no progress bar and no summary");
     app->add_flag("--json", args->json, "print the summary as JSON");

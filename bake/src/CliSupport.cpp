@@ -7,7 +7,10 @@
 #include <cstdio>
 #include <iostream>
 
+#include <sys/resource.h>
+
 #include "sluice/bake/Cli.h"
+#include "sluice/bake/NanoVdbIO.h"
 #include "sluice/bake/VdbIO.h"
 #include "sluice/format/AssetIO.h"
 
@@ -43,6 +46,8 @@ bool hasExtension(const std::filesystem::path& path, std::string_view ext) {
 Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale) {
     if (hasExtension(path, ".vdb"))
         return importVdbLevelSet(path, scale);
+    if (hasExtension(path, ".nvdb"))
+        return importNvdbLevelSet(path, scale);
     ImportOptions options;
     options.scale = scale;
     return importMesh(path, options);
@@ -156,7 +161,16 @@ nlohmann::ordered_json toJson(const format::ColliderMeta& meta) {
             {"mesh", toJson(meta.mesh)},
             {"validation", toJson(meta.validation)},
             {"quantizationError", meta.quantizationError},
-            {"massProperties", toJson(meta.meshMass)}};
+            {"massProperties", toJson(meta.meshMass)},
+            {"layout", layoutName(meta.layout)},
+            {"bandWidth", meta.bandWidth}};
+}
+
+std::uint64_t peakRssBytes() {
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) != 0)
+        return 0;
+    return std::uint64_t(usage.ru_maxrss) * 1024; // Linux reports kilobytes
 }
 
 } // namespace sluice::bake::cli

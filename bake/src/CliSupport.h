@@ -42,6 +42,8 @@ struct BakeArgs {
     bool quiet = false;
     bool json = false;
     bool profile = false;
+    bool sparse = false; ///< a narrow-band NanoVDB asset instead of a dense grid
+    double band = 3.0;   ///< [voxels] sparse: half-width of the band of exact values
 };
 
 /// Runs one bake (BakeCommand.cpp) and returns its exit code; prints as `bake` does.
@@ -112,5 +114,8 @@ nlohmann::ordered_json toJson(const format::MeshDiagnostics& mesh);
 nlohmann::ordered_json toJson(const format::ValidationFigures& figures);
 nlohmann::ordered_json toJson(const std::optional<format::MassProperties>& mass);
 nlohmann::ordered_json toJson(const format::ColliderMeta& meta);
+
+/// [bytes] the process's peak resident memory so far (getrusage), 0 if unknown.
+std::uint64_t peakRssBytes();
 
 } // namespace sluice::bake::cli

@@ -1,9 +1,10 @@
-// `sluice-bake export`: a collider asset out as an OpenVDB float level set.
+// `sluice-bake export`: a collider asset out as an OpenVDB float level set or a NanoVDB grid.
 #include <iostream>
 #include <memory>
 
 #include "CliSupport.h"
 #include "sluice/bake/Cli.h"
+#include "sluice/bake/NanoVdbIO.h"
 #include "sluice/bake/VdbIO.h"
 #include "sluice/format/AssetIO.h"
 
@@ -18,8 +19,10 @@ struct ExportArgs {
 
 int runExport(const ExportArgs& args) {
     constexpr std::string_view cmd = "export";
-    if (!hasExtension(args.output, ".vdb"))
-        return reportBadInput(cmd, "'" + args.output + "': the output must be a .vdb file");
+    const bool nvdb = hasExtension(args.output, ".nvdb");
+    if (!hasExtension(args.output, ".vdb") && !nvdb)
+        return reportBadInput(cmd,
+                              "'" + args.output + "': the output must be a .vdb or .nvdb file");
     if (hasExtension(args.asset, ".vdb"))
         return reportBadInput(cmd, "'" + args.asset +
                                        "' is already a .vdb file (export converts a collider "
@@ -29,10 +32,12 @@ int runExport(const ExportArgs& args) {
     Result<format::ColliderAsset> asset = format::readAsset(args.asset);
     if (!asset)
         return reportFileError(cmd, "cannot read asset", args.asset, asset.error());
-    if (Result<void> ok = exportVdb(*asset, args.output); !ok)
+    if (Result<void> ok = nvdb ? exportNvdb(*asset, args.output) : exportVdb(*asset, args.output);
+        !ok)
         return reportFileError(cmd, "cannot write", args.output, ok.error());
     if (!args.quiet)
-        std::cout << "exported " << args.asset << " -> " << args.output << " (level set, "
+        std::cout << "exported " << args.asset << " -> " << args.output << " ("
+                  << (asset->sparse() ? "sparse " : "") << "level set, "
                   << describeDims(asset->meta.dims) << ", voxel " << num(asset->meta.voxelSize)
                   << " world units)\n";
     return kExitOk;
@@ -43,10 +48,11 @@ int runExport(const ExportArgs& args) {
 Command addExportCommand(CLI::App& parent) {
     auto args = std::make_shared<ExportArgs>();
     CLI::App* app = parent.add_subcommand(
-        "export", "Write an asset as an OpenVDB float level set (every grid point an active "
-                  "voxel), atomically.");
+        "export", "Write an asset as an OpenVDB float level set (.vdb; every grid point an "
+                  "active voxel, or the band of a sparse asset) or a sparse asset's NanoVDB grid "
+                  "(.nvdb), atomically.");
     app->add_option("ASSET", args->asset, "collider asset (.slc)")->required();
-    app->add_option("OUT", args->output, "output file (.vdb)")->required();
+    app->add_option("OUT", args->output, "output file (.vdb or .nvdb)")->required();
     app->add_flag("-q,--quiet", args->quiet, "no summary");
     return {app, [args] { return runExport(*args); }};
 }

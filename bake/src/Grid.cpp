@@ -58,21 +58,21 @@ Result<GridSpec> gridFor(const Box& bounds, const GridOptions& options) {
         const double cells =
             std::ceil(side[a] / voxelSize + 2.0 * options.padding - kRoundingSlack);
         // Check in double before converting, so huge voxel counts cannot wrap around.
-        if (!(cells + 1.0 <= double(kMaxGridPoints)))
+        if (!(cells + 1.0 <= double(options.maxPoints)) || cells + 1.0 > 2147483647.0)
             return fail(ErrorCode::SizeOverflow,
                         "grid would have " + std::to_string(cells + 1.0) +
                             " points along one "
                             "axis; use a coarser resolution or a larger voxel size");
         grid.dims[a] = std::max<std::uint32_t>(2, std::uint32_t(std::max(cells, 0.0)) + 1);
     }
-    // Each factor is below kMaxGridPoints (< 2^28), so the first product cannot overflow 64 bits;
-    // check it before multiplying the third.
+    // Each factor is below 2^31, so the first product cannot overflow 64 bits; check it before
+    // multiplying the third.
     const std::uint64_t xy = std::uint64_t(grid.dims.x) * grid.dims.y;
-    if (xy > kMaxGridPoints || xy * grid.dims.z > kMaxGridPoints)
+    if (xy > options.maxPoints || xy * grid.dims.z > options.maxPoints)
         return fail(ErrorCode::SizeOverflow,
                     "grid of " + std::to_string(grid.dims.x) + " x " + std::to_string(grid.dims.y) +
                         " x " + std::to_string(grid.dims.z) + " points exceeds the limit of " +
-                        std::to_string(kMaxGridPoints) +
+                        std::to_string(options.maxPoints) +
                         "; use a coarser resolution or a larger voxel size");
     return grid;
 }

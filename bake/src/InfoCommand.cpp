@@ -8,9 +8,11 @@
 
 #include "CliSupport.h"
 #include "sluice/bake/Cli.h"
+#include "sluice/bake/NanoVdbIO.h"
 #include "sluice/bake/SliceImage.h"
 #include "sluice/format/AssetHeader.h"
 #include "sluice/format/Hash.h"
+#include "sluice/format/NanoVdbCheck.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -52,6 +54,21 @@ void printMass(const std::optional<format::MassProperties>& mass,
                   << num(i[2][row]) << "]\n";
 }
 
+/// The NanoVDB tree of a sparse asset or .nvdb file: nodes per level, band voxels, bytes.
+void printTree(const format::NanoVdbTreeStats& t, double bandWidth) {
+    std::cout << "  tree          NanoVDB: " << plural(t.upperNodes, "upper node") << ", "
+              << plural(t.lowerNodes, "lower node") << ", " << plural(t.leafNodes, "leaf node")
+              << ", " << plural(t.rootTiles, "root tile") << "; " << t.activeVoxels
+              << " active voxels (band " << num(bandWidth) << " voxels), " << t.bytes << " bytes\n";
+}
+
+nlohmann::ordered_json treeJson(const format::NanoVdbTreeStats& t) {
+    return {{"upperNodes", t.upperNodes},   {"lowerNodes", t.lowerNodes},
+            {"leafNodes", t.leafNodes},     {"rootTiles", t.rootTiles},
+            {"valueEntries", t.valueTiles}, {"activeVoxels", t.activeVoxels},
+            {"background", t.background},   {"bytes", t.bytes}};
+}
+
 void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vdb,
                const format::AssetHeader& header, float lo, float hi) {
     const format::ColliderMeta& m = asset.meta;
@@ -72,7 +89,10 @@ void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vd
               << "  distances     " << num(lo) << " .. " << num(hi)
               << " world units (negative inside)\n"
               << "  storage       " << storageName(m.storage) << ", quantization error "
-              << num(m.quantizationError, 3) << " world units\n";
+              << num(m.quantizationError, 3) << " world units\n"
+              << "  layout        " << layoutName(m.layout) << '\n';
+    if (asset.sparse())
+        printTree(*format::checkNanoVdbGrid(asset.grid, args.asset), m.bandWidth);
     const format::BakeParams& b = m.bake;
     std::cout << "  source        " << m.sourceFile << "  (xxh3 " << m.sourceHash << ")\n"
               << "  tool          " << (m.toolVersion.empty() ? "not recorded" : m.toolVersion)
@@ -118,8 +138,37 @@ nlohmann::ordered_json metaJson(const format::ColliderMeta& meta, bool vdb) {
     return json;
 }
 
+/// `info GRID.nvdb`: the first grid's tree, as read and checked.
+int runInfoNvdb(const InfoArgs& args) {
+    constexpr std::string_view cmd = "info";
+    if (!args.slice.empty())
+        return reportBadInput(cmd, "--slice needs a collider asset (.slc) or a .vdb file");
+    Result<format::GridBytes> grid = readNvdbGrid(args.asset);
+    if (!grid)
+        return reportFileError(cmd, "cannot read grid", args.asset, grid.error());
+    const format::NanoVdbTreeStats t = *format::checkNanoVdbGrid(*grid, args.asset);
+    if (args.json) {
+        nlohmann::ordered_json out = {{"file", args.asset}, {"format", "nanovdb"}};
+        out["name"] = t.name.data();
+        out["voxelSize"] = {t.voxelSize.x, t.voxelSize.y, t.voxelSize.z};
+        out["translation"] = {t.translation.x, t.translation.y, t.translation.z};
+        out["tree"] = treeJson(t);
+        std::cout << out.dump(2) << '\n';
+        return kExitOk;
+    }
+    std::cout << args.asset << "  (NanoVDB float level set '" << t.name.data() << "')\n"
+              << "  voxel size    " << num(t.voxelSize.x) << " world units\n"
+              << "  translation   (" << num(t.translation.x) << ", " << num(t.translation.y) << ", "
+              << num(t.translation.z) << ") world units\n"
+              << "  background    " << num(t.background) << " world units\n";
+    printTree(t, t.background / t.voxelSize.x);
+    return kExitOk;
+}
+
 int runInfo(const InfoArgs& args) {
     constexpr std::string_view cmd = "info";
+    if (hasExtension(args.asset, ".nvdb"))
+        return runInfoNvdb(args);
     std::optional<SliceSpec> slice;
     if (!args.slice.empty()) {
         Result<SliceSpec> parsed = parseSlice(args.slice);
@@ -136,8 +185,14 @@ int runInfo(const InfoArgs& args) {
     const bool vdb = hasExtension(args.asset, ".vdb");
     const format::AssetHeader header = vdb ? format::AssetHeader{} : readHeader(args.asset);
     const auto [lo, hi] = std::minmax_element(asset->distances.begin(), asset->distances.end());
-    const float minPhi = lo == asset->distances.end() ? 0.0f : *lo;
-    const float maxPhi = hi == asset->distances.end() ? 0.0f : *hi;
+    float minPhi = lo == asset->distances.end() ? 0.0f : *lo;
+    float maxPhi = hi == asset->distances.end() ? 0.0f : *hi;
+    std::optional<format::NanoVdbTreeStats> tree;
+    if (asset->sparse()) { // stored values are clamped to +-background
+        tree = *format::checkNanoVdbGrid(asset->grid, args.asset);
+        minPhi = -tree->background;
+        maxPhi = tree->background;
+    }
 
     if (slice) {
         const Image image = renderSlice(*asset, *slice);
@@ -163,6 +218,7 @@ int runInfo(const InfoArgs& args) {
         for (const auto& [key, value] : meta.items())
             out[key] = value;
         out["distanceRange"] = {minPhi, maxPhi};
+        out["tree"] = tree ? treeJson(*tree) : nlohmann::ordered_json(nullptr);
         if (slice)
             out["slicePng"] = args.png;
         std::cout << out.dump(2) << '\n';
@@ -180,8 +236,9 @@ Command addInfoCommand(CLI::App& parent) {
     auto args = std::make_shared<InfoArgs>();
     CLI::App* app = parent.add_subcommand(
         "info", "Print an asset's header and metadata: grid, provenance, mesh diagnostics, "
-                "mass properties, validation figures. Also reads .vdb grids.");
-    app->add_option("ASSET", args->asset, "collider asset (.slc) or .vdb file")->required();
+                "mass properties, validation figures, and a sparse asset's NanoVDB tree. Also "
+                "reads .vdb grids and .nvdb grids (the tree only).");
+    app->add_option("ASSET", args->asset, "collider asset (.slc), .vdb or .nvdb file")->required();
     app->add_flag("--json", args->json, "print as JSON");
     CLI::Option* slice = app->add_option(
         "--slice", args->slice, "slice to draw: x|y|z=FRACTION of the grid extent, e.g. z=0.5");

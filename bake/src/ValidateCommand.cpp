@@ -92,10 +92,14 @@ int runValidate(const ValidateArgs& args) {
     } else {
         auto verdict = [](bool ok) { return ok ? "ok" : "OVER"; };
         std::cout << "validate " << args.asset << " against " << args.mesh << '\n'
-                  << "  reference  CGAL, " << signMethodName(report->referenceSign) << " sign, "
-                  << (report->sampled ? "stratified sample of " : "every grid point: ")
-                  << f.pointsChecked << " of " << gridPoints << " points\n"
-                  << "  distance   max " << num(f.maxError, 3) << "  mean " << num(f.meanError, 3)
+                  << "  reference  CGAL, " << signMethodName(report->referenceSign) << " sign, ";
+        if (asset->sparse())
+            std::cout << "sparse: " << report->bandPoints << " band voxels (error, sign) and "
+                      << report->tilePoints << " other grid points (sign)\n";
+        else
+            std::cout << (report->sampled ? "stratified sample of " : "every grid point: ")
+                      << f.pointsChecked << " of " << gridPoints << " points\n";
+        std::cout << "  distance   max " << num(f.maxError, 3) << "  mean " << num(f.meanError, 3)
                   << "  rms " << num(f.rmsError, 3) << " voxels   limit " << num(maxError, 3)
                   << "  " << verdict(errorOk) << '\n'
                   << "  sign       " << plural(f.signMismatches, "mismatch", "mismatches") << " of "

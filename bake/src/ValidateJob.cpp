@@ -80,6 +80,8 @@ std::string validateReportJson(const ValidateOutcome& outcome, const format::Col
         {"referenceSign", format::signMethodName(report.referenceSign)},
         {"signComparedPoints", report.signComparedPoints},
         {"signMismatchPercent", report.signMismatchPercent},
+        {"bandPoints", report.bandPoints},
+        {"tilePoints", report.tilePoints},
         {"figures", cli::toJson(report.figures)},
         {"limits",
          {{"maxError", outcome.maxError}, {"maxSignErrorsPercent", request.maxSignErrorsPercent}}},

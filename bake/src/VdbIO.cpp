@@ -28,6 +28,7 @@
 
 #include "VdbFileCheck.h"
 #include "VdbHeaders.h"
+#include "VdbMesh.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/format/Hash.h"
 
@@ -84,6 +85,8 @@ Result<void> checkExportable(const format::ColliderAsset& asset) {
 
 // Builds leaf nodes directly (in parallel) rather than through an accessor: every grid point
 // becomes an active voxel, even where it equals the background, so the dense grid survives.
+void setProvenance(openvdb::FloatGrid& grid, const format::ColliderMeta& meta);
+
 openvdb::FloatGrid::Ptr buildGrid(const format::ColliderAsset& asset) {
     const format::ColliderMeta& meta = asset.meta;
     float background = 0.0f;
@@ -124,16 +127,21 @@ openvdb::FloatGrid::Ptr buildGrid(const format::ColliderAsset& asset) {
     grid->setTransform(transform);
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
     grid->setName(kGridName);
-
-    const std::string exporter = std::string("sluice-bake ") + SLUICE_VERSION;
-    grid->setCreator(meta.toolVersion.empty() ? exporter : meta.toolVersion);
-    grid->insertMeta(kMetaSourceFile, openvdb::StringMetadata(meta.sourceFile));
-    grid->insertMeta(kMetaSourceHash, openvdb::StringMetadata(meta.sourceHash));
-    grid->insertMeta(kMetaToolVersion, openvdb::StringMetadata(meta.toolVersion));
-    grid->insertMeta(kMetaBackend, openvdb::StringMetadata(meta.bake.backend));
-    grid->insertMeta(kMetaSignMethod, openvdb::StringMetadata(format::signMethodName(meta.bake.signUsed)));
-    grid->insertMeta(kMetaExporter, openvdb::StringMetadata(exporter));
+    setProvenance(*grid, meta);
     return grid;
+}
+
+// Provenance in grid metadata, read back by readVdbDense.
+void setProvenance(openvdb::FloatGrid& grid, const format::ColliderMeta& meta) {
+    const std::string exporter = std::string("sluice-bake ") + SLUICE_VERSION;
+    grid.setCreator(meta.toolVersion.empty() ? exporter : meta.toolVersion);
+    grid.insertMeta(kMetaSourceFile, openvdb::StringMetadata(meta.sourceFile));
+    grid.insertMeta(kMetaSourceHash, openvdb::StringMetadata(meta.sourceHash));
+    grid.insertMeta(kMetaToolVersion, openvdb::StringMetadata(meta.toolVersion));
+    grid.insertMeta(kMetaBackend, openvdb::StringMetadata(meta.bake.backend));
+    grid.insertMeta(kMetaSignMethod,
+                    openvdb::StringMetadata(format::signMethodName(meta.bake.signUsed)));
+    grid.insertMeta(kMetaExporter, openvdb::StringMetadata(exporter));
 }
 
 // fsync of a file or (for a rename to last) its folder.
@@ -347,6 +355,19 @@ double signedVolume6(const TriangleSoup& soup) {
 } // namespace
 
 Result<void> exportVdb(const format::ColliderAsset& asset, const fs::path& path) {
+    if (asset.sparse()) {
+        // The narrow band as it is: active band voxels, tiles and background as stored.
+        initOpenVdb();
+        openvdb::FloatGrid::Ptr grid;
+        try {
+            grid = detail::sparseToOpenVdb(asset);
+            setProvenance(*grid, asset.meta);
+        } catch (const std::exception& e) {
+            return fail(ErrorCode::Io,
+                        "cannot build the VDB grid for " + quoted(path) + ": " + e.what());
+        }
+        return writeAtomically(grid, path);
+    }
     if (auto ok = checkExportable(asset); !ok)
         return fail(ok.error().code, "cannot export to " + quoted(path) + ": " + ok.error().detail);
     initOpenVdb();
@@ -366,7 +387,13 @@ Result<ImportedMesh> importVdbLevelSet(const fs::path& path, double scale) {
     auto loaded = loadFloatGrid(path);
     if (!loaded)
         return loaded.error();
-    const openvdb::FloatGrid& grid = **loaded;
+    return detail::meshLevelSet(**loaded, path, scale);
+}
+
+Result<ImportedMesh> detail::meshLevelSet(const openvdb::FloatGrid& grid, const fs::path& path,
+                                          double scale) {
+    if (!std::isfinite(scale) || scale <= 0.0)
+        return fail(ErrorCode::InvalidArgument, "scale must be finite and > 0");
     if (grid.activeVoxelCount() == 0)
         return fail(ErrorCode::EmptyMesh,
                     quoted(path) + ": grid '" + grid.getName() + "' has no active voxels");

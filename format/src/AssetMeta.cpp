@@ -113,7 +113,7 @@ void loadMass(InArchive& ar, std::optional<MassProperties>& mass) {
 
 // The field order below IS the file format; AssetHeader.h draws its start. Version 1.0 ends
 // with quantizationError. A later minor version appends fields at the end, read only when the
-// header's minor >= that minor: 1.1 appends meshMass.
+// header's minor >= that minor: 1.1 appends meshMass, 1.2 the layout and band width.
 void save(OutArchive& ar, const ColliderMeta& m) {
     ar(m.dims.x, m.dims.y, m.dims.z);
     ar(m.origin.x, m.origin.y, m.origin.z);
@@ -141,7 +141,9 @@ void save(OutArchive& ar, const ColliderMeta& m) {
 
     ar(m.quantizationError);
 
-    saveMass(ar, m.meshMass);
+    saveMass(ar, m.meshMass); // 1.1 (kAssetMinorMeshMass)
+
+    ar(std::uint8_t(m.layout), m.bandWidth); // 1.2 (kAssetMinorSparse)
 }
 
 void load(InArchive& ar, const SpanBuf& buf, std::uint16_t minor, ColliderMeta& m) {
@@ -175,6 +177,11 @@ void load(InArchive& ar, const SpanBuf& buf, std::uint16_t minor, ColliderMeta& 
 
     if (minor >= kAssetMinorMeshMass)
         loadMass(ar, m.meshMass);
+
+    if (minor >= kAssetMinorSparse) {
+        loadEnum(ar, m.layout, Layout::Sparse, "layout");
+        ar(m.bandWidth);
+    }
 }
 
 } // namespace

@@ -10,6 +10,7 @@
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/Half.h"
 #include "sluice/format/Hash.h"
+#include "sluice/format/NanoVdbCheck.h"
 
 namespace sluice::format {
 
@@ -58,6 +59,46 @@ Result<void> checkSections(const AssetHeader& h, const std::string& name) {
     return {};
 }
 
+// A sparse asset's metadata: fp32, a band, and a payload the size limit allows. dims only bound
+// the baked region, so their product is not limited; the grid's own checks come later.
+Result<std::uint64_t> checkSparseMeta(const ColliderMeta& m, const AssetHeader& h,
+                                      const std::string& name) {
+    auto bad = [&](ErrorCode code, const std::string& what) {
+        return fail(code, name + ": " + what + kRebake);
+    };
+    if (m.storage != Storage::F32)
+        return bad(ErrorCode::BadMetadata,
+                   "a sparse asset stores f32 values, not " + std::string(storageName(m.storage)));
+    if (!std::isfinite(m.bandWidth) || !(m.bandWidth > 0.0))
+        return bad(ErrorCode::BadMetadata, "band width is not a finite value > 0");
+    if (h.payloadSize > kMaxNanoVdbBytes)
+        return bad(ErrorCode::SizeOverflow, "NanoVDB payload of " + str(h.payloadSize) +
+                                                " bytes exceeds the limit of " +
+                                                str(kMaxNanoVdbBytes));
+    return std::uint64_t(0);
+}
+
+// The NanoVDB payload, walked by checkNanoVdbGrid, then its map against the metadata's grid.
+Result<GridBytes> decodeSparse(std::span<const std::byte> payload, const ColliderMeta& m,
+                               const std::string& name) {
+    // Copied first, into 32-byte-aligned memory: the check and every later walk see the same
+    // bytes, and NanoVDB.h may then read them in place.
+    GridBytes grid(payload.begin(), payload.end());
+    auto stats = checkNanoVdbGrid(grid, name);
+    if (!stats)
+        return fail(stats.error().code, stats.error().detail + kRebake);
+    const double h = m.voxelSize;
+    for (int a = 0; a < 3; ++a)
+        if (std::abs(stats->voxelSize[a] - h) > 1e-9 * h ||
+            std::abs(stats->translation[a] - m.origin[a]) > 1e-6 * h)
+            return fail(ErrorCode::BadMetadata,
+                        name +
+                            ": the NanoVDB grid's transform differs from the asset's origin "
+                            "and voxel size" +
+                            kRebake);
+    return grid;
+}
+
 // Value checks on decoded metadata, then the point count against the payload.
 Result<std::uint64_t> checkMeta(const ColliderMeta& m, const AssetHeader& h,
                                 const std::string& name) {
@@ -87,6 +128,11 @@ Result<std::uint64_t> checkMeta(const ColliderMeta& m, const AssetHeader& h,
     if (!std::isfinite(far.x) || !std::isfinite(far.y) || !std::isfinite(far.z))
         return bad(ErrorCode::NonFinite,
                    "grid extent overflows (voxel size " + std::to_string(m.voxelSize) + ")");
+
+    if (m.layout == Layout::Sparse)
+        return checkSparseMeta(m, h, name);
+    if (m.bandWidth != 0.0)
+        return bad(ErrorCode::BadMetadata, "a dense asset with a band width");
 
     // dims are u32, so x*y cannot overflow 64 bits; the product with z can.
     const auto points = checkedMul(std::uint64_t(m.dims.x) * m.dims.y, m.dims.z);
@@ -171,6 +217,15 @@ Result<ColliderAsset> decodeAsset(std::span<const std::byte> bytes,
     auto points = checkMeta(*meta, h, name);
     if (!points)
         return points.error();
+    if (meta->layout == Layout::Sparse) {
+        auto grid = decodeSparse(bytes.subspan(h.payloadOffset, h.payloadSize), *meta, name);
+        if (!grid)
+            return grid.error();
+        ColliderAsset asset;
+        asset.meta = std::move(*meta);
+        asset.grid = std::move(*grid);
+        return asset;
+    }
     auto samples =
         decodeSamples(bytes.subspan(h.payloadOffset, h.payloadSize), *meta, *points, name);
     if (!samples)

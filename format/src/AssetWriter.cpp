@@ -11,6 +11,7 @@
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/Half.h"
 #include "sluice/format/Hash.h"
+#include "sluice/format/NanoVdbCheck.h"
 
 namespace sluice::format {
 
@@ -31,10 +32,29 @@ Result<void> checkWritable(const ColliderAsset& asset) {
     if (m.dims.x < 2 || m.dims.y < 2 || m.dims.z < 2)
         return bad(ErrorCode::InvalidArgument, "grid dims " + str(m.dims.x) + "x" + str(m.dims.y) +
                                                    "x" + str(m.dims.z) + " (each must be >= 2)");
-    if (asset.pointCount() > kMaxAssetPoints)
+    if (m.layout == Layout::Sparse) {
+        if (m.storage != Storage::F32 || !asset.distances.empty())
+            return bad(ErrorCode::InvalidArgument, "a sparse asset has f32 storage and no dense "
+                                                   "samples");
+        if (!std::isfinite(m.bandWidth) || !(m.bandWidth > 0.0))
+            return bad(ErrorCode::InvalidArgument, "band width is not a finite value > 0");
+        auto stats = checkNanoVdbGrid(asset.grid, "cannot write collider asset");
+        if (!stats)
+            return stats.error();
+        for (int a = 0; a < 3; ++a)
+            if (std::abs(stats->voxelSize[a] - m.voxelSize) > 1e-9 * m.voxelSize ||
+                std::abs(stats->translation[a] - m.origin[a]) > 1e-6 * m.voxelSize)
+                return bad(ErrorCode::InvalidArgument,
+                           "the NanoVDB grid's transform differs from the origin and voxel size");
+    } else if (!asset.grid.empty() || m.bandWidth != 0.0) {
+        return bad(ErrorCode::InvalidArgument, "a dense asset has no NanoVDB grid or band width");
+    }
+    if (m.layout != Layout::Dense && m.layout != Layout::Sparse)
+        return bad(ErrorCode::InvalidArgument, "unknown layout");
+    if (m.layout == Layout::Dense && asset.pointCount() > kMaxAssetPoints)
         return bad(ErrorCode::SizeOverflow, str(asset.pointCount()) + " grid points exceed the " +
                                                 "limit of " + str(kMaxAssetPoints));
-    if (asset.distances.size() != asset.pointCount())
+    if (m.layout == Layout::Dense && asset.distances.size() != asset.pointCount())
         return bad(ErrorCode::InvalidArgument, str(asset.distances.size()) + " distances for " +
                                                    str(asset.pointCount()) + " grid points");
     if (!std::isfinite(m.voxelSize) || !std::isfinite(m.origin.x) || !std::isfinite(m.origin.y) ||
@@ -112,7 +132,9 @@ Result<EncodedAsset> encodeAsset(const ColliderAsset& asset) {
     ColliderMeta meta = asset.meta;
     meta.quantizationError = quantizationError;
     const std::vector<std::byte> metaBytes = detail::encodeMeta(meta);
-    const std::uint64_t payloadSize = asset.pointCount() * bytesPerSample(asset.meta.storage);
+    const std::uint64_t payloadSize = asset.sparse()
+                                          ? asset.grid.size()
+                                          : asset.pointCount() * bytesPerSample(asset.meta.storage);
 
     AssetHeader header;
     header.metaOffset = kAssetHeaderSize;
@@ -126,7 +148,12 @@ Result<EncodedAsset> encodeAsset(const ColliderAsset& asset) {
     encoded.quantizationError = quantizationError;
     encoded.bytes.resize(static_cast<std::size_t>(header.fileSize)); // padding stays zero
     std::memcpy(encoded.bytes.data() + header.metaOffset, metaBytes.data(), metaBytes.size());
-    storeSamples(asset.distances, asset.meta.storage, encoded.bytes.data() + header.payloadOffset);
+    if (asset.sparse())
+        std::memcpy(encoded.bytes.data() + header.payloadOffset, asset.grid.data(),
+                    asset.grid.size());
+    else
+        storeSamples(asset.distances, asset.meta.storage,
+                     encoded.bytes.data() + header.payloadOffset);
     header.checksum = xxh3(std::span(encoded.bytes).subspan(kAssetHeaderSize));
     const auto headerBytes = packAssetHeader(header);
     std::memcpy(encoded.bytes.data(), headerBytes.data(), headerBytes.size());

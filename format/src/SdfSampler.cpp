@@ -7,6 +7,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <nanovdb/NanoVDB.h>
 
 #include "sluice/format/Assert.h"
 
@@ -28,8 +29,15 @@ SdfSampler::SdfSampler(const ColliderAsset& asset) : m_asset(&asset) {
     const ColliderMeta& m = asset.meta;
     SLUICE_ASSERT(m.dims.x >= 2 && m.dims.y >= 2 && m.dims.z >= 2, "SdfSampler: dims below 2");
     SLUICE_ASSERT(m.voxelSize > 0.0, "SdfSampler: voxel size not > 0");
-    SLUICE_ASSERT(asset.distances.size() == asset.pointCount(),
-                  "SdfSampler: distance count differs from dims");
+    if (asset.sparse()) {
+        SLUICE_ASSERT(asset.grid.size() >= sizeof(nanovdb::GridData) + sizeof(nanovdb::TreeData<3>),
+                      "SdfSampler: sparse asset without a grid");
+        const auto* grid = reinterpret_cast<const nanovdb::NanoGrid<float>*>(asset.grid.data());
+        m_tree = &grid->tree();
+    } else {
+        SLUICE_ASSERT(asset.distances.size() == asset.pointCount(),
+                      "SdfSampler: distance count differs from dims");
+    }
     m_boxMin = m.origin;
     m_boxMax = m.origin + glm::dvec3(m.dims - glm::uvec3(1)) * m.voxelSize;
 }
@@ -40,6 +48,9 @@ bool SdfSampler::contains(const glm::dvec3& p) const {
 }
 
 double SdfSampler::at(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
+    if (m_tree) // index coordinates stay below dims (at most a few thousand): int32 holds them
+        return static_cast<const nanovdb::NanoTree<float>*>(m_tree)->getValue(
+            nanovdb::Coord(std::int32_t(i), std::int32_t(j), std::int32_t(k)));
     return m_asset->distances[m_asset->index(i, j, k)];
 }
 

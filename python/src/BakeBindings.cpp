@@ -109,6 +109,13 @@ Collider bakeMesh(const Mesh& mesh, const bake::BakeRequest& request, bool bar,
 
 nb::ndarray<nb::numpy, float, nb::ndim<3>> values(nb::handle self) {
     Collider& c = nb::cast<Collider&>(self);
+    // A sparse asset keeps its samples in a NanoVDB tree: there is no dense array to view.
+    if (c.asset.sparse())
+        raise(Family::Asset,
+              Error{ErrorCode::Unsupported,
+                    "a sparse (NanoVDB) collider has no dense values; use sample(), or bake "
+                    "without --sparse"},
+              {}, c.path);
     const glm::uvec3 d = c.asset.meta.dims;
     const std::size_t shape[3] = {d.x, d.y, d.z};
     const std::int64_t strides[3] = {1, std::int64_t(d.x), std::int64_t(d.x) * d.y};

@@ -68,6 +68,11 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
         if (!asset)
             return fail(asset.error().code, scene.path + ": colliders[" + std::to_string(c) +
                                                 "]: " + asset.error().detail);
+        if (asset->sparse()) // the GPU sampler reads dense grids only, so far
+            return fail(ErrorCode::Unsupported,
+                        scene.path + ": colliders[" + std::to_string(c) + "]: " + path +
+                            " is a sparse (NanoVDB) collider, which sluice-play cannot sample "
+                            "yet; bake it without --sparse");
         assets.push_back(std::move(*asset));
     }
     // Dynamic bodies need a volume and a usable mass: checked here, on the CPU, before any

@@ -10,6 +10,7 @@
 #include "CliRun.h"
 #include "TestMeshes.h"
 #include "sluice/bake/Cli.h"
+#include "sluice/format/AssetHeader.h"
 
 namespace sluice::bake {
 namespace {
@@ -21,6 +22,8 @@ using namespace clirun;
 const fs::path kSphereObj = fs::path(SLUICE_SOURCE_DIR) / "assets" / "sphere.obj";
 const fs::path kVersion1_0Asset =
     fs::path(SLUICE_SOURCE_DIR) / "tests" / "format" / "data" / "asset-v1.0.slc";
+const fs::path kVersion1_1Asset =
+    fs::path(SLUICE_SOURCE_DIR) / "tests" / "format" / "data" / "asset-v1.1.slc";
 
 TEST(CliMass, BakeAndInfoPrintTheMassPropertiesOfAClosedMesh) {
     const fs::path dir = testmesh::tempDir("cli-mass");
@@ -50,7 +53,7 @@ TEST(CliMass, BakeAndInfoPrintTheMassPropertiesOfAClosedMesh) {
     const RunResult info = runBake(dir, {"info", asset.string(), "--json"});
     ASSERT_EQ(info.code, kExitOk) << shown(info);
     const json read = json::parse(info.out);
-    EXPECT_EQ(read["header"]["minor"], 1);
+    EXPECT_EQ(read["header"]["minor"], format::kAssetMinor);
     EXPECT_EQ(read["massProperties"], baked);
     const RunResult text = runBake(dir, {"info", asset.string()});
     ASSERT_EQ(text.code, kExitOk) << shown(text);
@@ -81,6 +84,23 @@ TEST(CliMass, AnOpenMeshAndAVersion1_0AssetHaveNone) {
     const RunResult oldText = runBake(dir, {"info", kVersion1_0Asset.string()});
     ASSERT_EQ(oldText.code, kExitOk) << shown(oldText);
     EXPECT_NE(oldText.out.find("predates format 1.1"), std::string::npos) << oldText.out;
+}
+
+TEST(CliMass, AVersion1_1AssetShowsItsMassAndIsDense) {
+    const fs::path dir = testmesh::tempDir("cli-mass-v1.1");
+    const RunResult info = runBake(dir, {"info", kVersion1_1Asset.string(), "--json"});
+    ASSERT_EQ(info.code, kExitOk) << shown(info);
+    const json read = json::parse(info.out);
+    EXPECT_EQ(read["header"]["minor"], 1);
+    EXPECT_EQ(read["layout"], "dense");
+    EXPECT_EQ(read["bandWidth"], 0.0);
+    // makeAsset's ball of radius 0.3 (tests/format/AssetTestUtil.h).
+    EXPECT_DOUBLE_EQ(read["massProperties"]["volume"].get<double>(),
+                     4.0 / 3.0 * std::numbers::pi * 0.3 * 0.3 * 0.3);
+    const RunResult text = runBake(dir, {"info", kVersion1_1Asset.string()});
+    ASSERT_EQ(text.code, kExitOk) << shown(text);
+    EXPECT_NE(text.out.find("\n  mass          volume "), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("\n  layout        dense"), std::string::npos) << text.out;
 }
 
 } // namespace

@@ -1,4 +1,4 @@
-// Mass properties in the asset metadata (format 1.1): layout, round trip and hostile values.
+// Mass properties in the asset metadata (format 1.1 on): layout, round trip and hostile values.
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -18,13 +18,15 @@ using namespace sluice::format;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// [bytes] the meshMass block at the end of the metadata: the presence flag and 13 doubles.
+/// [bytes] the meshMass block (1.1): the presence flag and 13 doubles.
 constexpr std::size_t kMassBytes = 1 + 13 * 8;
+/// [bytes] the fields 1.2 appends after meshMass: u8 layout, f64 bandWidth.
+constexpr std::size_t kLayoutBytes = 1 + 8;
 
-/// Offset in the file of the meshMass block of a file whose metadata ends with one.
+/// Offset in the file of the meshMass block of a current-version file that has one.
 std::size_t massAt(std::span<const std::byte> bytes) {
     const AssetHeader h = headerOf(bytes);
-    return std::size_t(h.metaOffset + h.metaSize) - kMassBytes;
+    return std::size_t(h.metaOffset + h.metaSize) - kLayoutBytes - kMassBytes;
 }
 
 /// Offset in the file of the meshMass double number `n` (0 volume, 1-3 centre, 4-12 inertia
@@ -58,11 +60,13 @@ TEST(AssetMass, IsStoredAfterTheVersion1_0FieldsAsAFlagAndThirteenDoubles) {
     without.meta.meshMass.reset();
     const auto a = encodeOk(with);
     const auto b = encodeOk(without);
-    EXPECT_EQ(headerOf(a).minor, 1u);
+    EXPECT_EQ(headerOf(a).minor, kAssetMinor);
     EXPECT_EQ(headerOf(a).metaSize, headerOf(b).metaSize + 13 * 8);
-    // Without: the metadata ends with the flag 0.
-    EXPECT_EQ(peek<std::uint8_t>(b, std::size_t(headerOf(b).metaOffset + headerOf(b).metaSize) - 1),
-              0u);
+    // Without: the flag 0, then only the 1.2 fields (layout 0 = dense, band width 0).
+    const std::size_t bEnd = std::size_t(headerOf(b).metaOffset + headerOf(b).metaSize);
+    EXPECT_EQ(peek<std::uint8_t>(b, bEnd - kLayoutBytes - 1), 0u);
+    EXPECT_EQ(peek<std::uint8_t>(b, bEnd - kLayoutBytes), 0u);
+    EXPECT_EQ(peek<double>(b, bEnd - 8), 0.0);
     // With: flag 1, volume, centre, then the inertia tensor row by row.
     const MassProperties& m = *with.meta.meshMass;
     EXPECT_EQ(peek<std::uint8_t>(a, massAt(a)), 1u);
@@ -102,9 +106,10 @@ TEST(AssetMass, RejectsAPresenceFlagOtherThanZeroOrOne) {
         reseal(bytes);
         EXPECT_NE(badMetadataDetail(bytes).find("meshMass"), std::string::npos) << int(flag);
     }
-    // A flag of 0 leaves the 13 doubles over.
+    // A flag of 0 leaves bytes over: the 13 doubles are read as the 1.2 fields and what follows.
     auto bytes = encodeOk(makeAsset());
     poke<std::uint8_t>(bytes, massAt(bytes), 0);
+    poke<double>(bytes, massDoubleAt(bytes, 0), 0.0); // its first byte read as layout: dense
     reseal(bytes);
     EXPECT_NE(badMetadataDetail(bytes).find("unexpected bytes"), std::string::npos);
 }

@@ -96,25 +96,69 @@ TEST(AssetReader, LoadsTheCommittedVersion1_0FileWithNoMeshMass) {
     EXPECT_EQ(again->distances, expected.distances);
 }
 
-TEST(AssetReader, RejectsAFileLabelledWithAnotherMinorThanItsFieldsAsBadMetadata) {
-    // The header is not under the checksum; the metadata decoder notices: read as 1.0, a 1.1
-    // block has bytes left over, and a 1.0 block read as 1.1 ends before its meshMass flag.
-    auto current = smallFile();
-    poke<std::uint16_t>(current, ho::kMinor, 0);
-    auto r = decodeAsset(current, "relabelled.slc");
-    ASSERT_FALSE(r.ok());
-    EXPECT_EQ(r.error().code, ErrorCode::BadMetadata);
-    EXPECT_NE(r.error().detail.find("unexpected bytes after the last field"), std::string::npos)
-        << r.error().detail;
+TEST(AssetReader, LoadsTheCommittedVersion1_1FileWithMeshMassAsDense) {
+    // data/asset-v1.1.slc was written by the format 1.1 writer from makeAsset({3, 4, 5}) as it
+    // was then (meshMass, no layout or band width: 1.1 files are dense). Never regenerate it.
+    const auto path = std::filesystem::path(SLUICE_SOURCE_DIR) / "tests/format/data/asset-v1.1.slc";
+    auto bytes = readFileBytes(path, kMaxAssetFileBytes);
+    ASSERT_TRUE(bytes.ok()) << bytes.error().message();
+    ASSERT_EQ(headerOf(*bytes).minor, kAssetMinorMeshMass);
+    auto r = readAsset(path);
+    ASSERT_TRUE(r.ok()) << r.error().message();
+    const ColliderAsset expected = makeAsset({3, 4, 5});
+    EXPECT_EQ(r->meta.dims, expected.meta.dims);
+    EXPECT_EQ(r->meta.sourceFile, expected.meta.sourceFile);
+    EXPECT_EQ(r->meta.validation.eikonalOutsideShare, expected.meta.validation.eikonalOutsideShare);
+    EXPECT_EQ(r->distances, expected.distances);
+    EXPECT_EQ(r->meta.layout, Layout::Dense);
+    EXPECT_EQ(r->meta.bandWidth, 0.0);
+    ASSERT_TRUE(r->meta.meshMass.has_value());
+    EXPECT_EQ(r->meta.meshMass->volume, expected.meta.meshMass->volume);
+    EXPECT_EQ(r->meta.meshMass->centerOfMass, expected.meta.meshMass->centerOfMass);
+    EXPECT_EQ(r->meta.meshMass->inertia, expected.meta.meshMass->inertia);
+    // Re-written, it becomes a current file: the same fields, and the 1.2 ones at their defaults.
+    const auto rewritten = encodeOk(*r);
+    EXPECT_EQ(headerOf(rewritten).minor, kAssetMinor);
+    EXPECT_EQ(headerOf(rewritten).metaSize, headerOf(*bytes).metaSize + 1 + 8);
+    auto again = decodeAsset(rewritten, "rewritten.slc");
+    ASSERT_TRUE(again.ok()) << again.error().message();
+    ASSERT_TRUE(again->meta.meshMass.has_value());
+    EXPECT_EQ(again->meta.meshMass->inertia, expected.meta.meshMass->inertia);
+    EXPECT_EQ(again->meta.layout, Layout::Dense);
+    EXPECT_EQ(again->distances, expected.distances);
+}
 
-    const auto path = std::filesystem::path(SLUICE_SOURCE_DIR) / "tests/format/data/asset-v1.0.slc";
-    auto old = readFileBytes(path, kMaxAssetFileBytes);
-    ASSERT_TRUE(old.ok()) << old.error().message();
-    poke<std::uint16_t>(*old, ho::kMinor, kAssetMinorMeshMass);
-    r = decodeAsset(*old, "relabelled.slc");
-    ASSERT_FALSE(r.ok());
-    EXPECT_EQ(r.error().code, ErrorCode::BadMetadata);
-    EXPECT_NE(r.error().detail.find("ends early"), std::string::npos) << r.error().detail;
+TEST(AssetReader, RejectsAFileLabelledWithAnotherMinorThanItsFieldsAsBadMetadata) {
+    // The header is not under the checksum; the metadata decoder notices: read as 1.0 or 1.1, a
+    // 1.2 block has bytes left over, and an older block read as a newer minor ends early (a 1.0
+    // block before its meshMass flag, a 1.1 block before its layout).
+    for (std::uint16_t minor = 0; minor < kAssetMinor; ++minor) {
+        auto current = smallFile();
+        poke<std::uint16_t>(current, ho::kMinor, minor);
+        auto r = decodeAsset(current, "relabelled.slc");
+        ASSERT_FALSE(r.ok()) << "minor " << minor;
+        EXPECT_EQ(r.error().code, ErrorCode::BadMetadata);
+        EXPECT_NE(r.error().detail.find("unexpected bytes after the last field"), std::string::npos)
+            << r.error().detail;
+    }
+
+    struct Relabel {
+        const char* file;
+        std::uint16_t minor;
+    };
+    for (const Relabel& relabel : {Relabel{"asset-v1.0.slc", kAssetMinorMeshMass},
+                                   Relabel{"asset-v1.0.slc", kAssetMinorSparse},
+                                   Relabel{"asset-v1.1.slc", kAssetMinorSparse}}) {
+        const auto path =
+            std::filesystem::path(SLUICE_SOURCE_DIR) / "tests/format/data" / relabel.file;
+        auto old = readFileBytes(path, kMaxAssetFileBytes);
+        ASSERT_TRUE(old.ok()) << old.error().message();
+        poke<std::uint16_t>(*old, ho::kMinor, relabel.minor);
+        auto r = decodeAsset(*old, "relabelled.slc");
+        ASSERT_FALSE(r.ok()) << relabel.file << " as minor " << relabel.minor;
+        EXPECT_EQ(r.error().code, ErrorCode::BadMetadata);
+        EXPECT_NE(r.error().detail.find("ends early"), std::string::npos) << r.error().detail;
+    }
 }
 
 TEST(AssetReader, RejectsAWrongHeaderSize) {

@@ -2,7 +2,8 @@
 //
 // Each input is decoded twice: as it is, and with its checksum repaired, so that mutations get
 // past the checksum to the metadata and payload decoders. An accepted asset must satisfy what
-// AssetIO.h promises, re-encode to bytes that decode to the same asset, and sample finitely;
+// AssetIO.h promises (a sparse one a validated NanoVDB grid), re-encode to bytes that decode to
+// the same asset, and sample finitely;
 // no single allocation may exceed what the input's size justifies.
 #include <cmath>
 #include <cstddef>
@@ -15,6 +16,7 @@
 #include "FuzzSupport.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/Hash.h"
+#include "sluice/format/NanoVdbCheck.h"
 #include "sluice/format/SdfSampler.h"
 
 namespace {
@@ -33,10 +35,16 @@ std::size_t allocationLimit(std::size_t size) {
 void checkAccepted(const ColliderAsset& asset, std::span<const std::byte> bytes) {
     const ColliderMeta& m = asset.meta;
     SLUICE_FUZZ_CHECK(m.dims.x >= 2 && m.dims.y >= 2 && m.dims.z >= 2, "dims >= 2");
-    SLUICE_FUZZ_CHECK(asset.pointCount() <= kMaxAssetPoints, "point limit");
-    SLUICE_FUZZ_CHECK(asset.distances.size() == asset.pointCount(), "one sample per point");
-    SLUICE_FUZZ_CHECK(asset.pointCount() * bytesPerSample(m.storage) <= bytes.size(),
-                      "the file holds every sample");
+    if (asset.sparse()) {
+        SLUICE_FUZZ_CHECK(asset.distances.empty(), "no dense samples in a sparse asset");
+        SLUICE_FUZZ_CHECK(checkNanoVdbGrid(asset.grid, kName).ok(), "the grid was validated");
+        SLUICE_FUZZ_CHECK(asset.grid.size() <= bytes.size(), "the file holds the grid");
+    } else {
+        SLUICE_FUZZ_CHECK(asset.pointCount() <= kMaxAssetPoints, "point limit");
+        SLUICE_FUZZ_CHECK(asset.distances.size() == asset.pointCount(), "one sample per point");
+        SLUICE_FUZZ_CHECK(asset.pointCount() * bytesPerSample(m.storage) <= bytes.size(),
+                          "the file holds every sample");
+    }
     SLUICE_FUZZ_CHECK(std::isfinite(m.voxelSize) && m.voxelSize > 0.0, "voxel size");
     for (int a = 0; a < 3; ++a) {
         SLUICE_FUZZ_CHECK(std::isfinite(m.origin[a]), "origin finite");
@@ -74,8 +82,10 @@ void checkAccepted(const ColliderAsset& asset, std::span<const std::byte> bytes)
                                            again->meta.meshMass->inertia == m.meshMass->inertia)),
                       "round trip keeps the mass properties");
     SLUICE_FUZZ_CHECK(again->distances.size() == asset.distances.size(), "round trip size");
-    SLUICE_FUZZ_CHECK(std::memcmp(again->distances.data(), asset.distances.data(),
-                                  asset.distances.size() * sizeof(float)) == 0,
+    SLUICE_FUZZ_CHECK(again->grid == asset.grid, "round trip keeps the NanoVDB grid");
+    SLUICE_FUZZ_CHECK(asset.distances.empty() ||
+                          std::memcmp(again->distances.data(), asset.distances.data(),
+                                      asset.distances.size() * sizeof(float)) == 0,
                       "round trip keeps every sample bit for bit");
 }
 

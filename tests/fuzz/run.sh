@@ -3,7 +3,7 @@
 #
 #   bash tests/fuzz/run.sh [--build DIR] [--seconds N | --runs M] [--jobs J] [TARGET...]
 #
-# TARGET: asset_reader, scene_reader, mesh_import (default: all three, one after the other).
+# TARGET: asset_reader, scene_reader, mesh_import, nanovdb_grid (default: all, one after another).
 # --seconds N fuzzes each target for N seconds (default 60, what CI runs); --runs M until M
 # executions instead. --jobs J runs J fuzzing processes per target (libFuzzer -fork=J).
 # Each target works in DIR/fuzz-work/<target>/: corpus/ (seeded from tests/fuzz/corpus/<target>,
@@ -24,11 +24,11 @@ while [ $# -gt 0 ]; do
     --seconds) seconds=$2; runs=0; shift 2 ;;
     --runs) runs=$2; seconds=0; shift 2 ;;
     --jobs) jobs=$2; shift 2 ;;
-    asset_reader|scene_reader|mesh_import) targets+=("$1"); shift ;;
-    *) echo "usage: bash tests/fuzz/run.sh [--build DIR] [--seconds N | --runs M] [--jobs J] [asset_reader|scene_reader|mesh_import...]" >&2; exit 2 ;;
+    asset_reader|scene_reader|mesh_import|nanovdb_grid) targets+=("$1"); shift ;;
+    *) echo "usage: bash tests/fuzz/run.sh [--build DIR] [--seconds N | --runs M] [--jobs J] [asset_reader|scene_reader|mesh_import|nanovdb_grid...]" >&2; exit 2 ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(asset_reader scene_reader mesh_import)
+[ ${#targets[@]} -gt 0 ] || targets=(asset_reader scene_reader mesh_import nanovdb_grid)
 
 # The sanitizers' reports are what a finding is; keep them symbolized and fatal.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=1}

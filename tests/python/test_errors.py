@@ -165,6 +165,20 @@ def test_every_flipped_byte_of_an_asset_raises_or_loads(tmp_path: Path) -> None:
     assert {"BadMagic", "UnsupportedVersion", "ChecksumMismatch"} <= codes
 
 
+def test_a_sparse_asset_samples_but_has_no_dense_values() -> None:
+    # The fuzz seed: NanoVDB's sphere of radius 0.1 around the origin, band 2 voxels of 0.05.
+    collider = sluice.read_asset(REPO / "tests/fuzz/corpus/asset_reader/sphere-sparse.slc")
+    assert collider.metadata["layout"] == "sparse"
+    assert collider.metadata["bandWidth"] == 2.0
+    with pytest.raises(sluice.AssetError) as info:
+        collider.values
+    assert info.value.code == "Unsupported"
+    assert "without --sparse" in str(info.value)
+    phi, _ = collider.sample(np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.25, 0.0, 0.0]]))
+    assert phi[0] < 0.0 < phi[2]
+    assert abs(phi[1]) < 0.01
+
+
 def test_missing_assets_and_folders_are_file_errors(tmp_path: Path) -> None:
     for path in (tmp_path / "none.slc", tmp_path):
         with pytest.raises(sluice.FileError) as info:

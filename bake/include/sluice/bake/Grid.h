@@ -17,6 +17,7 @@ struct GridOptions {
     std::uint32_t resolution = 64; ///< [voxels] along the longest box side; used if voxelSize == 0
     double voxelSize = 0.0;        ///< [world units]; overrides resolution when > 0
     double padding = 3.0;          ///< [voxels] added on every side; finite, >= 0
+    std::uint64_t maxPoints = kMaxGridPoints; ///< [grid points] limit; sparse bakes raise it
 };
 
 /// Sample points origin + (i, j, k) * voxelSize for i < dims.x etc.
@@ -28,7 +29,7 @@ struct GridSpec {
 };
 
 /// Grid covering `bounds` plus padding. Errors: InvalidArgument (empty box, non-positive or
-/// non-finite values, resolution 0 or over 4096), SizeOverflow (more than kMaxGridPoints).
+/// non-finite values, resolution 0 or over 4096), SizeOverflow (more than options.maxPoints).
 Result<GridSpec> gridFor(const Box& bounds, const GridOptions& options);
 
 } // namespace sluice::bake

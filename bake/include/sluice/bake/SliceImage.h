@@ -55,7 +55,7 @@ SliceLayout sliceLayout(const format::ColliderMeta& meta, const SliceSpec& slice
 /// A legend strip under the halves names the axes ("ACROSS X, UP Y, AT Z = 0.5") and shows the
 /// colour map as a bar from the most negative to the most positive distance [world units].
 /// Image size and pixel positions as sliceLayout says (the image is height + legendHeight tall).
-/// Precondition (asserted): dims >= 2 on every axis and distances.size() == pointCount().
+/// Precondition (asserted): as SdfSampler's (a dense or a validated sparse asset).
 Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice);
 
 } // namespace sluice::bake

@@ -26,11 +26,15 @@ struct ValidationReport {
     std::uint64_t signComparedPoints = 0; ///< points outside the surface band
     double signMismatchPercent = 0.0;
     format::SignMethod referenceSign = format::SignMethod::Parity;
+    std::uint64_t bandPoints = 0; ///< sparse: active voxels checked (error, sign)
+    std::uint64_t tilePoints = 0; ///< sparse: inactive grid points checked (sign only)
 };
 
 /// Recomputes the reference at every grid point (or a stratified sample with a near-surface
 /// share for grids over maxFullPoints) and compares. Eikonal statistics use central differences
-/// of the asset at interior grid points.
+/// of the asset at interior grid points. A sparse asset is always sampled: samplePoints in all,
+/// nearSurfaceShare of them among its band (active) voxels for error and sign, the rest uniform
+/// over its other grid points (tiles, background) for sign only.
 Result<ValidationReport> validate(const format::ColliderAsset& asset, const ImportedMesh& mesh,
                                   const ValidateOptions& options, Progress* progress = nullptr);
 

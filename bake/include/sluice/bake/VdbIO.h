@@ -11,12 +11,14 @@ namespace sluice::bake {
 
 /// Writes a FloatGrid of class level set named "sdf", with a linear transform mapping index
 /// (i, j, k) to origin + (i, j, k) * voxelSize, every grid point stored as an active voxel,
-/// background set to the largest |phi|. Provenance goes into grid metadata (string values
-/// "sluice_source_file", "sluice_source_hash", "sluice_tool_version", "sluice_bake_backend",
-/// "sluice_sign_method", "sluice_exported_by"; the creator is the asset's tool version).
-/// Written atomically (temp file in the same folder + rename). Errors: InvalidArgument
-/// (distances.size() != pointCount(), empty grid, bad voxel size), NonFinite, SizeOverflow,
-/// Io (folder missing, OpenVDB write failure, rename failure; nothing is left behind).
+/// background set to the largest |phi|. A sparse asset is written as its narrow band instead
+/// (nanoToOpenVDB: band voxels active, signed tiles, background +band). Provenance goes into grid
+/// metadata (string values "sluice_source_file", "sluice_source_hash", "sluice_tool_version",
+/// "sluice_bake_backend", "sluice_sign_method", "sluice_exported_by"; the creator is the asset's
+/// tool version). Written atomically (temp file in the same folder + rename). Errors:
+/// InvalidArgument (distances.size() != pointCount(), empty grid, bad voxel size), NonFinite,
+/// SizeOverflow, Io (folder missing, OpenVDB write failure, rename failure; nothing is left
+/// behind).
 Result<void> exportVdb(const format::ColliderAsset& asset, const std::filesystem::path& path);
 
 /// Reads the first float level-set grid of a .vdb file (else the first float grid, with a

@@ -1,7 +1,9 @@
-// The collider asset in memory: a dense signed distance grid plus its provenance.
+// The collider asset in memory: a dense or sparse (NanoVDB) signed distance grid plus provenance.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +18,34 @@ enum class Storage : std::uint8_t {
     F32 = 0, ///< IEEE binary32
     F16 = 1, ///< IEEE binary16; the quantization error is recorded in the metadata
 };
+
+/// How the samples are laid out (format 1.2 on; a 1.0 or 1.1 file is always Dense).
+enum class Layout : std::uint8_t {
+    Dense = 0,  ///< dims.x * dims.y * dims.z samples, x fastest (`distances`)
+    Sparse = 1, ///< a NanoVDB float level set: a narrow band of voxels, tiles elsewhere (`grid`)
+};
+
+/// "dense" | "sparse", as the command line and JSON spell it.
+inline const char* layoutName(Layout layout) {
+    return layout == Layout::Sparse ? "sparse" : "dense";
+}
+
+/// Allocator aligning to 32 bytes, what NanoVDB requires of a grid buffer
+/// (NANOVDB_DATA_ALIGNMENT), so the bytes can be walked in place once validated.
+template <class T> struct GridAllocator {
+    using value_type = T;
+    static constexpr std::align_val_t kAlignment{32};
+    GridAllocator() = default;
+    template <class U> GridAllocator(const GridAllocator<U>&) {}
+    T* allocate(std::size_t n) {
+        return static_cast<T*>(::operator new(n * sizeof(T), kAlignment));
+    }
+    void deallocate(T* p, std::size_t) { ::operator delete(p, kAlignment); }
+    template <class U> bool operator==(const GridAllocator<U>&) const { return true; }
+};
+
+/// The bytes of one NanoVDB grid, 32-byte aligned.
+using GridBytes = std::vector<std::byte, GridAllocator<std::byte>>;
 
 /// How the inside/outside sign was decided.
 enum class SignMethod : std::uint8_t {
@@ -99,13 +129,23 @@ struct ColliderMeta {
     /// Exact mass properties of the closed source mesh (polyhedral integrals, Mirtich 1996).
     /// Absent for open meshes, level-set inputs and assets older than format 1.1.
     std::optional<MassProperties> meshMass;
+    Layout layout = Layout::Dense; ///< format 1.2 on; older files are Dense
+    double bandWidth = 0.0; ///< [voxels] Sparse: half-width of the band of exact values, else 0
 };
 
 /// A collider: phi sampled at origin + (i, j, k) * voxelSize, negative inside, in world units.
-/// distances[i + dims.x * (j + dims.y * k)] (x fastest).
+/// Dense: distances[i + dims.x * (j + dims.y * k)] (x fastest), `grid` empty.
+/// Sparse: `grid` is one NanoVDB float level set whose index (i, j, k) is that same point; voxels
+/// within meta.bandWidth voxels of the surface hold the exact distance, everything else tiles or
+/// background of magnitude bandWidth * voxelSize with the right sign. `distances` is empty, and
+/// dims only bound the baked region (pointCount() may exceed kMaxAssetPoints).
 struct ColliderAsset {
     ColliderMeta meta;
     std::vector<float> distances;
+    GridBytes grid;
+
+    /// True for a Sparse (NanoVDB) asset.
+    bool sparse() const { return meta.layout == Layout::Sparse; }
 
     /// Number of grid points (dims.x * dims.y * dims.z), computed in 64 bits.
     std::uint64_t pointCount() const {

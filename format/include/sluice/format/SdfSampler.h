@@ -25,10 +25,15 @@ namespace sluice::format {
 ///                 where p is within the box's slab, plus the unit vector (p - c) / |p - c|.
 ///                 It points away from the box: dot(gradient(p), p - c) = |p - c| > 0.
 /// A non-finite query returns NaN (value) and a NaN vector (gradient).
+///
+/// A sparse asset is sampled the same way, the samples read from its NanoVDB tree at index
+/// (i, j, k): exact distances in the band, and outside it the tile or background value
+/// (+-bandWidth voxels, the sign of the region), so deep inside reads negative.
 class SdfSampler {
 public:
     /// Precondition (asserted): dims >= 2 on every axis, voxelSize > 0, and
-    /// distances.size() == pointCount(), as readAsset guarantees.
+    /// distances.size() == pointCount() (dense) or a grid that passed checkNanoVdbGrid (sparse),
+    /// as readAsset and the bakers guarantee.
     explicit SdfSampler(const ColliderAsset& asset);
     SdfSampler(ColliderAsset&&) = delete;
 
@@ -54,6 +59,7 @@ private:
     double at(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
 
     const ColliderAsset* m_asset;
+    const void* m_tree = nullptr; ///< sparse: the grid's nanovdb::NanoTree<float>
     glm::dvec3 m_boxMin;
     glm::dvec3 m_boxMax;
 };

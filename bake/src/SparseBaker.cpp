@@ -1,0 +1,323 @@
+// Sparse bakes: band bricks found by culling, exact distances only there, NanoVDB out.
+//
+// The steps, as bakeSparseCgal runs them:
+//   1. sparseGridFor: the domain, as a dense bake's grid with padding >= band + 1 voxels.
+//   2. planSparse: blocks of power-of-two edge, from one covering the domain down to 8^3 bricks.
+//      A block whose centre is farther from the surface than its half-diagonal plus the band
+//      holds no band voxel (triangle inequality) and keeps one sign: it is uniform. The rest
+//      split; what is left at edge 8 are the band bricks.
+//   3. Exact signed distances at every brick voxel, in batches (the reference's sign method),
+//      and one signed sample at each uniform block's centre.
+//   4. SparseGridBuilder: OpenVDB leaves from the bricks, inside blocks filled as inactive
+//      tiles of -band (OpenVDB picks the largest tiles that fit), then openToNanoVDB.
+#include "sluice/bake/SparseBaker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <mutex>
+#include <new>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "VdbHeaders.h"
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wpedantic"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <nanovdb/util/OpenToNanoVDB.h>
+#pragma GCC diagnostic pop
+
+#include "sluice/format/NanoVdbCheck.h"
+
+namespace sluice::bake {
+
+namespace {
+
+using FloatLeaf = openvdb::FloatTree::LeafNodeType;
+static_assert(FloatLeaf::DIM == kBrickSize, "a brick is one OpenVDB / NanoVDB leaf");
+constexpr std::uint32_t kBrickVoxels = kBrickSize * kBrickSize * kBrickSize;
+/// Bricks per batch of exact distances: 2^20 voxels, 24 MB of positions.
+constexpr std::size_t kBricksPerBatch = 2048;
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void initOpenVdb() {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+}
+
+/// A NanoVDB buffer type (what GridHandle and openToNanoVDB need of one) over GridBytes, so the
+/// converted grid is moved into the asset instead of copied: one grid in memory, not two.
+struct GridBytesBuffer {
+    std::shared_ptr<format::GridBytes> bytes = std::make_shared<format::GridBytes>();
+    static GridBytesBuffer create(std::uint64_t size, const GridBytesBuffer* = nullptr) {
+        GridBytesBuffer buffer;
+        buffer.bytes->resize(size);
+        return buffer;
+    }
+    std::uint8_t* data() { return reinterpret_cast<std::uint8_t*>(bytes->data()); }
+    const std::uint8_t* data() const {
+        return reinterpret_cast<const std::uint8_t*>(bytes->data());
+    }
+    std::uint64_t size() const { return bytes->size(); }
+    bool empty() const { return bytes->empty(); }
+    void clear() { bytes = std::make_shared<format::GridBytes>(); }
+};
+
+bool insideDomain(const glm::ivec3& p, const glm::uvec3& dims) {
+    return p.x < std::int32_t(dims.x) && p.y < std::int32_t(dims.y) && p.z < std::int32_t(dims.z);
+}
+
+} // namespace
+
+Result<GridSpec> sparseGridFor(const Box& bounds, GridOptions options, double band) {
+    if (!std::isfinite(band) || band < 1.0 || band > 64.0)
+        return fail(ErrorCode::InvalidArgument,
+                    "band must be between 1 and 64 voxels, got " + std::to_string(band));
+    options.padding = std::max(options.padding, std::ceil(band) + 1.0);
+    options.maxPoints = kMaxSparseGridPoints;
+    return gridFor(bounds, options);
+}
+
+SparsePlan planSparse(const GridSpec& grid, double band,
+                      const std::function<double(const glm::dvec3&)>& unsignedDistance) {
+    SparsePlan plan;
+    const std::uint32_t longest = std::max(grid.dims.x, std::max(grid.dims.y, grid.dims.z));
+    std::int32_t edge = std::int32_t(kBrickSize);
+    while (std::uint32_t(edge) < longest)
+        edge *= 2;
+    const double h = grid.voxelSize;
+    std::vector<glm::ivec3> level{glm::ivec3(0)};
+    std::vector<glm::ivec3> next;
+    std::vector<double> distance;
+    while (!level.empty()) {
+        const double halfEdge = 0.5 * double(edge - 1); // [voxels] centre to the last voxel
+        distance.resize(level.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level.size(), 64),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t n = r.begin(); n != r.end(); ++n)
+                                  distance[n] = unsignedDistance(
+                                      grid.origin + (glm::dvec3(level[n]) + halfEdge) * h);
+                          });
+        plan.distanceQueries += level.size();
+        // Every voxel of the block lies within sqrt(3) * halfEdge voxels of its centre.
+        const double reach = (std::sqrt(3.0) * halfEdge + band) * h * (1.0 + 1e-9);
+        next.clear();
+        for (std::size_t n = 0; n < level.size(); ++n) {
+            if (distance[n] > reach) {
+                plan.blocks.push_back(level[n]);
+                plan.blockEdge.push_back(edge);
+            } else if (edge == std::int32_t(kBrickSize)) {
+                plan.bricks.push_back(level[n]);
+            } else {
+                const std::int32_t half = edge / 2;
+                for (int c = 0; c < 8; ++c) {
+                    const glm::ivec3 child =
+                        level[n] + glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1) * half;
+                    if (insideDomain(child, grid.dims))
+                        next.push_back(child);
+                }
+            }
+        }
+        level.swap(next);
+        edge /= 2;
+    }
+    return plan;
+}
+
+struct SparseGridBuilder::Impl {
+    GridSpec grid;
+    float background = 0.0f;
+    openvdb::FloatGrid::Ptr vdb;
+};
+
+SparseGridBuilder::SparseGridBuilder(const GridSpec& grid, double band)
+    : m_impl(std::make_unique<Impl>()) {
+    initOpenVdb();
+    m_impl->grid = grid;
+    m_impl->background = float(band * grid.voxelSize);
+    m_impl->vdb = openvdb::FloatGrid::create(m_impl->background);
+}
+
+SparseGridBuilder::~SparseGridBuilder() = default;
+
+void SparseGridBuilder::addBricks(std::span<const glm::ivec3> corners,
+                                  std::span<const float> values) {
+    SLUICE_ASSERT(values.size() == corners.size() * kBrickVoxels, "addBricks: value count");
+    const float bg = m_impl->background;
+    const glm::uvec3 dims = m_impl->grid.dims;
+    std::vector<std::unique_ptr<FloatLeaf>> leaves(corners.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corners.size(), 16), [&](const auto& r) {
+        for (std::size_t b = r.begin(); b != r.end(); ++b) {
+            const glm::ivec3 lo = corners[b];
+            auto leaf = std::make_unique<FloatLeaf>(openvdb::Coord(lo.x, lo.y, lo.z), bg, false);
+            for (std::uint32_t v = 0; v < kBrickVoxels; ++v) {
+                const glm::ivec3 p = lo + glm::ivec3(v % kBrickSize, (v / kBrickSize) % kBrickSize,
+                                                     v / (kBrickSize * kBrickSize));
+                if (!insideDomain(p, dims))
+                    continue;
+                const float d = values[b * kBrickVoxels + v];
+                const openvdb::Index offset =
+                    FloatLeaf::coordToOffset(openvdb::Coord(p.x, p.y, p.z));
+                if (std::abs(d) < bg)
+                    leaf->setValueOn(offset, d);
+                else
+                    leaf->setValueOff(offset, d < 0.0f ? -bg : bg);
+            }
+            leaves[b] = std::move(leaf);
+        }
+    });
+    for (auto& leaf : leaves)
+        m_impl->vdb->tree().addLeaf(leaf.release());
+}
+
+void SparseGridBuilder::fillInside(const glm::ivec3& lo, std::int32_t edge) {
+    const glm::ivec3 hi = lo + edge - 1;
+    m_impl->vdb->tree().fill(
+        openvdb::CoordBBox(openvdb::Coord(lo.x, lo.y, lo.z), openvdb::Coord(hi.x, hi.y, hi.z)),
+        -m_impl->background, false);
+}
+
+Result<format::GridBytes> SparseGridBuilder::finish() {
+    openvdb::FloatGrid::Ptr vdb = std::move(m_impl->vdb);
+    const GridSpec& grid = m_impl->grid;
+    auto transform = openvdb::math::Transform::createLinearTransform(grid.voxelSize);
+    transform->postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z));
+    vdb->setTransform(transform);
+    vdb->setGridClass(openvdb::GRID_LEVEL_SET);
+    vdb->setName("sdf");
+    try {
+        auto handle = nanovdb::openToNanoVDB<GridBytesBuffer>(*vdb);
+        vdb.reset();
+        if (handle.size() > format::kMaxNanoVdbBytes)
+            return fail(ErrorCode::SizeOverflow,
+                        "the sparse grid needs " + std::to_string(handle.size()) +
+                            " bytes, over the limit of " +
+                            std::to_string(format::kMaxNanoVdbBytes) +
+                            "; use a coarser resolution or a narrower band");
+        const std::shared_ptr<format::GridBytes> bytes = handle.buffer().bytes;
+        return std::move(*bytes);
+    } catch (const std::bad_alloc&) {
+        return fail(ErrorCode::SizeOverflow, "out of memory while building the sparse grid");
+    } catch (const std::exception& e) {
+        return fail(ErrorCode::Unsupported,
+                    std::string("OpenVDB/NanoVDB failed to build the sparse grid: ") + e.what());
+    }
+}
+
+namespace {
+
+Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
+                                                const BakeSettings& settings,
+                                                const SparseSettings& sparse, bool showProgress,
+                                                SparseBakeStats& stats) {
+    Result<GridSpec> grid = sparseGridFor(mesh.soup.bounds(), settings.grid, sparse.band);
+    if (!grid)
+        return grid.error();
+    Result<CgalReference> reference =
+        CgalReference::build(mesh.soup, mesh.diagnostics, settings.sign);
+    if (!reference)
+        return reference.error();
+
+    auto start = std::chrono::steady_clock::now();
+    const SparsePlan plan = planSparse(
+        *grid, sparse.band, [&](const glm::dvec3& p) { return reference->unsignedDistance(p); });
+    stats.planSeconds = secondsSince(start);
+    stats.bricks = plan.bricks.size();
+    stats.uniformBlocks = plan.blocks.size();
+    stats.distanceQueries = plan.distanceQueries;
+    Progress bar("baking " + mesh.sourceFile + " (sparse band)",
+                 std::uint64_t(plan.bricks.size()) * kBrickVoxels, showProgress);
+    Progress* progress = &bar;
+
+    start = std::chrono::steady_clock::now();
+    double buildSeconds = 0.0;
+    SparseGridBuilder builder(*grid, sparse.band);
+    std::vector<glm::dvec3> points;
+    std::vector<std::uint32_t> slots; // brick voxel each point fills
+    std::vector<float> values;
+    for (std::size_t b0 = 0; b0 < plan.bricks.size(); b0 += kBricksPerBatch) {
+        const std::size_t b1 = std::min(plan.bricks.size(), b0 + kBricksPerBatch);
+        points.clear();
+        slots.clear();
+        for (std::size_t b = b0; b < b1; ++b)
+            for (std::uint32_t v = 0; v < kBrickVoxels; ++v) {
+                const glm::ivec3 p =
+                    plan.bricks[b] + glm::ivec3(v % kBrickSize, (v / kBrickSize) % kBrickSize,
+                                                v / (kBrickSize * kBrickSize));
+                if (!insideDomain(p, grid->dims))
+                    continue;
+                points.push_back(grid->origin + glm::dvec3(p) * grid->voxelSize);
+                slots.push_back(std::uint32_t((b - b0) * kBrickVoxels + v));
+            }
+        const std::vector<double> phi = reference->signedDistances(points, progress);
+        values.assign((b1 - b0) * kBrickVoxels, 0.0f);
+        for (std::size_t n = 0; n < phi.size(); ++n)
+            values[slots[n]] = float(phi[n]);
+        stats.voxelsComputed += points.size();
+        const auto buildStart = std::chrono::steady_clock::now();
+        builder.addBricks(std::span(plan.bricks).subspan(b0, b1 - b0), values);
+        buildSeconds += secondsSince(buildStart);
+    }
+
+    // One sample per uniform block: no surface within it, so its centre's sign is its sign.
+    points.clear();
+    for (std::size_t n = 0; n < plan.blocks.size(); ++n)
+        points.push_back(grid->origin +
+                         (glm::dvec3(plan.blocks[n]) + 0.5 * double(plan.blockEdge[n] - 1)) *
+                             grid->voxelSize);
+    const std::vector<double> blockPhi = reference->signedDistances(points);
+    stats.distanceSeconds = secondsSince(start) - buildSeconds;
+    bar.finish();
+
+    const auto buildStart = std::chrono::steady_clock::now();
+    for (std::size_t n = 0; n < plan.blocks.size(); ++n)
+        if (blockPhi[n] < 0.0)
+            builder.fillInside(plan.blocks[n], plan.blockEdge[n]);
+    Result<format::GridBytes> bytes = builder.finish();
+    if (!bytes)
+        return bytes.error();
+    stats.buildSeconds = buildSeconds + secondsSince(buildStart);
+
+    format::ColliderAsset asset;
+    asset.meta = bakeProvenance(mesh, *grid, settings, "cgal", reference->signMethod());
+    asset.meta.storage = format::Storage::F32;
+    asset.meta.layout = format::Layout::Sparse;
+    asset.meta.bandWidth = sparse.band;
+    asset.meta.bake.padding = std::max(settings.grid.padding, std::ceil(sparse.band) + 1.0);
+    asset.grid = std::move(*bytes);
+    auto tree = format::checkNanoVdbGrid(asset.grid, mesh.sourceFile);
+    SLUICE_ASSERT(tree.ok(), "the sparse baker wrote a grid its own check rejects");
+    stats.activeVoxels = tree->activeVoxels;
+    stats.gridBytes = tree->bytes;
+    return asset;
+}
+
+} // namespace
+
+Result<format::ColliderAsset> bakeSparseCgal(const ImportedMesh& mesh, const BakeSettings& settings,
+                                             const SparseSettings& sparse, bool showProgress,
+                                             SparseBakeStats* stats) {
+    SparseBakeStats local;
+    try {
+        return bakeSparseChecked(mesh, settings, sparse, showProgress, stats ? *stats : local);
+    } catch (const std::bad_alloc&) {
+        return fail(ErrorCode::SizeOverflow,
+                    mesh.sourceFile + ": out of memory while baking; use a coarser grid");
+    } catch (const std::exception& e) {
+        return fail(ErrorCode::Unsupported, mesh.sourceFile +
+                                                ": the CGAL reference failed on this mesh (" +
+                                                e.what() + ")");
+    }
+}
+
+} // namespace sluice::bake

@@ -1,0 +1,22 @@
+// Private: OpenVDB level sets to meshes and back, shared by the .vdb and .nvdb paths.
+#pragma once
+
+#include <filesystem>
+
+#include "VdbHeaders.h"
+#include "sluice/bake/MeshImport.h"
+#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/Result.h"
+
+namespace sluice::bake::detail {
+
+/// The zero isosurface of `grid` as a welded, outward-oriented soup scaled by `scale`, with
+/// diagnostics and the hash of `path` (the file it came from). Errors as importVdbLevelSet.
+Result<ImportedMesh> meshLevelSet(const openvdb::FloatGrid& grid, const std::filesystem::path& path,
+                                  double scale);
+
+/// A sparse asset's NanoVDB grid as an OpenVDB level set (nanoToOpenVDB), named "sdf".
+/// Precondition: asset.sparse() and its grid passed checkNanoVdbGrid.
+openvdb::FloatGrid::Ptr sparseToOpenVdb(const format::ColliderAsset& asset);
+
+} // namespace sluice::bake::detail
