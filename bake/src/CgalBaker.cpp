@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "CgalErrors.h"
 #include "MeshMass.h"
 #include "sluice/bake/CgalReference.h"
 
@@ -76,17 +77,7 @@ format::ColliderMeta bakeProvenance(const ImportedMesh& mesh, const GridSpec& gr
 
 Result<format::ColliderAsset> bakeCgal(const ImportedMesh& mesh, const BakeSettings& settings,
                                        Progress* progress) {
-    // CGAL reports broken preconditions (asserting builds) and allocation failures by throwing.
-    try {
-        return bakeChecked(mesh, settings, progress);
-    } catch (const std::bad_alloc&) {
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": out of memory while baking; use a coarser grid");
-    } catch (const std::exception& e) {
-        return fail(ErrorCode::Unsupported, mesh.sourceFile +
-                                                ": the CGAL reference failed on this mesh (" +
-                                                e.what() + ")");
-    }
+    return withCgalErrors(mesh, [&] { return bakeChecked(mesh, settings, progress); });
 }
 
 } // namespace sluice::bake

@@ -6,16 +6,8 @@
 #include <sstream>
 #include <string>
 
+#include "NanoVdbHeaders.h"
 #include "VdbMesh.h"
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <nanovdb/util/IO.h>
-#include <nanovdb/util/NanoToOpenVDB.h>
-#pragma GCC diagnostic pop
 
 #include "sluice/format/AtomicFile.h"
 

@@ -24,15 +24,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "VdbHeaders.h"
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <nanovdb/util/OpenToNanoVDB.h>
-#pragma GCC diagnostic pop
+#include "CgalErrors.h"
+#include "NanoVdbHeaders.h"
 
 #include "sluice/format/NanoVdbCheck.h"
 
@@ -308,16 +301,9 @@ Result<format::ColliderAsset> bakeSparseCgal(const ImportedMesh& mesh, const Bak
                                              const SparseSettings& sparse, bool showProgress,
                                              SparseBakeStats* stats) {
     SparseBakeStats local;
-    try {
+    return withCgalErrors(mesh, [&] {
         return bakeSparseChecked(mesh, settings, sparse, showProgress, stats ? *stats : local);
-    } catch (const std::bad_alloc&) {
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": out of memory while baking; use a coarser grid");
-    } catch (const std::exception& e) {
-        return fail(ErrorCode::Unsupported, mesh.sourceFile +
-                                                ": the CGAL reference failed on this mesh (" +
-                                                e.what() + ")");
-    }
+    });
 }
 
 } // namespace sluice::bake

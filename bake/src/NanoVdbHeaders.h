@@ -1,0 +1,16 @@
+// NanoVDB's tool headers (file IO and the OpenVDB conversions) in one place, after OpenVDB's,
+// with their warnings silenced so -Werror never trips on them.
+#pragma once
+
+#include "VdbHeaders.h"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wpedantic"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <nanovdb/util/IO.h>
+#include <nanovdb/util/NanoToOpenVDB.h>
+#include <nanovdb/util/OpenToNanoVDB.h>
+#pragma GCC diagnostic pop
