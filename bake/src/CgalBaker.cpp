@@ -1,6 +1,5 @@
 // Baking a collider asset on the CPU with the CGAL reference, with full provenance.
 #include <algorithm>
-#include <exception>
 #include <string>
 #include <vector>
 

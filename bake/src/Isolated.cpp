@@ -17,21 +17,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "sluice/format/Sanitizers.h"
+
 namespace sluice::bake {
 
 namespace {
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kUnderAsan = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kUnderAsan = true;
-#else
-constexpr bool kUnderAsan = false;
-#endif
-#else
-constexpr bool kUnderAsan = false;
-#endif
 
 // Wire format (host byte order: both ends are this process image):
 //   u8 ok=1, u64 positions, u64 triangles, f64[3*positions], u32[3*triangles]
@@ -134,7 +124,7 @@ bool writeAll(int fd, const char* data, std::size_t size) {
                             const std::function<Result<TriangleSoup>()>& work) {
     const rlimit noCore{0, 0}; // a crash here is an answer, not something to debug
     ::setrlimit(RLIMIT_CORE, &noCore);
-    if (limits.maxAddressSpaceBytes > 0 && !kUnderAsan) {
+    if (limits.maxAddressSpaceBytes > 0 && !kAddressSanitizer) {
         const rlimit cap{limits.maxAddressSpaceBytes, limits.maxAddressSpaceBytes};
         ::setrlimit(RLIMIT_AS, &cap);
     }
@@ -144,7 +134,8 @@ bool writeAll(int fd, const char* data, std::size_t size) {
     } catch (const std::bad_alloc&) {
         message = serialize(Error{ErrorCode::SizeOverflow, "out of memory while importing"});
     } catch (const std::exception& e) {
-        message = serialize(Error{ErrorCode::MeshImport, std::string("import failed: ") + e.what()});
+        message =
+            serialize(Error{ErrorCode::MeshImport, std::string("import failed: ") + e.what()});
     } catch (...) {
         message = serialize(Error{ErrorCode::MeshImport, "import failed (unknown exception)"});
     }
@@ -220,7 +211,8 @@ Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits&
             break;
         }
         pollfd pfd{fds[0], POLLIN, 0};
-        const int ready = ::poll(&pfd, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
+        const int ready =
+            ::poll(&pfd, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
         if (ready < 0 && errno == EINTR)
             continue;
         if (ready <= 0)

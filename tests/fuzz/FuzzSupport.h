@@ -6,15 +6,9 @@
 #include <cstdio>
 #include <cstdlib>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define SLUICE_FUZZ_HAVE_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SLUICE_FUZZ_HAVE_ASAN 1
-#endif
-#endif
+#include "sluice/format/Sanitizers.h"
 
-#if defined(SLUICE_FUZZ_HAVE_ASAN)
+#if defined(SLUICE_ADDRESS_SANITIZER)
 // From <sanitizer/allocator_interface.h>, which clang ships and GCC does not (its libasan has
 // the function all the same).
 extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*mallocHook)(const volatile void*,
@@ -41,7 +35,7 @@ namespace sluice::fuzz {
 namespace detail {
 inline std::atomic<std::size_t> g_largest{0};
 inline std::atomic<bool> g_armed{false};
-#if defined(SLUICE_FUZZ_HAVE_ASAN)
+#if defined(SLUICE_ADDRESS_SANITIZER)
 inline void onMalloc(const volatile void*, std::size_t size) {
     if (!g_armed.load(std::memory_order_relaxed))
         return;
@@ -58,7 +52,7 @@ inline void onFree(const volatile void*) {}
 class AllocationWatch {
 public:
     AllocationWatch() {
-#if defined(SLUICE_FUZZ_HAVE_ASAN)
+#if defined(SLUICE_ADDRESS_SANITIZER)
         static const bool installed =
             __sanitizer_install_malloc_and_free_hooks(&detail::onMalloc, &detail::onFree) != 0;
         (void)installed;

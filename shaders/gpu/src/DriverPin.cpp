@@ -6,18 +6,13 @@
 #include <dlfcn.h>
 #include <link.h>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define SLUICE_ADDRESS_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SLUICE_ADDRESS_SANITIZER 1
-#endif
-#endif
+#include "sluice/format/Sanitizers.h"
 
 namespace sluice::gpu {
 
 void keepDriverLoadedForLeakChecks() {
-#ifdef SLUICE_ADDRESS_SANITIZER
+    if (!kAddressSanitizer)
+        return;
     dl_iterate_phdr(
         [](dl_phdr_info* info, std::size_t, void*) {
             const std::string_view name = info->dlpi_name != nullptr ? info->dlpi_name : "";
@@ -27,7 +22,6 @@ void keepDriverLoadedForLeakChecks() {
             return 0;
         },
         nullptr);
-#endif
 }
 
 } // namespace sluice::gpu

@@ -115,8 +115,8 @@ private:
 /// display (eglTerminate, glfwTerminate); LeakSanitizer then no longer sees the driver's static
 /// references to the caches it filled and reports them as leaks at exit. Context calls it
 /// before every eglTerminate, whether or not a context was made; a program that makes its own
-/// context (the GLFW viewer) calls it once that context is current. Every other allocation is
-/// still leak-checked.
+/// context (the GLFW viewer) calls it before glfwTerminate. Every other allocation is still
+/// leak-checked.
 void keepDriverLoadedForLeakChecks();
 
 } // namespace sluice::gpu
