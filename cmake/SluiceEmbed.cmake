@@ -3,8 +3,9 @@
 #   sluice_embed_shaders(<target> NAMESPACE <c++ namespace> HEADER <include path>
 #                        SOURCES <files relative to shaders/>)
 #
-# Each source has its `#include "shared/..."` lines resolved against shaders/ (GLSL has no
-# include by default), and the result becomes a string in a generated .cpp. The generated header
+# Each source has its `#include "..."` lines resolved against shaders/ (GLSL has no include by
+# default), then against NANOVDB_INCLUDE_DIR (for "nanovdb/PNanoVDB.h", NanoVDB's GLSL/C
+# reader), and the result becomes a string in a generated .cpp. The generated header
 # declares   std::string_view shaderSource(std::string_view fileName);   in NAMESPACE, returning
 # an empty view for an unknown name.
 
@@ -21,10 +22,12 @@ function(sluice_embed_shaders target)
         list(APPEND abs_sources ${SLUICE_SHADER_DIR}/${src})
     endforeach()
     file(GLOB shared_headers CONFIGURE_DEPENDS ${SLUICE_SHADER_DIR}/shared/*.h)
+    list(APPEND shared_headers ${NANOVDB_INCLUDE_DIR}/nanovdb/PNanoVDB.h)
     list(JOIN ARG_SOURCES "|" src_list)
     add_custom_command(
         OUTPUT ${out_cpp} ${out_h}
         COMMAND ${CMAKE_COMMAND} -DSHADER_DIR=${SLUICE_SHADER_DIR} "-DSOURCES=${src_list}"
+                -DEXTRA_INCLUDE_DIR=${NANOVDB_INCLUDE_DIR}
                 -DNAMESPACE=${ARG_NAMESPACE} -DHEADER=${ARG_HEADER} -DOUT_CPP=${out_cpp}
                 -DOUT_H=${out_h} -P ${SLUICE_EMBED_SCRIPT}
         DEPENDS ${abs_sources} ${shared_headers} ${SLUICE_EMBED_SCRIPT}

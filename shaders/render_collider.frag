@@ -1,6 +1,7 @@
 // Collider ray marching, fragment half: sphere tracing of the collider's signed distance grid
-// (a 3D texture, trilinear) along this pixel's view ray, in the collider's local frame, with
-// the hit's window depth. Only the box face where the ray leaves the box is kept, so each pixel
+// (a 3D texture, trilinear; with SLUICE_SPARSE_COLLIDERS a NanoVDB grid read through a read
+// accessor, trilinear, the march skipping the tiles outside the band a node at a time) along
+// this pixel's view ray, in the collider's local frame, with the hit's window depth. Only the box face where the ray leaves the box is kept, so each pixel
 // is marched once whichever faces the rasterizer produced and wherever the eye is.
 //
 // Containers: a surface with more of the same collider behind it on the ray (the near wall of
@@ -11,7 +12,15 @@
 
 #include "shared/RenderGlsl.h"
 
+#ifdef SLUICE_SPARSE_COLLIDERS
+layout(std430, binding = kRenderBindSparse) readonly buffer SparseBuf { uint sparseWords[]; };
+#define pnanovdb_buf_data sparseWords
+#include "shared/NanoVdbGlsl.h"
+uniform uint uGridOffset;   // the collider's grid in SparseBuf [bytes]
+pnanovdb_readaccessor_t gAccessor; // set in main(), then reused by every lookup of the pixel
+#else
 layout(binding = kRenderUnitSdf) uniform sampler3D uSdf;
+#endif
 uniform mat4 uLocalToWorld; // local [asset units] -> world [m], rotation and uniform scale
 uniform mat4 uWorldToLocal;
 uniform vec3 uBoxMin;       // grid box, local
@@ -25,13 +34,53 @@ uniform int uGlassWalls;
 in vec3 vWorld;
 layout(location = 0) out vec4 outColour;
 
-const int kMaxSteps = 192;
 const int kMaxLayers = 4;
+
+#ifdef SLUICE_SPARSE_COLLIDERS
+const int kMaxSteps = 512;
+
+// Trilinear in the grid box, as the solver samples (shared/PbfGlsl.h, sampleCollider).
+float sdf(vec3 p) {
+    vec3 g = clamp((p - uGridOrigin) / uVoxel, vec3(0.0), uDims - 1.0);
+    vec3 cellLo = min(floor(g), uDims - 2.0);
+    vec3 t = g - cellLo;
+    ivec3 b = ivec3(cellLo);
+    float v[8];
+    for (int k = 0; k < 8; ++k)
+        v[k] = sparseValue(gAccessor, b + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+    vec4 x = mix(vec4(v[0], v[2], v[4], v[6]), vec4(v[1], v[3], v[5], v[7]), t.x);
+    vec2 y = mix(x.xz, x.yw, t.y);
+    return mix(y.x, y.y, t.z);
+}
+
+// How far the ray may jump from p without missing a surface [local units]: when p's grid cell
+// lies in an outside tile (a node or the background, all of it +band), to where the ray
+// leaves the tile's cube of grid points; 0 in the band's leaves.
+float emptySkip(vec3 p, vec3 rd) {
+    vec3 g = (p - uGridOrigin) / uVoxel;
+    ivec3 ijk = ivec3(floor(g));
+    if (any(lessThan(ijk, ivec3(0))))
+        return 0.0;
+    pnanovdb_buf_t buf;
+    int dim = int(pnanovdb_readaccessor_get_dim(PNANOVDB_GRID_TYPE_FLOAT, buf, gAccessor, ijk));
+    if (dim <= 1 || !(sparseValue(gAccessor, ijk) > 0.0))
+        return 0.0;
+    vec3 lo = vec3(ijk & ~(dim - 1));
+    vec3 hi = lo + float(dim - 1);
+    vec3 far = mix(lo, hi, greaterThan(rd, vec3(0.0))); // per axis, the cube's far plane
+    vec3 exitT = mix((far - g) / rd, vec3(1e30), equal(rd, vec3(0.0)));
+    return max(min(min(exitT.x, exitT.y), exitT.z), 0.0) * uVoxel;
+}
+#else
+const int kMaxSteps = 192;
 
 float sdf(vec3 p) {
     vec3 uvw = ((p - uGridOrigin) / uVoxel + 0.5) / uDims;
     return texture(uSdf, uvw).r;
 }
+
+float emptySkip(vec3 p, vec3 rd) { return 0.0; }
+#endif
 
 vec3 sdfNormal(vec3 p) {
     float e = 0.5 * uVoxel;
@@ -49,7 +98,7 @@ float nextEntry(vec3 ro, vec3 rd, float t, float tEnd) {
         float d = sdf(ro + t * rd);
         if (d < 0.05 * uVoxel)
             return t + min(d, 0.0);
-        t += max(d, 0.25 * uVoxel);
+        t += max(max(d, 0.25 * uVoxel), emptySkip(ro + t * rd, rd));
     }
     return -1.0;
 }
@@ -75,6 +124,9 @@ bool hasMoreBehind(vec3 ro, vec3 rd, float t, float tEnd, out float next) {
 }
 
 void main() {
+#ifdef SLUICE_SPARSE_COLLIDERS
+    gAccessor = sparseAccessor(uGridOffset);
+#endif
     vec3 eyeLocal = (uWorldToLocal * vec4(F.eye, 1.0)).xyz;
     vec3 fragLocal = (uWorldToLocal * vec4(vWorld, 1.0)).xyz;
     vec3 rd = normalize(fragLocal - eyeLocal);

@@ -26,6 +26,11 @@ double insideShare(double phi, double eps) {
 
 Result<MassProperties> massPropertiesFromField(const ColliderAsset& asset) {
     const ColliderMeta& m = asset.meta;
+    if (asset.sparse()) // its inside is tiles, not samples: the sums below would miss them
+        return fail(ErrorCode::Unsupported,
+                    m.sourceFile + " is a sparse collider without the mass properties of a "
+                                   "closed mesh; re-bake it from its closed mesh, or bake it "
+                                   "dense, to use it as a dynamic body");
     const double h = m.voxelSize;
     const double eps = 1.5 * h;
     const double cell = h * h * h;

@@ -9,6 +9,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/matrix.hpp>
 
+#include "sluice/format/GridSamples.h"
 #include "sluice/format/MassProperties.h"
 #include "sluice/format/SdfSampler.h"
 
@@ -105,24 +106,21 @@ std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double 
     const format::ColliderMeta& m = asset.meta;
     const double band = 0.75 * m.voxelSize;
     std::vector<glm::vec3> onSurface;
-    for (std::uint32_t k = 0; k < m.dims.z; ++k)
-        for (std::uint32_t j = 0; j < m.dims.y; ++j)
-            for (std::uint32_t i = 0; i < m.dims.x; ++i) {
-                const double phi = asset.distances[asset.index(i, j, k)];
-                if (std::abs(phi) > band)
-                    continue;
-                glm::dvec3 p = asset.pointPosition(i, j, k);
-                // Two Newton steps onto phi = 0 along the gradient.
-                for (int it = 0; it < 2; ++it) {
-                    const glm::dvec3 g = sampler.gradient(p);
-                    const double g2 = glm::dot(g, g);
-                    if (!(g2 > 1e-12))
-                        break;
-                    p -= double(sampler.value(p)) * g / g2;
-                }
-                if (std::abs(sampler.value(p)) <= 0.05 * m.voxelSize)
-                    onSurface.emplace_back(p);
-            }
+    format::forEachStoredSample(asset, [&](glm::uvec3 ijk, float phi) {
+        if (std::abs(phi) > band)
+            return;
+        glm::dvec3 p = asset.pointPosition(ijk.x, ijk.y, ijk.z);
+        // Two Newton steps onto phi = 0 along the gradient.
+        for (int it = 0; it < 2; ++it) {
+            const glm::dvec3 g = sampler.gradient(p);
+            const double g2 = glm::dot(g, g);
+            if (!(g2 > 1e-12))
+                break;
+            p -= double(sampler.value(p)) * g / g2;
+        }
+        if (std::abs(sampler.value(p)) <= 0.05 * m.voxelSize)
+            onSurface.emplace_back(p);
+    });
     for (;; gap *= 1.25) {
         std::vector<glm::vec3> kept;
         std::unordered_set<std::uint64_t> cells;

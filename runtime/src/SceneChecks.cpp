@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "sluice/format/GridSamples.h"
 #include "sluice/format/SdfSampler.h"
 #include "sluice/rt/SceneSetup.h"
 
@@ -151,14 +152,14 @@ glm::dvec3 colliderWorldSize(const format::SceneCollider& collider,
     glm::uvec3 lo{std::numeric_limits<std::uint32_t>::max()};
     glm::uvec3 hi{0};
     bool any = false;
-    for (std::uint32_t k = 0; k < m.dims.z; ++k)
-        for (std::uint32_t j = 0; j < m.dims.y; ++j)
-            for (std::uint32_t i = 0; i < m.dims.x; ++i)
-                if (asset.distances[asset.index(i, j, k)] <= 0.0f) {
-                    lo = glm::min(lo, glm::uvec3(i, j, k));
-                    hi = glm::max(hi, glm::uvec3(i, j, k));
-                    any = true;
-                }
+    // A sparse asset's inside tiles lie within its band's inside voxels: those bound the solid.
+    format::forEachStoredSample(asset, [&](glm::uvec3 ijk, float phi) {
+        if (phi <= 0.0f) {
+            lo = glm::min(lo, ijk);
+            hi = glm::max(hi, ijk);
+            any = true;
+        }
+    });
     glm::dvec3 local;
     if (any) {
         // The surface lies up to a voxel beyond the outermost inside points on each side.

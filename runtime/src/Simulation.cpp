@@ -2,6 +2,7 @@
 #include "sluice/rt/Simulation.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -13,6 +14,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "BodySetup.h"
+#include "ColliderBands.h"
 #include "PrefixScan.h"
 #include "shared/Bodies.h"
 #include "shared/ChunkedDispatch.h"
@@ -39,6 +41,37 @@ std::uint32_t groupsFor(std::uint32_t items) {
 glm::mat4 poseMatrix(const ColliderPose& pose) {
     return glm::translate(glm::mat4(1.0f), pose.translation) * glm::mat4_cast(pose.rotation) *
            glm::scale(glm::mat4(1.0f), glm::vec3(pose.scale));
+}
+
+std::uint64_t align32(std::uint64_t bytes) {
+    return (bytes + 31u) & ~std::uint64_t(31u);
+}
+
+// Bytes a sparse collider's NanoVDB grid takes in the SDF buffer: its size, rounded up to
+// NanoVDB's 32-byte alignment so the next grid starts aligned.
+std::uint64_t sparseSlotBytes(const format::ColliderAsset& asset) {
+    return align32(asset.grid.size());
+}
+
+// The dense grids' part of the SDF buffer, rounded up so the sparse grids after it start aligned.
+std::uint64_t denseBytes(const std::vector<format::ColliderAsset>& assets) {
+    std::uint64_t floats = 0;
+    for (const format::ColliderAsset& a : assets)
+        floats += a.sparse() ? 0 : a.pointCount();
+    return align32(floats * sizeof(float));
+}
+
+// The whole SDF buffer [bytes]: dense grids, then sparse grids.
+std::uint64_t colliderDataBytes(const std::vector<format::ColliderAsset>& assets) {
+    std::uint64_t bytes = denseBytes(assets);
+    for (const format::ColliderAsset& a : assets)
+        bytes += a.sparse() ? sparseSlotBytes(a) : 0;
+    return bytes;
+}
+
+bool anySparse(const std::vector<format::ColliderAsset>& assets) {
+    return std::any_of(assets.begin(), assets.end(),
+                       [](const format::ColliderAsset& a) { return a.sparse(); });
 }
 
 } // namespace
@@ -68,16 +101,14 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
         if (!asset)
             return fail(asset.error().code, scene.path + ": colliders[" + std::to_string(c) +
                                                 "]: " + asset.error().detail);
-        if (asset->sparse()) // the GPU sampler reads dense grids only, so far
-            return fail(ErrorCode::Unsupported,
-                        scene.path + ": colliders[" + std::to_string(c) + "]: " + path +
-                            " is a sparse (NanoVDB) collider, which sluice-play cannot sample "
-                            "yet; bake it without --sparse");
         assets.push_back(std::move(*asset));
     }
-    // Dynamic bodies need a volume and a usable mass: checked here, on the CPU, before any
-    // output or GL context exists (Simulation::create sets them up).
+    // Dynamic bodies need a volume and a usable mass, sparse colliders a band as wide as the
+    // solver reads: checked here, on the CPU, before any output or GL context exists
+    // (Simulation::create sets them up).
     if (auto ok = checkBodies(scene, assets); !ok)
+        return ok.error();
+    if (auto ok = checkColliderBands(scene, assets); !ok)
         return ok.error();
     return assets;
 }
@@ -180,9 +211,12 @@ Result<void> Simulation::Impl::allocate() {
     };
     const std::uint64_t n = capacity;
     const std::uint64_t v4 = 16, u = 4;
-    std::uint64_t sdfFloats = 0;
-    for (const auto& a : colliderAssets)
-        sdfFloats += a.pointCount();
+    const std::uint64_t sdfBytes = colliderDataBytes(colliderAssets);
+    if (sdfBytes > 0xffffffffull) // GpuCollider::sdfOffset and PNanoVDB's addresses: 32 bits
+        return fail(ErrorCode::GpuOutOfMemory,
+                    scene.path + ": the colliders' grids take " + std::to_string(sdfBytes) +
+                        " bytes, more than the 4 GiB the solver can address; coarsen them or "
+                        "bake the large ones with `sluice-bake bake --sparse`");
     const std::vector<Alloc> allocs = {
         {&pos[0], n * v4, "pos 0"},       {&pos[1], n * v4, "pos 1"},
         {&vel[0], n * v4, "vel 0"},       {&vel[1], n * v4, "vel 1"},
@@ -199,7 +233,7 @@ Result<void> Simulation::Impl::allocate() {
         {&colliderBuf, std::max<std::uint64_t>(1, colliderAssets.size()) *
                            sizeof(shared::GpuCollider),
          "colliders"},
-        {&sdfBuf, std::max<std::uint64_t>(1, sdfFloats) * u, "sdf"},
+        {&sdfBuf, std::max<std::uint64_t>(u, sdfBytes), "sdf"},
         {&params, sizeof(shared::PbfParams), "params"},
         {&bodyBuf, std::max<std::uint64_t>(1, bodySetup.records.size()) * sizeof(shared::GpuBody),
          "bodies"},
@@ -578,8 +612,13 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
         {&impl->confine, "pbf_confine.comp"},   {&impl->stats, "pbf_stats.comp"},
         {&impl->bodies, "pbf_bodies.comp"},
     };
+    // NanoVDB's reader (shared/NanoVdbGlsl.h) is compiled in only when a collider needs it.
+    const std::array<gpu::ShaderDefine, 1> sparseDefine{{{"SLUICE_SPARSE_COLLIDERS", "1"}}};
+    const std::span<const gpu::ShaderDefine> defines =
+        anySparse(impl->colliderAssets) ? std::span<const gpu::ShaderDefine>(sparseDefine)
+                                        : std::span<const gpu::ShaderDefine>();
     for (const Build& b : builds) {
-        auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name));
+        auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name), defines);
         if (!program)
             return program.error();
         *b.program = std::move(*program);
@@ -591,8 +630,10 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     if (auto ok = impl->allocate(); !ok)
         return ok.error();
 
-    // Collider grids back to back in one buffer; their records point at their offsets.
-    std::uint64_t offset = 0;
+    // Every grid in one buffer, the dense ones first and then the sparse ones (32-byte aligned,
+    // as NanoVDB lays out its nodes); the records point at their offsets.
+    std::uint64_t offset = 0; // [words]
+    std::uint64_t sparseOffset = denseBytes(impl->colliderAssets); // [bytes]
     for (const format::ColliderAsset& a : impl->colliderAssets) {
         shared::GpuCollider r{};
         r.origin = glm::vec3(a.meta.origin);
@@ -601,9 +642,17 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
             glm::vec3(a.meta.origin + glm::dvec3(a.meta.dims - glm::uvec3(1)) * a.meta.voxelSize);
         r.scale = 1.0f;
         r.dims = a.meta.dims;
-        r.sdfOffset = std::uint32_t(offset);
-        impl->sdfBuf.upload(a.distances, offset * sizeof(float));
-        offset += a.pointCount();
+        if (a.sparse()) {
+            r.gridKind = shared::kColliderSparse;
+            r.sdfOffset = std::uint32_t(sparseOffset);
+            impl->sdfBuf.upload(a.grid.data(), a.grid.size(), sparseOffset);
+            sparseOffset += sparseSlotBytes(a);
+        } else {
+            r.gridKind = shared::kColliderDense;
+            r.sdfOffset = std::uint32_t(offset);
+            impl->sdfBuf.upload(a.distances, offset * sizeof(float));
+            offset += a.pointCount();
+        }
         impl->colliderRecords.push_back(r);
     }
     for (std::size_t c = 0; c < impl->colliderRecords.size(); ++c) {

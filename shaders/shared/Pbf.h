@@ -40,13 +40,18 @@ SLUICE_CONST uint kBindSortedToOld = 11; ///< uint source index of each sorted s
 SLUICE_CONST uint kBindOmega = 12;     ///< vec4 vorticity omega_i [1/s]
 SLUICE_CONST uint kBindStats = 13;     ///< PbfStats
 SLUICE_CONST uint kBindColliders = 14; ///< GpuCollider[]
-SLUICE_CONST uint kBindSdf = 15;       ///< float[] every collider's grid, back to back
+SLUICE_CONST uint kBindSdf = 15;       ///< uint[] every collider's samples, back to back: dense
+                                       ///< grids as float bits, sparse ones as NanoVDB grids
 SLUICE_CONST uint kBindIdIn = 16;      ///< uint particle id
 SLUICE_CONST uint kBindIdOut = 17;
 SLUICE_CONST uint kBindPredStart = 18; ///< vec4 x* at the substep start: fixes N(i) for the substep
 SLUICE_CONST uint kBindPredOther = 19; ///< vec4 x*: the second ping-pong buffer (velocity pass)
 SLUICE_CONST uint kBindSolveArgs = 20; ///< PbfDispatchArgs[maxIterations * chunks]
 SLUICE_CONST uint kBindNeighbourMask = 21; ///< uint[kNeighbourMaskWords] per sorted particle
+
+// GpuCollider::gridKind: how its samples are stored in the SDF buffer.
+SLUICE_CONST uint kColliderDense = 0;  ///< float per grid point, x fastest
+SLUICE_CONST uint kColliderSparse = 1; ///< a NanoVDB float grid, at a 32-byte aligned offset
 // Prefix scan.
 SLUICE_CONST uint kBindScanData = 0;   ///< uint[] exclusive scan output
 SLUICE_CONST uint kBindScanSums = 1;   ///< uint[] one total per block
@@ -116,10 +121,11 @@ struct GpuCollider {
     /* 208 */ vec3 boxMax;      ///< grid far corner origin + (dims - 1) voxelSize (local)
     /* 220 */ float scale;      ///< uniform scale s of the placement (local -> world)
     /* 224 */ uvec3 dims;       ///< grid points per axis
-    /* 236 */ uint sdfOffset;   ///< index of the grid's first value in the SDF buffer [floats]
+    /* 236 */ uint sdfOffset;   ///< where its samples start in the SDF buffer: dense, the first
+                                ///< value [words]; sparse, the NanoVDB grid [bytes]
     /* 240 */ float friction;   ///< share of the tangential slip removed on contact, [0, 1]
     /* 244 */ uint body;      ///< its GpuBody when the collider is dynamic, else kNoBody
-    /* 248 */ uint pad1;
+    /* 248 */ uint gridKind;  ///< kColliderDense or kColliderSparse
     /* 252 */ uint pad2;
 };
 // clang-format on
@@ -197,6 +203,7 @@ SLUICE_PBF_AT(GpuCollider, dims, 224);
 SLUICE_PBF_AT(GpuCollider, sdfOffset, 236);
 SLUICE_PBF_AT(GpuCollider, friction, 240);
 SLUICE_PBF_AT(GpuCollider, body, 244);
+SLUICE_PBF_AT(GpuCollider, gridKind, 248);
 SLUICE_PBF_AT(GpuCollider, pad2, 252);
 static_assert(sizeof(sluice::shared::GpuCollider) == 256, "std430 size of GpuCollider");
 SLUICE_PBF_AT(PbfIterationStats, errorHi, 4);

@@ -156,30 +156,49 @@ layout(std430, binding = kBindColliders) buffer CollidersBuf { GpuCollider colli
 #else
 layout(std430, binding = kBindColliders) readonly buffer CollidersBuf { GpuCollider colliders[]; };
 #endif
-layout(std430, binding = kBindSdf) readonly buffer SdfBuf { float sdf[]; };
+// One block for dense and sparse grids alike (a driver may allow as few as 8 per shader).
+layout(std430, binding = kBindSdf) readonly buffer SdfBuf { uint sdfWords[]; };
+#define pnanovdb_buf_data sdfWords
+#include "shared/NanoVdbGlsl.h"
 
-float sdfAt(uint base, uvec3 dims, uvec3 p) { return sdf[base + p.x + dims.x * (p.y + dims.y * p.z)]; }
+float sdfAt(uint base, uvec3 dims, uvec3 p) {
+    return uintBitsToFloat(sdfWords[base + p.x + dims.x * (p.y + dims.y * p.z)]);
+}
+
+// The eight samples of collider c's cell with lower corner b, as v[x + 2y + 4z]: from the dense
+// grid, or through a NanoVDB read accessor for a sparse one (shared/NanoVdbGlsl.h).
+void colliderCorners(uint c, uvec3 b, out float v[8]) {
+#ifdef SLUICE_SPARSE_COLLIDERS
+    if (colliders[c].gridKind == kColliderSparse) {
+        pnanovdb_readaccessor_t acc = sparseAccessor(colliders[c].sdfOffset);
+        ivec3 ib = ivec3(b);
+        for (int k = 0; k < 8; ++k)
+            v[k] = sparseValue(acc, ib + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+        return;
+    }
+#endif
+    uvec3 dims = colliders[c].dims;
+    uint base = colliders[c].sdfOffset;
+    for (int k = 0; k < 8; ++k)
+        v[k] = sdfAt(base, dims, b + uvec3(k & 1, (k >> 1) & 1, k >> 2));
+}
 
 // phi and its gradient in collider c's local frame, exactly format::SdfSampler's rule:
-// trilinear inside the grid box, phi(clamp(q)) + |q - clamp(q)| outside.
+// trilinear inside the grid box, phi(clamp(q)) + |q - clamp(q)| outside. A sparse collider
+// reads the same way, its samples outside the band being its tiles' (+-band, signed), where the
+// gradient is 0.
 void sampleCollider(uint c, vec3 q, out float phi, out vec3 grad) {
     vec3 lo = colliders[c].origin;
     float voxel = colliders[c].voxelSize;
     uvec3 dims = colliders[c].dims;
-    uint base = colliders[c].sdfOffset;
     vec3 qc = clamp(q, lo, colliders[c].boxMax);
     vec3 g = (qc - lo) / voxel;
     vec3 cellLo = clamp(floor(g), vec3(0.0), vec3(dims) - 2.0);
     vec3 t = clamp(g - cellLo, 0.0, 1.0);
-    uvec3 b = uvec3(cellLo);
-    float v000 = sdfAt(base, dims, b);
-    float v100 = sdfAt(base, dims, b + uvec3(1, 0, 0));
-    float v010 = sdfAt(base, dims, b + uvec3(0, 1, 0));
-    float v110 = sdfAt(base, dims, b + uvec3(1, 1, 0));
-    float v001 = sdfAt(base, dims, b + uvec3(0, 0, 1));
-    float v101 = sdfAt(base, dims, b + uvec3(1, 0, 1));
-    float v011 = sdfAt(base, dims, b + uvec3(0, 1, 1));
-    float v111 = sdfAt(base, dims, b + uvec3(1, 1, 1));
+    float v[8];
+    colliderCorners(c, uvec3(cellLo), v);
+    float v000 = v[0], v100 = v[1], v010 = v[2], v110 = v[3];
+    float v001 = v[4], v101 = v[5], v011 = v[6], v111 = v[7];
     float c00 = mix(v000, v100, t.x), c10 = mix(v010, v110, t.x);
     float c01 = mix(v001, v101, t.x), c11 = mix(v011, v111, t.x);
     vec3 out_ = q - qc;
@@ -219,6 +238,14 @@ vec3 collide(vec3 x, vec3 xOld) {
         if (colliders[c].body != kNoBody)
             phi += P.bodyOffset; // docs/bodies.md, "Surface offset"
         float len = length(normal);
+#ifdef SLUICE_SPARSE_COLLIDERS
+        // Deep inside a sparse collider (an inside tile: phi = -band, no gradient) nothing
+        // says which way is out: the particle goes back to where its substep started.
+        if (phi < 0.0 && !(len > 0.0)) {
+            x = xOld;
+            continue;
+        }
+#endif
         if (!(phi < PBF_RADIUS) || !(len > 0.0))
             continue;
         normal /= len;

@@ -12,6 +12,9 @@ SLUICE_CONST uint kRenderBindFrame = 0;
 // Shader storage bindings of the particle programs: the simulation's buffers, read only.
 SLUICE_CONST uint kRenderBindPositions = 0;  ///< vec4 x (xyz) [m]
 SLUICE_CONST uint kRenderBindVelocities = 1; ///< vec4 v (xyz) [m/s], w = density error C_i
+// The collider programs' sparse variant (SLUICE_SPARSE_COLLIDERS): every sparse collider's
+// NanoVDB grid, back to back at 32-byte aligned offsets (shared/NanoVdbGlsl.h).
+SLUICE_CONST uint kRenderBindSparse = 3;     ///< uint[]
 // Statistics reduction (render_stats.comp).
 SLUICE_CONST uint kRenderBindStats = 2;      ///< RenderStats, accumulated with atomics
 SLUICE_CONST uint kRenderStatsLocalSize = 128;

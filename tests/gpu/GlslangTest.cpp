@@ -59,8 +59,10 @@ ProgramCase graphics(const char* name, const char* vertex, const char* fragment,
     return {name, runtimeSource, {vertex, fragment}, std::move(defines)};
 }
 
+const ShaderDefine kSparse{"SLUICE_SPARSE_COLLIDERS", "1"};
+
 /// Every program the libraries build, with the define combinations their code uses:
-/// SelfTest.cpp, Simulation.cpp, PrefixScan.cpp, FluidStatsProbe.cpp, Renderer.cpp,
+/// SelfTest.cpp, Simulation.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp, FluidStatsProbe.cpp, Renderer.cpp,
 /// FluidSurfacePass.cpp, ColliderPass.cpp and GpuBaker.cpp (compilePrograms).
 std::vector<ProgramCase> allPrograms() {
     return {
@@ -76,6 +78,13 @@ std::vector<ProgramCase> allPrograms() {
         compute("PbfConfine", runtimeSource, "pbf_confine.comp"),
         compute("PbfStats", runtimeSource, "pbf_stats.comp"),
         compute("PbfBodies", runtimeSource, "pbf_bodies.comp"),
+        // A scene with a sparse collider compiles every pass with NanoVDB's GLSL reader.
+        compute("PbfLambdaSparse", runtimeSource, "pbf_lambda.comp", {kSparse}),
+        compute("PbfDeltaSparse", runtimeSource, "pbf_delta.comp", {kSparse}),
+        compute("PbfStatsSparse", runtimeSource, "pbf_stats.comp", {kSparse}),
+        compute("PbfBodiesSparse", runtimeSource, "pbf_bodies.comp", {kSparse}),
+        compute("ColliderProbe", runtimeSource, "collider_probe.comp"),
+        compute("ColliderProbeSparse", runtimeSource, "collider_probe.comp", {kSparse}),
         compute("ScanBlock", runtimeSource, "scan_block.comp"),
         compute("ScanAdd", runtimeSource, "scan_add.comp"),
         compute("RenderStats", runtimeSource, "render_stats.comp"),
@@ -90,6 +99,10 @@ std::vector<ProgramCase> allPrograms() {
         graphics("RenderCollider", "render_collider.vert", "render_collider.frag"),
         graphics("RenderColliderGlass", "render_collider.vert", "render_collider.frag",
                  {{"SLUICE_GLASS", "1"}}),
+        graphics("RenderColliderSparse", "render_collider.vert", "render_collider.frag",
+                 {kSparse}),
+        graphics("RenderColliderGlassSparse", "render_collider.vert", "render_collider.frag",
+                 {{"SLUICE_GLASS", "1"}, kSparse}),
         compute("SdfCoarse", bakeSource, "sdf_coarse.comp"),
         compute("SdfDistance", bakeSource, "sdf_distance.comp"),
         compute("SdfSign", bakeSource, "sdf_sign.comp"),

@@ -21,13 +21,16 @@ glm::mat4 localToWorld(const ColliderPose& pose) {
            glm::scale(glm::mat4(1.0f), glm::vec3(pose.scale));
 }
 
-Result<gpu::Program> program(bool glass) {
-    const std::array<gpu::ShaderDefine, 1> defines{{{"SLUICE_GLASS", "1"}}};
-    return gpu::Program::graphics(glass ? "render_collider (glass)" : "render_collider",
-                                  shaders::shaderSource("render_collider.vert"),
-                                  shaders::shaderSource("render_collider.frag"),
-                                  glass ? std::span<const gpu::ShaderDefine>(defines)
-                                        : std::span<const gpu::ShaderDefine>());
+Result<gpu::Program> program(bool glass, bool sparse) {
+    std::vector<gpu::ShaderDefine> defines;
+    if (glass)
+        defines.push_back({"SLUICE_GLASS", "1"});
+    if (sparse)
+        defines.push_back({"SLUICE_SPARSE_COLLIDERS", "1"});
+    const std::string name = std::string("render_collider") + (glass ? " (glass)" : "") +
+                             (sparse ? " (sparse)" : "");
+    return gpu::Program::graphics(name, shaders::shaderSource("render_collider.vert"),
+                                  shaders::shaderSource("render_collider.frag"), defines);
 }
 
 } // namespace
@@ -50,30 +53,58 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
                         " colliders in the scene but " + std::to_string(colliders.size()) +
                         " collider assets given to the renderer");
     ColliderPass pass;
+    std::vector<std::byte> sparseGrids; // NanoVDB grids back to back, each 32-byte aligned
     for (std::size_t i = 0; i < colliders.size(); ++i) {
         const format::ColliderAsset& asset = colliders[i];
+        Collider collider;
+        collider.origin = glm::vec3(asset.meta.origin);
+        collider.dims = glm::vec3(asset.meta.dims);
+        collider.voxel = float(asset.meta.voxelSize);
+        collider.colour = colliderColour(i);
+        if (asset.sparse()) {
+            collider.sparse = true;
+            collider.gridOffset = std::uint32_t(sparseGrids.size());
+            sparseGrids.insert(sparseGrids.end(), asset.grid.begin(), asset.grid.end());
+            sparseGrids.resize((sparseGrids.size() + 31) & ~std::size_t(31));
+            pass.m_colliders.push_back(std::move(collider));
+            continue;
+        }
         auto texture =
             gpu::Texture3D::createR32F(asset.meta.dims, "collider " + std::to_string(i) + " SDF");
         if (!texture)
             return fail(texture.error().code,
                          scene.colliders[i].resolvedPath + ": " + texture.error().detail);
         texture->upload(asset.distances);
-        Collider collider;
         collider.sdf = std::move(*texture);
-        collider.origin = glm::vec3(asset.meta.origin);
-        collider.dims = glm::vec3(asset.meta.dims);
-        collider.voxel = float(asset.meta.voxelSize);
-        collider.colour = colliderColour(i);
         pass.m_colliders.push_back(std::move(collider));
     }
-    auto opaque = program(false);
-    if (!opaque)
-        return opaque.error();
-    auto glass = program(true);
-    if (!glass)
-        return glass.error();
-    pass.m_opaque = std::move(*opaque);
-    pass.m_glass = std::move(*glass);
+    if (!sparseGrids.empty()) {
+        if (sparseGrids.size() > 0xffffffffu) // PNanoVDB's GLSL addresses are 32 bits
+            return fail(ErrorCode::GpuOutOfMemory,
+                        scene.path + ": the sparse colliders' grids take " +
+                            std::to_string(sparseGrids.size()) +
+                            " bytes, more than the 4 GiB the renderer can address");
+        auto buffer = gpu::Buffer::createFrom(sparseGrids, "sparse collider grids");
+        if (!buffer)
+            return fail(buffer.error().code, scene.path + ": " + buffer.error().detail);
+        pass.m_sparseGrids = std::move(*buffer);
+    }
+    struct Build {
+        gpu::Program* program;
+        bool glass, sparse;
+    };
+    const Build builds[] = {{&pass.m_opaque, false, false},
+                            {&pass.m_glass, true, false},
+                            {&pass.m_opaqueSparse, false, true},
+                            {&pass.m_glassSparse, true, true}};
+    for (const Build& b : builds) {
+        if (b.sparse && sparseGrids.empty())
+            continue;
+        auto built = program(b.glass, b.sparse);
+        if (!built)
+            return built.error();
+        *b.program = std::move(*built);
+    }
     return pass;
 }
 
@@ -82,7 +113,7 @@ void ColliderPass::drawOpaque(const std::vector<ColliderPose>& poses, bool glass
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    draw(m_opaque, poses, glassWalls);
+    draw(m_opaque, m_opaqueSparse, poses, glassWalls);
 }
 
 void ColliderPass::drawGlass(const std::vector<ColliderPose>& poses) const {
@@ -91,19 +122,22 @@ void ColliderPass::drawGlass(const std::vector<ColliderPose>& poses) const {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_FALSE);
-    draw(m_glass, poses, true);
+    draw(m_glass, m_glassSparse, poses, true);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
 }
 
-void ColliderPass::draw(const gpu::Program& program, const std::vector<ColliderPose>& poses,
-                        bool glassWalls) const {
+void ColliderPass::draw(const gpu::Program& dense, const gpu::Program& sparse,
+                        const std::vector<ColliderPose>& poses, bool glassWalls) const {
     // Each pixel keeps only its exit face (see render_collider.frag), so no face culling.
     glDisable(GL_CULL_FACE);
-    program.use();
-    program.set("uGlassWalls", std::int32_t(glassWalls ? 1 : 0));
+    if (m_sparseGrids.id() != 0)
+        m_sparseGrids.bindStorage(shared::kRenderBindSparse);
     for (std::size_t i = 0; i < m_colliders.size() && i < poses.size(); ++i) {
         const Collider& collider = m_colliders[i];
+        const gpu::Program& program = collider.sparse ? sparse : dense;
+        program.use();
+        program.set("uGlassWalls", std::int32_t(glassWalls ? 1 : 0));
         const glm::mat4 toWorld = localToWorld(poses[i]);
         const glm::vec3 boxMax = collider.origin + (collider.dims - 1.0f) * collider.voxel;
         program.set("uLocalToWorld", toWorld);
@@ -114,7 +148,10 @@ void ColliderPass::draw(const gpu::Program& program, const std::vector<ColliderP
         program.set("uDims", collider.dims);
         program.set("uVoxel", collider.voxel);
         program.set("uColour", collider.colour);
-        collider.sdf.bindTexture(shared::kRenderUnitSdf);
+        if (collider.sparse)
+            program.set("uGridOffset", collider.gridOffset);
+        else
+            collider.sdf.bindTexture(shared::kRenderUnitSdf);
         glDrawArrays(GL_TRIANGLES, 0, 36);
     }
 }

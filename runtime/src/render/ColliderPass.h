@@ -1,7 +1,9 @@
-// Draws the scene's colliders by sphere tracing their signed distance grids, uploaded once as
-// 3D textures: an opaque pass before the particles and a translucent "glass" pass after them.
+// Draws the scene's colliders by sphere tracing their signed distance grids, uploaded once (a
+// dense grid as a 3D texture, a sparse one's NanoVDB grid into a storage buffer): an opaque
+// pass before the particles and a translucent "glass" pass after them.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -9,6 +11,7 @@
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/format/Scene.h"
+#include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/gpu/Texture3D.h"
 
@@ -21,7 +24,7 @@ namespace sluice::rt {
 class ColliderPass {
 public:
     /// Uploads every collider of `scene` (`colliders[i]` belongs to scene.colliders[i]) and
-    /// compiles the two programs. InvalidArgument when the counts differ; the texture and
+    /// compiles the two programs (and their sparse variants when a collider is sparse). InvalidArgument when the counts differ; the texture and
     /// program errors of the gpu library otherwise.
     static Result<ColliderPass> create(const format::Scene& scene,
                                        const std::vector<format::ColliderAsset>& colliders);
@@ -37,19 +40,25 @@ public:
 
 private:
     struct Collider {
-        gpu::Texture3D sdf;
+        gpu::Texture3D sdf;         // dense
+        bool sparse = false;
+        std::uint32_t gridOffset = 0; // sparse: its grid in m_sparseGrids [bytes]
         glm::vec3 origin{0.0f}; // grid point (0, 0, 0), local [asset units]
         glm::vec3 dims{0.0f};   // grid points per axis
         float voxel = 0.0f;     // [asset units]
         glm::vec3 colour{0.0f};
     };
 
-    void draw(const gpu::Program& program, const std::vector<ColliderPose>& poses,
-              bool glassWalls) const;
+    // Each collider with `dense` or, when it is sparse, `sparse`.
+    void draw(const gpu::Program& dense, const gpu::Program& sparse,
+              const std::vector<ColliderPose>& poses, bool glassWalls) const;
 
     std::vector<Collider> m_colliders;
+    gpu::Buffer m_sparseGrids; // every sparse collider's NanoVDB grid, 32-byte aligned
     gpu::Program m_opaque;
     gpu::Program m_glass;
+    gpu::Program m_opaqueSparse; // compiled when a collider is sparse
+    gpu::Program m_glassSparse;
 };
 
 } // namespace sluice::rt

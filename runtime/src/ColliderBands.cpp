@@ -1,0 +1,53 @@
+// Sparse colliders' bands against the distances the solver reads.
+#include "ColliderBands.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "sluice/rt/SceneSetup.h"
+
+namespace sluice::rt {
+
+namespace {
+std::string num(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    return text;
+}
+} // namespace
+
+double requiredBandVoxels(double reach, double voxel) {
+    return reach / voxel + std::sqrt(3.0);
+}
+
+Result<void> checkColliderBands(const format::Scene& scene,
+                                const std::vector<format::ColliderAsset>& assets) {
+    const PbfConstants k = deriveConstants(scene.simulation);
+    for (std::size_t c = 0; c < scene.colliders.size() && c < assets.size(); ++c) {
+        const format::ColliderAsset& asset = assets[c];
+        if (!asset.sparse())
+            continue;
+        const format::SceneCollider& collider = scene.colliders[c];
+        const bool dynamic = collider.dynamic.has_value();
+        const double reach = dynamic ? double(k.h) + double(k.bodyOffset) : double(k.radius);
+        const double voxel = asset.meta.voxelSize * double(collider.scale);
+        const double needed = requiredBandVoxels(reach, voxel);
+        if (asset.meta.bandWidth >= needed)
+            continue;
+        const std::string path =
+            collider.resolvedPath.empty() ? collider.asset : collider.resolvedPath;
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": colliders[" + std::to_string(c) + "]: " + path +
+                        " is sparse with a band of " + num(asset.meta.bandWidth) +
+                        " voxels, but " + (dynamic ? "a dynamic body" : "a collider") +
+                        " here reads distances up to " + num(reach) +
+                        " m, which needs " + num(needed) +
+                        " voxels of " + num(voxel) +
+                        " m; re-bake it with `sluice-bake bake --sparse --band " +
+                        std::to_string(int(std::ceil(needed))) + "` or bake it dense");
+    }
+    return {};
+}
+
+} // namespace sluice::rt
