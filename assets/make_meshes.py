@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Generates the demo collider meshes (OBJ) in this folder: sphere, funnel, pea shooter, crate,
-tank.
+tank, terrain.
 
 Standard library only. The .obj files it writes are committed, so nothing is generated at build
 time; run it again only to change a shape: `python3 assets/make_meshes.py`.
@@ -120,6 +120,48 @@ def box(width, height, depth):
     return orient_outward(verts, tris)
 
 
+def terrain_height(x, z):
+    """[m] Height of the terrain's surface: a big hill, two smaller ones, a hollow between them
+    where water gathers, and a ripple so no two slopes are alike."""
+    def bump(cx, cz, height, spread):
+        return height * math.exp(-((x - cx) ** 2 + (z - cz) ** 2) / spread)
+    h = (0.25 + bump(-1.8, -1.8, 0.9, 1.2) + bump(2.0, -1.5, 0.5, 0.8) + bump(-1.5, 2.0, 0.4, 0.8)
+         - bump(1.2, 1.2, 0.2, 0.6) + 0.05 * math.sin(2.1 * x) * math.cos(1.7 * z))
+    return max(h, 0.05)
+
+
+def terrain(size, cells):
+    """A height field over the square [-size/2, size/2]^2 (x, z) closed into a solid: the
+    surface on top (`cells` x `cells` quads, each two triangles), vertical sides down to y = 0,
+    and a floor fanned from its centre."""
+    n = cells + 1
+    step = size / cells
+    coords = [-size / 2 + i * step for i in range(n)]
+    verts = [(x, terrain_height(x, z), z) for z in coords for x in coords]
+    tris = []
+    for j in range(cells):
+        for i in range(cells):
+            a, b = j * n + i, j * n + i + 1
+            c, d = (j + 1) * n + i, (j + 1) * n + i + 1
+            tris += [(a, c, b), (b, c, d)] # counter-clockwise seen from +y
+    # The boundary of the top, against the direction its triangles run along it, and a floor
+    # vertex under each.
+    ring = ([i for i in range(n)] + [j * n + cells for j in range(1, n)] +
+            [cells * n + i for i in range(cells - 1, -1, -1)] +
+            [j * n for j in range(cells - 1, 0, -1)])
+    base = len(verts)
+    verts += [(verts[k][0], 0.0, verts[k][2]) for k in ring]
+    centre = len(verts)
+    verts.append((0.0, 0.0, 0.0))
+    m = len(ring)
+    for k in range(m):
+        top0, top1 = ring[k], ring[(k + 1) % m]
+        bottom0, bottom1 = base + k, base + (k + 1) % m
+        tris += [(top0, top1, bottom0), (top1, bottom1, bottom0)]
+        tris.append((centre, bottom0, bottom1))
+    return orient_outward(verts, tris)
+
+
 def rotate_y_to_x(verts):
     """Turns a mesh built around the y axis to lie along +x (a proper rotation about z)."""
     return [(y, -x, z) for x, y, z in verts]
@@ -234,6 +276,10 @@ def main():
     verts, tris = open_box(0.8, 0.4, 0.5, 0.03, 0.03)
     write_obj("tank", "open-top tank 0.8 x 0.4 x 0.5 m (x, y up, z), 0.03 m walls and floor",
               verts, tris)
+
+    verts, tris = terrain(6.0, 46)
+    write_obj("terrain", "hills over 6 x 6 m (x, z), up to 1.2 m high, closed down to y = 0 "
+              "(the level-scale scene's sparse collider)", verts, tris)
 
 
 if __name__ == "__main__":

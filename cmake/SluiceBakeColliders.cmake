@@ -4,14 +4,15 @@
 #                         [OUTPUT_DIR <dir>]
 #                         [VOXEL_SIZE <world units> | RESOLUTION <voxels>]
 #                         [BACKEND auto|gpu|cgal] [PADDING <voxels>] [SIGN auto|parity|winding]
-#                         [STORAGE f32|f16] [SCALE <factor>]
+#                         [STORAGE f32|f16] [SCALE <factor>] [SPARSE [BAND <voxels>]]
 #                         MESHES <mesh>...)
 #
 # Every mesh becomes its own custom command, so Ninja or Make schedules the bakes side by side:
 # <OUTPUT_DIR>/<stem>.slc from <mesh> (relative meshes are taken from the current source
 # folder; OUTPUT_DIR defaults to the current binary folder, relative ones are taken from it).
 # The options are those of `sluice-bake bake` (unset ones keep its defaults: RESOLUTION 64,
-# BACKEND auto, PADDING 3, SIGN auto, STORAGE f32, SCALE 1). A custom target <name> depends on
+# BACKEND auto, PADDING 3, SIGN auto, STORAGE f32, SCALE 1; SPARSE bakes narrow-band NanoVDB
+# assets, `bake --sparse`, with BAND 3). A custom target <name> depends on
 # every output (ALL adds it to the default build), and its SLUICE_COLLIDERS property lists them.
 #
 # Each step runs `sluice-bake batch` on a one-entry manifest written at configure time (only
@@ -50,8 +51,8 @@ function(_sluice_write_if_changed path content)
 endfunction()
 
 function(sluice_bake_colliders)
-    cmake_parse_arguments(PARSE_ARGV 0 ARG "ALL"
-                          "TARGET;OUTPUT_DIR;VOXEL_SIZE;RESOLUTION;BACKEND;PADDING;SIGN;STORAGE;SCALE"
+    cmake_parse_arguments(PARSE_ARGV 0 ARG "ALL;SPARSE"
+                          "TARGET;OUTPUT_DIR;VOXEL_SIZE;RESOLUTION;BACKEND;PADDING;SIGN;STORAGE;SCALE;BAND"
                           "MESHES")
     set(fn sluice_bake_colliders)
     if(ARG_UNPARSED_ARGUMENTS)
@@ -79,7 +80,13 @@ function(sluice_bake_colliders)
         endif()
         string(APPEND settings ", \"resolution\": ${ARG_RESOLUTION}")
     endif()
-    foreach(option IN ITEMS PADDING SCALE)
+    if(DEFINED ARG_BAND AND NOT ARG_SPARSE)
+        message(FATAL_ERROR "${fn}(TARGET ${ARG_TARGET}): BAND is for SPARSE bakes")
+    endif()
+    if(ARG_SPARSE)
+        string(APPEND settings ", \"sparse\": true")
+    endif()
+    foreach(option IN ITEMS PADDING SCALE BAND)
         if(DEFINED ARG_${option})
             _sluice_check_number(${option} "${ARG_${option}}")
             string(TOLOWER ${option} key)

@@ -7,6 +7,7 @@
 
 #include "CliSupport.h"
 #include "sluice/bake/Grid.h"
+#include "sluice/bake/SparseBaker.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/Hash.h"
 #include "sluice/gpu/Context.h"
@@ -111,6 +112,19 @@ Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& reques
     Result<BakeSettings> settings = bakeSettingsFor(request);
     if (!settings)
         return settings.error();
+    if (request.sparse) { // as `bake --sparse`: the CGAL backend, f32 values
+        if (request.backend == "gpu" || settings->storage != format::Storage::F32)
+            return fail(ErrorCode::InvalidArgument,
+                        "sparse assets bake with the cgal backend and f32 storage");
+        Result<format::ColliderAsset> sparse =
+            bakeSparseCgal(mesh, *settings, {.band = request.band});
+        if (!sparse)
+            return sparse.error();
+        BakeOutcome outcome;
+        outcome.backend = "cgal";
+        outcome.asset = std::move(*sparse);
+        return outcome;
+    }
     Result<GridSpec> grid = gridFor(mesh.soup.bounds(), settings->grid);
     if (!grid)
         return grid.error();

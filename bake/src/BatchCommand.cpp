@@ -88,6 +88,8 @@ Entry entryFor(const format::BatchEntry& manifestEntry) {
     args.storage = request.storage;
     args.scale = request.scale;
     args.backend = request.backend;
+    args.sparse = request.sparse;
+    args.band = request.band;
     args.quiet = true;
     return entry;
 }
@@ -141,6 +143,8 @@ int bakeInChild(const BakeArgs& args) {
                  {"--backend", args.backend, "--sign", args.sign, "--storage", args.storage});
     words.insert(words.end(),
                  {"--padding", exactNumber(args.padding), "--scale", exactNumber(args.scale)});
+    if (args.sparse)
+        words.insert(words.end(), {"--sparse", "--band", exactNumber(args.band)});
     if (args.voxelSize > 0.0)
         words.insert(words.end(), {"--voxel-size", exactNumber(args.voxelSize)});
     else
@@ -331,7 +335,8 @@ Command addBatchCommand(CLI::App& parent) {
     CLI::App* app = parent.add_subcommand(
         "batch", "Bake every collider a JSON manifest lists ({\"colliders\": [{\"mesh\", "
                  "\"output\", and optionally \"resolution\", \"voxelSize\", \"padding\", "
-                 "\"sign\", \"storage\", \"scale\", \"backend\"}]}, paths relative to the "
+                 "\"sign\", \"storage\", \"scale\", \"backend\", \"sparse\", \"band\"}]}, paths "
+                 "relative to the "
                  "manifest, output folders created), skipping outputs that are fresh: they record "
                  "the hash of the "
                  "mesh's current bytes, the same settings and this tool version. Prints a "

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "CliSupport.h"
+#include "sluice/bake/SparseBaker.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/Hash.h"
@@ -35,6 +36,8 @@ BatchEntry batchEntryFor(const format::BatchEntry& collider) {
     r.sign = collider.sign;
     r.storage = collider.storage;
     r.scale = collider.scale;
+    r.sparse = collider.sparse;
+    r.band = collider.band;
     return entry;
 }
 
@@ -61,6 +64,7 @@ std::optional<format::ColliderAsset> freshBatchOutput(const BatchEntry& entry) {
     const BakeRequest& r = entry.request;
     const format::ColliderMeta& meta = asset->meta;
     const bool byVoxelSize = r.voxelSize > 0.0;
+    const double padding = r.sparse ? sparsePadding(r.padding, r.band) : r.padding;
     const bool same =
         meta.sourceHash == *hash && meta.sourceFile == fs::path(entry.mesh).filename().string() &&
         meta.toolVersion == cli::toolVersion() &&
@@ -68,9 +72,10 @@ std::optional<format::ColliderAsset> freshBatchOutput(const BatchEntry& entry) {
         (meta.bake.backend == r.backend ||
          (r.backend == "auto" && (meta.bake.backend == "gpu" || meta.bake.backend == "cgal"))) &&
         meta.bake.resolution == (byVoxelSize ? 0u : r.resolution) &&
-        (!byVoxelSize || meta.voxelSize == r.voxelSize) && meta.bake.padding == r.padding &&
+        (!byVoxelSize || meta.voxelSize == r.voxelSize) && meta.bake.padding == padding &&
         meta.bake.signMode == r.sign && meta.bake.scale == r.scale &&
-        format::storageName(meta.storage) == r.storage;
+        format::storageName(meta.storage) == r.storage && asset->sparse() == r.sparse &&
+        (!r.sparse || meta.bandWidth == r.band);
     if (!same)
         return std::nullopt;
     return std::move(*asset);

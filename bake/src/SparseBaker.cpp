@@ -72,11 +72,15 @@ bool insideDomain(const glm::ivec3& p, const glm::uvec3& dims) {
 
 } // namespace
 
+double sparsePadding(double padding, double band) {
+    return std::max(padding, std::ceil(band) + 1.0);
+}
+
 Result<GridSpec> sparseGridFor(const Box& bounds, GridOptions options, double band) {
     if (!std::isfinite(band) || band < 1.0 || band > 64.0)
         return fail(ErrorCode::InvalidArgument,
                     "band must be between 1 and 64 voxels, got " + std::to_string(band));
-    options.padding = std::max(options.padding, std::ceil(band) + 1.0);
+    options.padding = sparsePadding(options.padding, band);
     options.maxPoints = kMaxSparseGridPoints;
     return gridFor(bounds, options);
 }

@@ -63,7 +63,7 @@ std::string pathString(const rj::Value& value, const std::string& path) {
 BatchEntry readEntry(const rj::Value& value, const std::string& path, const fs::path& folder) {
     const detail::JsonObject object(value, path,
                                     {"mesh", "output", "resolution", "voxelSize", "padding", "sign",
-                                     "storage", "scale", "backend"});
+                                     "storage", "scale", "backend", "sparse", "band"});
     BatchEntry entry;
     entry.mesh = pathString(object.require("mesh"), object.pathOf("mesh"));
     entry.output = pathString(object.require("output"), object.pathOf("output"));
@@ -89,6 +89,30 @@ BatchEntry readEntry(const rj::Value& value, const std::string& path, const fs::
         entry.storage = oneOf(*v, object.pathOf("storage"), "storage", {"f32", "f16"});
     if (const rj::Value* v = object.find("backend"))
         entry.backend = oneOf(*v, object.pathOf("backend"), "backend", {"auto", "gpu", "cgal"});
+    if (const rj::Value* v = object.find("sparse")) {
+        if (!v->IsBool())
+            throwAt(ErrorCode::BadMetadata, object.pathOf("sparse"),
+                    "expected true or false, got " + detail::describe(*v));
+        entry.sparse = v->GetBool();
+    }
+    if (const rj::Value* v = object.find("band")) {
+        if (!entry.sparse)
+            throwAt(ErrorCode::InvalidArgument, object.pathOf("band"),
+                    "a band is for sparse assets: add \"sparse\": true");
+        entry.band = detail::readNumber(numberValue(*v, object.pathOf("band")),
+                                        object.pathOf("band"));
+        if (entry.band < 1.0 || entry.band > 64.0)
+            throwAt(ErrorCode::InvalidArgument, object.pathOf("band"),
+                    detail::formatNumber(entry.band) +
+                        " is out of range: expected 1 to 64 voxels");
+    }
+    // As `bake --sparse` refuses them (a sparse asset stores f32; the GPU bakes dense only).
+    if (entry.sparse && entry.storage == "f16")
+        throwAt(ErrorCode::InvalidArgument, object.pathOf("storage"),
+                "sparse assets store f32 values; leave out \"storage\": \"f16\"");
+    if (entry.sparse && entry.backend == "gpu")
+        throwAt(ErrorCode::InvalidArgument, object.pathOf("backend"),
+                "sparse assets bake with the cgal backend in this version");
     return entry;
 }
 

@@ -121,6 +121,50 @@ TEST(Batch, ASecondRunWithNothingChangedBakesNothing) {
     EXPECT_EQ(row[4], "-") << "no validation figures yet";
 }
 
+TEST(Batch, SparseEntriesBakeSparseStayFreshAndRebakeWhenTheBandChanges) {
+    const BatchFolder f("batch-sparse");
+    json sparse = BatchFolder::entry("a.obj", "a.slc", 16);
+    sparse["sparse"] = true;
+    sparse["band"] = 2;
+    f.writeManifest(json::array({sparse, BatchFolder::entry("c.obj", "out/c.slc")}));
+    RunResult run = f.batch({"--jobs", "2"}); // the child processes get --sparse --band too
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    Result<format::ColliderAsset> a = format::readAsset(f.dir / "a.slc");
+    ASSERT_TRUE(a.ok()) << a.error().message();
+    EXPECT_TRUE(a->sparse());
+    EXPECT_EQ(a->meta.bandWidth, 2.0);
+    Result<format::ColliderAsset> c = format::readAsset(f.dir / "out" / "c.slc");
+    ASSERT_TRUE(c.ok()) << c.error().message();
+    EXPECT_FALSE(c->sparse());
+
+    // The sparse bake raises the padding to band + 1 and records that: still fresh.
+    const FileState before = stateOf(f.dir / "a.slc");
+    run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "a.slc"), "fresh") << run.out;
+    EXPECT_TRUE(stateOf(f.dir / "a.slc") == before);
+
+    sparse["band"] = 3;
+    f.writeManifest(json::array({sparse, BatchFolder::entry("c.obj", "out/c.slc")}));
+    run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "a.slc"), "baked") << run.out;
+    EXPECT_EQ(statusOf(run.out, "out/c.slc"), "fresh") << run.out;
+    a = format::readAsset(f.dir / "a.slc");
+    ASSERT_TRUE(a.ok());
+    EXPECT_EQ(a->meta.bandWidth, 3.0);
+
+    // The same mesh asked dense again is not fresh either.
+    f.writeManifest(json::array(
+        {BatchFolder::entry("a.obj", "a.slc", 16), BatchFolder::entry("c.obj", "out/c.slc")}));
+    run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "a.slc"), "baked") << run.out;
+    a = format::readAsset(f.dir / "a.slc");
+    ASSERT_TRUE(a.ok());
+    EXPECT_FALSE(a->sparse());
+}
+
 TEST(Batch, TouchingAMeshWithoutChangingItsBytesBakesNothing) {
     const BatchFolder f("batch-touch");
     ASSERT_EQ(f.batch().code, kExitOk);

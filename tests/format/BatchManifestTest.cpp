@@ -122,6 +122,34 @@ TEST(BatchManifest, RejectsUnknownEnumerationValuesListingTheKnownOnes) {
               "auto, gpu or cgal");
 }
 
+TEST(BatchManifest, ReadsSparseEntriesAndRejectsWhatBakeSparseRejects) {
+    auto manifest = format::parseBatchManifest(
+        R"({"colliders": [{"mesh": "a.obj", "output": "a.slc", "sparse": true, "band": 4.5},
+                          {"mesh": "b.obj", "output": "b.slc", "sparse": true},
+                          {"mesh": "c.obj", "output": "c.slc"}]})",
+        "jobs/colliders.json");
+    ASSERT_TRUE(manifest.ok()) << manifest.error().message();
+    EXPECT_TRUE(manifest->colliders[0].sparse);
+    EXPECT_EQ(manifest->colliders[0].band, 4.5);
+    EXPECT_TRUE(manifest->colliders[1].sparse);
+    EXPECT_EQ(manifest->colliders[1].band, 3.0) << "bake --sparse's default band";
+    EXPECT_FALSE(manifest->colliders[2].sparse);
+
+    EXPECT_EQ(errorOf(secondEntryWith(R"("band": 3)")),
+              "jobs/colliders.json: colliders[1].band: a band is for sparse assets: add "
+              "\"sparse\": true");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("sparse": true, "band": 65)")),
+              "jobs/colliders.json: colliders[1].band: 65 is out of range: expected 1 to 64 "
+              "voxels");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("sparse": "yes")")),
+              "jobs/colliders.json: colliders[1].sparse: expected true or false, got a string");
+    EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "storage": "f16")")),
+              ErrorCode::InvalidArgument);
+    EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "backend": "gpu")")),
+              ErrorCode::InvalidArgument);
+    EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "band": NaN)")), ErrorCode::NonFinite);
+}
+
 TEST(BatchManifest, RejectsTwoEntriesWritingTheSameOutput) {
     EXPECT_EQ(errorOf(R"({"colliders": [{"mesh": "a.obj", "output": "x.slc"},
                                         {"mesh": "b.obj", "output": "./x.slc"}]})"),

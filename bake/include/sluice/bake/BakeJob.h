@@ -28,6 +28,8 @@ struct BakeRequest {
     std::string sign = "auto";     ///< "auto" | "parity" | "winding"
     std::string storage = "f32";   ///< "f32" | "f16"
     double scale = 1.0;            ///< recorded in the asset; the mesh is already scaled
+    bool sparse = false;           ///< a narrow-band NanoVDB asset (CGAL backend)
+    double band = 3.0;             ///< [voxels] sparse: the band's half-width, 1..64
 };
 
 /// A finished bake: the asset (provenance filled in, quantizationError still 0 until encoded)

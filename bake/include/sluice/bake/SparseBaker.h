@@ -27,6 +27,10 @@ struct SparseSettings {
     double band = 3.0; ///< [voxels] half-width of the band of exact values, 1..64
 };
 
+/// [voxels] The padding a sparse bake uses for a requested `padding`: at least band + 1, so the
+/// band fits inside the domain. The asset records it.
+double sparsePadding(double padding, double band);
+
 /// The sparse grid for a mesh: as gridFor, with the padding raised to at least band + 1 voxels
 /// (so the band fits inside the domain) and no dense point limit (kMaxSparseGridPoints instead).
 Result<GridSpec> sparseGridFor(const Box& bounds, GridOptions options, double band);

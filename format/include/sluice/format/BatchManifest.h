@@ -32,6 +32,8 @@ struct BatchEntry {
     double scale = 1.0;               ///< finite, > 0
     std::string storage = "f32";      ///< "f32" | "f16"
     std::string backend = "auto";     ///< "auto" | "gpu" | "cgal"
+    bool sparse = false;              ///< a narrow-band NanoVDB asset (`bake --sparse`)
+    double band = 3.0;                ///< [voxels] sparse: the band's half-width, 1..64
 };
 
 /// A manifest: { "colliders": [ { "mesh": ..., "output": ..., optional fields }, ... ] }.
@@ -46,7 +48,8 @@ struct BatchManifest {
 /// kMaxBatchManifestBytes), BadMetadata (not JSON, an unknown key (the closest known key is
 /// suggested), a duplicate key, a wrong type, a missing "mesh" or "output"), NonFinite (NaN or
 /// infinity), InvalidArgument (a value out of range, an unknown sign, storage or backend, both
-/// resolution and voxelSize, or two entries writing the same output).
+/// resolution and voxelSize, "band" without "sparse": true, "sparse" with f16 storage or the
+/// gpu backend, or two entries writing the same output).
 Result<BatchManifest> readBatchManifest(const std::filesystem::path& file);
 
 /// readBatchManifest on text already in memory; `file` names the manifest in messages and is
