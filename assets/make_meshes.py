@@ -122,11 +122,17 @@ def box(width, height, depth):
 
 def terrain_height(x, z):
     """[m] Height of the terrain's surface: a big hill, two smaller ones, a hollow between them
-    where water gathers, and a ripple so no two slopes are alike."""
+    where water gathers, a winding gully from the big hill down to it, and a ripple so no two
+    slopes are alike."""
     def bump(cx, cz, height, spread):
         return height * math.exp(-((x - cx) ** 2 + (z - cz) ** 2) / spread)
+    # A gully from the big hill's flank down to the hollow: 12 cm deep along the diagonal.
+    along = (x + z) / math.sqrt(2.0)
+    across = (x - z) / math.sqrt(2.0) - 0.25 * math.sin(1.3 * along)
+    taper = min(max((along + 2.2) / 0.6, 0.0), 1.0) * min(max((2.0 - along) / 0.6, 0.0), 1.0)
+    gully = 0.12 * taper * math.exp(-across ** 2 / 0.04)
     h = (0.25 + bump(-1.8, -1.8, 0.9, 1.2) + bump(2.0, -1.5, 0.5, 0.8) + bump(-1.5, 2.0, 0.4, 0.8)
-         - bump(1.2, 1.2, 0.2, 0.6) + 0.05 * math.sin(2.1 * x) * math.cos(1.7 * z))
+         - bump(1.2, 1.2, 0.2, 0.6) + 0.05 * math.sin(2.1 * x) * math.cos(1.7 * z) - gully)
     return max(h, 0.05)
 
 
