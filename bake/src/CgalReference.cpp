@@ -5,7 +5,8 @@
 //  - Parity: CGAL::Side_of_triangle_mesh (vertical ray, random rays on degenerate hits) on a
 //    Surface_mesh made from the welded soup (orient_polygon_soup + polygon_soup_to_polygon_mesh).
 //    Only meaningful for closed soups; if the mesh cannot be made, the winding number is used
-//    and signFallbackReason() says why.
+//    and signFallbackReason() says why. A point within the previous point's empty ball (its
+//    distance) takes that point's side without a ray: the segment between them meets nothing.
 //  - Winding: the generalized winding number w (Jacobson et al. 2013), inside where w > 0.5.
 //    Brute force is O(points x triangles), so we use an exact shortcut instead:
 //      Close the soup M into a cycle Z = M + K by adding a cone K from one apex over the
@@ -23,6 +24,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -139,6 +141,13 @@ struct CgalReference::Impl {
     std::string fallbackReason;
 
     double unsignedDistance(const Point& p) const { return std::sqrt(tree.squared_distance(p)); }
+    /// The same distance, the search started from `hint` (a point of M, updated to p's closest
+    /// point): the previous query's closest point bounds a neighbour's search tightly, so the
+    /// tree walk prunes more. The result does not depend on the hint.
+    double unsignedDistance(const Point& p, Point& hint) const {
+        hint = tree.closest_point(p, hint);
+        return std::sqrt(CGAL::squared_distance(p, hint));
+    }
 
     /// Winding number of the cycle Z at p from crossings along segments to far points; false if
     /// every direction tried hit an edge or a vertex.
@@ -169,19 +178,35 @@ struct CgalReference::Impl {
         std::vector<Tree::Primitive_id> hits;
         bool known = false; // W and the previous point are valid
         long w = 0;
+        bool sideKnown = false; // parity: the previous point and its side are valid
+        bool previousInside = false;
         Point previous;
         double previousDistance = 0.0;
+        std::optional<Point> hint; // the previous point's closest point on M
         for (std::size_t i = begin; i < end; ++i) {
             const Point p = toPoint(points[i]);
-            const double d = unsignedDistance(p);
+            if (!hint)
+                hint = tree.closest_point(p);
+            const double d = unsignedDistance(p, *hint);
             if (d == 0.0) { // on the surface: no sign, and no winding number to carry
                 out[i] = 0.0;
                 known = false;
+                sideKnown = false;
                 continue;
             }
             bool inside = false;
             if (method == format::SignMethod::Parity) {
-                inside = (*side)(p) == CGAL::ON_BOUNDED_SIDE;
+                // The open ball of radius previousDistance around the previous point holds no
+                // triangle, so the segment to a point inside it crosses none: same side, no ray
+                // to shoot (the points of a brick or grid row are a voxel apart, and most lie
+                // farther than that from the surface). Margin for rounding, as below.
+                if (sideKnown && std::sqrt(CGAL::squared_distance(p, previous)) <
+                                     previousDistance * (1.0 - 1e-9))
+                    inside = previousInside;
+                else
+                    inside = (*side)(p) == CGAL::ON_BOUNDED_SIDE;
+                sideKnown = true;
+                previousInside = inside;
             } else if (!exactCycle) {
                 inside = winding.at(points[i]) > 0.5;
             } else {
