@@ -172,13 +172,19 @@ TEST(SceneReader, ParsesEveryShippedScene) {
         EXPECT_TRUE(names.count(name)) << name << ".json missing from assets/";
 }
 
+/// The names in a comma-separated list.
+static std::vector<std::string> sceneList(const std::string& text) {
+    std::vector<std::string> names;
+    std::stringstream list(text);
+    for (std::string name; std::getline(list, name, ',');)
+        if (!name.empty())
+            names.push_back(name);
+    return names;
+}
+
 /// The scenes the build copies next to its baked colliders (assets/CMakeLists.txt), by name.
 static std::vector<std::string> builtScenes() {
-    std::vector<std::string> names;
-    std::stringstream list(SLUICE_BUILT_SCENES);
-    for (std::string name; std::getline(list, name, ',');)
-        names.push_back(name);
-    return names;
+    return sceneList(SLUICE_BUILT_SCENES);
 }
 
 TEST(SceneReader, TheBuildCopiesEveryShippedScene) {
@@ -198,7 +204,11 @@ TEST(SceneReader, FindsTheBakedCollidersOfTheBuiltScenes) {
         GTEST_SKIP() << "no baked colliders in " << built << " yet (build sluice_assets)";
     const std::vector<std::string> names = builtScenes();
     ASSERT_GE(names.size(), 5u);
+    // Scenes whose collider this preset does not bake (the terrain under the sanitizers).
+    const std::vector<std::string> unbaked = sceneList(SLUICE_UNBAKED_SCENES);
     for (const std::string& name : names) {
+        if (std::find(unbaked.begin(), unbaked.end(), name) != unbaked.end())
+            continue;
         auto r = readScene(built / name);
         EXPECT_TRUE(r.ok()) << r.error().message();
     }
