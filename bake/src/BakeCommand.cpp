@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "CliSupport.h"
+#include "PhaseReport.h"
 #include "sluice/bake/BakeJob.h"
 #include "sluice/bake/CgalReference.h"
 #include "sluice/bake/Cli.h"
@@ -48,6 +49,7 @@ struct BakeJob {
     Box meshBox;              ///< [world units] the scaled mesh's bounding box
     std::uint64_t points = 0; ///< [grid points] of the grid to bake
     std::optional<gpu::Context> context;
+    std::optional<gpu::ProgramCache> programCache;
     std::string renderer;
     GpuBakeStats gpuStats;
     std::optional<format::ColliderAsset> asset;
@@ -55,6 +57,7 @@ struct BakeJob {
     std::size_t bytes = 0; ///< [bytes] of the written file
     double importSeconds = 0.0;
     double bakeSeconds = 0.0;
+    PhaseLog phases{"start-up (exec, libraries, parsing the arguments)"};
 };
 
 /// Every argument is checked, and OUT's folder created, before the mesh is read, so mistakes
@@ -85,13 +88,14 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
                   << "' does not end in .slc; it will hold a collider asset all the same\n";
     job.backend = *backend;
     job.settings = *settings;
+    job.phases.lap("argument checks");
     return kExitOk;
 }
 
 /// Reads the mesh at its scale and lays the grid over it.
 int importAndPlan(const BakeArgs& args, BakeJob& job) {
     const auto start = std::chrono::steady_clock::now();
-    Result<ImportedMesh> mesh = loadMesh(args.mesh, args.scale);
+    Result<ImportedMesh> mesh = loadMesh(args.mesh, args.scale, &job.phases);
     if (!mesh)
         return reportFileError(kCmd, "cannot read mesh", args.mesh, mesh.error());
     job.importSeconds = secondsSince(start);
@@ -102,6 +106,7 @@ int importAndPlan(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot bake", args.mesh, grid.error());
     job.points = grid->pointCount();
     job.mesh = std::move(*mesh);
+    job.phases.lap("grid plan");
     return kExitOk;
 }
 
@@ -125,6 +130,9 @@ int openBackend(const BakeArgs& args, BakeJob& job) {
     job.backend = Backend::Gpu;
     job.context.emplace(std::move(*context));
     job.renderer = job.context->info().renderer;
+    job.phases.lap("GPU context");
+    job.programCache.emplace(gpu::ProgramCache::open({.enabled = args.programCache}));
+    job.phases.lap("program cache");
     return kExitOk;
 }
 
@@ -139,7 +147,10 @@ int bakeField(const BakeArgs& args, BakeJob& job) {
     } else if (job.backend == Backend::Gpu) {
         Progress progress("baking " + mesh.sourceFile + " on the GPU", job.points, !args.quiet);
         asset.emplace(bakeGpu(mesh, job.settings, *job.context, &progress,
-                              {.profile = args.profile}, &job.gpuStats));
+                              {.profile = args.profile,
+                               .programCache = &*job.programCache,
+                               .phases = &job.phases},
+                              &job.gpuStats));
         progress.finish();
     } else {
         Progress progress("baking " + mesh.sourceFile, job.points, !args.quiet);
@@ -150,6 +161,14 @@ int bakeField(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot bake", args.mesh, asset->error());
     job.bakeSeconds = secondsSince(start);
     job.asset.emplace(std::move(asset->value()));
+    job.phases.lap(args.sparse                    ? "sparse bake (cgal)"
+                   : job.backend == Backend::Gpu ? "gpu: progress report"
+                                                 : "cgal bake");
+    if (job.context) {
+        // Now rather than at exit, so the profile sees it (eglTerminate joins llvmpipe's threads).
+        job.context.reset();
+        job.phases.lap("release the GPU context");
+    }
     return kExitOk;
 }
 
@@ -159,9 +178,11 @@ int writeOutput(const BakeArgs& args, BakeJob& job) {
     if (!encoded)
         return reportFileError(kCmd, "cannot encode the asset for", args.output, encoded.error());
     job.asset->meta.quantizationError = encoded->quantizationError;
+    job.phases.lap("encode");
     if (Result<void> written = format::writeFileAtomic(args.output, encoded->bytes); !written)
         return reportFileError(kCmd, "cannot write", args.output, written.error());
     job.bytes = encoded->bytes.size();
+    job.phases.lap("write (atomic, fsync)");
     return kExitOk;
 }
 
@@ -188,6 +209,27 @@ nlohmann::ordered_json sparseJson(const BakeJob& job) {
             {"peakRssBytes", peakRssBytes()}};
 }
 
+/// What the program cache did: {"enabled", "offReason", "dir", "binaryFormats", "hits",
+/// "misses", "stored", "rejected"}.
+nlohmann::ordered_json programCacheJson(const gpu::ProgramCache& cache) {
+    const gpu::ProgramCacheStats& s = cache.stats();
+    return {{"enabled", cache.enabled()},       {"offReason", cache.offReason()},
+            {"dir", cache.dir().string()},      {"binaryFormats", cache.binaryFormats()},
+            {"hits", s.hits},                   {"misses", s.misses},
+            {"stored", s.stored},               {"rejected", s.rejected}};
+}
+
+/// "5 hits, 0 misses in ~/.cache/sluice" or "off (why)".
+std::string describeProgramCache(const gpu::ProgramCache& cache) {
+    if (!cache.enabled())
+        return "off (" + cache.offReason() + ")";
+    const gpu::ProgramCacheStats& s = cache.stats();
+    std::string text = plural(s.hits, "hit") + ", " + plural(s.misses, "miss", "misses");
+    if (s.rejected > 0)
+        text += ", " + std::to_string(s.rejected) + " rejected";
+    return text + " in " + cache.dir().string();
+}
+
 void printJson(const BakeArgs& args, const BakeJob& job) {
     const glm::dvec3 size = job.meshBox.hi - job.meshBox.lo;
     nlohmann::ordered_json out = {{"output", args.output},
@@ -200,12 +242,15 @@ void printJson(const BakeArgs& args, const BakeJob& job) {
                                   {"asset", toJson(job.asset->meta)}};
     if (job.asset->sparse())
         out["sparse"] = sparseJson(job);
+    if (args.profile)
+        out["profile"] = phasesJson(job.phases);
     if (job.backend == Backend::Gpu) {
         const GpuBakeStats& gpu = job.gpuStats;
         out["gpu"] = {{"renderer", job.renderer},     {"triangles", gpu.triangles},
                       {"bvhNodes", gpu.nodes},        {"bvhDepth", gpu.depth},
                       {"bvhSeconds", gpu.bvhSeconds}, {"dispatches", gpu.dispatches},
                       {"gpuBytes", gpu.gpuBytes}};
+        out["gpu"]["programCache"] = programCacheJson(*job.programCache);
         if (args.profile) {
             out["gpu"]["distanceSeconds"] = gpu.distanceNs * 1e-9;
             out["gpu"]["signSeconds"] = gpu.signNs * 1e-9;
@@ -249,11 +294,14 @@ void printSummary(const BakeArgs& args, const BakeJob& job) {
         const GpuBakeStats& gpu = job.gpuStats;
         std::cout << "  gpu      " << job.renderer << ", BVH of " << plural(gpu.nodes, "node")
                   << " (depth " << gpu.depth << ") in " << num(gpu.bvhSeconds, 3) << " s, "
-                  << plural(gpu.dispatches, "dispatch", "dispatches") << '\n';
+                  << plural(gpu.dispatches, "dispatch", "dispatches") << '\n'
+                  << "  programs " << describeProgramCache(*job.programCache) << '\n';
         if (args.profile)
             std::cout << "  passes   distance " << num(gpu.distanceNs * 1e-6, 4) << " ms, sign "
                       << num(gpu.signNs * 1e-6, 4) << " ms (GPU time)\n";
     }
+    if (args.profile)
+        std::cout << describePhases(job.phases);
 }
 
 } // namespace
@@ -328,7 +376,13 @@ Command addBakeCommand(CLI::App& parent) {
     app->add_flag("-q,--quiet", args->quiet, "no progress bar and no summary");
     app->add_flag("--json", args->json, "print the summary as JSON");
     app->add_flag("--profile", args->profile,
-                  "gpu backend: time the GPU passes with timer queries and print them");
+                  "print the whole process's time phase by phase, from process start to the "
+                  "written file (wall and CPU seconds); gpu backend: also the GPU time of the "
+                  "passes, from timer queries");
+    app->add_flag("!--no-program-cache", args->programCache,
+                  "gpu backend: compile every GPU program instead of loading the driver binaries "
+                  "cached in $XDG_CACHE_HOME/sluice (or ~/.cache/sluice) by earlier runs; "
+                  "SLUICE_PROGRAM_CACHE=0 in the environment does the same");
     return {app, [args] { return runBake(*args); }};
 }
 

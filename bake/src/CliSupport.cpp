@@ -43,13 +43,15 @@ bool hasExtension(const std::filesystem::path& path, std::string_view ext) {
     return actual == ext;
 }
 
-Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale) {
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale,
+                              PhaseLog* phases) {
     if (hasExtension(path, ".vdb"))
         return importVdbLevelSet(path, scale);
     if (hasExtension(path, ".nvdb"))
         return importNvdbLevelSet(path, scale);
     ImportOptions options;
     options.scale = scale;
+    options.phases = phases;
     return importMesh(path, options);
 }
 

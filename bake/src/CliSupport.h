@@ -42,6 +42,7 @@ struct BakeArgs {
     bool quiet = false;
     bool json = false;
     bool profile = false;
+    bool programCache = true; ///< cache compiled GPU programs between runs (gpu::ProgramCache)
     bool sparse = false; ///< a narrow-band NanoVDB asset instead of a dense grid
     double band = 3.0;   ///< [voxels] sparse: half-width of the band of exact values
 };
@@ -81,8 +82,10 @@ int reportBadInput(std::string_view command, const std::string& message);
 /// True if the file name ends in `ext` (".vdb"), ignoring case.
 bool hasExtension(const std::filesystem::path& path, std::string_view ext);
 
-/// A mesh through assimp, or the zero isosurface of a level-set .vdb, at the given scale.
-Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale);
+/// A mesh through assimp, or the zero isosurface of a level-set .vdb, at the given scale;
+/// an assimp import laps its phases into `phases` if given.
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale,
+                              PhaseLog* phases = nullptr);
 
 /// A collider asset file, or the first float grid of a .vdb read densely.
 Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path);

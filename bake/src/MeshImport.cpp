@@ -295,6 +295,10 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
                                    const ImportOptions& options) {
     const std::string fileName = path.filename().string();
     const std::string shown = path.string();
+    const auto lap = [&](std::string_view name) {
+        if (options.phases)
+            options.phases->lap(name);
+    };
     if (!std::isfinite(options.scale) || !(options.scale > 0.0))
         return fail(ErrorCode::InvalidArgument,
                     "import scale must be finite and > 0, got " + std::to_string(options.scale));
@@ -323,9 +327,11 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
         if (Result<void> r = detail::checkPlyFile(path, shown); !r)
             return r.error();
 
+    lap("import: file checks");
     Result<std::string> hash = format::hashFileHex(path);
     if (!hash)
         return hash.error();
+    lap("import: file hash");
 
     const auto readSoup = [&]() -> Result<TriangleSoup> {
         silenceAssimp();
@@ -366,6 +372,7 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
                                                 : readSoup();
     if (!soup)
         return soup.error();
+    lap(options.isolate ? "import: assimp (isolated child process)" : "import: assimp");
     ImportedMesh mesh;
     mesh.soup = std::move(*soup);
     if (mesh.soup.triangles.empty())
@@ -374,6 +381,7 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
     mesh.diagnostics = diagnose(mesh.soup);
     mesh.sourceFile = fileName;
     mesh.sourceHash = std::move(*hash);
+    lap("mesh diagnostics");
     return mesh;
 }
 

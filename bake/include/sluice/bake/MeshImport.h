@@ -5,6 +5,7 @@
 #include <string>
 
 #include "sluice/bake/Isolated.h"
+#include "sluice/bake/PhaseLog.h"
 #include "sluice/bake/TriangleSoup.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
@@ -17,6 +18,8 @@ struct ImportOptions {
     /// compiled-in asserts, or a hang on a hostile file becomes a MeshImport error.
     bool isolate = true;
     IsolationLimits limits; ///< time and memory for the isolated importer
+    /// Where the import laps its phases (file checks, hash, assimp, diagnostics), if anywhere.
+    PhaseLog* phases = nullptr;
 };
 
 /// A mesh ready to bake, with what we learned about it.
