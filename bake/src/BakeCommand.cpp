@@ -1,5 +1,7 @@
 // `sluice-bake bake`: mesh (or level-set .vdb) in, collider asset out, with a short summary.
 #include <chrono>
+#include <ctime>
+#include <future>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -41,11 +43,29 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 constexpr std::string_view kCmd = "bake";
 
+/// [s] CPU time of the calling thread.
+double threadCpuSeconds() {
+    timespec t{};
+    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+/// The self-intersection test of the mesh diagnostics, run on a worker thread while the GPU
+/// context opens and the GPU bakes (it costs more than the rest of the diagnostics together).
+struct SelfIntersectionTest {
+    bool found = false;
+    double wallSeconds = 0.0; ///< [s]
+    double cpuSeconds = 0.0;  ///< [s] of the worker thread
+    std::optional<Error> error;
+};
+
 /// One bake on its way from arguments to a written asset; each step fills in its part.
 struct BakeJob {
     Backend backend = Backend::Auto; ///< Gpu or Cgal once openBackend ran
     BakeSettings settings;
     std::optional<ImportedMesh> mesh;
+    /// While it runs, mesh->diagnostics.selfIntersecting is false, not yet known.
+    std::future<SelfIntersectionTest> selfIntersection;
     Box meshBox;              ///< [world units] the scaled mesh's bounding box
     std::uint64_t points = 0; ///< [grid points] of the grid to bake
     std::optional<gpu::Context> context;
@@ -92,10 +112,50 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
     return kExitOk;
 }
 
-/// Reads the mesh at its scale and lays the grid over it.
+/// Runs the self-intersection test of `soup`, which must outlive it, on a new thread.
+std::future<SelfIntersectionTest> startSelfIntersectionTest(const TriangleSoup& soup) {
+    return std::async(std::launch::async, [&soup] {
+        SelfIntersectionTest test;
+        const auto start = std::chrono::steady_clock::now();
+        const double cpu = threadCpuSeconds();
+        // As inside importMesh: CGAL and allocation failures are errors of this mesh.
+        try {
+            test.found = selfIntersects(soup);
+        } catch (const std::bad_alloc&) {
+            test.error = Error{ErrorCode::SizeOverflow, "out of memory while diagnosing the mesh"};
+        } catch (const std::exception& e) {
+            test.error = Error{ErrorCode::MeshImport,
+                               std::string("the self-intersection test failed (") + e.what() + ")"};
+        }
+        test.wallSeconds = secondsSince(start);
+        test.cpuSeconds = threadCpuSeconds() - cpu;
+        return test;
+    });
+}
+
+/// Waits for the self-intersection test, if one runs, and puts its answer into the mesh's
+/// diagnostics. The lap is the wait; the test's own time goes in as an overlapped phase.
+int awaitSelfIntersectionTest(const BakeArgs& args, BakeJob& job) {
+    if (!job.selfIntersection.valid())
+        return kExitOk;
+    const SelfIntersectionTest test = job.selfIntersection.get();
+    job.phases.addOverlapped("mesh diagnostics: self-intersection test", test.wallSeconds,
+                             test.cpuSeconds);
+    job.phases.lap("wait for the self-intersection test");
+    if (test.error)
+        return reportFileError(kCmd, "cannot read mesh", args.mesh, *test.error);
+    job.mesh->diagnostics.selfIntersecting = test.found;
+    return kExitOk;
+}
+
+/// Reads the mesh at its scale and lays the grid over it. Where the GPU may bake, the
+/// self-intersection test of the diagnostics starts on a worker thread (see bakeOnGpu).
 int importAndPlan(const BakeArgs& args, BakeJob& job) {
     const auto start = std::chrono::steady_clock::now();
-    Result<ImportedMesh> mesh = loadMesh(args.mesh, args.scale, &job.phases);
+    const bool maybeGpu = job.backend != Backend::Cgal && !args.sparse;
+    bool deferred = false;
+    Result<ImportedMesh> mesh =
+        loadMesh(args.mesh, args.scale, &job.phases, maybeGpu ? &deferred : nullptr);
     if (!mesh)
         return reportFileError(kCmd, "cannot read mesh", args.mesh, mesh.error());
     job.importSeconds = secondsSince(start);
@@ -106,6 +166,8 @@ int importAndPlan(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot bake", args.mesh, grid.error());
     job.points = grid->pointCount();
     job.mesh = std::move(*mesh);
+    if (deferred)
+        job.selfIntersection = startSelfIntersectionTest(job.mesh->soup);
     job.phases.lap("grid plan");
     return kExitOk;
 }
@@ -136,22 +198,52 @@ int openBackend(const BakeArgs& args, BakeJob& job) {
     return kExitOk;
 }
 
+/// The GPU bake, started before the self-intersection test has answered. Only the sign method
+/// of `--sign auto` on a closed mesh depends on the answer (parity, or the winding number for a
+/// mesh that intersects itself), so the bake assumes the common case, parity, and bakes again
+/// with the winding number in the rare other one: the same asset as waiting would give.
+Result<format::ColliderAsset> bakeOnGpu(const BakeArgs& args, BakeJob& job, int& code) {
+    const auto bake = [&]() {
+        Progress progress("baking " + job.mesh->sourceFile + " on the GPU", job.points,
+                          !args.quiet);
+        Result<format::ColliderAsset> asset =
+            bakeGpu(*job.mesh, job.settings, *job.context, &progress,
+                    {.profile = args.profile,
+                     .programCache = &*job.programCache,
+                     .phases = &job.phases},
+                    &job.gpuStats);
+        progress.finish();
+        job.phases.lap("gpu: progress report");
+        return asset;
+    };
+    Result<format::ColliderAsset> asset = bake();
+    if (!asset || !job.selfIntersection.valid())
+        return asset;
+    if ((code = awaitSelfIntersectionTest(args, job)) != kExitOk)
+        return asset;
+    const format::MeshDiagnostics& diagnostics = job.mesh->diagnostics;
+    if (diagnostics.selfIntersecting && diagnostics.closed && job.settings.sign == SignMode::Auto)
+        return bake();
+    asset->meta.mesh = diagnostics;
+    return asset;
+}
+
 /// Computes the field on the chosen backend, with a progress bar unless --quiet.
 int bakeField(const BakeArgs& args, BakeJob& job) {
     const auto start = std::chrono::steady_clock::now();
-    const ImportedMesh& mesh = *job.mesh;
     std::optional<Result<format::ColliderAsset>> asset;
+    if (job.backend != Backend::Gpu)
+        if (const int code = awaitSelfIntersectionTest(args, job); code != kExitOk)
+            return code;
+    const ImportedMesh& mesh = *job.mesh;
     if (args.sparse) {
         asset.emplace(
             bakeSparseCgal(mesh, job.settings, {.band = args.band}, !args.quiet, &job.sparseStats));
     } else if (job.backend == Backend::Gpu) {
-        Progress progress("baking " + mesh.sourceFile + " on the GPU", job.points, !args.quiet);
-        asset.emplace(bakeGpu(mesh, job.settings, *job.context, &progress,
-                              {.profile = args.profile,
-                               .programCache = &*job.programCache,
-                               .phases = &job.phases},
-                              &job.gpuStats));
-        progress.finish();
+        int code = kExitOk;
+        asset.emplace(bakeOnGpu(args, job, code));
+        if (code != kExitOk)
+            return code;
     } else {
         Progress progress("baking " + mesh.sourceFile, job.points, !args.quiet);
         asset.emplace(bakeCgal(mesh, job.settings, &progress));
@@ -161,9 +253,8 @@ int bakeField(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot bake", args.mesh, asset->error());
     job.bakeSeconds = secondsSince(start);
     job.asset.emplace(std::move(asset->value()));
-    job.phases.lap(args.sparse                    ? "sparse bake (cgal)"
-                   : job.backend == Backend::Gpu ? "gpu: progress report"
-                                                 : "cgal bake");
+    if (job.backend != Backend::Gpu)
+        job.phases.lap(args.sparse ? "sparse bake (cgal)" : "cgal bake");
     if (job.context) {
         // Now rather than at exit, so the profile sees it (eglTerminate joins llvmpipe's threads).
         job.context.reset();

@@ -44,7 +44,9 @@ bool hasExtension(const std::filesystem::path& path, std::string_view ext) {
 }
 
 Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale,
-                              PhaseLog* phases) {
+                              PhaseLog* phases, bool* selfIntersectionDeferred) {
+    if (selfIntersectionDeferred)
+        *selfIntersectionDeferred = false;
     if (hasExtension(path, ".vdb"))
         return importVdbLevelSet(path, scale);
     if (hasExtension(path, ".nvdb"))
@@ -52,6 +54,10 @@ Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale,
     ImportOptions options;
     options.scale = scale;
     options.phases = phases;
+    if (selfIntersectionDeferred) {
+        options.selfIntersectionTest = false;
+        *selfIntersectionDeferred = true;
+    }
     return importMesh(path, options);
 }
 

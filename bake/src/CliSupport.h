@@ -83,9 +83,11 @@ int reportBadInput(std::string_view command, const std::string& message);
 bool hasExtension(const std::filesystem::path& path, std::string_view ext);
 
 /// A mesh through assimp, or the zero isosurface of a level-set .vdb, at the given scale;
-/// an assimp import laps its phases into `phases` if given.
+/// an assimp import laps its phases into `phases` if given. With `selfIntersectionDeferred`,
+/// an assimp import leaves the self-intersection test out of the diagnostics (selfIntersects)
+/// and sets it true; a level set is diagnosed whole and sets it false.
 Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale,
-                              PhaseLog* phases = nullptr);
+                              PhaseLog* phases = nullptr, bool* selfIntersectionDeferred = nullptr);
 
 /// A collider asset file, or the first float grid of a .vdb read densely.
 Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path);

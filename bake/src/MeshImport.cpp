@@ -378,10 +378,12 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
     if (mesh.soup.triangles.empty())
         return fail(ErrorCode::EmptyMesh,
                     shown + ": no triangles (only points or lines, or no geometry at all)");
-    mesh.diagnostics = diagnose(mesh.soup);
+    mesh.diagnostics =
+        options.selfIntersectionTest ? diagnose(mesh.soup) : diagnoseTopology(mesh.soup);
     mesh.sourceFile = fileName;
     mesh.sourceHash = std::move(*hash);
-    lap("mesh diagnostics");
+    lap(options.selfIntersectionTest ? "mesh diagnostics"
+                                     : "mesh diagnostics: topology (self-intersection test later)");
     return mesh;
 }
 

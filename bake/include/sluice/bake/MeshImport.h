@@ -20,6 +20,9 @@ struct ImportOptions {
     IsolationLimits limits; ///< time and memory for the isolated importer
     /// Where the import laps its phases (file checks, hash, assimp, diagnostics), if anywhere.
     PhaseLog* phases = nullptr;
+    /// false: leave the self-intersection test out of the diagnostics (selfIntersecting is
+    /// false until the caller runs selfIntersects, e.g. on another thread).
+    bool selfIntersectionTest = true;
 };
 
 /// A mesh ready to bake, with what we learned about it.
@@ -39,5 +42,13 @@ Result<ImportedMesh> importMesh(const std::filesystem::path& path, const ImportO
 
 /// Edge and degeneracy counts, closedness, and CGAL's self-intersection test.
 format::MeshDiagnostics diagnose(const TriangleSoup& soup);
+
+/// diagnose without the self-intersection test (selfIntersecting false): the cheap part.
+format::MeshDiagnostics diagnoseTopology(const TriangleSoup& soup);
+
+/// Whether two non-degenerate triangles intersect in more than the corners or the edge they
+/// share (CGAL box intersection, then exact predicates): diagnose's selfIntersecting, which
+/// costs far more than the rest of it.
+bool selfIntersects(const TriangleSoup& soup);
 
 } // namespace sluice::bake
