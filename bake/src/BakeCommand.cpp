@@ -68,6 +68,7 @@ struct BakeJob {
     std::future<SelfIntersectionTest> selfIntersection;
     Box meshBox;              ///< [world units] the scaled mesh's bounding box
     std::uint64_t points = 0; ///< [grid points] of the grid to bake
+    std::optional<Result<gpu::Context>> contextResult; ///< opened during the import
     std::optional<gpu::Context> context;
     std::optional<gpu::ProgramCache> programCache;
     std::string renderer;
@@ -148,14 +149,32 @@ int awaitSelfIntersectionTest(const BakeArgs& args, BakeJob& job) {
     return kExitOk;
 }
 
-/// Reads the mesh at its scale and lays the grid over it. Where the GPU may bake, the
-/// self-intersection test of the diagnostics starts on a worker thread (see bakeOnGpu).
+/// Tries to open the GL context and the program cache, for openBackend to judge: an error here
+/// is reported only once the import has succeeded, as if the context came after it.
+void openContext(const BakeArgs& args, BakeJob& job) {
+    job.phases.lap("import: start the isolated child");
+    job.contextResult.emplace(gpu::Context::createHeadless());
+    job.phases.lap("GPU context (while the child reads the mesh)");
+    if (*job.contextResult) {
+        job.programCache.emplace(gpu::ProgramCache::open({.enabled = args.programCache}));
+        job.phases.lap("program cache");
+    }
+}
+
+/// Reads the mesh at its scale and lays the grid over it. Where the GPU may bake, the GL
+/// context opens while the isolated child reads the file (openContext), and the
+/// self-intersection test of the diagnostics starts on a worker thread after (see bakeOnGpu).
 int importAndPlan(const BakeArgs& args, BakeJob& job) {
     const auto start = std::chrono::steady_clock::now();
     const bool maybeGpu = job.backend != Backend::Cgal && !args.sparse;
-    bool deferred = false;
-    Result<ImportedMesh> mesh =
-        loadMesh(args.mesh, args.scale, &job.phases, maybeGpu ? &deferred : nullptr);
+    ImportOptions options;
+    options.scale = args.scale;
+    options.phases = &job.phases;
+    options.selfIntersectionTest = !maybeGpu;
+    if (maybeGpu)
+        options.whileImporting = [&] { openContext(args, job); };
+    const bool deferred = maybeGpu && !isLevelSetFile(args.mesh);
+    Result<ImportedMesh> mesh = loadMesh(args.mesh, options);
     if (!mesh)
         return reportFileError(kCmd, "cannot read mesh", args.mesh, mesh.error());
     job.importSeconds = secondsSince(start);
@@ -178,7 +197,10 @@ int openBackend(const BakeArgs& args, BakeJob& job) {
         job.backend = Backend::Cgal;
         return kExitOk;
     }
-    Result<gpu::Context> context = gpu::Context::createHeadless();
+    if (!job.contextResult)
+        openContext(args, job);
+    Result<gpu::Context> context = std::move(*job.contextResult);
+    job.contextResult.reset();
     if (!context && job.backend == Backend::Gpu)
         return reportError(kCmd, "no GPU context for --backend gpu (use --backend cgal)",
                            context.error());
@@ -192,9 +214,6 @@ int openBackend(const BakeArgs& args, BakeJob& job) {
     job.backend = Backend::Gpu;
     job.context.emplace(std::move(*context));
     job.renderer = job.context->info().renderer;
-    job.phases.lap("GPU context");
-    job.programCache.emplace(gpu::ProgramCache::open({.enabled = args.programCache}));
-    job.phases.lap("program cache");
     return kExitOk;
 }
 

@@ -43,22 +43,25 @@ bool hasExtension(const std::filesystem::path& path, std::string_view ext) {
     return actual == ext;
 }
 
-Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale,
-                              PhaseLog* phases, bool* selfIntersectionDeferred) {
-    if (selfIntersectionDeferred)
-        *selfIntersectionDeferred = false;
-    if (hasExtension(path, ".vdb"))
-        return importVdbLevelSet(path, scale);
-    if (hasExtension(path, ".nvdb"))
-        return importNvdbLevelSet(path, scale);
+bool isLevelSetFile(const std::filesystem::path& path) {
+    return hasExtension(path, ".vdb") || hasExtension(path, ".nvdb");
+}
+
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale) {
     ImportOptions options;
     options.scale = scale;
-    options.phases = phases;
-    if (selfIntersectionDeferred) {
-        options.selfIntersectionTest = false;
-        *selfIntersectionDeferred = true;
-    }
-    return importMesh(path, options);
+    return loadMesh(path, options);
+}
+
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, const ImportOptions& options) {
+    if (!isLevelSetFile(path))
+        return importMesh(path, options);
+    Result<ImportedMesh> mesh = hasExtension(path, ".vdb")
+                                    ? importVdbLevelSet(path, options.scale)
+                                    : importNvdbLevelSet(path, options.scale);
+    if (options.whileImporting)
+        options.whileImporting();
+    return mesh;
 }
 
 Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path) {

@@ -82,12 +82,16 @@ int reportBadInput(std::string_view command, const std::string& message);
 /// True if the file name ends in `ext` (".vdb"), ignoring case.
 bool hasExtension(const std::filesystem::path& path, std::string_view ext);
 
-/// A mesh through assimp, or the zero isosurface of a level-set .vdb, at the given scale;
-/// an assimp import laps its phases into `phases` if given. With `selfIntersectionDeferred`,
-/// an assimp import leaves the self-intersection test out of the diagnostics (selfIntersects)
-/// and sets it true; a level set is diagnosed whole and sets it false.
-Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale,
-                              PhaseLog* phases = nullptr, bool* selfIntersectionDeferred = nullptr);
+/// A mesh through assimp, or the zero isosurface of a level-set .vdb, at the given scale.
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale);
+
+/// loadMesh with the import's options (scale, phases, deferred self-intersection test, work
+/// while importing). A level set (isLevelSetFile) is read in this process and diagnosed whole,
+/// whatever selfIntersectionTest says; whileImporting then runs after it.
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, const ImportOptions& options);
+
+/// Whether loadMesh reads `path` as a level set (.vdb, .nvdb) rather than through assimp.
+bool isLevelSetFile(const std::filesystem::path& path);
 
 /// A collider asset file, or the first float grid of a .vdb read densely.
 Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path);

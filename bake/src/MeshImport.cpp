@@ -317,16 +317,6 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
     if (bytes > kMaxFileBytes)
         return fail(ErrorCode::SizeOverflow, shown + ": the file is larger than 4 GiB");
 
-    // Pre-flight checks of what assimp trusts in OFF and PLY files. checkPlyFile reads the
-    // magic itself, and passes a file without it.
-    const std::string extension = detail::lowered(path.extension().string());
-    if (extension == ".off")
-        if (Result<void> r = checkOffFile(path, bytes, shown); !r)
-            return r.error();
-    if (mayBeReadAsPly(extension))
-        if (Result<void> r = detail::checkPlyFile(path, shown); !r)
-            return r.error();
-
     lap("import: file checks");
     Result<std::string> hash = format::hashFileHex(path);
     if (!hash)
@@ -334,6 +324,16 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
     lap("import: file hash");
 
     const auto readSoup = [&]() -> Result<TriangleSoup> {
+        // Pre-flight checks of what assimp trusts in OFF and PLY files, in the child too: they
+        // read the whole file, and the parent has other work meanwhile. checkPlyFile reads the
+        // magic itself, and passes a file without it.
+        const std::string extension = detail::lowered(path.extension().string());
+        if (extension == ".off")
+            if (Result<void> r = checkOffFile(path, bytes, shown); !r)
+                return r.error();
+        if (mayBeReadAsPly(extension))
+            if (Result<void> r = detail::checkPlyFile(path, shown); !r)
+                return r.error();
         silenceAssimp();
         Assimp::Importer importer;
         // Read without post-processing first: a point cloud or a file of lines is not corrupt,
@@ -368,11 +368,21 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
         return builder.take();
     };
     // Everything assimp touches runs in the child when isolated; the rest runs here.
-    Result<TriangleSoup> soup = options.isolate ? runIsolated(shown, options.limits, readSoup)
-                                                : readSoup();
+    IsolationReport child;
+    Result<TriangleSoup> soup = Error{ErrorCode::MeshImport, {}};
+    if (options.isolate) {
+        soup = runIsolated(shown, options.limits, readSoup, options.whileImporting, &child);
+    } else {
+        if (options.whileImporting)
+            options.whileImporting();
+        soup = readSoup();
+    }
+    if (options.isolate && options.phases)
+        options.phases->addOverlapped("import: isolated child process (OFF/PLY checks, assimp)",
+                                      child.wallSeconds, child.cpuSeconds);
     if (!soup)
         return soup.error();
-    lap(options.isolate ? "import: assimp (isolated child process)" : "import: assimp");
+    lap(options.isolate ? "import: wait for the isolated child" : "import: checks and assimp");
     ImportedMesh mesh;
     mesh.soup = std::move(*soup);
     if (mesh.soup.triangles.empty())

@@ -56,7 +56,7 @@ std::string describePhases(const PhaseLog& log) {
         name.resize(width, ' ');
         text += line("           %s %8.3f s wall %8.3f s CPU", name, phase.wallSeconds,
                      phase.cpuSeconds);
-        text += phase.overlapped ? " (another thread, beside the above)\n" : "\n";
+        text += phase.overlapped ? " (beside the timeline: not in the sum)\n" : "\n";
     }
     return text;
 }

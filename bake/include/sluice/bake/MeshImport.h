@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "sluice/bake/Isolated.h"
@@ -23,6 +24,9 @@ struct ImportOptions {
     /// false: leave the self-intersection test out of the diagnostics (selfIntersecting is
     /// false until the caller runs selfIntersects, e.g. on another thread).
     bool selfIntersectionTest = true;
+    /// Runs while the isolated child reads the file (right after the fork), so the caller's own
+    /// work overlaps the import: opening a GL context, say. Without isolation it runs first.
+    std::function<void()> whileImporting;
 };
 
 /// A mesh ready to bake, with what we learned about it.

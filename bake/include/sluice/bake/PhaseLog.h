@@ -15,7 +15,7 @@ struct Phase {
     /// [s] CPU time of the whole process (every thread: llvmpipe's, TBB's, workers') and of the
     /// child processes it waited for in the phase (the isolated import).
     double cpuSeconds = 0.0;
-    /// Ran on another thread beside the timeline (its wall time is inside other phases), so it
+    /// Ran on another thread or in a child process beside the timeline (its wall time is inside other phases), so it
     /// is not part of their sum; its CPU time is already in theirs.
     bool overlapped = false;
 };
