@@ -436,10 +436,7 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     if (!grid)
         return grid.error();
     const auto cpuStart = std::chrono::steady_clock::now();
-    const auto lap = [&](std::string_view name) {
-        if (options.phases)
-            options.phases->lap(name);
-    };
+    const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
     Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, settings.sign);
     if (!soup)
         return soup.error();

@@ -295,10 +295,7 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
                                    const ImportOptions& options) {
     const std::string fileName = path.filename().string();
     const std::string shown = path.string();
-    const auto lap = [&](std::string_view name) {
-        if (options.phases)
-            options.phases->lap(name);
-    };
+    const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
     if (!std::isfinite(options.scale) || !(options.scale > 0.0))
         return fail(ErrorCode::InvalidArgument,
                     "import scale must be finite and > 0, got " + std::to_string(options.scale));

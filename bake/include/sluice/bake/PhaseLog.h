@@ -58,4 +58,10 @@ private:
     double m_totalSeconds = 0.0;
 };
 
+/// log->lap(name) where there is a log: for code that laps only when asked to.
+inline void lap(PhaseLog* log, std::string_view name) {
+    if (log)
+        log->lap(name);
+}
+
 } // namespace sluice::bake
