@@ -1,10 +1,13 @@
 // `sluice-bake bake`: mesh (or level-set .vdb) in, collider asset out, with a short summary.
 #include <chrono>
+#include <ctime>
+#include <future>
 #include <iostream>
 #include <memory>
 #include <optional>
 
 #include "CliSupport.h"
+#include "PhaseReport.h"
 #include "sluice/bake/BakeJob.h"
 #include "sluice/bake/CgalReference.h"
 #include "sluice/bake/Cli.h"
@@ -40,14 +43,34 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 constexpr std::string_view kCmd = "bake";
 
+/// [s] CPU time of the calling thread.
+double threadCpuSeconds() {
+    timespec t{};
+    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+/// The self-intersection test of the mesh diagnostics, run on a worker thread while the GPU
+/// context opens and the GPU bakes (it costs more than the rest of the diagnostics together).
+struct SelfIntersectionTest {
+    bool found = false;
+    double wallSeconds = 0.0; ///< [s]
+    double cpuSeconds = 0.0;  ///< [s] of the worker thread
+    std::optional<Error> error;
+};
+
 /// One bake on its way from arguments to a written asset; each step fills in its part.
 struct BakeJob {
     Backend backend = Backend::Auto; ///< Gpu or Cgal once openBackend ran
     BakeSettings settings;
     std::optional<ImportedMesh> mesh;
+    /// While it runs, mesh->diagnostics.selfIntersecting is false, not yet known.
+    std::future<SelfIntersectionTest> selfIntersection;
     Box meshBox;              ///< [world units] the scaled mesh's bounding box
     std::uint64_t points = 0; ///< [grid points] of the grid to bake
+    std::optional<Result<gpu::Context>> contextResult; ///< opened during the import
     std::optional<gpu::Context> context;
+    std::optional<gpu::ProgramCache> programCache;
     std::string renderer;
     GpuBakeStats gpuStats;
     std::optional<format::ColliderAsset> asset;
@@ -55,6 +78,7 @@ struct BakeJob {
     std::size_t bytes = 0; ///< [bytes] of the written file
     double importSeconds = 0.0;
     double bakeSeconds = 0.0;
+    PhaseLog phases{"start-up (exec, libraries, parsing the arguments)"};
 };
 
 /// Every argument is checked, and OUT's folder created, before the mesh is read, so mistakes
@@ -85,13 +109,72 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
                   << "' does not end in .slc; it will hold a collider asset all the same\n";
     job.backend = *backend;
     job.settings = *settings;
+    job.phases.lap("argument checks");
     return kExitOk;
 }
 
-/// Reads the mesh at its scale and lays the grid over it.
+/// Runs the self-intersection test of `soup`, which must outlive it, on a new thread.
+std::future<SelfIntersectionTest> startSelfIntersectionTest(const TriangleSoup& soup) {
+    return std::async(std::launch::async, [&soup] {
+        SelfIntersectionTest test;
+        const auto start = std::chrono::steady_clock::now();
+        const double cpu = threadCpuSeconds();
+        // As inside importMesh: CGAL and allocation failures are errors of this mesh.
+        try {
+            test.found = selfIntersects(soup);
+        } catch (const std::bad_alloc&) {
+            test.error = Error{ErrorCode::SizeOverflow, "out of memory while diagnosing the mesh"};
+        } catch (const std::exception& e) {
+            test.error = Error{ErrorCode::MeshImport,
+                               std::string("the self-intersection test failed (") + e.what() + ")"};
+        }
+        test.wallSeconds = secondsSince(start);
+        test.cpuSeconds = threadCpuSeconds() - cpu;
+        return test;
+    });
+}
+
+/// Waits for the self-intersection test, if one runs, and puts its answer into the mesh's
+/// diagnostics. The lap is the wait; the test's own time goes in as an overlapped phase.
+int awaitSelfIntersectionTest(const BakeArgs& args, BakeJob& job) {
+    if (!job.selfIntersection.valid())
+        return kExitOk;
+    const SelfIntersectionTest test = job.selfIntersection.get();
+    job.phases.addOverlapped("mesh diagnostics: self-intersection test", test.wallSeconds,
+                             test.cpuSeconds);
+    job.phases.lap("wait for the self-intersection test");
+    if (test.error)
+        return reportFileError(kCmd, "cannot read mesh", args.mesh, *test.error);
+    job.mesh->diagnostics.selfIntersecting = test.found;
+    return kExitOk;
+}
+
+/// Tries to open the GL context and the program cache, for openBackend to judge: an error here
+/// is reported only once the import has succeeded, as if the context came after it.
+void openContext(const BakeArgs& args, BakeJob& job) {
+    job.phases.lap("import: start the isolated child");
+    job.contextResult.emplace(gpu::Context::createHeadless());
+    job.phases.lap("GPU context (while the child reads the mesh)");
+    if (*job.contextResult) {
+        job.programCache.emplace(gpu::ProgramCache::open({.enabled = args.programCache}));
+        job.phases.lap("program cache");
+    }
+}
+
+/// Reads the mesh at its scale and lays the grid over it. Where the GPU may bake, the GL
+/// context opens while the isolated child reads the file (openContext), and the
+/// self-intersection test of the diagnostics starts on a worker thread after (see bakeOnGpu).
 int importAndPlan(const BakeArgs& args, BakeJob& job) {
     const auto start = std::chrono::steady_clock::now();
-    Result<ImportedMesh> mesh = loadMesh(args.mesh, args.scale);
+    const bool maybeGpu = job.backend != Backend::Cgal && !args.sparse;
+    ImportOptions options;
+    options.scale = args.scale;
+    options.phases = &job.phases;
+    options.selfIntersectionTest = !maybeGpu;
+    if (maybeGpu)
+        options.whileImporting = [&] { openContext(args, job); };
+    const bool deferred = maybeGpu && !isLevelSetFile(args.mesh);
+    Result<ImportedMesh> mesh = loadMesh(args.mesh, options);
     if (!mesh)
         return reportFileError(kCmd, "cannot read mesh", args.mesh, mesh.error());
     job.importSeconds = secondsSince(start);
@@ -102,6 +185,9 @@ int importAndPlan(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot bake", args.mesh, grid.error());
     job.points = grid->pointCount();
     job.mesh = std::move(*mesh);
+    if (deferred)
+        job.selfIntersection = startSelfIntersectionTest(job.mesh->soup);
+    job.phases.lap("grid plan");
     return kExitOk;
 }
 
@@ -111,7 +197,10 @@ int openBackend(const BakeArgs& args, BakeJob& job) {
         job.backend = Backend::Cgal;
         return kExitOk;
     }
-    Result<gpu::Context> context = gpu::Context::createHeadless();
+    if (!job.contextResult)
+        openContext(args, job);
+    Result<gpu::Context> context = std::move(*job.contextResult);
+    job.contextResult.reset();
     if (!context && job.backend == Backend::Gpu)
         return reportError(kCmd, "no GPU context for --backend gpu (use --backend cgal)",
                            context.error());
@@ -128,19 +217,52 @@ int openBackend(const BakeArgs& args, BakeJob& job) {
     return kExitOk;
 }
 
+/// The GPU bake, started before the self-intersection test has answered. Only the sign method
+/// of `--sign auto` on a closed mesh depends on the answer (parity, or the winding number for a
+/// mesh that intersects itself), so the bake assumes the common case, parity, and bakes again
+/// with the winding number in the rare other one: the same asset as waiting would give.
+Result<format::ColliderAsset> bakeOnGpu(const BakeArgs& args, BakeJob& job, int& code) {
+    const auto bake = [&]() {
+        Progress progress("baking " + job.mesh->sourceFile + " on the GPU", job.points,
+                          !args.quiet);
+        Result<format::ColliderAsset> asset =
+            bakeGpu(*job.mesh, job.settings, *job.context, &progress,
+                    {.profile = args.profile,
+                     .programCache = &*job.programCache,
+                     .phases = &job.phases},
+                    &job.gpuStats);
+        progress.finish();
+        job.phases.lap("gpu: progress report");
+        return asset;
+    };
+    Result<format::ColliderAsset> asset = bake();
+    if (!asset || !job.selfIntersection.valid())
+        return asset;
+    if ((code = awaitSelfIntersectionTest(args, job)) != kExitOk)
+        return asset;
+    const format::MeshDiagnostics& diagnostics = job.mesh->diagnostics;
+    if (diagnostics.selfIntersecting && diagnostics.closed && job.settings.sign == SignMode::Auto)
+        return bake();
+    asset->meta.mesh = diagnostics;
+    return asset;
+}
+
 /// Computes the field on the chosen backend, with a progress bar unless --quiet.
 int bakeField(const BakeArgs& args, BakeJob& job) {
     const auto start = std::chrono::steady_clock::now();
-    const ImportedMesh& mesh = *job.mesh;
     std::optional<Result<format::ColliderAsset>> asset;
+    if (job.backend != Backend::Gpu)
+        if (const int code = awaitSelfIntersectionTest(args, job); code != kExitOk)
+            return code;
+    const ImportedMesh& mesh = *job.mesh;
     if (args.sparse) {
         asset.emplace(
             bakeSparseCgal(mesh, job.settings, {.band = args.band}, !args.quiet, &job.sparseStats));
     } else if (job.backend == Backend::Gpu) {
-        Progress progress("baking " + mesh.sourceFile + " on the GPU", job.points, !args.quiet);
-        asset.emplace(bakeGpu(mesh, job.settings, *job.context, &progress,
-                              {.profile = args.profile}, &job.gpuStats));
-        progress.finish();
+        int code = kExitOk;
+        asset.emplace(bakeOnGpu(args, job, code));
+        if (code != kExitOk)
+            return code;
     } else {
         Progress progress("baking " + mesh.sourceFile, job.points, !args.quiet);
         asset.emplace(bakeCgal(mesh, job.settings, &progress));
@@ -150,6 +272,13 @@ int bakeField(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot bake", args.mesh, asset->error());
     job.bakeSeconds = secondsSince(start);
     job.asset.emplace(std::move(asset->value()));
+    if (job.backend != Backend::Gpu)
+        job.phases.lap(args.sparse ? "sparse bake (cgal)" : "cgal bake");
+    if (job.context) {
+        // Now rather than at exit, so the profile sees it (eglTerminate joins llvmpipe's threads).
+        job.context.reset();
+        job.phases.lap("release the GPU context");
+    }
     return kExitOk;
 }
 
@@ -159,9 +288,11 @@ int writeOutput(const BakeArgs& args, BakeJob& job) {
     if (!encoded)
         return reportFileError(kCmd, "cannot encode the asset for", args.output, encoded.error());
     job.asset->meta.quantizationError = encoded->quantizationError;
+    job.phases.lap("encode");
     if (Result<void> written = format::writeFileAtomic(args.output, encoded->bytes); !written)
         return reportFileError(kCmd, "cannot write", args.output, written.error());
     job.bytes = encoded->bytes.size();
+    job.phases.lap("write (atomic, fsync)");
     return kExitOk;
 }
 
@@ -188,6 +319,27 @@ nlohmann::ordered_json sparseJson(const BakeJob& job) {
             {"peakRssBytes", peakRssBytes()}};
 }
 
+/// What the program cache did: {"enabled", "offReason", "dir", "binaryFormats", "hits",
+/// "misses", "stored", "rejected"}.
+nlohmann::ordered_json programCacheJson(const gpu::ProgramCache& cache) {
+    const gpu::ProgramCacheStats& s = cache.stats();
+    return {{"enabled", cache.enabled()},       {"offReason", cache.offReason()},
+            {"dir", cache.dir().string()},      {"binaryFormats", cache.binaryFormats()},
+            {"hits", s.hits},                   {"misses", s.misses},
+            {"stored", s.stored},               {"rejected", s.rejected}};
+}
+
+/// "5 hits, 0 misses in ~/.cache/sluice" or "off (why)".
+std::string describeProgramCache(const gpu::ProgramCache& cache) {
+    if (!cache.enabled())
+        return "off (" + cache.offReason() + ")";
+    const gpu::ProgramCacheStats& s = cache.stats();
+    std::string text = plural(s.hits, "hit") + ", " + plural(s.misses, "miss", "misses");
+    if (s.rejected > 0)
+        text += ", " + std::to_string(s.rejected) + " rejected";
+    return text + " in " + cache.dir().string();
+}
+
 void printJson(const BakeArgs& args, const BakeJob& job) {
     const glm::dvec3 size = job.meshBox.hi - job.meshBox.lo;
     nlohmann::ordered_json out = {{"output", args.output},
@@ -200,12 +352,15 @@ void printJson(const BakeArgs& args, const BakeJob& job) {
                                   {"asset", toJson(job.asset->meta)}};
     if (job.asset->sparse())
         out["sparse"] = sparseJson(job);
+    if (args.profile)
+        out["profile"] = phasesJson(job.phases);
     if (job.backend == Backend::Gpu) {
         const GpuBakeStats& gpu = job.gpuStats;
         out["gpu"] = {{"renderer", job.renderer},     {"triangles", gpu.triangles},
                       {"bvhNodes", gpu.nodes},        {"bvhDepth", gpu.depth},
                       {"bvhSeconds", gpu.bvhSeconds}, {"dispatches", gpu.dispatches},
                       {"gpuBytes", gpu.gpuBytes}};
+        out["gpu"]["programCache"] = programCacheJson(*job.programCache);
         if (args.profile) {
             out["gpu"]["distanceSeconds"] = gpu.distanceNs * 1e-9;
             out["gpu"]["signSeconds"] = gpu.signNs * 1e-9;
@@ -249,11 +404,14 @@ void printSummary(const BakeArgs& args, const BakeJob& job) {
         const GpuBakeStats& gpu = job.gpuStats;
         std::cout << "  gpu      " << job.renderer << ", BVH of " << plural(gpu.nodes, "node")
                   << " (depth " << gpu.depth << ") in " << num(gpu.bvhSeconds, 3) << " s, "
-                  << plural(gpu.dispatches, "dispatch", "dispatches") << '\n';
+                  << plural(gpu.dispatches, "dispatch", "dispatches") << '\n'
+                  << "  programs " << describeProgramCache(*job.programCache) << '\n';
         if (args.profile)
             std::cout << "  passes   distance " << num(gpu.distanceNs * 1e-6, 4) << " ms, sign "
                       << num(gpu.signNs * 1e-6, 4) << " ms (GPU time)\n";
     }
+    if (args.profile)
+        std::cout << describePhases(job.phases);
 }
 
 } // namespace
@@ -328,7 +486,13 @@ Command addBakeCommand(CLI::App& parent) {
     app->add_flag("-q,--quiet", args->quiet, "no progress bar and no summary");
     app->add_flag("--json", args->json, "print the summary as JSON");
     app->add_flag("--profile", args->profile,
-                  "gpu backend: time the GPU passes with timer queries and print them");
+                  "print the whole process's time phase by phase, from process start to the "
+                  "written file (wall and CPU seconds); gpu backend: also the GPU time of the "
+                  "passes, from timer queries");
+    app->add_flag("!--no-program-cache", args->programCache,
+                  "gpu backend: compile every GPU program instead of loading the driver binaries "
+                  "cached in $XDG_CACHE_HOME/sluice (or ~/.cache/sluice) by earlier runs; "
+                  "SLUICE_PROGRAM_CACHE=0 in the environment does the same");
     return {app, [args] { return runBake(*args); }};
 }
 

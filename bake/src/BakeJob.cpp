@@ -145,7 +145,9 @@ Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& reques
     if (gpu) {
         outcome.backend = "gpu";
         outcome.renderer = (*context)->info().renderer;
-        asset.emplace(bakeGpu(mesh, *settings, **context, progress, {}, &outcome.gpuStats));
+        gpu::ProgramCache cache = gpu::ProgramCache::open();
+        asset.emplace(bakeGpu(mesh, *settings, **context, progress, {.programCache = &cache},
+                              &outcome.gpuStats));
     } else {
         outcome.backend = "cgal";
         asset.emplace(bakeCgal(mesh, *settings, progress));

@@ -111,19 +111,29 @@ struct Builder {
             const int bin = int((primitives[triangle].centroid[axis] - clo[axis]) / extent * kBins);
             return std::clamp(bin, 0, kBins - 1);
         };
-        double bestCost = 1e300;
-        int bestAxis = -1, bestBin = 0;
-        for (int axis = 0; axis < 3; ++axis) {
-            if (!(chi[axis] > clo[axis]))
-                continue;
-            std::array<Bin, kBins> bins;
-            for (std::uint32_t n = begin; n < end; ++n) {
-                const Primitive& p = primitives[order[n]];
-                Bin& bin = bins[binOf(order[n], axis)];
+        // The bins of all three axes in one pass over the triangles (the same bins as one pass
+        // per axis, read from memory once).
+        std::array<std::array<Bin, kBins>, 3> binsOf;
+        std::array<bool, 3> splittable;
+        for (int axis = 0; axis < 3; ++axis)
+            splittable[axis] = chi[axis] > clo[axis];
+        for (std::uint32_t n = begin; n < end; ++n) {
+            const Primitive& p = primitives[order[n]];
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!splittable[axis])
+                    continue;
+                Bin& bin = binsOf[axis][binOf(order[n], axis)];
                 bin.lo = glm::min(bin.lo, p.lo);
                 bin.hi = glm::max(bin.hi, p.hi);
                 ++bin.count;
             }
+        }
+        double bestCost = 1e300;
+        int bestAxis = -1, bestBin = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!splittable[axis])
+                continue;
+            const std::array<Bin, kBins>& bins = binsOf[axis];
             // Cost of splitting after bin i: area(left) * count(left) + the same for the right.
             std::array<double, kBins> rightCost{};
             Bin right;

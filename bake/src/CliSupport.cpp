@@ -43,14 +43,25 @@ bool hasExtension(const std::filesystem::path& path, std::string_view ext) {
     return actual == ext;
 }
 
+bool isLevelSetFile(const std::filesystem::path& path) {
+    return hasExtension(path, ".vdb") || hasExtension(path, ".nvdb");
+}
+
 Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale) {
-    if (hasExtension(path, ".vdb"))
-        return importVdbLevelSet(path, scale);
-    if (hasExtension(path, ".nvdb"))
-        return importNvdbLevelSet(path, scale);
     ImportOptions options;
     options.scale = scale;
-    return importMesh(path, options);
+    return loadMesh(path, options);
+}
+
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, const ImportOptions& options) {
+    if (!isLevelSetFile(path))
+        return importMesh(path, options);
+    Result<ImportedMesh> mesh = hasExtension(path, ".vdb")
+                                    ? importVdbLevelSet(path, options.scale)
+                                    : importNvdbLevelSet(path, options.scale);
+    if (options.whileImporting)
+        options.whileImporting();
+    return mesh;
 }
 
 Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path) {

@@ -42,6 +42,7 @@ struct BakeArgs {
     bool quiet = false;
     bool json = false;
     bool profile = false;
+    bool programCache = true; ///< cache compiled GPU programs between runs (gpu::ProgramCache)
     bool sparse = false; ///< a narrow-band NanoVDB asset instead of a dense grid
     double band = 3.0;   ///< [voxels] sparse: half-width of the band of exact values
 };
@@ -83,6 +84,14 @@ bool hasExtension(const std::filesystem::path& path, std::string_view ext);
 
 /// A mesh through assimp, or the zero isosurface of a level-set .vdb, at the given scale.
 Result<ImportedMesh> loadMesh(const std::filesystem::path& path, double scale);
+
+/// loadMesh with the import's options (scale, phases, deferred self-intersection test, work
+/// while importing). A level set (isLevelSetFile) is read in this process and diagnosed whole,
+/// whatever selfIntersectionTest says; whileImporting then runs after it.
+Result<ImportedMesh> loadMesh(const std::filesystem::path& path, const ImportOptions& options);
+
+/// Whether loadMesh reads `path` as a level set (.vdb, .nvdb) rather than through assimp.
+bool isLevelSetFile(const std::filesystem::path& path);
 
 /// A collider asset file, or the first float grid of a .vdb read densely.
 Result<format::ColliderAsset> loadAsset(const std::filesystem::path& path);

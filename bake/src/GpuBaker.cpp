@@ -79,10 +79,11 @@ struct BakePrograms {
     gpu::Program exactSign;  ///< sdf_sign.comp with SDF_SIGN_EXACT, over the verify list
 };
 
-Result<BakePrograms> compilePrograms() {
-    auto compile = [](const char* name,
-                      std::span<const gpu::ShaderDefine> defines = {}) -> Result<gpu::Program> {
-        return gpu::Program::compute(name, shaders::shaderSource(name), defines);
+Result<BakePrograms> compilePrograms(gpu::ProgramCache* cache) {
+    auto compile = [cache](const char* name,
+                           std::span<const gpu::ShaderDefine> defines = {}) -> Result<gpu::Program> {
+        return cache ? cache->compute(name, shaders::shaderSource(name), defines)
+                     : gpu::Program::compute(name, shaders::shaderSource(name), defines);
     };
     Result<gpu::Program> coarse = compile("sdf_coarse.comp");
     if (!coarse)
@@ -435,9 +436,11 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     if (!grid)
         return grid.error();
     const auto cpuStart = std::chrono::steady_clock::now();
+    const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
     Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, settings.sign);
     if (!soup)
         return soup.error();
+    lap("gpu: prepare the soup");
     const std::vector<BvhInputTriangle> input = voxelTriangles(*soup, *grid);
 
     // Check sizes before building anything big.
@@ -452,15 +455,18 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     stats.depth = bvh.depth;
     stats.bvhSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - cpuStart).count();
+    lap("gpu: BVH build");
 
-    Result<BakePrograms> programs = compilePrograms();
+    Result<BakePrograms> programs = compilePrograms(options.programCache);
     if (!programs)
         return programs.error();
+    lap("gpu: compile and link programs");
     Result<BakeBuffers> buffers = createBuffers(bvh, sizes);
     if (!buffers)
         return buffers.error();
     stats.gpuBytes = buffers->bytes();
     const BoundBuffers bound(*buffers);
+    lap("gpu: upload");
 
     // The winding number is an integer off a closed surface (a cycle), so a point's sign is that
     // of any point whose empty ball holds it; an open soup's is not, so every point is pending.
@@ -469,9 +475,13 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     BakePasses passes = makePasses(*programs, stats, options, bvh.triangleCount);
     runCoarsePasses(passes, sizes.coarseDims, propagate);
     runSlabs(passes, *buffers, sizes, dims, progress);
+    lap("gpu: passes");
     const std::vector<float> voxels = buffers->phi.download<float>();
     readPassTimes(passes);
-    return makeAsset(mesh, *grid, settings, soup->method, voxels);
+    lap("gpu: readback");
+    format::ColliderAsset asset = makeAsset(mesh, *grid, settings, soup->method, voxels);
+    lap("gpu: asset (world units, provenance, mass properties)");
+    return asset;
 }
 } // namespace
 

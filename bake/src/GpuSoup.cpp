@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -36,17 +37,23 @@ bool isCycle(const std::vector<std::array<std::size_t, 3>>& polygons) {
 /// is_polygon_soup_a_polygon_mesh then accepts it, so the parity bake may skip both (a third of
 /// a second on a 50k-triangle mesh).
 bool isClosedOrientedSurface(const std::vector<std::array<std::size_t, 3>>& polygons) {
-    std::vector<std::pair<std::size_t, std::size_t>> edges;
-    edges.reserve(polygons.size() * 3);
+    // One key per directed edge: the undirected edge (lower, higher index) and the direction as
+    // the lowest bit. Sorted, the keys must come in pairs of the same edge, one each way.
+    std::vector<std::uint64_t> keys;
+    keys.reserve(polygons.size() * 3);
     for (const auto& t : polygons)
-        for (int c = 0; c < 3; ++c)
-            edges.push_back({t[c], t[(c + 1) % 3]});
-    std::sort(edges.begin(), edges.end());
-    if (std::adjacent_find(edges.begin(), edges.end()) != edges.end())
-        return false; // a directed edge used twice
-    for (const auto& [u, v] : edges)
-        if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(v, u)))
-            return false; // a boundary edge, or one used in one direction only
+        for (int c = 0; c < 3; ++c) {
+            const std::uint64_t u = t[c], v = t[(c + 1) % 3];
+            if (u >= (std::uint64_t(1) << 31) || v >= (std::uint64_t(1) << 31))
+                return false; // cannot happen for a welded soup (32-bit indices); be safe
+            keys.push_back(std::min(u, v) << 33 | std::max(u, v) << 1 | (u < v ? 1 : 0));
+        }
+    std::sort(keys.begin(), keys.end());
+    if (keys.size() % 2 != 0)
+        return false;
+    for (std::size_t i = 0; i < keys.size(); i += 2)
+        if ((keys[i] >> 1) != (keys[i + 1] >> 1) || (keys[i] & 1) != 0 || (keys[i + 1] & 1) != 1)
+            return false; // a boundary edge, or one used twice or three times the same way
     return true;
 }
 

@@ -120,8 +120,10 @@ bool writeAll(int fd, const char* data, std::size_t size) {
     return true;
 }
 
+/// The child's answer: its wall time [s] as a double, then the serialized result.
 [[noreturn]] void childMain(int fd, const IsolationLimits& limits,
                             const std::function<Result<TriangleSoup>()>& work) {
+    const auto start = std::chrono::steady_clock::now();
     const rlimit noCore{0, 0}; // a crash here is an answer, not something to debug
     ::setrlimit(RLIMIT_CORE, &noCore);
     if (limits.maxAddressSpaceBytes > 0 && !kAddressSanitizer) {
@@ -139,7 +141,10 @@ bool writeAll(int fd, const char* data, std::size_t size) {
     } catch (...) {
         message = serialize(Error{ErrorCode::MeshImport, "import failed (unknown exception)"});
     }
-    const bool sent = writeAll(fd, message.data(), message.size());
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const bool sent = writeAll(fd, reinterpret_cast<const char*>(&seconds), sizeof seconds) &&
+                      writeAll(fd, message.data(), message.size());
     ::close(fd);
     ::_exit(sent ? 0 : 3);
 }
@@ -178,7 +183,9 @@ void prepareForFork() {
 }
 
 Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits& limits,
-                                 const std::function<Result<TriangleSoup>()>& work) {
+                                 const std::function<Result<TriangleSoup>()>& work,
+                                 const std::function<void()>& meanwhile,
+                                 IsolationReport* report) {
     stopLog4cplusThreadPool();
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0)
@@ -197,10 +204,13 @@ Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits&
         childMain(fds[1], limits, work);
     }
     ::close(fds[1]);
+    const auto deadline = std::chrono::steady_clock::now() + limits.timeout;
+    // The child may fill the pipe and wait for the drain below meanwhile; that is all it costs.
+    if (meanwhile)
+        meanwhile();
 
     // Drain the pipe while the child runs (it may write more than a pipe buffer holds).
     std::vector<char> bytes;
-    const auto deadline = std::chrono::steady_clock::now() + limits.timeout;
     bool timedOut = false;
     char buffer[1 << 16];
     for (;;) {
@@ -228,7 +238,18 @@ Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits&
     if (timedOut)
         ::kill(pid, SIGKILL);
     int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    rusage usage{};
+    while (::wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
+    }
+    double childSeconds = 0.0;
+    if (bytes.size() >= sizeof childSeconds) {
+        std::memcpy(&childSeconds, bytes.data(), sizeof childSeconds);
+        bytes.erase(bytes.begin(), bytes.begin() + sizeof childSeconds);
+    }
+    if (report) {
+        report->wallSeconds = childSeconds;
+        report->cpuSeconds = double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                             1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
     }
 
     if (timedOut)

@@ -26,6 +26,13 @@ bool repeatsIndex(const glm::uvec3& t) {
     return t.x == t.y || t.y == t.z || t.z == t.x;
 }
 
+/// A repeated index, or three distinct corners on one line (exact predicate): zero area.
+bool isDegenerate(const TriangleSoup& soup, const glm::uvec3& t) {
+    return repeatsIndex(t) || CGAL::collinear(toPoint(soup.positions[t.x]),
+                                              toPoint(soup.positions[t.y]),
+                                              toPoint(soup.positions[t.z]));
+}
+
 struct FoundIntersection {};
 
 /// Whether two non-degenerate triangles of the soup intersect in more than the vertices or the
@@ -75,23 +82,14 @@ bool trianglesIntersect(const TriangleSoup& soup, const glm::uvec3& s, const glm
 }
 } // namespace
 
-format::MeshDiagnostics diagnose(const TriangleSoup& soup) {
+format::MeshDiagnostics diagnoseTopology(const TriangleSoup& soup) {
     format::MeshDiagnostics d;
     d.triangles = soup.triangles.size();
     d.vertices = soup.positions.size();
 
     // Zero area: a repeated index, or three distinct corners on one line (exact predicate).
-    std::vector<std::uint32_t> proper; // indices of non-degenerate triangles
-    proper.reserve(soup.triangles.size());
-    for (std::uint32_t i = 0; i < soup.triangles.size(); ++i) {
-        const glm::uvec3& t = soup.triangles[i];
-        if (repeatsIndex(t) ||
-            CGAL::collinear(toPoint(soup.positions[t.x]), toPoint(soup.positions[t.y]),
-                            toPoint(soup.positions[t.z])))
-            ++d.degenerateTriangles;
-        else
-            proper.push_back(i);
-    }
+    for (const glm::uvec3& t : soup.triangles)
+        d.degenerateTriangles += isDegenerate(soup, t);
 
     // Edge use counts. Triangles with a repeated index are not faces and add no edges; zero-area
     // triangles with three distinct corners are faces (slivers in closed meshes) and do.
@@ -117,14 +115,19 @@ format::MeshDiagnostics diagnose(const TriangleSoup& soup) {
         i = j;
     }
     d.closed = !edges.empty() && d.boundaryEdges == 0 && d.nonManifoldEdges == 0;
+    return d;
+}
 
+bool selfIntersects(const TriangleSoup& soup) {
     // Candidate pairs from overlapping boxes (CGAL box intersection), then the exact test; stop
-    // at the first intersecting pair. Degenerate triangles are counted above, not here (CGAL's
-    // own test would report each of them as intersecting itself).
+    // at the first intersecting pair. Degenerate triangles are counted by diagnoseTopology, not
+    // here (CGAL's own test would report each of them as intersecting itself).
     std::vector<TriangleBox> boxes;
-    boxes.reserve(proper.size());
-    for (std::uint32_t i : proper) {
+    boxes.reserve(soup.triangles.size());
+    for (std::uint32_t i = 0; i < soup.triangles.size(); ++i) {
         const glm::uvec3& t = soup.triangles[i];
+        if (isDegenerate(soup, t))
+            continue;
         boxes.emplace_back(toPoint(soup.positions[t.x]).bbox() +
                                toPoint(soup.positions[t.y]).bbox() +
                                toPoint(soup.positions[t.z]).bbox(),
@@ -137,8 +140,14 @@ format::MeshDiagnostics diagnose(const TriangleSoup& soup) {
                     throw FoundIntersection{};
             });
     } catch (const FoundIntersection&) {
-        d.selfIntersecting = true;
+        return true;
     }
+    return false;
+}
+
+format::MeshDiagnostics diagnose(const TriangleSoup& soup) {
+    format::MeshDiagnostics d = diagnoseTopology(soup);
+    d.selfIntersecting = selfIntersects(soup);
     return d;
 }
 

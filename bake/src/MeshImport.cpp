@@ -295,6 +295,7 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
                                    const ImportOptions& options) {
     const std::string fileName = path.filename().string();
     const std::string shown = path.string();
+    const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
     if (!std::isfinite(options.scale) || !(options.scale > 0.0))
         return fail(ErrorCode::InvalidArgument,
                     "import scale must be finite and > 0, got " + std::to_string(options.scale));
@@ -313,21 +314,23 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
     if (bytes > kMaxFileBytes)
         return fail(ErrorCode::SizeOverflow, shown + ": the file is larger than 4 GiB");
 
-    // Pre-flight checks of what assimp trusts in OFF and PLY files. checkPlyFile reads the
-    // magic itself, and passes a file without it.
-    const std::string extension = detail::lowered(path.extension().string());
-    if (extension == ".off")
-        if (Result<void> r = checkOffFile(path, bytes, shown); !r)
-            return r.error();
-    if (mayBeReadAsPly(extension))
-        if (Result<void> r = detail::checkPlyFile(path, shown); !r)
-            return r.error();
-
+    lap("import: file checks");
     Result<std::string> hash = format::hashFileHex(path);
     if (!hash)
         return hash.error();
+    lap("import: file hash");
 
     const auto readSoup = [&]() -> Result<TriangleSoup> {
+        // Pre-flight checks of what assimp trusts in OFF and PLY files, in the child too: they
+        // read the whole file, and the parent has other work meanwhile. checkPlyFile reads the
+        // magic itself, and passes a file without it.
+        const std::string extension = detail::lowered(path.extension().string());
+        if (extension == ".off")
+            if (Result<void> r = checkOffFile(path, bytes, shown); !r)
+                return r.error();
+        if (mayBeReadAsPly(extension))
+            if (Result<void> r = detail::checkPlyFile(path, shown); !r)
+                return r.error();
         silenceAssimp();
         Assimp::Importer importer;
         // Read without post-processing first: a point cloud or a file of lines is not corrupt,
@@ -362,18 +365,32 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
         return builder.take();
     };
     // Everything assimp touches runs in the child when isolated; the rest runs here.
-    Result<TriangleSoup> soup = options.isolate ? runIsolated(shown, options.limits, readSoup)
-                                                : readSoup();
+    IsolationReport child;
+    Result<TriangleSoup> soup = Error{ErrorCode::MeshImport, {}};
+    if (options.isolate) {
+        soup = runIsolated(shown, options.limits, readSoup, options.whileImporting, &child);
+    } else {
+        if (options.whileImporting)
+            options.whileImporting();
+        soup = readSoup();
+    }
+    if (options.isolate && options.phases)
+        options.phases->addOverlapped("import: isolated child process (OFF/PLY checks, assimp)",
+                                      child.wallSeconds, child.cpuSeconds);
     if (!soup)
         return soup.error();
+    lap(options.isolate ? "import: wait for the isolated child" : "import: checks and assimp");
     ImportedMesh mesh;
     mesh.soup = std::move(*soup);
     if (mesh.soup.triangles.empty())
         return fail(ErrorCode::EmptyMesh,
                     shown + ": no triangles (only points or lines, or no geometry at all)");
-    mesh.diagnostics = diagnose(mesh.soup);
+    mesh.diagnostics =
+        options.selfIntersectionTest ? diagnose(mesh.soup) : diagnoseTopology(mesh.soup);
     mesh.sourceFile = fileName;
     mesh.sourceHash = std::move(*hash);
+    lap(options.selfIntersectionTest ? "mesh diagnostics"
+                                     : "mesh diagnostics: topology (self-intersection test later)");
     return mesh;
 }
 

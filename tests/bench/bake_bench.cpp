@@ -2,7 +2,13 @@
 // meshToSignedDistanceField (band wide enough to fill the whole grid: the dense equivalent).
 //
 //   bake_bench MESH [RESOLUTION...] [--repeat N] [--gpu-only] [--dump DIR]
-//   (default resolutions: 64 128 256)
+//   bake_bench MESH [RESOLUTION...] --whole-process [--repeat N] [--exe SLUICE_BAKE] [--out DIR]
+//   (default resolutions: 64 128 256; --whole-process: 64 128)
+//
+// --whole-process times what a pipeline waits for: the real sluice-bake process, start to exit,
+// for --backend gpu and --backend cgal alternately, N times each (default 5), and prints the
+// median and range of wall and CPU seconds, the ratio, and the GPU runs' phases (WholeProcess.h).
+// --exe defaults to the sluice-bake beside bake_bench.
 //
 // --dump DIR writes, per resolution, DIR/grid_RES.txt (origin x y z, voxel size, dims x y z) and
 // DIR/cgal_RES.f32 (the CGAL field, float32 little-endian, x fastest) for peers outside C++
@@ -20,6 +26,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <optional>
@@ -39,6 +46,7 @@
 #include "sluice/bake/GpuBaker.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/bake/MeshImport.h"
+#include "WholeProcess.h"
 #include "sluice/gpu/Context.h"
 
 namespace {
@@ -122,12 +130,21 @@ struct Row {
 int main(int argc, char** argv) {
     std::vector<std::uint32_t> resolutions;
     const char* meshPath = nullptr;
-    int repeat = 1;
+    int repeat = 0;
     bool gpuOnly = false;
+    bool wholeProcess = false;
     const char* dumpDir = nullptr;
+    std::string exe = (std::filesystem::path(argv[0]).parent_path() / "sluice-bake").string();
+    std::string outDir = (std::filesystem::temp_directory_path() / "bake_bench").string();
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--repeat") == 0 && a + 1 < argc)
             repeat = std::max(1, std::atoi(argv[++a]));
+        else if (std::strcmp(argv[a], "--whole-process") == 0)
+            wholeProcess = true;
+        else if (std::strcmp(argv[a], "--exe") == 0 && a + 1 < argc)
+            exe = argv[++a];
+        else if (std::strcmp(argv[a], "--out") == 0 && a + 1 < argc)
+            outDir = argv[++a];
         else if (std::strcmp(argv[a], "--dump") == 0 && a + 1 < argc)
             dumpDir = argv[++a];
         else if (std::strcmp(argv[a], "--gpu-only") == 0)
@@ -139,9 +156,19 @@ int main(int argc, char** argv) {
     }
     if (!meshPath) {
         std::fprintf(stderr, "usage: bake_bench MESH [RESOLUTION...] [--repeat N] [--gpu-only] "
-                             "[--dump DIR]\n");
+                             "[--dump DIR]\n"
+                             "       bake_bench MESH [RESOLUTION...] --whole-process [--repeat N] "
+                             "[--exe SLUICE_BAKE] [--out DIR]\n");
         return 2;
     }
+    if (wholeProcess)
+        return sluice::bench::runWholeProcess(
+            {.exe = exe,
+             .mesh = meshPath,
+             .resolutions = resolutions.empty() ? std::vector<std::uint32_t>{64, 128} : resolutions,
+             .repeat = repeat > 0 ? repeat : 5,
+             .outDir = outDir});
+    repeat = std::max(repeat, 1);
     if (resolutions.empty())
         resolutions = {64, 128, 256};
 

@@ -127,13 +127,18 @@ std::string assembleShaderSource(std::string_view source, std::span<const Shader
 
 Result<Program> Program::compute(std::string_view name, std::string_view source,
                                  std::span<const ShaderDefine> defines) {
+    return compute(name, source, defines, false);
+}
+
+Result<Program> Program::compute(std::string_view name, std::string_view source,
+                                 std::span<const ShaderDefine> defines, bool retrievable) {
     Result<Program> program = [&]() -> Result<Program> {
         DebugMute mute; // failures come back as values, not as debug-output errors
         auto shader = compileStage(GL_COMPUTE_SHADER, name, source, defines);
         if (!shader)
             return shader.error();
         const std::array<GLuint, 1> shaders{*shader};
-        return link(name, shaders, true);
+        return link(name, shaders, true, retrievable);
     }();
     failOnDebugErrors("Program::compute");
     return program;
@@ -160,10 +165,12 @@ Result<Program> Program::graphics(std::string_view name, std::string_view vertex
 }
 
 Result<Program> Program::link(std::string_view name, std::span<const GLuint> shaders,
-                              bool isCompute) {
+                              bool isCompute, bool retrievable) {
     Program program;
     program.m_id = glCreateProgram();
     program.m_name = std::string(name);
+    if (retrievable) // so that binary() may be asked for (ProgramCache)
+        glProgramParameteri(program.m_id, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
     for (GLuint shader : shaders)
         glAttachShader(program.m_id, shader);
     glLinkProgram(program.m_id);
@@ -212,6 +219,41 @@ void Program::queryInterface(bool isCompute) {
         m_uniforms.emplace_back(std::move(name), loc);
     }
     m_groupOffsetLocation = location(shared::kGroupOffsetUniform);
+}
+
+Result<Program> Program::computeFromBinary(std::string_view name, const ProgramBinary& binary) {
+    Result<Program> program = [&]() -> Result<Program> {
+        DebugMute mute; // a refused binary is an answer, not a debug-output error
+        Program out;
+        out.m_id = glCreateProgram();
+        out.m_name = std::string(name);
+        glProgramParameteri(out.m_id, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
+        glProgramBinary(out.m_id, binary.format, binary.bytes.data(),
+                        static_cast<GLsizei>(binary.bytes.size()));
+        GLint status = GL_FALSE;
+        glGetProgramiv(out.m_id, GL_LINK_STATUS, &status);
+        if (status != GL_TRUE)
+            return fail(ErrorCode::ShaderLink, std::string(name) +
+                                                   ": the driver refused the program binary:\n" +
+                                                   programLog(out.m_id));
+        out.queryInterface(true);
+        return out;
+    }();
+    failOnDebugErrors("Program::computeFromBinary");
+    return program;
+}
+
+ProgramBinary Program::binary() const {
+    ProgramBinary out;
+    GLint length = 0;
+    glGetProgramiv(m_id, GL_PROGRAM_BINARY_LENGTH, &length);
+    if (length <= 0)
+        return out;
+    out.bytes.resize(static_cast<std::size_t>(length));
+    GLsizei written = 0;
+    glGetProgramBinary(m_id, length, &written, &out.format, out.bytes.data());
+    out.bytes.resize(static_cast<std::size_t>(std::max(written, 0)));
+    return out;
 }
 
 GLint Program::location(std::string_view name) const {

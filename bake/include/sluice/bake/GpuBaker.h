@@ -5,10 +5,12 @@
 
 #include "sluice/bake/CgalReference.h"
 #include "sluice/bake/MeshImport.h"
+#include "sluice/bake/PhaseLog.h"
 #include "sluice/bake/Progress.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/gpu/Context.h"
+#include "sluice/gpu/ProgramCache.h"
 
 namespace sluice::bake {
 
@@ -27,6 +29,12 @@ struct GpuBakeOptions {
     std::uint64_t maxGroupsPerDispatch = 1024;
     /// Measure the GPU passes with timer queries (GpuBakeStats::distanceNs, signNs).
     bool profile = false;
+    /// Where the compiled programs are cached between processes, if anywhere (opened for
+    /// `context`); without one every program is compiled.
+    gpu::ProgramCache* programCache = nullptr;
+    /// Where the bake laps its phases (soup, BVH, programs, upload, passes, readback, asset), if
+    /// anywhere: the caller's timeline of the whole process.
+    PhaseLog* phases = nullptr;
 };
 
 /// What a GPU bake did, for sluice-bake --profile and benchmarks.

@@ -2,9 +2,11 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "sluice/bake/Isolated.h"
+#include "sluice/bake/PhaseLog.h"
 #include "sluice/bake/TriangleSoup.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
@@ -17,6 +19,14 @@ struct ImportOptions {
     /// compiled-in asserts, or a hang on a hostile file becomes a MeshImport error.
     bool isolate = true;
     IsolationLimits limits; ///< time and memory for the isolated importer
+    /// Where the import laps its phases (file checks, hash, assimp, diagnostics), if anywhere.
+    PhaseLog* phases = nullptr;
+    /// false: leave the self-intersection test out of the diagnostics (selfIntersecting is
+    /// false until the caller runs selfIntersects, e.g. on another thread).
+    bool selfIntersectionTest = true;
+    /// Runs while the isolated child reads the file (right after the fork), so the caller's own
+    /// work overlaps the import: opening a GL context, say. Without isolation it runs first.
+    std::function<void()> whileImporting;
 };
 
 /// A mesh ready to bake, with what we learned about it.
@@ -36,5 +46,13 @@ Result<ImportedMesh> importMesh(const std::filesystem::path& path, const ImportO
 
 /// Edge and degeneracy counts, closedness, and CGAL's self-intersection test.
 format::MeshDiagnostics diagnose(const TriangleSoup& soup);
+
+/// diagnose without the self-intersection test (selfIntersecting false): the cheap part.
+format::MeshDiagnostics diagnoseTopology(const TriangleSoup& soup);
+
+/// Whether two non-degenerate triangles intersect in more than the corners or the edge they
+/// share (CGAL box intersection, then exact predicates): diagnose's selfIntersecting, which
+/// costs far more than the rest of it.
+bool selfIntersects(const TriangleSoup& soup);
 
 } // namespace sluice::bake

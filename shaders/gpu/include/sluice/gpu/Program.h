@@ -1,6 +1,7 @@
 // GLSL programs: compute (and vertex/fragment) compilation with info logs, uniforms, dispatch.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -32,6 +33,12 @@ glm::uvec3 groupCount(glm::uvec3 items, glm::uvec3 localSize);
 /// numbers of `source`. If it has one, the defines and a #line follow that line.
 std::string assembleShaderSource(std::string_view source, std::span<const ShaderDefine> defines);
 
+/// A linked program as the driver's binary (glGetProgramBinary), valid only on the same driver.
+struct ProgramBinary {
+    GLenum format = 0;            ///< the driver's binary format
+    std::vector<std::byte> bytes; ///< the binary itself
+};
+
 /// A linked GL program (RAII, move-only). The object is a handle: const methods still change GL
 /// state (uniforms, the bound program). Needs the context that created it to be current.
 class Program {
@@ -44,6 +51,11 @@ public:
     static Result<Program> graphics(std::string_view name, std::string_view vertexSource,
                                     std::string_view fragmentSource,
                                     std::span<const ShaderDefine> defines = {});
+
+    /// A compute program from a binary that binary() gave: no compiling or linking. ShaderLink
+    /// when the driver refuses it (another driver or version, damaged bytes); never asserts on
+    /// its bytes.
+    static Result<Program> computeFromBinary(std::string_view name, const ProgramBinary& binary);
 
     Program() = default; ///< empty: id() == 0
     Program(Program&& other) noexcept;
@@ -59,6 +71,9 @@ public:
 
     /// glUseProgram.
     void use() const;
+
+    /// The linked program as the driver's binary; empty bytes when the driver gives none.
+    ProgramBinary binary() const;
 
     /// Uniform setters by name (glProgramUniform*, locations cached at link time). Unknown or
     /// optimized-away names are ignored, as GL ignores location -1.
@@ -97,8 +112,11 @@ public:
     /// @}
 
 private:
+    friend class ProgramCache; // compiles with the binary-retrievable hint
+    static Result<Program> compute(std::string_view name, std::string_view source,
+                                   std::span<const ShaderDefine> defines, bool retrievable);
     static Result<Program> link(std::string_view name, std::span<const GLuint> shaders,
-                                bool isCompute);
+                                bool isCompute, bool retrievable = false);
     void queryInterface(bool isCompute);
     GLint location(std::string_view name) const;
     void release();
