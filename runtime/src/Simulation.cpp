@@ -16,6 +16,7 @@
 #include "BodySetup.h"
 #include "ColliderBands.h"
 #include "PrefixScan.h"
+#include "SparseGrids.h"
 #include "shared/Bodies.h"
 #include "shared/ChunkedDispatch.h"
 #include "shared/Pbf.h"
@@ -43,22 +44,12 @@ glm::mat4 poseMatrix(const ColliderPose& pose) {
            glm::scale(glm::mat4(1.0f), glm::vec3(pose.scale));
 }
 
-std::uint64_t align32(std::uint64_t bytes) {
-    return (bytes + 31u) & ~std::uint64_t(31u);
-}
-
-// Bytes a sparse collider's NanoVDB grid takes in the SDF buffer: its size, rounded up to
-// NanoVDB's 32-byte alignment so the next grid starts aligned.
-std::uint64_t sparseSlotBytes(const format::ColliderAsset& asset) {
-    return align32(asset.grid.size());
-}
-
 // The dense grids' part of the SDF buffer, rounded up so the sparse grids after it start aligned.
 std::uint64_t denseBytes(const std::vector<format::ColliderAsset>& assets) {
     std::uint64_t floats = 0;
     for (const format::ColliderAsset& a : assets)
         floats += a.sparse() ? 0 : a.pointCount();
-    return align32(floats * sizeof(float));
+    return alignToGrid(floats * sizeof(float));
 }
 
 // The whole SDF buffer [bytes]: dense grids, then sparse grids.

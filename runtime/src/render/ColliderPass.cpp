@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "SparseGrids.h"
 #include "shared/Render.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "sluice/rt/SceneSetup.h"
@@ -53,7 +54,7 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
                         " colliders in the scene but " + std::to_string(colliders.size()) +
                         " collider assets given to the renderer");
     ColliderPass pass;
-    std::vector<std::byte> sparseGrids; // NanoVDB grids back to back, each 32-byte aligned
+    std::uint64_t sparseBytes = 0; // NanoVDB grids back to back (SparseGrids.h)
     for (std::size_t i = 0; i < colliders.size(); ++i) {
         const format::ColliderAsset& asset = colliders[i];
         Collider collider;
@@ -63,9 +64,8 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
         collider.colour = colliderColour(i);
         if (asset.sparse()) {
             collider.sparse = true;
-            collider.gridOffset = std::uint32_t(sparseGrids.size());
-            sparseGrids.insert(sparseGrids.end(), asset.grid.begin(), asset.grid.end());
-            sparseGrids.resize((sparseGrids.size() + 31) & ~std::size_t(31));
+            collider.gridOffset = std::uint32_t(sparseBytes);
+            sparseBytes += sparseSlotBytes(asset);
             pass.m_colliders.push_back(std::move(collider));
             continue;
         }
@@ -78,15 +78,20 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
         collider.sdf = std::move(*texture);
         pass.m_colliders.push_back(std::move(collider));
     }
-    if (!sparseGrids.empty()) {
-        if (sparseGrids.size() > 0xffffffffu) // PNanoVDB's GLSL addresses are 32 bits
+    if (sparseBytes > 0) {
+        if (sparseBytes > 0xffffffffu) // PNanoVDB's GLSL addresses are 32 bits
             return fail(ErrorCode::GpuOutOfMemory,
                         scene.path + ": the sparse colliders' grids take " +
-                            std::to_string(sparseGrids.size()) +
+                            std::to_string(sparseBytes) +
                             " bytes, more than the 4 GiB the renderer can address");
-        auto buffer = gpu::Buffer::createFrom(sparseGrids, "sparse collider grids");
+        auto buffer = gpu::Buffer::create(sparseBytes, "sparse collider grids");
         if (!buffer)
             return fail(buffer.error().code, scene.path + ": " + buffer.error().detail);
+        // Each grid straight from its asset to its slot: no packed copy on the CPU.
+        for (std::size_t i = 0; i < colliders.size(); ++i)
+            if (pass.m_colliders[i].sparse)
+                buffer->upload(colliders[i].grid.data(), colliders[i].grid.size(),
+                               pass.m_colliders[i].gridOffset);
         pass.m_sparseGrids = std::move(*buffer);
     }
     struct Build {
@@ -98,7 +103,7 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
                             {&pass.m_opaqueSparse, false, true},
                             {&pass.m_glassSparse, true, true}};
     for (const Build& b : builds) {
-        if (b.sparse && sparseGrids.empty())
+        if (b.sparse && sparseBytes == 0)
             continue;
         auto built = program(b.glass, b.sparse);
         if (!built)
