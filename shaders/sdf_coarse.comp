@@ -1,8 +1,9 @@
 // Coarse distance pass: the nearest triangle of every coarse point (every 4th grid point along
-// each axis, shared/SdfBake.h), through the BVH. The fine pass starts its search from these
-// triangles, and the coarse sign pass (sdf_sign.comp) gives the points their sign. Each
-// invocation takes a block of 2 x 2 x 4 coarse points, walked together (walkBlock), as the fine
-// pass does with grid points.
+// each axis, shared/SdfBake.h; SDF_SPARSE: those of each brick in the list; SDF_POINTS: each
+// query point, for the sparse bake's culling), through the BVH. The fine pass starts its search
+// from these triangles, and the coarse sign pass (sdf_sign.comp) gives the points their sign.
+// Each invocation takes a block of 2 x 2 x 4 coarse points, walked together (walkBlock), as the
+// fine pass does with grid points.
 #version 450 core
 #extension GL_ARB_shader_group_vote : enable
 
@@ -35,19 +36,46 @@ uint greedyLeaf(vec3 p) {
     return texelFetch(distanceNodes, int(2u * n + 1u)).w;
 }
 
+#if defined(SDF_POINTS)
+uniform uint itemCount; // query points in the list
+#endif
+
 void main() {
+    float z[kBakeBlockDepth];
+    vec4 best[kBakeBlockDepth]; // squared distances [voxels^2], layer by layer
+    uvec4 nearest[kBakeBlockDepth];
+    vec3 q0, q1;
+#if defined(SDF_SPARSE)
+    // Four invocations per brick, each a block of 2 x 2 x 4 of its 3 x 3 x 3 coarse points (the
+    // third column, row and layer repeated to fill the block; only real ones are written).
+    uint g = SLUICE_GLOBAL_ID.x;
+    uint brick = g / 4u;
+    uvec3 c0 = uvec3((g & 1u) * 2u, ((g >> 1u) & 1u) * 2u, 0u);
+    uvec3 cMax = uvec3(kBakeBrickCoarse - 1);
+    q0 = vec3(brickCoarsePoint(brick, c0));
+    q1 = vec3(brickCoarsePoint(brick, min(c0 + 1u, cMax)));
+    for (int j = 0; j < kBakeBlockDepth; ++j)
+        z[j] = float(brickCoarsePoint(brick, uvec3(0u, 0u, min(uint(j), cMax.z))).z);
+#elif defined(SDF_POINTS)
+    // One query point per invocation, as a block whose points all coincide.
+    uint item = SLUICE_GLOBAL_ID.x;
+    vec3 p = queryPoints[min(item, itemCount - 1u)].xyz;
+    q0 = p;
+    q1 = p;
+    for (int j = 0; j < kBakeBlockDepth; ++j)
+        z[j] = p.z;
+#else
     uvec3 group = gl_WorkGroupID + SLUICE_GROUP_OFFSET_UNIFORM;
     uvec3 first = (group * 4u + mortonPosition(gl_LocalInvocationIndex)) * kBakeBlockSize;
     uvec3 cd = coarseDims();
     // Coarse points past the coarse grid search as clamped ones, so every lane runs the same
     // loops; only those on it write.
-    vec3 q0 = vec3(coarseGridPoint(min(first, cd - 1u)));
-    vec3 q1 = vec3(coarseGridPoint(min(first + 1u, cd - 1u)));
-    float z[kBakeBlockDepth];
-    vec4 best[kBakeBlockDepth]; // squared distances [voxels^2], layer by layer
-    uvec4 nearest[kBakeBlockDepth];
-    for (int j = 0; j < kBakeBlockDepth; ++j) {
+    q0 = vec3(coarseGridPoint(min(first, cd - 1u)));
+    q1 = vec3(coarseGridPoint(min(first + 1u, cd - 1u)));
+    for (int j = 0; j < kBakeBlockDepth; ++j)
         z[j] = float(coarseGridPoint(min(first + uvec3(0u, 0u, uint(j)), cd - 1u)).z);
+#endif
+    for (int j = 0; j < kBakeBlockDepth; ++j) {
         best[j] = vec4(3.0e38);
         nearest[j] = uvec4(0u);
     }
@@ -56,10 +84,22 @@ void main() {
         blockTriangle(t, q0, q1, z, best, nearest);
     walkBlock(q0, q1, z, best, nearest);
 
+#if defined(SDF_SPARSE)
+    for (int k = 0; k < 4 * kBakeBlockDepth; ++k) {
+        uvec3 c = c0 + blockPointOffset(k);
+        if (brick < brickCount && all(lessThanEqual(c, cMax)))
+            coarse[brickCoarseIndex(brick, c)] =
+                CoarsePoint(sqrt(best[k >> 2][k & 3]), nearest[k >> 2][k & 3]);
+    }
+#elif defined(SDF_POINTS)
+    if (item < itemCount)
+        coarse[item] = CoarsePoint(sqrt(best[0][0]), nearest[0][0]);
+#else
     for (int k = 0; k < 4 * kBakeBlockDepth; ++k) {
         uvec3 c = first + blockPointOffset(k);
         if (all(lessThan(c, cd)))
             coarse[c.x + cd.x * (c.y + cd.y * c.z)] =
                 CoarsePoint(sqrt(best[k >> 2][k & 3]), nearest[k >> 2][k & 3]);
     }
+#endif
 }

@@ -1,6 +1,7 @@
 // Sign passes: the fast winding number (Barill et al. 2018), negating the unsigned distance where
 // a point is inside. Three variants:
-//   SDF_SIGN_COARSE: one coarse point per invocation (distances in the coarse buffer);
+//   SDF_SIGN_COARSE: one coarse point per invocation (distances in the coarse buffer; with
+//       SDF_POINTS, one query point);
 //   default: one block of the pending list (sdf_distance.comp) per invocation, its points
 //       walked together, so every node and triangle is fetched once for all of them; points
 //       whose value is too near the decision go to the verify list;
@@ -123,9 +124,7 @@ void main() {
     uint item = SLUICE_GLOBAL_ID.x;
     if (item >= itemCount)
         return;
-    uvec3 cd = coarseDims();
-    uvec3 c = uvec3(item % cd.x, (item / cd.x) % cd.y, item / (cd.x * cd.y));
-    vec3 p = vec3(coarseGridPoint(c));
+    vec3 p = coarseItemPoint(item);
     float d = coarse[item].distance;
     if (d == 0.0) // on the surface: no sign
         return;
@@ -145,7 +144,7 @@ void main() {
     if (item >= itemCount)
         return;
     uint index = verifyPoints[item];
-    vec3 p = vec3(index % dims.x, (index / dims.x) % dims.y, index / (dims.x * dims.y));
+    vec3 p = phiIndexPoint(index);
     if (isInside(exactWindingNumber(p, triangleCount)))
         phi[index] = -phi[index];
 }
@@ -170,9 +169,7 @@ void main() {
     if (item >= itemCount)
         return;
     uvec2 entry = pendingBlocks[item];
-    uvec3 bd = blockDims();
-    uvec3 origin =
-        uvec3(entry.x % bd.x, (entry.x / bd.x) % bd.y, entry.x / (bd.x * bd.y)) * kBakeBlockSize;
+    uvec3 origin = pendingBlockOrigin(entry.x);
     vec3 q0, q1;
     float z[kDepth];
     blockPoints(origin, q0, q1, z);
@@ -234,14 +231,14 @@ void main() {
     // Stores after the loop above (llvmpipe runs them much faster that way).
     for (int k = 0; k < kPoints; ++k)
         if ((insideMask & (1u << k)) != 0u) {
-            uint index = gridIndex(origin + blockPointOffset(k));
+            uint index = blockPointIndex(entry.x, origin, k);
             phi[index] = -phi[index];
         }
     uint slot = atomicAdd(verify.count, uint(bitCount(verifyMask)));
     for (int k = 0; k < kPoints; ++k)
         if ((verifyMask & (1u << k)) != 0u)
             verifyPoints[slot + uint(bitCount(verifyMask & ((1u << k) - 1u)))] =
-                gridIndex(origin + blockPointOffset(k));
+                blockPointIndex(entry.x, origin, k);
 }
 
 #endif

@@ -102,8 +102,6 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot write", args.output, out.error());
     if (args.sparse && settings->storage != format::Storage::F32)
         return reportBadInput(kCmd, "--sparse stores f32 values; leave out --storage f16");
-    if (args.sparse && *backend == Backend::Gpu)
-        return reportBadInput(kCmd, "--sparse bakes with --backend cgal in this version");
     if (!hasExtension(args.output, ".slc"))
         std::cerr << "sluice-bake bake: warning: '" << args.output
                   << "' does not end in .slc; it will hold a collider asset all the same\n";
@@ -166,7 +164,7 @@ void openContext(const BakeArgs& args, BakeJob& job) {
 /// self-intersection test of the diagnostics starts on a worker thread after (see bakeOnGpu).
 int importAndPlan(const BakeArgs& args, BakeJob& job) {
     const auto start = std::chrono::steady_clock::now();
-    const bool maybeGpu = job.backend != Backend::Cgal && !args.sparse;
+    const bool maybeGpu = job.backend != Backend::Cgal;
     ImportOptions options;
     options.scale = args.scale;
     options.phases = &job.phases;
@@ -193,10 +191,8 @@ int importAndPlan(const BakeArgs& args, BakeJob& job) {
 
 /// Resolves auto to gpu where a GL 4.5 context opens, else to cgal; gpu without a context fails.
 int openBackend(const BakeArgs& args, BakeJob& job) {
-    if (job.backend == Backend::Cgal || args.sparse) {
-        job.backend = Backend::Cgal;
+    if (job.backend == Backend::Cgal)
         return kExitOk;
-    }
     if (!job.contextResult)
         openContext(args, job);
     Result<gpu::Context> context = std::move(*job.contextResult);
@@ -223,14 +219,15 @@ int openBackend(const BakeArgs& args, BakeJob& job) {
 /// with the winding number in the rare other one: the same asset as waiting would give.
 Result<format::ColliderAsset> bakeOnGpu(const BakeArgs& args, BakeJob& job, int& code) {
     const auto bake = [&]() {
+        const GpuBakeOptions options{
+            .profile = args.profile, .programCache = &*job.programCache, .phases = &job.phases};
+        if (args.sparse)
+            return bakeSparseGpu(*job.mesh, job.settings, {.band = args.band}, *job.context,
+                                 !args.quiet, options, &job.gpuStats, &job.sparseStats);
         Progress progress("baking " + job.mesh->sourceFile + " on the GPU", job.points,
                           !args.quiet);
         Result<format::ColliderAsset> asset =
-            bakeGpu(*job.mesh, job.settings, *job.context, &progress,
-                    {.profile = args.profile,
-                     .programCache = &*job.programCache,
-                     .phases = &job.phases},
-                    &job.gpuStats);
+            bakeGpu(*job.mesh, job.settings, *job.context, &progress, options, &job.gpuStats);
         progress.finish();
         job.phases.lap("gpu: progress report");
         return asset;
@@ -255,14 +252,14 @@ int bakeField(const BakeArgs& args, BakeJob& job) {
         if (const int code = awaitSelfIntersectionTest(args, job); code != kExitOk)
             return code;
     const ImportedMesh& mesh = *job.mesh;
-    if (args.sparse) {
-        asset.emplace(
-            bakeSparseCgal(mesh, job.settings, {.band = args.band}, !args.quiet, &job.sparseStats));
-    } else if (job.backend == Backend::Gpu) {
+    if (job.backend == Backend::Gpu) {
         int code = kExitOk;
         asset.emplace(bakeOnGpu(args, job, code));
         if (code != kExitOk)
             return code;
+    } else if (args.sparse) {
+        asset.emplace(
+            bakeSparseCgal(mesh, job.settings, {.band = args.band}, !args.quiet, &job.sparseStats));
     } else {
         Progress progress("baking " + mesh.sourceFile, job.points, !args.quiet);
         asset.emplace(bakeCgal(mesh, job.settings, &progress));
@@ -323,10 +320,14 @@ nlohmann::ordered_json sparseJson(const BakeJob& job) {
 /// "misses", "stored", "rejected"}.
 nlohmann::ordered_json programCacheJson(const gpu::ProgramCache& cache) {
     const gpu::ProgramCacheStats& s = cache.stats();
-    return {{"enabled", cache.enabled()},       {"offReason", cache.offReason()},
-            {"dir", cache.dir().string()},      {"binaryFormats", cache.binaryFormats()},
-            {"hits", s.hits},                   {"misses", s.misses},
-            {"stored", s.stored},               {"rejected", s.rejected}};
+    return {{"enabled", cache.enabled()},
+            {"offReason", cache.offReason()},
+            {"dir", cache.dir().string()},
+            {"binaryFormats", cache.binaryFormats()},
+            {"hits", s.hits},
+            {"misses", s.misses},
+            {"stored", s.stored},
+            {"rejected", s.rejected}};
 }
 
 /// "5 hits, 0 misses in ~/.cache/sluice" or "off (why)".

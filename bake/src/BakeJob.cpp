@@ -112,20 +112,12 @@ Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& reques
     Result<BakeSettings> settings = bakeSettingsFor(request);
     if (!settings)
         return settings.error();
-    if (request.sparse) { // as `bake --sparse`: the CGAL backend, f32 values
-        if (request.backend == "gpu" || settings->storage != format::Storage::F32)
-            return fail(ErrorCode::InvalidArgument,
-                        "sparse assets bake with the cgal backend and f32 storage");
-        Result<format::ColliderAsset> sparse =
-            bakeSparseCgal(mesh, *settings, {.band = request.band});
-        if (!sparse)
-            return sparse.error();
-        BakeOutcome outcome;
-        outcome.backend = "cgal";
-        outcome.asset = std::move(*sparse);
-        return outcome;
-    }
-    Result<GridSpec> grid = gridFor(mesh.soup.bounds(), settings->grid);
+    if (request.sparse && settings->storage != format::Storage::F32)
+        return fail(ErrorCode::InvalidArgument, "sparse assets store f32 values");
+    // As `bake`: the grid is checked before a context opens.
+    Result<GridSpec> grid = request.sparse
+                                ? sparseGridFor(mesh.soup.bounds(), settings->grid, request.band)
+                                : gridFor(mesh.soup.bounds(), settings->grid);
     if (!grid)
         return grid.error();
 
@@ -142,15 +134,20 @@ Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& reques
         }
     }
     std::optional<Result<format::ColliderAsset>> asset;
+    const SparseSettings sparse{.band = request.band};
     if (gpu) {
         outcome.backend = "gpu";
         outcome.renderer = (*context)->info().renderer;
         gpu::ProgramCache cache = gpu::ProgramCache::open();
-        asset.emplace(bakeGpu(mesh, *settings, **context, progress, {.programCache = &cache},
-                              &outcome.gpuStats));
+        const GpuBakeOptions options{.programCache = &cache};
+        asset.emplace(request.sparse ? bakeSparseGpu(mesh, *settings, sparse, **context, false,
+                                                     options, &outcome.gpuStats)
+                                     : bakeGpu(mesh, *settings, **context, progress, options,
+                                               &outcome.gpuStats));
     } else {
         outcome.backend = "cgal";
-        asset.emplace(bakeCgal(mesh, *settings, progress));
+        asset.emplace(request.sparse ? bakeSparseCgal(mesh, *settings, sparse)
+                                     : bakeCgal(mesh, *settings, progress));
     }
     if (!*asset)
         return asset->error();

@@ -26,85 +26,16 @@
 #include <utility>
 #include <vector>
 
-#include "Bvh.h"
-#include "GpuSoup.h"
-#include "sluice/bake/BakeShaders.h"
-#include "sluice/gpu/Buffer.h"
-#include "sluice/gpu/Gl.h"
-#include "sluice/gpu/GpuTimer.h"
-#include "sluice/gpu/Program.h"
+#include "GpuBakePasses.h"
 
 namespace sluice::bake {
 
 namespace {
 
-/// Slabs of the fine pass: between two slabs the CPU reads back how many points are pending and
-/// reports progress. The first slab has about kFirstSlabPoints points; later ones are sized
-/// from the measured rate to take about kSlabSeconds, up to kMaxSlabPoints (the lists' room),
-/// so a slow device reports progress often and a fast one does not wait on many round trips.
-/// The split does not change a bit of the result.
+/// Slabs of the fine pass (runSlabs): the first has about kFirstSlabPoints points, later ones up
+/// to kMaxSlabPoints (the lists' room).
 constexpr std::uint64_t kFirstSlabPoints = std::uint64_t(1) << 18;
 constexpr std::uint64_t kMaxSlabPoints = std::uint64_t(1) << 22;
-constexpr double kSlabSeconds = 0.1;
-/// Solid angles one dispatch of the exact winding number computes at most (but one work group):
-/// a few milliseconds on a GPU, so no dispatch runs long whatever the mesh.
-constexpr std::uint64_t kExactSolidAnglesPerDispatch = std::uint64_t(1) << 26;
-
-std::string mib(std::uint64_t bytes) {
-    return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
-}
-
-/// A buffer texture (samplerBuffer) over the whole of `buffer`, which must outlive it. RAII.
-class BufferTexture {
-public:
-    BufferTexture(const gpu::Buffer& buffer, GLenum format) {
-        glCreateTextures(GL_TEXTURE_BUFFER, 1, &m_id);
-        glTextureBuffer(m_id, format, buffer.id());
-    }
-    BufferTexture(const BufferTexture&) = delete;
-    BufferTexture& operator=(const BufferTexture&) = delete;
-    ~BufferTexture() { glDeleteTextures(1, &m_id); }
-    void bind(GLuint unit) const { glBindTextureUnit(unit, m_id); }
-
-private:
-    GLuint m_id = 0;
-};
-
-/// The programs of the bake, compiled from the embedded sources.
-struct BakePrograms {
-    gpu::Program coarse;     ///< sdf_coarse.comp
-    gpu::Program distance;   ///< sdf_distance.comp
-    gpu::Program coarseSign; ///< sdf_sign.comp with SDF_SIGN_COARSE
-    gpu::Program sign;       ///< sdf_sign.comp over the pending list
-    gpu::Program exactSign;  ///< sdf_sign.comp with SDF_SIGN_EXACT, over the verify list
-};
-
-Result<BakePrograms> compilePrograms(gpu::ProgramCache* cache) {
-    auto compile = [cache](const char* name,
-                           std::span<const gpu::ShaderDefine> defines = {}) -> Result<gpu::Program> {
-        return cache ? cache->compute(name, shaders::shaderSource(name), defines)
-                     : gpu::Program::compute(name, shaders::shaderSource(name), defines);
-    };
-    Result<gpu::Program> coarse = compile("sdf_coarse.comp");
-    if (!coarse)
-        return coarse.error();
-    Result<gpu::Program> distance = compile("sdf_distance.comp");
-    if (!distance)
-        return distance.error();
-    const gpu::ShaderDefine coarseDefine[] = {{"SDF_SIGN_COARSE", "1"}};
-    Result<gpu::Program> coarseSign = compile("sdf_sign.comp", coarseDefine);
-    if (!coarseSign)
-        return coarseSign.error();
-    Result<gpu::Program> sign = compile("sdf_sign.comp");
-    if (!sign)
-        return sign.error();
-    const gpu::ShaderDefine exactDefine[] = {{"SDF_SIGN_EXACT", "1"}};
-    Result<gpu::Program> exactSign = compile("sdf_sign.comp", exactDefine);
-    if (!exactSign)
-        return exactSign.error();
-    return BakePrograms{std::move(*coarse), std::move(*distance), std::move(*coarseSign),
-                        std::move(*sign), std::move(*exactSign)};
-}
 
 /// Sizes of the bake's GPU buffers [bytes], known before anything is built.
 struct BakeSizes {
@@ -140,12 +71,10 @@ BakeSizes bakeSizes(glm::uvec3 dims, std::uint64_t triangles) {
         std::uint64_t((dims.x + shared::kBakeGroupEdge - 1) / shared::kBakeGroupEdge) *
         ((dims.y + shared::kBakeGroupEdge - 1) / shared::kBakeGroupEdge);
     const std::uint64_t slabBlocks = sizes.maxSlabGroups * groupsPerLayer * shared::kBakeLocalSize;
-    sizes.pending = sizeof(shared::PendingHeader) + slabBlocks * sizeof(glm::uvec2);
-    sizes.verify = sizeof(shared::PendingHeader) +
-                   slabBlocks * 4 * shared::kBakeBlockDepth * sizeof(std::uint32_t);
-    sizes.triangles = 3 * triangles * sizeof(glm::vec4);
-    // buildBvh makes fewer than two nodes per triangle, 2 texels each.
-    sizes.nodes = 4 * triangles * sizeof(glm::uvec4);
+    sizes.pending = pendingBytes(slabBlocks);
+    sizes.verify = verifyBytes(slabBlocks);
+    sizes.triangles = bvhTriangleBytes(triangles);
+    sizes.nodes = bvhNodeBytes(triangles);
     return sizes;
 }
 
@@ -155,11 +84,6 @@ Result<void> checkSizes(const BakeSizes& sizes, const ImportedMesh& mesh, glm::u
                         const GpuBakeOptions& options) {
     const std::uint64_t maxBuffer =
         options.maxBufferBytes > 0 ? options.maxBufferBytes : context.info().maxSsboBytes;
-    GLint maxTexels = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-    const std::uint64_t maxTextureBytes =
-        std::min(std::uint64_t(maxTexels) * sizeof(glm::vec4),
-                 options.maxBufferBytes > 0 ? options.maxBufferBytes : ~std::uint64_t(0));
     const std::uint64_t largest = std::max({sizes.grid, sizes.coarse, sizes.pending, sizes.verify});
     if (largest > maxBuffer)
         return fail(ErrorCode::SizeOverflow,
@@ -168,11 +92,8 @@ Result<void> checkSizes(const BakeSizes& sizes, const ImportedMesh& mesh, glm::u
                         " points needs a " + mib(largest) +
                         " GPU buffer, over this GPU's largest storage buffer (" + mib(maxBuffer) +
                         "); use a coarser resolution or --backend cgal");
-    if (triangles >= kBvhMaxTriangles || std::max(sizes.triangles, sizes.nodes) > maxTextureBytes)
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": " + std::to_string(triangles) +
-                        " triangles need GPU buffers over this GPU's largest buffer texture (" +
-                        mib(maxTextureBytes) + "); simplify the mesh or use --backend cgal");
+    if (Result<void> fits = checkBvhFits(mesh.sourceFile, triangles, options); !fits)
+        return fits;
     if (const auto& available = context.info().gpuMemoryAvailableBytes;
         available && sizes.total() > *available)
         return fail(ErrorCode::GpuOutOfMemory,
@@ -182,155 +103,40 @@ Result<void> checkSizes(const BakeSizes& sizes, const ImportedMesh& mesh, glm::u
     return {};
 }
 
-/// The soup's triangles in grid-relative voxel coordinates: the float (i, j, k) is grid point
-/// (i, j, k) exactly.
-std::vector<BvhInputTriangle> voxelTriangles(const GpuSoup& soup, const GridSpec& grid) {
-    std::vector<BvhInputTriangle> input;
-    input.reserve(soup.triangles.size());
-    const double inverseVoxel = 1.0 / grid.voxelSize;
-    auto toVoxels = [&](std::size_t v) { return (soup.points[v] - grid.origin) * inverseVoxel; };
-    for (const auto& t : soup.triangles)
-        input.push_back({toVoxels(t[0]), toVoxels(t[1]), toVoxels(t[2])});
-    return input;
-}
-
-/// The bake's GPU buffers.
-struct BakeBuffers {
-    gpu::Buffer distanceNodes; ///< BVH boxes and links (texels)
-    gpu::Buffer windingNodes;  ///< BVH dipoles and links (texels)
-    gpu::Buffer triangles;     ///< triangle corners in leaf order (texels)
-    gpu::Buffer phi;           ///< distance per grid point [voxels]
-    gpu::Buffer coarse;        ///< CoarsePoint per coarse point
-    gpu::Buffer pending;       ///< PendingHeader, then the blocks of a slab still without a sign
-    gpu::Buffer verify;        ///< PendingHeader, then the points of a slab for the exact sum
+/// The grid's work buffers, on their bindings.
+struct GridBuffers {
+    gpu::Buffer phi;     ///< distance per grid point [voxels]
+    gpu::Buffer coarse;  ///< CoarsePoint per coarse point
+    gpu::Buffer pending; ///< PendingHeader, then the blocks of a slab still without a sign
+    gpu::Buffer verify;  ///< PendingHeader, then the points of a slab for the exact sum
 
     std::uint64_t bytes() const {
-        return distanceNodes.size() + windingNodes.size() + triangles.size() + phi.size() +
-               coarse.size() + pending.size() + verify.size();
+        return phi.size() + coarse.size() + pending.size() + verify.size();
     }
 };
 
-Result<BakeBuffers> createBuffers(const Bvh& bvh, const BakeSizes& sizes) {
-    BakeBuffers b;
-    struct Upload {
-        gpu::Buffer* buffer;
-        Result<gpu::Buffer> created;
-    };
-    Upload uploads[] = {
-        {&b.distanceNodes, gpu::Buffer::createFrom(bvh.distanceNodes, "bake BVH boxes")},
-        {&b.windingNodes, gpu::Buffer::createFrom(bvh.windingNodes, "bake BVH dipoles")},
-        {&b.triangles, gpu::Buffer::createFrom(bvh.triangles, "bake triangles")},
-    };
-    for (Upload& u : uploads) {
-        if (!u.created)
-            return u.created.error();
-        *u.buffer = std::move(*u.created);
-    }
+Result<GridBuffers> createGridBuffers(const BakeSizes& sizes) {
+    GridBuffers b;
     struct Alloc {
         gpu::Buffer* buffer;
         std::uint64_t bytes;
         const char* label;
+        int binding;
     };
     const Alloc allocs[] = {
-        {&b.phi, sizes.grid, "bake distances"},
-        {&b.coarse, sizes.coarse, "bake coarse points"},
-        {&b.pending, sizes.pending, "bake pending blocks"},
-        {&b.verify, sizes.verify, "bake verify points"},
+        {&b.phi, sizes.grid, "bake distances", shared::kBakeDistanceBinding},
+        {&b.coarse, sizes.coarse, "bake coarse points", shared::kBakeCoarseBinding},
+        {&b.pending, sizes.pending, "bake pending blocks", shared::kBakePendingBinding},
+        {&b.verify, sizes.verify, "bake verify points", shared::kBakeVerifyBinding},
     };
     for (const Alloc& a : allocs) {
         Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
         if (!buffer)
             return buffer.error();
         *a.buffer = std::move(*buffer);
+        a.buffer->bindStorage(GLuint(a.binding));
     }
     return b;
-}
-
-/// The BVH and triangles as buffer textures on their units, and the storage buffers on their
-/// bindings, for the passes of one bake. `buffers` must outlive it.
-struct BoundBuffers {
-    explicit BoundBuffers(const BakeBuffers& buffers)
-        : distanceTexture(buffers.distanceNodes, GL_RGBA32UI),
-          windingTexture(buffers.windingNodes, GL_RGBA32UI),
-          triangleTexture(buffers.triangles, GL_RGBA32F) {
-        distanceTexture.bind(shared::kBakeDistanceNodesUnit);
-        windingTexture.bind(shared::kBakeWindingNodesUnit);
-        triangleTexture.bind(shared::kBakeTrianglesUnit);
-        buffers.phi.bindStorage(shared::kBakeDistanceBinding);
-        buffers.coarse.bindStorage(shared::kBakeCoarseBinding);
-        buffers.pending.bindStorage(shared::kBakePendingBinding);
-        buffers.verify.bindStorage(shared::kBakeVerifyBinding);
-    }
-    BufferTexture distanceTexture, windingTexture, triangleTexture;
-};
-
-/// The uniforms that stay the same for the whole bake. `propagate`: the fine pass may take the
-/// sign of a coarse point whose empty ball holds a grid point.
-void setBakeUniforms(const BakePrograms& p, const Bvh& bvh, glm::uvec3 dims, bool propagate,
-                     format::SignMethod method, const GpuBakeOptions& options) {
-    for (const gpu::Program* program :
-         {&p.coarse, &p.distance, &p.coarseSign, &p.sign, &p.exactSign}) {
-        program->set("dims", dims);
-        program->set("nodeCount", bvh.nodeCount);
-    }
-    p.coarse.set("bvhDepth", bvh.depth);
-    p.distance.set("propagate", std::uint32_t(propagate ? 1 : 0));
-    for (const gpu::Program* program : {&p.coarseSign, &p.sign, &p.exactSign}) {
-        program->set("triangleCount", bvh.triangleCount);
-        program->set("beta", float(options.beta));
-        program->set("verifyBand", float(options.verifyBand));
-        program->set("parity", std::uint32_t(method == format::SignMethod::Parity ? 1 : 0));
-    }
-}
-
-/// What the passes of one bake share: their programs, the dispatch limits, the timers (profile
-/// only) and the statistics they add to.
-struct BakePasses {
-    const BakePrograms& programs;
-    GpuBakeStats& stats;
-    std::uint64_t maxGroups = 0;   ///< work groups per dispatch
-    std::uint64_t exactGroups = 0; ///< work groups per dispatch of the exact winding number
-    std::optional<gpu::GpuTimer> distanceTimer, signTimer;
-
-    /// A distance pass over `groups` work groups, timed with the distance passes.
-    void distance(const gpu::Program& program, glm::uvec3 groups) {
-        timed(distanceTimer,
-              [&] { stats.dispatches += program.dispatchChunked(groups, maxGroups); });
-    }
-    /// A sign pass over `items` list entries, `groupsPerDispatch` work groups per dispatch,
-    /// timed with the sign passes.
-    void sign(const gpu::Program& program, std::uint32_t items, std::uint64_t groupsPerDispatch) {
-        program.set("itemCount", items);
-        const std::uint32_t local = shared::kBakeLocalSize;
-        const glm::uvec3 groups(gpu::groupCount(items, local), 1, 1);
-        timed(signTimer,
-              [&] { stats.dispatches += program.dispatchChunked(groups, groupsPerDispatch); });
-    }
-
-private:
-    template <class Pass> static void timed(std::optional<gpu::GpuTimer>& timer, Pass&& pass) {
-        if (timer)
-            timer->begin();
-        pass();
-        if (timer)
-            timer->end();
-    }
-};
-
-BakePasses makePasses(const BakePrograms& programs, GpuBakeStats& stats,
-                      const GpuBakeOptions& options, std::uint32_t triangleCount) {
-    BakePasses passes{programs, stats};
-    passes.maxGroups = options.maxGroupsPerDispatch;
-    // The exact winding number sums every triangle for each point, so its dispatches hold fewer
-    // groups: about kExactSolidAnglesPerDispatch solid angles each, however large the mesh.
-    passes.exactGroups = std::clamp<std::uint64_t>(
-        kExactSolidAnglesPerDispatch / (std::uint64_t(shared::kBakeLocalSize) * triangleCount), 1,
-        passes.maxGroups);
-    if (options.profile) {
-        passes.distanceTimer.emplace();
-        passes.signTimer.emplace();
-    }
-    return passes;
 }
 
 /// Grid points per work group of the distance passes.
@@ -339,81 +145,33 @@ const glm::uvec3 kGroupPoints(shared::kBakeGroupEdge, shared::kBakeGroupEdge,
 
 /// Passes 1 and 2: the coarse points' nearest triangles, then (where the sign propagates) their
 /// signs.
-void runCoarsePasses(BakePasses& passes, glm::uvec3 coarseDims, bool propagate) {
-    passes.distance(passes.programs.coarse, gpu::groupCount(coarseDims, kGroupPoints));
+void runCoarsePasses(BakePasses& passes, const BakePrograms& programs, glm::uvec3 coarseDims,
+                     bool propagate) {
+    passes.distance(programs.coarse, gpu::groupCount(coarseDims, kGroupPoints));
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     if (propagate) {
-        passes.sign(passes.programs.coarseSign, coarseDims.x * coarseDims.y * coarseDims.z,
+        passes.sign(programs.coarseSign, coarseDims.x * coarseDims.y * coarseDims.z,
                     passes.maxGroups);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
 }
 
-/// Pass 4 for the slab just computed: the fast winding number of its pending blocks, then the
-/// exact one of the points too near the decision. Reads back the two list headers.
-void signPendingPoints(BakePasses& passes, const BakeBuffers& buffers) {
-    shared::PendingHeader header{};
-    buffers.pending.download(&header, sizeof(header));
-    if (header.count > 0) {
-        passes.sign(passes.programs.sign, header.count, passes.maxGroups);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        shared::PendingHeader verified{};
-        buffers.verify.download(&verified, sizeof(verified));
-        if (verified.count > 0) {
-            passes.sign(passes.programs.exactSign, verified.count, passes.exactGroups);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        }
-        passes.stats.verifiedPoints += verified.count;
-    }
-    passes.stats.pendingPoints += header.points;
-}
-
-/// Work-group layers of the slab after one of `done` layers that took `seconds`: about
-/// kSlabSeconds at its rate, growing at most 4 times, within [1, maxSlabGroups].
-std::uint32_t nextSlabGroups(std::uint32_t done, double seconds, std::uint32_t maxSlabGroups) {
-    const double scale = std::min(4.0, kSlabSeconds / std::max(seconds, 1e-6));
-    return std::uint32_t(std::clamp<double>(std::floor(done * scale), 1.0, double(maxSlabGroups)));
-}
-
-/// Passes 3 and 4 over the grid in z-slabs of work groups: the fine distance pass, then the
-/// sign of the points it left pending. Between slabs the CPU reads the pending count and
-/// reports progress.
-void runSlabs(BakePasses& passes, BakeBuffers& buffers, const BakeSizes& sizes, glm::uvec3 dims,
-              Progress* progress) {
+/// Passes 3 and 4 over the grid in z-slabs of work groups.
+void runGridSlabs(BakePasses& passes, const BakePrograms& programs, GridBuffers& buffers,
+                  const BakeSizes& sizes, glm::uvec3 dims, Progress* progress) {
     const glm::uvec3 groups = gpu::groupCount(dims, kGroupPoints);
     const std::uint64_t slice = std::uint64_t(dims.x) * dims.y;
-    std::uint32_t slabGroups = sizes.slabGroups;
-    for (std::uint32_t z0 = 0, z1 = 0; z0 < groups.z; z0 = z1) {
-        const auto slabStart = std::chrono::steady_clock::now();
-        z1 = std::min(groups.z, z0 + slabGroups);
-        const shared::PendingHeader empty{};
-        buffers.pending.upload(&empty, sizeof(empty));
-        buffers.verify.upload(&empty, sizeof(empty));
-        passes.programs.distance.set("groupBegin", z0);
-        passes.distance(passes.programs.distance, glm::uvec3(groups.x, groups.y, z1 - z0));
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        signPendingPoints(passes, buffers);
-        if (progress) {
-            const std::uint32_t groupDepth = shared::kBakeGroupDepth;
-            const std::uint32_t k0 = z0 * groupDepth, k1 = std::min(dims.z, z1 * groupDepth);
-            progress->add(std::uint64_t(k1 - k0) * slice);
-        }
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - slabStart).count();
-        slabGroups = nextSlabGroups(z1 - z0, seconds, sizes.maxSlabGroups);
-    }
-}
-
-/// The GPU time of the passes into the statistics (profile only; waits for the queries).
-void readPassTimes(BakePasses& passes) {
-    if (!passes.distanceTimer)
-        return;
-    (void)passes.distanceTimer->elapsedNs();
-    passes.stats.distanceNs = passes.distanceTimer->totalNs();
-    if (passes.signTimer->completed() > 0 || passes.signTimer->pending() > 0) {
-        (void)passes.signTimer->elapsedNs();
-        passes.stats.signNs = passes.signTimer->totalNs();
-    }
+    SlabPlan plan;
+    plan.layerGroups = glm::uvec2(groups.x, groups.y);
+    plan.layers = groups.z;
+    plan.firstLayers = sizes.slabGroups;
+    plan.maxLayers = sizes.maxSlabGroups;
+    plan.pointsOf = [&](std::uint32_t z0, std::uint32_t z1) {
+        const std::uint32_t groupDepth = shared::kBakeGroupDepth;
+        const std::uint32_t k0 = z0 * groupDepth, k1 = std::min(dims.z, z1 * groupDepth);
+        return std::uint64_t(k1 - k0) * slice;
+    };
+    runSlabs(passes, programs, {buffers.pending, buffers.verify}, plan, progress);
 }
 
 /// The asset of the baked grid, `voxels` in grid-relative voxel units.
@@ -457,27 +215,29 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
         std::chrono::duration<double>(std::chrono::steady_clock::now() - cpuStart).count();
     lap("gpu: BVH build");
 
-    Result<BakePrograms> programs = compilePrograms(options.programCache);
+    Result<BakePrograms> programs = compilePrograms(options.programCache, BakeLayout::Dense);
     if (!programs)
         return programs.error();
     lap("gpu: compile and link programs");
-    Result<BakeBuffers> buffers = createBuffers(bvh, sizes);
+    Result<GpuBvh> gpuBvh = uploadBvh(bvh);
+    if (!gpuBvh)
+        return gpuBvh.error();
+    Result<GridBuffers> buffers = createGridBuffers(sizes);
     if (!buffers)
         return buffers.error();
-    stats.gpuBytes = buffers->bytes();
-    const BoundBuffers bound(*buffers);
+    stats.gpuBytes = gpuBvh->bytes() + buffers->bytes();
     lap("gpu: upload");
 
     // The winding number is an integer off a closed surface (a cycle), so a point's sign is that
     // of any point whose empty ball holds it; an open soup's is not, so every point is pending.
     const bool propagate = soup->cycle;
     setBakeUniforms(*programs, bvh, dims, propagate, soup->method, options);
-    BakePasses passes = makePasses(*programs, stats, options, bvh.triangleCount);
-    runCoarsePasses(passes, sizes.coarseDims, propagate);
-    runSlabs(passes, *buffers, sizes, dims, progress);
+    BakePasses passes = makePasses(stats, options, bvh.triangleCount);
+    runCoarsePasses(passes, *programs, sizes.coarseDims, propagate);
+    runGridSlabs(passes, *programs, *buffers, sizes, dims, progress);
     lap("gpu: passes");
     const std::vector<float> voxels = buffers->phi.download<float>();
-    readPassTimes(passes);
+    passes.readTimes();
     lap("gpu: readback");
     format::ColliderAsset asset = makeAsset(mesh, *grid, settings, soup->method, voxels);
     lap("gpu: asset (world units, provenance, mass properties)");

@@ -85,8 +85,7 @@ Result<GridSpec> sparseGridFor(const Box& bounds, GridOptions options, double ba
     return gridFor(bounds, options);
 }
 
-SparsePlan planSparse(const GridSpec& grid, double band,
-                      const std::function<double(const glm::dvec3&)>& unsignedDistance) {
+SparsePlan planSparse(const GridSpec& grid, double band, const DistanceQuery& unsignedDistance) {
     SparsePlan plan;
     const std::uint32_t longest = std::max(grid.dims.x, std::max(grid.dims.y, grid.dims.z));
     std::int32_t edge = std::int32_t(kBrickSize);
@@ -95,16 +94,15 @@ SparsePlan planSparse(const GridSpec& grid, double band,
     const double h = grid.voxelSize;
     std::vector<glm::ivec3> level{glm::ivec3(0)};
     std::vector<glm::ivec3> next;
+    std::vector<glm::dvec3> centres;
     std::vector<double> distance;
     while (!level.empty()) {
         const double halfEdge = 0.5 * double(edge - 1); // [voxels] centre to the last voxel
+        centres.resize(level.size());
+        for (std::size_t n = 0; n < level.size(); ++n)
+            centres[n] = grid.origin + (glm::dvec3(level[n]) + halfEdge) * h;
         distance.resize(level.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level.size(), 64),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t n = r.begin(); n != r.end(); ++n)
-                                  distance[n] = unsignedDistance(
-                                      grid.origin + (glm::dvec3(level[n]) + halfEdge) * h);
-                          });
+        unsignedDistance(centres, distance);
         plan.distanceQueries += level.size();
         // Every voxel of the block lies within sqrt(3) * halfEdge voxels of its centre.
         const double reach = (std::sqrt(3.0) * halfEdge + band) * h * (1.0 + 1e-9);
@@ -211,6 +209,17 @@ Result<format::GridBytes> SparseGridBuilder::finish() {
     }
 }
 
+format::ColliderMeta sparseProvenance(const ImportedMesh& mesh, const GridSpec& grid,
+                                      const BakeSettings& settings, const char* backend,
+                                      format::SignMethod method, double band) {
+    format::ColliderMeta meta = bakeProvenance(mesh, grid, settings, backend, method);
+    meta.storage = format::Storage::F32;
+    meta.layout = format::Layout::Sparse;
+    meta.bandWidth = band;
+    meta.bake.padding = sparsePadding(settings.grid.padding, band);
+    return meta;
+}
+
 namespace {
 
 Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
@@ -226,8 +235,14 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
         return reference.error();
 
     auto start = std::chrono::steady_clock::now();
-    const SparsePlan plan = planSparse(
-        *grid, sparse.band, [&](const glm::dvec3& p) { return reference->unsignedDistance(p); });
+    const SparsePlan plan =
+        planSparse(*grid, sparse.band, [&](std::span<const glm::dvec3> p, std::span<double> d) {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, p.size(), 64),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  for (std::size_t n = r.begin(); n != r.end(); ++n)
+                                      d[n] = reference->unsignedDistance(p[n]);
+                              });
+        });
     stats.planSeconds = secondsSince(start);
     stats.bricks = plan.bricks.size();
     stats.uniformBlocks = plan.blocks.size();
@@ -286,11 +301,8 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
     stats.buildSeconds = buildSeconds + secondsSince(buildStart);
 
     format::ColliderAsset asset;
-    asset.meta = bakeProvenance(mesh, *grid, settings, "cgal", reference->signMethod());
-    asset.meta.storage = format::Storage::F32;
-    asset.meta.layout = format::Layout::Sparse;
-    asset.meta.bandWidth = sparse.band;
-    asset.meta.bake.padding = std::max(settings.grid.padding, std::ceil(sparse.band) + 1.0);
+    asset.meta =
+        sparseProvenance(mesh, *grid, settings, "cgal", reference->signMethod(), sparse.band);
     asset.grid = std::move(*bytes);
     auto tree = format::checkNanoVdbGrid(asset.grid, mesh.sourceFile);
     SLUICE_ASSERT(tree.ok(), "the sparse baker wrote a grid its own check rejects");

@@ -16,7 +16,7 @@ namespace rj = detail::rj;
 using detail::throwAt;
 
 constexpr detail::JsonFileKind kManifestKind{"the manifest", "the manifest", "manifest limit",
-                                            kMaxBatchManifestBytes};
+                                             kMaxBatchManifestBytes};
 
 /// A number field; a number written as a string is named as such ("got the string \"40\"").
 const rj::Value& numberValue(const rj::Value& value, const std::string& path) {
@@ -99,20 +99,16 @@ BatchEntry readEntry(const rj::Value& value, const std::string& path, const fs::
         if (!entry.sparse)
             throwAt(ErrorCode::InvalidArgument, object.pathOf("band"),
                     "a band is for sparse assets: add \"sparse\": true");
-        entry.band = detail::readNumber(numberValue(*v, object.pathOf("band")),
-                                        object.pathOf("band"));
+        entry.band =
+            detail::readNumber(numberValue(*v, object.pathOf("band")), object.pathOf("band"));
         if (entry.band < 1.0 || entry.band > 64.0)
             throwAt(ErrorCode::InvalidArgument, object.pathOf("band"),
-                    detail::formatNumber(entry.band) +
-                        " is out of range: expected 1 to 64 voxels");
+                    detail::formatNumber(entry.band) + " is out of range: expected 1 to 64 voxels");
     }
-    // As `bake --sparse` refuses them (a sparse asset stores f32; the GPU bakes dense only).
+    // As `bake --sparse` refuses it: a sparse asset stores f32.
     if (entry.sparse && entry.storage == "f16")
         throwAt(ErrorCode::InvalidArgument, object.pathOf("storage"),
                 "sparse assets store f32 values; leave out \"storage\": \"f16\"");
-    if (entry.sparse && entry.backend == "gpu")
-        throwAt(ErrorCode::InvalidArgument, object.pathOf("backend"),
-                "sparse assets bake with the cgal backend in this version");
     return entry;
 }
 
@@ -140,7 +136,8 @@ BatchManifest readManifest(const rj::Value& root, const fs::path& file) {
 
 Result<BatchManifest> parseBatchManifest(std::string_view json, const fs::path& file) {
     return detail::parseJsonText<BatchManifest>(
-        json, file, kManifestKind, [&](const rj::Document& doc) { return readManifest(doc, file); });
+        json, file, kManifestKind,
+        [&](const rj::Document& doc) { return readManifest(doc, file); });
 }
 
 Result<BatchManifest> readBatchManifest(const fs::path& file) {

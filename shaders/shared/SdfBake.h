@@ -46,6 +46,12 @@ SLUICE_CONST int kBakeGroupDepth = 16; ///< along z
 /// from those) and their sign (which covers every grid point inside their empty ball).
 SLUICE_CONST int kBakeCoarseSpacing = 4;
 
+/// Sparse bakes (program variant SDF_SPARSE) compute a list of bricks instead of the whole grid:
+/// kBakeBrickSize^3 grid points each (one NanoVDB leaf), 32 blocks, with their own coarse points
+/// at offsets 0, 4 and 8 along each axis (kBakeBrickCoarse^3 of them, clamped to the grid).
+SLUICE_CONST int kBakeBrickSize = 8;
+SLUICE_CONST int kBakeBrickCoarse = 3;
+
 /// Texture units (buffer textures).
 SLUICE_CONST int kBakeDistanceNodesUnit = 0; ///< 2 texels per node: box and link
 SLUICE_CONST int kBakeTrianglesUnit = 1;     ///< 3 texels per triangle, in leaf order
@@ -56,6 +62,9 @@ SLUICE_CONST int kBakeDistanceBinding = 0; ///< float phi[] per grid point [voxe
 SLUICE_CONST int kBakeCoarseBinding = 1;   ///< CoarsePoint coarse[] per coarse point, x fastest
 SLUICE_CONST int kBakePendingBinding = 2;  ///< PendingHeader, then blocks still without a sign
 SLUICE_CONST int kBakeVerifyBinding = 3;   ///< PendingHeader, then points for the exact sum
+/// uvec4 bricks[] (SDF_SPARSE: lower corners [grid points]) or vec4 queryPoints[] (SDF_POINTS:
+/// positions [voxels], one coarse entry each).
+SLUICE_CONST int kBakeBrickBinding = 4;
 
 /// Most triangles in a BVH leaf, and the bits of a link that hold the count.
 SLUICE_CONST int kBvhLeafSize = 4;
@@ -95,6 +104,10 @@ static_assert(sluice::shared::kBakeGroupEdge == 4 * 2 &&
 static_assert(sluice::shared::kBakeCoarseSpacing % sluice::shared::kBakeBlockDepth == 0 &&
                   sluice::shared::kBakeCoarseSpacing % 2 == 0,
               "aligned blocks never straddle two coarse cells");
+static_assert(sluice::shared::kBakeBrickSize == 2 * sluice::shared::kBakeCoarseSpacing &&
+                  sluice::shared::kBakeBrickCoarse ==
+                      sluice::shared::kBakeBrickSize / sluice::shared::kBakeCoarseSpacing + 1,
+              "a brick is 2 x 2 x 2 coarse cells (4 x 4 x 2 blocks)");
 static_assert(sluice::shared::kBvhLeafSize < (1 << sluice::shared::kBvhLinkShift),
               "a leaf's count fits the link's count bits");
 #endif

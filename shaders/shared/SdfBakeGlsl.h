@@ -75,6 +75,86 @@ vec3 layerPoint(vec3 q0, vec3 q1, float z, int k) {
     return vec3((k & 1) != 0 ? q1.x : q0.x, (k & 2) != 0 ? q1.y : q0.y, z);
 }
 
+// Which points a program variant computes, and where their values go:
+//   dense (default): the whole grid; phi[] and coarse[] x fastest over the grid and the coarse
+//       grid, pending entries are block indices (x fastest over the grid of blocks);
+//   SDF_SPARSE: the bricks of a list (shared/SdfBake.h); block slot s is block mortonPosition(s %
+//       32) of brick s / 32, its point k is phi[16 s + k], pending entries are slots, and brick b's
+//       coarse point c (0..2 per axis) is coarse[27 b + c.x + 3 (c.y + 3 c.z)];
+//   SDF_POINTS: a list of query points, coarse[i] for point i (the coarse passes only).
+// Verify entries are indices into phi[].
+#if defined(SDF_SPARSE)
+layout(std430, binding = kBakeBrickBinding) readonly buffer Bricks { uvec4 bricks[]; };
+uniform uint brickCount; // bricks in the list
+
+const uint kBrickBlocks = uint(kBakeBrickSize * kBakeBrickSize * kBakeBrickSize) /
+                          uint(4 * kBakeBlockDepth);
+const uint kBrickCoarsePoints = uint(kBakeBrickCoarse * kBakeBrickCoarse * kBakeBrickCoarse);
+
+// Lower corner of brick b [grid points]; indices past the list repeat the last brick, so every
+// lane runs the same loops.
+uvec3 brickOrigin(uint b) {
+    return bricks[min(b, brickCount - 1u)].xyz;
+}
+uint brickCoarseIndex(uint b, uvec3 c) {
+    uint side = uint(kBakeBrickCoarse);
+    return b * kBrickCoarsePoints + c.x + side * (c.y + side * c.z);
+}
+uvec3 brickCoarsePoint(uint b, uvec3 c) {
+    return min(brickOrigin(b) + c * uint(kBakeCoarseSpacing), dims - 1u);
+}
+uvec3 slotOrigin(uint slot) {
+    return brickOrigin(slot / kBrickBlocks) + mortonPosition(slot % kBrickBlocks) * kBakeBlockSize;
+}
+#elif defined(SDF_POINTS)
+layout(std430, binding = kBakeBrickBinding) readonly buffer Queries { vec4 queryPoints[]; };
+#endif
+
+// Position of coarse entry `item` [voxels].
+vec3 coarseItemPoint(uint item) {
+#if defined(SDF_SPARSE)
+    uint c = item % kBrickCoarsePoints;
+    uint side = uint(kBakeBrickCoarse);
+    return vec3(brickCoarsePoint(item / kBrickCoarsePoints,
+                                 uvec3(c % side, (c / side) % side, c / (side * side))));
+#elif defined(SDF_POINTS)
+    return queryPoints[item].xyz;
+#else
+    uvec3 cd = coarseDims();
+    return vec3(coarseGridPoint(uvec3(item % cd.x, (item / cd.x) % cd.y, item / (cd.x * cd.y))));
+#endif
+}
+
+// Lower corner of the block a pending entry names [grid points].
+uvec3 pendingBlockOrigin(uint entry) {
+#if defined(SDF_SPARSE)
+    return slotOrigin(entry);
+#else
+    uvec3 bd = blockDims();
+    return uvec3(entry % bd.x, (entry / bd.x) % bd.y, entry / (bd.x * bd.y)) * kBakeBlockSize;
+#endif
+}
+
+// Index in phi[] of point k of the block a pending entry names, whose corner is `origin`.
+uint blockPointIndex(uint entry, uvec3 origin, int k) {
+#if defined(SDF_SPARSE)
+    return uint(4 * kBakeBlockDepth) * entry + uint(k);
+#else
+    return gridIndex(origin + blockPointOffset(k));
+#endif
+}
+
+// Grid point of phi[index].
+vec3 phiIndexPoint(uint index) {
+#if defined(SDF_SPARSE)
+    uint k = index % uint(4 * kBakeBlockDepth);
+    return vec3(min(slotOrigin(index / uint(4 * kBakeBlockDepth)) + blockPointOffset(int(k)),
+                    dims - 1u));
+#else
+    return vec3(index % dims.x, (index / dims.x) % dims.y, index / (dims.x * dims.y));
+#endif
+}
+
 void fetchTriangle(uint t, out vec3 a, out vec3 b, out vec3 c) {
     a = texelFetch(triangleCorners, int(3u * t)).xyz;
     b = texelFetch(triangleCorners, int(3u * t + 1u)).xyz;

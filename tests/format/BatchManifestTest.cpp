@@ -145,9 +145,14 @@ TEST(BatchManifest, ReadsSparseEntriesAndRejectsWhatBakeSparseRejects) {
               "jobs/colliders.json: colliders[1].sparse: expected true or false, got a string");
     EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "storage": "f16")")),
               ErrorCode::InvalidArgument);
-    EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "backend": "gpu")")),
-              ErrorCode::InvalidArgument);
     EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "band": NaN)")), ErrorCode::NonFinite);
+    // Either backend bakes sparse.
+    for (const char* backend : {R"("backend": "gpu")", R"("backend": "cgal")"}) {
+        auto entry = format::parseBatchManifest(
+            secondEntryWith(std::string(R"("sparse": true, )") + backend), kManifest);
+        ASSERT_TRUE(entry.ok()) << entry.error().message();
+        EXPECT_TRUE(entry->colliders[1].sparse);
+    }
 }
 
 TEST(BatchManifest, RejectsTwoEntriesWritingTheSameOutput) {

@@ -60,10 +60,12 @@ ProgramCase graphics(const char* name, const char* vertex, const char* fragment,
 }
 
 const ShaderDefine kSparse{"SLUICE_SPARSE_COLLIDERS", "1"};
+const ShaderDefine kSparseBake{"SDF_SPARSE", "1"};
+const ShaderDefine kPointsBake{"SDF_POINTS", "1"};
 
 /// Every program the libraries build, with the define combinations their code uses:
-/// SelfTest.cpp, Simulation.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp, FluidStatsProbe.cpp, Renderer.cpp,
-/// FluidSurfacePass.cpp, ColliderPass.cpp and GpuBaker.cpp (compilePrograms).
+/// SelfTest.cpp, Simulation.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp, FluidStatsProbe.cpp,
+/// Renderer.cpp, FluidSurfacePass.cpp, ColliderPass.cpp and GpuBaker.cpp (compilePrograms).
 std::vector<ProgramCase> allPrograms() {
     return {
         compute("GpuSelfTest", gpuSource, "gpu_selftest.comp"),
@@ -99,8 +101,7 @@ std::vector<ProgramCase> allPrograms() {
         graphics("RenderCollider", "render_collider.vert", "render_collider.frag"),
         graphics("RenderColliderGlass", "render_collider.vert", "render_collider.frag",
                  {{"SLUICE_GLASS", "1"}}),
-        graphics("RenderColliderSparse", "render_collider.vert", "render_collider.frag",
-                 {kSparse}),
+        graphics("RenderColliderSparse", "render_collider.vert", "render_collider.frag", {kSparse}),
         graphics("RenderColliderGlassSparse", "render_collider.vert", "render_collider.frag",
                  {{"SLUICE_GLASS", "1"}, kSparse}),
         compute("SdfCoarse", bakeSource, "sdf_coarse.comp"),
@@ -108,6 +109,16 @@ std::vector<ProgramCase> allPrograms() {
         compute("SdfSign", bakeSource, "sdf_sign.comp"),
         compute("SdfSignCoarse", bakeSource, "sdf_sign.comp", {{"SDF_SIGN_COARSE", "1"}}),
         compute("SdfSignExact", bakeSource, "sdf_sign.comp", {{"SDF_SIGN_EXACT", "1"}}),
+        compute("SdfCoarseSparse", bakeSource, "sdf_coarse.comp", {kSparseBake}),
+        compute("SdfDistanceSparse", bakeSource, "sdf_distance.comp", {kSparseBake}),
+        compute("SdfSignSparse", bakeSource, "sdf_sign.comp", {kSparseBake}),
+        compute("SdfSignCoarseSparse", bakeSource, "sdf_sign.comp",
+                {{"SDF_SIGN_COARSE", "1"}, kSparseBake}),
+        compute("SdfSignExactSparse", bakeSource, "sdf_sign.comp",
+                {{"SDF_SIGN_EXACT", "1"}, kSparseBake}),
+        compute("SdfCoarsePoints", bakeSource, "sdf_coarse.comp", {kPointsBake}),
+        compute("SdfSignCoarsePoints", bakeSource, "sdf_sign.comp",
+                {{"SDF_SIGN_COARSE", "1"}, kPointsBake}),
     };
 }
 

@@ -7,6 +7,7 @@
 #include "sluice/bake/MeshImport.h"
 #include "sluice/bake/PhaseLog.h"
 #include "sluice/bake/Progress.h"
+#include "sluice/bake/SparseBaker.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/gpu/Context.h"
@@ -27,6 +28,9 @@ struct GpuBakeOptions {
     std::uint64_t maxBufferBytes = 0;
     /// Most work groups per dispatch, so no dispatch runs for long (Program::dispatchChunked).
     std::uint64_t maxGroupsPerDispatch = 1024;
+    /// Bricks a sparse bake sends through the passes at once (its GPU buffers hold one batch):
+    /// 8192 bricks, 4M grid points. Lower it to test batching; the result does not change.
+    std::uint32_t sparseBricksPerBatch = 8192;
     /// Measure the GPU passes with timer queries (GpuBakeStats::distanceNs, signNs).
     bool profile = false;
     /// Where the compiled programs are cached between processes, if anywhere (opened for
@@ -71,5 +75,19 @@ Result<format::ColliderAsset> bakeGpu(const ImportedMesh& mesh, const BakeSettin
                                       gpu::Context& context, Progress* progress = nullptr,
                                       const GpuBakeOptions& options = {},
                                       GpuBakeStats* stats = nullptr);
+
+/// Bakes a sparse collider on the GPU (backend "gpu"): the asset bakeSparseCgal makes, from the
+/// GPU bake's passes over lists instead of the whole grid. The culling's distance queries run on
+/// the GPU (block centres, understated by their float rounding bound so no band brick is
+/// lost); each band brick gets the exact distance and the sign of every voxel as the dense GPU
+/// bake computes them (coarse points of its own, empty balls, the fast winding number, the
+/// exact sum near the decision); each uniform block gets the sign of its centre. Bricks go
+/// through the GPU in fixed-size batches, so GPU memory does not grow with the grid. With
+/// `showProgress`, a bar over the brick voxels on stderr. Deterministic. Needs `context`
+/// current. Errors: those of sparseGridFor and bakeGpu.
+Result<format::ColliderAsset>
+bakeSparseGpu(const ImportedMesh& mesh, const BakeSettings& settings, const SparseSettings& sparse,
+              gpu::Context& context, bool showProgress = false, const GpuBakeOptions& options = {},
+              GpuBakeStats* stats = nullptr, SparseBakeStats* sparseStats = nullptr);
 
 } // namespace sluice::bake

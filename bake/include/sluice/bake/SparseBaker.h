@@ -45,12 +45,23 @@ struct SparsePlan {
     std::uint64_t distanceQueries = 0;   ///< unsigned distance queries the culling made
 };
 
+/// Unsigned distances [world units] from the mesh to each of `points`, written to `distances`
+/// (as many). A query may understate a distance (never overstate it): culling stays safe.
+using DistanceQuery =
+    std::function<void(std::span<const glm::dvec3> points, std::span<double> distances)>;
+
 /// Finds the band bricks by recursive culling: a block of edge S whose centre lies farther from
-/// the surface than its half-diagonal plus the band (`unsignedDistance`, [world units]) holds no
-/// band voxel and is uniform; otherwise it splits in 8 down to bricks. Blocks outside the
-/// domain [0, dims) are dropped. Work grows with the surface area, not the volume.
-SparsePlan planSparse(const GridSpec& grid, double band,
-                      const std::function<double(const glm::dvec3&)>& unsignedDistance);
+/// the surface than its half-diagonal plus the band holds no band voxel and is uniform; otherwise
+/// it splits in 8 down to bricks. Blocks outside the domain [0, dims) are dropped. Each level's
+/// centres go to `unsignedDistance` as one batch. Work grows with the surface area, not the
+/// volume.
+SparsePlan planSparse(const GridSpec& grid, double band, const DistanceQuery& unsignedDistance);
+
+/// The provenance of a sparse bake: bakeProvenance's, with the sparse layout, f32 storage, the
+/// band and the padding the bake used (sparsePadding).
+format::ColliderMeta sparseProvenance(const ImportedMesh& mesh, const GridSpec& grid,
+                                      const BakeSettings& settings, const char* backend,
+                                      format::SignMethod method, double band);
 
 /// What a sparse bake did and what it cost.
 struct SparseBakeStats {

@@ -1,0 +1,377 @@
+// Sparse bakes on the GPU: the GPU bake's passes (GpuBaker.cpp describes them) over lists of
+// points and bricks instead of the whole grid; SparseGridBuilder makes the NanoVDB grid.
+//
+//   1. Culling (planSparse): each level's block centres go through the coarse distance pass over
+//      query points (SDF_POINTS). Each distance is understated by a bound on its float rounding,
+//      so the culling keeps every brick the exact distances would.
+//   2. The uniform blocks' centres: distance, then sign (the coarse sign pass, SDF_POINTS).
+//   3. The band bricks, options.sparseBricksPerBatch at a time (SDF_SPARSE): the coarse pass over
+//   each
+//      brick's 27 coarse points and (closed soups) their sign, the fine pass over the bricks in
+//      slabs with the sign passes after each, as the dense bake runs them; then the batch is read
+//      back, turned into world units and added to the builder.
+// Work and GPU memory grow with the band: the buffers are sized for one batch, whatever the grid.
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "GpuBakePasses.h"
+#include "sluice/bake/GpuBaker.h"
+#include "sluice/bake/SparseBaker.h"
+#include "sluice/format/NanoVdbCheck.h"
+
+namespace sluice::bake {
+
+namespace {
+
+constexpr std::uint32_t kBrickPoints = kBrickSize * kBrickSize * kBrickSize;
+static_assert(kBrickSize == std::uint32_t(shared::kBakeBrickSize), "a brick is one NanoVDB leaf");
+/// Query points per dispatch of the culling.
+constexpr std::uint32_t kQueriesPerBatch = std::uint32_t(1) << 18;
+/// Bricks per work group of the fine pass, and fine-pass work groups of the first slab (2^18
+/// points, as the dense bake's).
+constexpr std::uint32_t kBricksPerGroup =
+    shared::kBakeLocalSize * 4 * shared::kBakeBlockDepth / kBrickPoints;
+constexpr std::uint32_t kFirstSlabGroups = 256;
+/// Coarse points per brick, and invocations of the sparse coarse pass per brick.
+constexpr std::uint32_t kBrickCoarsePoints =
+    shared::kBakeBrickCoarse * shared::kBakeBrickCoarse * shared::kBakeBrickCoarse;
+constexpr std::uint32_t kCoarseInvocationsPerBrick = 4;
+/// A GPU distance's float rounding is below 2e-3 voxel for coordinates up to 2^13 voxels (half
+/// an ulp of each coordinate, and of each triangle corner); culling takes off more than that.
+constexpr double kQueryMarginVoxels = 0.01;
+constexpr double kQueryMarginRelative = 1e-5;
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Where the fine pass leaves point i (0..511) of a brick: block slot i / 16 (Morton order of
+/// the brick's 4 x 4 x 2 blocks), point i % 16 of the block; as the index of that point in the
+/// brick, x fastest.
+std::array<std::uint16_t, kBrickPoints> brickPointOrder() {
+    std::array<std::uint16_t, kBrickPoints> order{};
+    const std::uint32_t blockPoints = 4 * shared::kBakeBlockDepth;
+    for (std::uint32_t i = 0; i < kBrickPoints; ++i) {
+        const std::uint32_t m = i / blockPoints, k = i % blockPoints;
+        const glm::uvec3 block((m & 1) | ((m >> 2) & 2), ((m >> 1) & 1) | ((m >> 3) & 2),
+                               ((m >> 2) & 1) | ((m >> 4) & 2));
+        const glm::uvec3 p = block * glm::uvec3(2, 2, shared::kBakeBlockDepth) +
+                             glm::uvec3(k & 1, (k >> 1) & 1, k >> 2);
+        order[i] = std::uint16_t(p.x + kBrickSize * (p.y + kBrickSize * p.z));
+    }
+    return order;
+}
+
+/// The sparse bake's GPU buffers, sized for one batch, on their bindings.
+struct SparseBuffers {
+    gpu::Buffer list;    ///< bricks (uvec4) or query points (vec4)
+    gpu::Buffer phi;     ///< distances of a batch of bricks [voxels]
+    gpu::Buffer coarse;  ///< CoarsePoint per brick coarse point or query point
+    gpu::Buffer pending; ///< PendingHeader, then the blocks of a slab still without a sign
+    gpu::Buffer verify;  ///< PendingHeader, then the points of a slab for the exact sum
+
+    std::uint64_t bytes() const {
+        return list.size() + phi.size() + coarse.size() + pending.size() + verify.size();
+    }
+};
+
+Result<SparseBuffers> createSparseBuffers(const ImportedMesh& mesh, gpu::Context& context,
+                                          const GpuBakeOptions& options,
+                                          std::uint32_t bricksPerBatch) {
+    const std::uint64_t blocks =
+        std::uint64_t(bricksPerBatch) * kBrickPoints / (4 * shared::kBakeBlockDepth);
+    SparseBuffers b;
+    struct Alloc {
+        gpu::Buffer* buffer;
+        std::uint64_t bytes;
+        const char* label;
+        int binding;
+    };
+    const Alloc allocs[] = {
+        {&b.list, std::uint64_t(std::max(bricksPerBatch, kQueriesPerBatch)) * sizeof(glm::uvec4),
+         "sparse bake bricks / query points", shared::kBakeBrickBinding},
+        {&b.phi, std::uint64_t(bricksPerBatch) * kBrickPoints * sizeof(float),
+         "sparse bake distances", shared::kBakeDistanceBinding},
+        {&b.coarse,
+         std::uint64_t(std::max(bricksPerBatch * kBrickCoarsePoints, kQueriesPerBatch)) *
+             sizeof(shared::CoarsePoint),
+         "sparse bake coarse points", shared::kBakeCoarseBinding},
+        {&b.pending, pendingBytes(blocks), "sparse bake pending blocks",
+         shared::kBakePendingBinding},
+        {&b.verify, verifyBytes(blocks), "sparse bake verify points", shared::kBakeVerifyBinding},
+    };
+    const std::uint64_t maxBuffer =
+        options.maxBufferBytes > 0 ? options.maxBufferBytes : context.info().maxSsboBytes;
+    std::uint64_t total = 0;
+    for (const Alloc& a : allocs) {
+        total += a.bytes;
+        if (a.bytes > maxBuffer)
+            return fail(ErrorCode::SizeOverflow,
+                        mesh.sourceFile + ": the sparse bake needs a " + mib(a.bytes) +
+                            " GPU buffer, over this GPU's largest storage buffer (" +
+                            mib(maxBuffer) + "); use --backend cgal");
+    }
+    if (const auto& available = context.info().gpuMemoryAvailableBytes;
+        available && total > *available)
+        return fail(ErrorCode::GpuOutOfMemory,
+                    mesh.sourceFile + ": the sparse bake needs " + mib(total) +
+                        " of GPU memory and " + mib(*available) + " are free; use --backend cgal");
+    for (const Alloc& a : allocs) {
+        Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
+        if (!buffer)
+            return buffer.error();
+        *a.buffer = std::move(*buffer);
+        a.buffer->bindStorage(GLuint(a.binding));
+    }
+    return b;
+}
+
+/// The bake's state on the GPU: programs, buffers and passes.
+struct SparseGpu {
+    const GridSpec& grid;
+    BakePrograms& points; ///< SDF_POINTS
+    BakePrograms& bricks; ///< SDF_SPARSE
+    SparseBuffers& buffers;
+    BakePasses& passes;
+    std::uint32_t bricksPerBatch;
+
+    /// Distances [world units] of `world` points, signed (negative inside) with `sign`, else
+    /// unsigned and understated by their float rounding bound.
+    void query(std::span<const glm::dvec3> world, std::span<double> out, bool sign) {
+        std::vector<glm::vec4> voxels;
+        for (std::size_t q0 = 0; q0 < world.size(); q0 += kQueriesPerBatch) {
+            const auto n =
+                std::uint32_t(std::min<std::size_t>(kQueriesPerBatch, world.size() - q0));
+            voxels.resize(n);
+            for (std::uint32_t i = 0; i < n; ++i)
+                voxels[i] = glm::vec4((world[q0 + i] - grid.origin) / grid.voxelSize, 0.0);
+            buffers.list.upload(voxels);
+            points.coarse.set("itemCount", n);
+            passes.distance(points.coarse,
+                            glm::uvec3(gpu::groupCount(n, shared::kBakeLocalSize), 1, 1));
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            if (sign) {
+                passes.sign(points.coarseSign, n, passes.maxGroups);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            }
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            const std::vector<shared::CoarsePoint> result =
+                buffers.coarse.download<shared::CoarsePoint>(0, n);
+            for (std::uint32_t i = 0; i < n; ++i) {
+                const double d = result[i].distance;
+                out[q0 + i] =
+                    sign ? d * grid.voxelSize
+                         : std::max(0.0, d - kQueryMarginVoxels - kQueryMarginRelative * d) *
+                               grid.voxelSize;
+            }
+        }
+    }
+
+    /// Exact signed distances [voxels] of `count` bricks from `corners`, into `phi` (brick after
+    /// brick, each x fastest). Progress after every slab.
+    void bakeBricks(std::span<const glm::ivec3> corners, bool propagate, std::vector<float>& phi,
+                    Progress* progress) {
+        const auto n = std::uint32_t(corners.size());
+        std::vector<glm::uvec4> list(n);
+        for (std::uint32_t b = 0; b < n; ++b)
+            list[b] = glm::uvec4(glm::uvec3(corners[b]), 0u);
+        buffers.list.upload(list);
+        for (const gpu::Program* program : {&bricks.coarse, &bricks.distance, &bricks.coarseSign,
+                                            &bricks.sign, &bricks.exactSign})
+            program->set("brickCount", n);
+        passes.distance(bricks.coarse,
+                        glm::uvec3(gpu::groupCount(n * kCoarseInvocationsPerBrick,
+                                                   std::uint32_t(shared::kBakeLocalSize)),
+                                   1, 1));
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        if (propagate) {
+            passes.sign(bricks.coarseSign, n * kBrickCoarsePoints, passes.maxGroups);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        SlabPlan plan;
+        plan.layers = (n + kBricksPerGroup - 1) / kBricksPerGroup;
+        plan.firstLayers =
+            std::min({kFirstSlabGroups, plan.layers, bricksPerBatch / kBricksPerGroup});
+        plan.maxLayers = std::max(plan.firstLayers, bricksPerBatch / kBricksPerGroup);
+        plan.alongX = true;
+        plan.pointsOf = [n](std::uint32_t g0, std::uint32_t g1) {
+            return std::uint64_t(std::min(n, g1 * kBricksPerGroup) - g0 * kBricksPerGroup) *
+                   kBrickPoints;
+        };
+        runSlabs(passes, bricks, {buffers.pending, buffers.verify}, plan, progress);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        const std::vector<float> slots =
+            buffers.phi.download<float>(0, std::size_t(n) * kBrickPoints);
+        static const std::array<std::uint16_t, kBrickPoints> order = brickPointOrder();
+        phi.resize(slots.size());
+        for (std::size_t b = 0; b < n; ++b)
+            for (std::uint32_t i = 0; i < kBrickPoints; ++i)
+                phi[b * kBrickPoints + order[i]] = slots[b * kBrickPoints + i];
+    }
+};
+
+/// Grid points of the brick at `corner` inside the domain [0, dims).
+std::uint64_t pointsInDomain(const glm::ivec3& corner, const glm::uvec3& dims) {
+    std::uint64_t points = 1;
+    for (int a = 0; a < 3; ++a)
+        points *= std::uint64_t(
+            std::clamp<std::int64_t>(std::int64_t(dims[a]) - corner[a], 0, kBrickSize));
+    return points;
+}
+
+Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
+                                                const BakeSettings& settings,
+                                                const SparseSettings& sparse, gpu::Context& context,
+                                                bool showProgress, const GpuBakeOptions& options,
+                                                GpuBakeStats& stats, SparseBakeStats& sparseStats) {
+    Result<GridSpec> grid = sparseGridFor(mesh.soup.bounds(), settings.grid, sparse.band);
+    if (!grid)
+        return grid.error();
+    const auto cpuStart = std::chrono::steady_clock::now();
+    const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
+    Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, settings.sign);
+    if (!soup)
+        return soup.error();
+    lap("gpu: prepare the soup");
+    const std::vector<BvhInputTriangle> input = voxelTriangles(*soup, *grid);
+    if (Result<void> fits = checkBvhFits(mesh.sourceFile, input.size(), options); !fits)
+        return fits.error();
+    const Bvh bvh = buildBvh(input);
+    stats.triangles = bvh.triangleCount;
+    stats.nodes = bvh.nodeCount;
+    stats.depth = bvh.depth;
+    stats.bvhSeconds = secondsSince(cpuStart);
+    lap("gpu: BVH build");
+
+    Result<BakePrograms> points = compilePrograms(options.programCache, BakeLayout::Points);
+    if (!points)
+        return points.error();
+    Result<BakePrograms> bricks = compilePrograms(options.programCache, BakeLayout::Sparse);
+    if (!bricks)
+        return bricks.error();
+    lap("gpu: compile and link programs");
+    Result<GpuBvh> gpuBvh = uploadBvh(bvh);
+    if (!gpuBvh)
+        return gpuBvh.error();
+    const std::uint32_t bricksPerBatch =
+        std::clamp<std::uint32_t>(options.sparseBricksPerBatch, kBricksPerGroup, 1u << 16);
+    Result<SparseBuffers> buffers = createSparseBuffers(mesh, context, options, bricksPerBatch);
+    if (!buffers)
+        return buffers.error();
+    stats.gpuBytes = gpuBvh->bytes() + buffers->bytes();
+    lap("gpu: upload");
+
+    // As in the dense bake: a closed soup's winding number is an integer off the surface, so a
+    // point takes the sign of any coarse point whose empty ball holds it.
+    const bool propagate = soup->cycle;
+    setBakeUniforms(*points, bvh, grid->dims, propagate, soup->method, options);
+    setBakeUniforms(*bricks, bvh, grid->dims, propagate, soup->method, options);
+    BakePasses passes = makePasses(stats, options, bvh.triangleCount);
+    SparseGpu sparseGpu{*grid, *points, *bricks, *buffers, passes, bricksPerBatch};
+
+    auto start = std::chrono::steady_clock::now();
+    const SparsePlan plan =
+        planSparse(*grid, sparse.band, [&](std::span<const glm::dvec3> p, std::span<double> d) {
+            sparseGpu.query(p, d, false);
+        });
+    sparseStats.planSeconds = secondsSince(start);
+    sparseStats.bricks = plan.bricks.size();
+    sparseStats.uniformBlocks = plan.blocks.size();
+    sparseStats.distanceQueries = plan.distanceQueries;
+    lap("gpu: culling (band bricks)");
+
+    // One signed sample per uniform block: no surface within it, so its centre's sign is its own.
+    start = std::chrono::steady_clock::now();
+    std::vector<glm::dvec3> centres(plan.blocks.size());
+    for (std::size_t n = 0; n < plan.blocks.size(); ++n)
+        centres[n] =
+            grid->origin +
+            (glm::dvec3(plan.blocks[n]) + 0.5 * double(plan.blockEdge[n] - 1)) * grid->voxelSize;
+    std::vector<double> blockPhi(centres.size());
+    sparseGpu.query(centres, blockPhi, true);
+    double gpuSeconds = secondsSince(start);
+    lap("gpu: uniform blocks' signs");
+
+    Progress bar("baking " + mesh.sourceFile + " on the GPU (sparse band)",
+                 std::uint64_t(plan.bricks.size()) * kBrickPoints, showProgress);
+    SparseGridBuilder builder(*grid, sparse.band);
+    double buildSeconds = 0.0;
+    std::vector<float> phi;
+    std::vector<float> values;
+    for (std::size_t b0 = 0; b0 < plan.bricks.size(); b0 += bricksPerBatch) {
+        start = std::chrono::steady_clock::now();
+        const std::span<const glm::ivec3> corners =
+            std::span(plan.bricks)
+                .subspan(b0, std::min<std::size_t>(bricksPerBatch, plan.bricks.size() - b0));
+        sparseGpu.bakeBricks(corners, propagate, phi, &bar);
+        gpuSeconds += secondsSince(start);
+        start = std::chrono::steady_clock::now();
+        // Voxels to world units in double, so the only float rounding is the GPU's and the last.
+        values.resize(phi.size());
+        std::transform(phi.begin(), phi.end(), values.begin(),
+                       [&](float v) { return float(double(v) * grid->voxelSize); });
+        for (const glm::ivec3& corner : corners)
+            sparseStats.voxelsComputed += pointsInDomain(corner, grid->dims);
+        builder.addBricks(corners, values);
+        buildSeconds += secondsSince(start);
+    }
+    bar.finish();
+    passes.readTimes();
+    sparseStats.distanceSeconds = gpuSeconds;
+    lap("gpu: band bricks (passes, readback, leaves)");
+
+    start = std::chrono::steady_clock::now();
+    for (std::size_t n = 0; n < plan.blocks.size(); ++n)
+        if (blockPhi[n] < 0.0)
+            builder.fillInside(plan.blocks[n], plan.blockEdge[n]);
+    Result<format::GridBytes> bytes = builder.finish();
+    if (!bytes)
+        return bytes.error();
+    sparseStats.buildSeconds = buildSeconds + secondsSince(start);
+
+    format::ColliderAsset asset;
+    asset.meta = sparseProvenance(mesh, *grid, settings, "gpu", soup->method, sparse.band);
+    asset.grid = std::move(*bytes);
+    auto tree = format::checkNanoVdbGrid(asset.grid, mesh.sourceFile);
+    SLUICE_ASSERT(tree.ok(), "the sparse GPU baker wrote a grid its own check rejects");
+    sparseStats.activeVoxels = tree->activeVoxels;
+    sparseStats.gridBytes = tree->bytes;
+    lap("gpu: NanoVDB grid and asset (provenance, mass properties)");
+    return asset;
+}
+
+} // namespace
+
+Result<format::ColliderAsset> bakeSparseGpu(const ImportedMesh& mesh, const BakeSettings& settings,
+                                            const SparseSettings& sparse, gpu::Context& context,
+                                            bool showProgress, const GpuBakeOptions& options,
+                                            GpuBakeStats* stats, SparseBakeStats* sparseStats) {
+    context.makeCurrent();
+    GpuBakeStats localStats;
+    SparseBakeStats localSparse;
+    if (stats)
+        *stats = {};
+    if (sparseStats)
+        *sparseStats = {};
+    // CGAL (orientation) and OpenVDB report failures by throwing.
+    try {
+        return bakeSparseChecked(mesh, settings, sparse, context, showProgress, options,
+                                 stats ? *stats : localStats,
+                                 sparseStats ? *sparseStats : localSparse);
+    } catch (const std::bad_alloc&) {
+        return fail(ErrorCode::SizeOverflow,
+                    mesh.sourceFile + ": out of memory while baking; use a coarser grid");
+    } catch (const std::exception& e) {
+        return fail(ErrorCode::Unsupported, mesh.sourceFile +
+                                                ": preparing this mesh for the GPU bake failed (" +
+                                                e.what() + ")");
+    }
+}
+
+} // namespace sluice::bake
