@@ -46,16 +46,10 @@ void main() {
     uvec4 nearest[kBakeBlockDepth];
     vec3 q0, q1;
 #if defined(SDF_SPARSE)
-    // Four invocations per brick, each a block of 2 x 2 x 4 of its 3 x 3 x 3 coarse points (the
-    // third column, row and layer repeated to fill the block; only real ones are written).
-    uint g = SLUICE_GLOBAL_ID.x;
-    uint brick = g / 4u;
-    uvec3 c0 = uvec3((g & 1u) * 2u, ((g >> 1u) & 1u) * 2u, 0u);
-    uvec3 cMax = uvec3(kBakeBrickCoarse - 1);
-    q0 = vec3(brickCoarsePoint(brick, c0));
-    q1 = vec3(brickCoarsePoint(brick, min(c0 + 1u, cMax)));
-    for (int j = 0; j < kBakeBlockDepth; ++j)
-        z[j] = float(brickCoarsePoint(brick, uvec3(0u, 0u, min(uint(j), cMax.z))).z);
+    // Four invocations per brick, each a block of its coarse points (only real ones are written).
+    uint brick;
+    uvec3 c0;
+    brickCoarseBlock(SLUICE_GLOBAL_ID.x, brick, c0, q0, q1, z);
 #elif defined(SDF_POINTS)
     // One query point per invocation, as a block whose points all coincide.
     uint item = SLUICE_GLOBAL_ID.x;
@@ -86,9 +80,8 @@ void main() {
 
 #if defined(SDF_SPARSE)
     for (int k = 0; k < 4 * kBakeBlockDepth; ++k) {
-        uvec3 c = c0 + blockPointOffset(k);
-        if (brick < brickCount && all(lessThanEqual(c, cMax)))
-            coarse[brickCoarseIndex(brick, c)] =
+        if (brick < brickCount && blockCoarsePoint(c0, k))
+            coarse[brickCoarseIndex(brick, c0 + blockPointOffset(k))] =
                 CoarsePoint(sqrt(best[k >> 2][k & 3]), nearest[k >> 2][k & 3]);
     }
 #elif defined(SDF_POINTS)

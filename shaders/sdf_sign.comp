@@ -118,39 +118,6 @@ bool isInside(float w) {
     return parity != 0u ? (int(round(abs(w))) & 1) == 1 : w > 0.5;
 }
 
-#if defined(SDF_SIGN_COARSE)
-
-void main() {
-    uint item = SLUICE_GLOBAL_ID.x;
-    if (item >= itemCount)
-        return;
-    vec3 p = coarseItemPoint(item);
-    float d = coarse[item].distance;
-    if (d == 0.0) // on the surface: no sign
-        return;
-    float w = fastWindingNumber(p);
-    // The far field can be off by a little; near the decision value, pay for the exact sum.
-    float exact = exactWindingNumber(p, margin(w) < verifyBand ? triangleCount : 0u);
-    if (margin(w) < verifyBand)
-        w = exact;
-    if (isInside(w))
-        coarse[item].distance = -d;
-}
-
-#elif defined(SDF_SIGN_EXACT)
-
-void main() {
-    uint item = SLUICE_GLOBAL_ID.x;
-    if (item >= itemCount)
-        return;
-    uint index = verifyPoints[item];
-    vec3 p = phiIndexPoint(index);
-    if (isInside(exactWindingNumber(p, triangleCount)))
-        phi[index] = -phi[index];
-}
-
-#else
-
 const int kDepth = kBakeBlockDepth;
 const int kPoints = 4 * kDepth;
 
@@ -164,22 +131,12 @@ vec4 layerSolidAngles(vec3 a, vec3 b, vec3 c, vec3 q0, vec3 q1, float z) {
     return omega;
 }
 
-void main() {
-    uint item = SLUICE_GLOBAL_ID.x;
-    if (item >= itemCount)
-        return;
-    uvec2 entry = pendingBlocks[item];
-    uvec3 origin = pendingBlockOrigin(entry.x);
-    vec3 q0, q1;
-    float z[kDepth];
-    blockPoints(origin, q0, q1, z);
-    uint mask = entry.y;
+// The fast winding numbers [sr] of a block's 16 points (blockPoints, shared/SdfBakeGlsl.h),
+// walked together: a node counts as far only if it is far from every point of the block (its
+// centroid farther than beta radii from the block's box), so each point's sum is at least as
+// exact as its own walk would give.
+void blockWindingNumbers(vec3 q0, vec3 q1, float z[kDepth], out vec4 w[kDepth]) {
     vec3 boxLo = q0, boxHi = vec3(q1.xy, z[kDepth - 1]);
-
-    // The fast winding number of the block's points, walked together: a node counts as far
-    // only if it is far from every point of the block (its centroid farther than beta radii from
-    // the block's box), so each point's sum is at least as exact as its own walk would give.
-    vec4 w[kDepth]; // [sr], layer by layer
     for (int j = 0; j < kDepth; ++j)
         w[j] = vec4(0.0);
     uint n = 0u;
@@ -216,6 +173,54 @@ void main() {
         }
         n = n + 1u;
     }
+}
+
+#if defined(SDF_SIGN_COARSE)
+
+void main() {
+    uint item = SLUICE_GLOBAL_ID.x;
+    if (item >= itemCount)
+        return;
+    vec3 p = coarseItemPoint(item);
+    float d = coarse[item].distance;
+    if (d == 0.0) // on the surface: no sign
+        return;
+    float w = fastWindingNumber(p);
+    // The far field can be off by a little; near the decision value, pay for the exact sum.
+    float exact = exactWindingNumber(p, margin(w) < verifyBand ? triangleCount : 0u);
+    if (margin(w) < verifyBand)
+        w = exact;
+    if (isInside(w))
+        coarse[item].distance = -d;
+}
+
+#elif defined(SDF_SIGN_EXACT)
+
+void main() {
+    uint item = SLUICE_GLOBAL_ID.x;
+    if (item >= itemCount)
+        return;
+    uint index = verifyPoints[item];
+    vec3 p = phiIndexPoint(index);
+    if (isInside(exactWindingNumber(p, triangleCount)))
+        phi[index] = -phi[index];
+}
+
+#else
+
+void main() {
+    uint item = SLUICE_GLOBAL_ID.x;
+    if (item >= itemCount)
+        return;
+    uvec2 entry = pendingBlocks[item];
+    uvec3 origin = pendingBlockOrigin(entry.x);
+    vec3 q0, q1;
+    float z[kDepth];
+    blockPoints(origin, q0, q1, z);
+    uint mask = entry.y;
+
+    vec4 w[kDepth]; // [sr], layer by layer
+    blockWindingNumbers(q0, q1, z, w);
 
     // The far field can be off by a little: a point whose value is near the decision goes to
     // the verify list (SDF_SIGN_EXACT sums every triangle for it); the others are decided here.

@@ -360,7 +360,8 @@ void printJson(const BakeArgs& args, const BakeJob& job) {
         out["gpu"] = {{"renderer", job.renderer},     {"triangles", gpu.triangles},
                       {"bvhNodes", gpu.nodes},        {"bvhDepth", gpu.depth},
                       {"bvhSeconds", gpu.bvhSeconds}, {"dispatches", gpu.dispatches},
-                      {"gpuBytes", gpu.gpuBytes}};
+                      {"gpuBytes", gpu.gpuBytes},     {"windingPoints", gpu.pendingPoints},
+                      {"exactWindingPoints", gpu.verifiedPoints}};
         out["gpu"]["programCache"] = programCacheJson(*job.programCache);
         if (args.profile) {
             out["gpu"]["distanceSeconds"] = gpu.distanceNs * 1e-9;
@@ -409,7 +410,9 @@ void printSummary(const BakeArgs& args, const BakeJob& job) {
                   << "  programs " << describeProgramCache(*job.programCache) << '\n';
         if (args.profile)
             std::cout << "  passes   distance " << num(gpu.distanceNs * 1e-6, 4) << " ms, sign "
-                      << num(gpu.signNs * 1e-6, 4) << " ms (GPU time)\n";
+                      << num(gpu.signNs * 1e-6, 4) << " ms (GPU time); winding number at "
+                      << plural(gpu.pendingPoints, "grid point") << ", exact at "
+                      << gpu.verifiedPoints << "\n";
     }
     if (args.profile)
         std::cout << describePhases(job.phases);

@@ -103,6 +103,24 @@ uint brickCoarseIndex(uint b, uvec3 c) {
 uvec3 brickCoarsePoint(uint b, uvec3 c) {
     return min(brickOrigin(b) + c * uint(kBakeCoarseSpacing), dims - 1u);
 }
+// Block g of the bricks' coarse points, as the coarse passes walk them: four per brick (brick
+// g / 4), each 2 x 2 x 4 coarse points from c0 with the third column, row and layer repeated to
+// fill it. Point k of the block is coarse point c0 + blockPointOffset(k) where that is <= 2 on
+// every axis (blockCoarsePoint), a repeat otherwise.
+void brickCoarseBlock(uint g, out uint brick, out uvec3 c0, out vec3 q0, out vec3 q1,
+                      out float z[kBakeBlockDepth]) {
+    brick = g / 4u;
+    c0 = uvec3((g & 1u) * 2u, ((g >> 1u) & 1u) * 2u, 0u);
+    uvec3 cMax = uvec3(kBakeBrickCoarse - 1);
+    q0 = vec3(brickCoarsePoint(brick, c0));
+    q1 = vec3(brickCoarsePoint(brick, min(c0 + 1u, cMax)));
+    for (int j = 0; j < kBakeBlockDepth; ++j)
+        z[j] = float(brickCoarsePoint(brick, uvec3(0u, 0u, min(uint(j), cMax.z))).z);
+}
+// Whether point k of a coarse block from c0 is a coarse point of its own (not a repeat).
+bool blockCoarsePoint(uvec3 c0, int k) {
+    return all(lessThanEqual(c0 + blockPointOffset(k), uvec3(kBakeBrickCoarse - 1)));
+}
 uvec3 slotOrigin(uint slot) {
     return brickOrigin(slot / kBrickBlocks) + mortonPosition(slot % kBrickBlocks) * kBakeBlockSize;
 }
