@@ -42,9 +42,10 @@ constexpr std::uint32_t kFirstSlabGroups = 256;
 constexpr std::uint32_t kBrickCoarsePoints =
     shared::kBakeBrickCoarse * shared::kBakeBrickCoarse * shared::kBakeBrickCoarse;
 constexpr std::uint32_t kCoarseInvocationsPerBrick = 4;
-/// A GPU distance's float rounding is below 2e-3 voxel for coordinates up to 2^13 voxels (half
-/// an ulp of each coordinate, and of each triangle corner); culling takes off more than that.
+/// A GPU distance's float rounding is below 4e-3 voxel for coordinates up to kMaxGpuSparseAxis
+/// voxels (half an ulp of each coordinate, and of each triangle corner); culling takes off more.
 constexpr double kQueryMarginVoxels = 0.01;
+constexpr std::uint32_t kMaxGpuSparseAxis = 16384;
 constexpr double kQueryMarginRelative = 1e-5;
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
@@ -233,6 +234,13 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
     Result<GridSpec> grid = sparseGridFor(mesh.soup.bounds(), settings.grid, sparse.band);
     if (!grid)
         return grid.error();
+    if (const std::uint32_t longest = std::max({grid->dims.x, grid->dims.y, grid->dims.z});
+        longest > kMaxGpuSparseAxis)
+        return fail(ErrorCode::SizeOverflow,
+                    mesh.sourceFile + ": a sparse grid " + std::to_string(longest) +
+                        " points long is over the GPU bake's " +
+                        std::to_string(kMaxGpuSparseAxis) +
+                        " (float coordinates); use a coarser voxel size or --backend cgal");
     const auto cpuStart = std::chrono::steady_clock::now();
     const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
     Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, settings.sign);

@@ -199,6 +199,20 @@ TEST_F(GpuSparseBakeTest, ABufferOverTheLimitIsRefusedCleanly) {
     EXPECT_NE(r.error().detail.find("sphere.obj"), std::string::npos);
 }
 
+TEST_F(GpuSparseBakeTest, AGridTooLongForFloatCoordinatesIsRefusedBeforeBaking) {
+    // 20,000 voxels along x: past 16,384, where float rounding would outgrow the culling's margin.
+    BakeSettings s;
+    s.grid.voxelSize = 1.0 / 20000.0;
+    s.grid.resolution = 0;
+    const ImportedMesh rod =
+        testmesh::imported(testmesh::boxSoup({0, 0, 0}, {1.0, 2e-4, 2e-4}), "rod.obj");
+    auto r = bakeSparseGpu(rod, s, {.band = kBand}, context());
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::SizeOverflow);
+    EXPECT_NE(r.error().detail.find("rod.obj"), std::string::npos) << r.error().detail;
+    EXPECT_NE(r.error().detail.find("--backend cgal"), std::string::npos) << r.error().detail;
+}
+
 TEST_F(GpuSparseBakeTest, TheCommandLineBakesSparseOnTheGpuAndValidates) {
     const fs::path dir = testmesh::tempDir("gpu-sparse-cli");
     const fs::path mesh = dir / "ball.obj";
