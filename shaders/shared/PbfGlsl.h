@@ -149,6 +149,19 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
     PBF_RANGES_END                                                                             \
     }
 
+#ifdef PBF_WITH_BODIES
+layout(std430, binding = kBindBodies) buffer BodiesBuf { GpuBody bodies[]; };
+
+// Whether x is so far from body b's bounding sphere (its farthest contact point plus a voxel;
+// a thin feature between contact points may stick out by less than a spacing, so h more) that
+// no part of the body is within `reach` of it.
+bool bodyOutOfReach(uint b, vec3 x, float reach) {
+    vec3 toCentre = x - bodies[b].position;
+    float r = bodies[b].boundRadius + PBF_H + reach;
+    return dot(toCentre, toCentre) >= r * r;
+}
+#endif
+
 #ifdef PBF_WITH_COLLIDERS
 // The body pass rewrites the records of dynamic colliders; every other pass only reads them.
 #ifdef PBF_COLLIDERS_WRITABLE
@@ -233,6 +246,12 @@ float colliderDistance(uint c, vec3 x, out vec3 normal) {
 vec3 collide(vec3 x, vec3 xOld) {
     uint n = P.colliderCount;
     for (uint c = 0u; c < n; ++c) {
+#ifdef PBF_WITH_BODIES
+        // A body out of reach cannot push: skip its SDF samples (with many bodies, most of the
+        // pass). Its phi would be over the radius, so nothing changes.
+        if (colliders[c].body != kNoBody && bodyOutOfReach(colliders[c].body, x, PBF_RADIUS))
+            continue;
+#endif
         vec3 normal;
         float phi = colliderDistance(c, x, normal);
         if (colliders[c].body != kNoBody)
@@ -266,7 +285,6 @@ vec3 collide(vec3 x, vec3 xOld) {
 #endif // PBF_WITH_COLLIDERS
 
 #ifdef PBF_WITH_BODIES
-layout(std430, binding = kBindBodies) buffer BodiesBuf { GpuBody bodies[]; };
 
 // The boundary's share of a particle's kernel support (docs/bodies.md, "Boundary volume"): a
 // body whose surface is a plane at distance phi from the particle fills the part of the poly6
