@@ -35,7 +35,7 @@ void cellCorner(uvec3 origin, uint brick, int s, out uint index, out vec3 point)
     uvec3 offset = uvec3(s & 1, (s >> 1) & 1, s >> 2);
 #if defined(SDF_SPARSE)
     uvec3 c = (origin - brickOrigin(brick)) / uint(kBakeCoarseSpacing) + offset;
-    index = brickCoarseIndex(brick, c);
+    index = coarseRep[brickCoarseIndex(brick, c)];
     point = vec3(brickCoarsePoint(brick, c));
 #else
     uvec3 cd = coarseDims();

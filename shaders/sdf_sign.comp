@@ -181,8 +181,9 @@ void main() {
     uint item = SLUICE_GLOBAL_ID.x;
     if (item >= itemCount)
         return;
-    vec3 p = coarseItemPoint(item);
-    float d = coarse[item].distance;
+    uint index = coarseSignEntry(item);
+    vec3 p = coarseItemPoint(index);
+    float d = coarse[index].distance;
     if (d == 0.0) // on the surface: no sign
         return;
     float w = fastWindingNumber(p);
@@ -191,7 +192,7 @@ void main() {
     if (margin(w) < verifyBand)
         w = exact;
     if (isInside(w))
-        coarse[item].distance = -d;
+        coarse[index].distance = -d;
 }
 
 #elif defined(SDF_SIGN_EXACT)

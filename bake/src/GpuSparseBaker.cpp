@@ -5,11 +5,11 @@
 //      query points (SDF_POINTS). Each distance is understated by a bound on its float rounding,
 //      so the culling keeps every brick the exact distances would.
 //   2. The uniform blocks' centres: distance, then sign (the coarse sign pass, SDF_POINTS).
-//   3. The band bricks, options.sparseBricksPerBatch at a time (SDF_SPARSE): the coarse pass over
-//   each
-//      brick's 27 coarse points and (closed soups) their sign, the fine pass over the bricks in
-//      slabs with the sign passes after each, as the dense bake runs them; then the batch is read
-//      back, turned into world units and added to the builder.
+//   3. The band bricks, GpuBakeOptions::sparseBricksPerBatch at a time (SDF_SPARSE): the coarse
+//      pass over each brick's 27 coarse points and (closed soups) the sign of each distinct one
+//      (neighbouring bricks share them), the fine pass over the bricks in slabs with the sign
+//      passes after each, as the dense bake runs them; then the batch is read back, turned into
+//      world units and added to the builder.
 // Work and GPU memory grow with the band: the buffers are sized for one batch, whatever the grid.
 #include <algorithm>
 #include <array>
@@ -71,16 +71,48 @@ std::array<std::uint16_t, kBrickPoints> brickPointOrder() {
 
 /// The sparse bake's GPU buffers, sized for one batch, on their bindings.
 struct SparseBuffers {
-    gpu::Buffer list;    ///< bricks (uvec4) or query points (vec4)
-    gpu::Buffer phi;     ///< distances of a batch of bricks [voxels]
-    gpu::Buffer coarse;  ///< CoarsePoint per brick coarse point or query point
-    gpu::Buffer pending; ///< PendingHeader, then the blocks of a slab still without a sign
-    gpu::Buffer verify;  ///< PendingHeader, then the points of a slab for the exact sum
+    gpu::Buffer list;      ///< bricks (uvec4) or query points (vec4)
+    gpu::Buffer phi;       ///< distances of a batch of bricks [voxels]
+    gpu::Buffer coarse;    ///< CoarsePoint per brick coarse point or query point
+    gpu::Buffer pending;   ///< PendingHeader, then the blocks of a slab still without a sign
+    gpu::Buffer verify;    ///< PendingHeader, then the points of a slab for the exact sum
+    gpu::Buffer coarseRep; ///< first coarse entry at each entry's point, then the distinct ones
 
     std::uint64_t bytes() const {
-        return list.size() + phi.size() + coarse.size() + pending.size() + verify.size();
+        return list.size() + phi.size() + coarse.size() + pending.size() + verify.size() +
+               coarseRep.size();
     }
 };
+
+/// For each coarse entry of `corners` (kBrickCoarsePoints per brick), the first entry at the
+/// same grid point, then the list of those first entries (shared/SdfBake.h, coarseRep).
+/// Neighbouring bricks share their faces' coarse points, so a sheet of bricks has about a third
+/// as many distinct points as entries.
+std::vector<std::uint32_t> coarseRepresentatives(std::span<const glm::ivec3> corners,
+                                                 glm::uvec3 dims) {
+    const std::uint32_t entries = std::uint32_t(corners.size()) * kBrickCoarsePoints;
+    const std::uint32_t side = shared::kBakeBrickCoarse;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(entries);
+    for (std::uint32_t e = 0; e < entries; ++e) {
+        const std::uint32_t c = e % kBrickCoarsePoints;
+        const glm::uvec3 offset(c % side, (c / side) % side, c / (side * side));
+        const glm::uvec3 p = glm::min(glm::uvec3(corners[e / kBrickCoarsePoints]) +
+                                          offset * std::uint32_t(shared::kBakeCoarseSpacing),
+                                      dims - 1u);
+        keyed[e] = {std::uint64_t(p.x) | std::uint64_t(p.y) << 21 | std::uint64_t(p.z) << 42, e};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<std::uint32_t> out(entries);
+    std::vector<std::uint32_t> distinct;
+    for (std::size_t n = 0; n < keyed.size(); ++n) {
+        if (n == 0 || keyed[n].first != keyed[n - 1].first)
+            distinct.push_back(keyed[n].second); // the lowest entry: pairs sort by it second
+        out[keyed[n].second] = distinct.back();
+    }
+    std::sort(distinct.begin(), distinct.end());
+    out.insert(out.end(), distinct.begin(), distinct.end());
+    return out;
+}
 
 Result<SparseBuffers> createSparseBuffers(const ImportedMesh& mesh, gpu::Context& context,
                                           const GpuBakeOptions& options,
@@ -106,6 +138,9 @@ Result<SparseBuffers> createSparseBuffers(const ImportedMesh& mesh, gpu::Context
         {&b.pending, pendingBytes(blocks), "sparse bake pending blocks",
          shared::kBakePendingBinding},
         {&b.verify, verifyBytes(blocks), "sparse bake verify points", shared::kBakeVerifyBinding},
+        {&b.coarseRep,
+         2 * std::uint64_t(bricksPerBatch) * kBrickCoarsePoints * sizeof(std::uint32_t),
+         "sparse bake coarse representatives", shared::kBakeCoarseRepBinding},
     };
     const std::uint64_t maxBuffer =
         options.maxBufferBytes > 0 ? options.maxBufferBytes : context.info().maxSsboBytes;
@@ -183,6 +218,9 @@ struct SparseGpu {
         for (std::uint32_t b = 0; b < n; ++b)
             list[b] = glm::uvec4(glm::uvec3(corners[b]), 0u);
         buffers.list.upload(list);
+        const std::vector<std::uint32_t> reps = coarseRepresentatives(corners, grid.dims);
+        buffers.coarseRep.upload(reps);
+        const auto distinct = std::uint32_t(reps.size()) - n * kBrickCoarsePoints;
         for (const gpu::Program* program : {&bricks.coarse, &bricks.distance, &bricks.coarseSign,
                                             &bricks.sign, &bricks.exactSign})
             program->set("brickCount", n);
@@ -192,7 +230,7 @@ struct SparseGpu {
                                    1, 1));
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         if (propagate) {
-            passes.sign(bricks.coarseSign, n * kBrickCoarsePoints, passes.maxGroups);
+            passes.sign(bricks.coarseSign, distinct, passes.maxGroups);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
         SlabPlan plan;
@@ -238,8 +276,7 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
         longest > kMaxGpuSparseAxis)
         return fail(ErrorCode::SizeOverflow,
                     mesh.sourceFile + ": a sparse grid " + std::to_string(longest) +
-                        " points long is over the GPU bake's " +
-                        std::to_string(kMaxGpuSparseAxis) +
+                        " points long is over the GPU bake's " + std::to_string(kMaxGpuSparseAxis) +
                         " (float coordinates); use a coarser voxel size or --backend cgal");
     const auto cpuStart = std::chrono::steady_clock::now();
     const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };

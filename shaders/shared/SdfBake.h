@@ -65,6 +65,10 @@ SLUICE_CONST int kBakeVerifyBinding = 3;   ///< PendingHeader, then points for t
 /// uvec4 bricks[] (SDF_SPARSE: lower corners [grid points]) or vec4 queryPoints[] (SDF_POINTS:
 /// positions [voxels], one coarse entry each).
 SLUICE_CONST int kBakeBrickBinding = 4;
+/// uint coarseRep[] (SDF_SPARSE): for each brick coarse entry, the first entry at the same grid
+/// point (neighbouring bricks share coarse points; only that one is signed and read); then the
+/// list of those first entries, which the coarse sign pass walks.
+SLUICE_CONST int kBakeCoarseRepBinding = 5;
 
 /// Most triangles in a BVH leaf, and the bits of a link that hold the count.
 SLUICE_CONST int kBvhLeafSize = 4;

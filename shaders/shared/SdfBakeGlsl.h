@@ -80,11 +80,13 @@ vec3 layerPoint(vec3 q0, vec3 q1, float z, int k) {
 //       grid, pending entries are block indices (x fastest over the grid of blocks);
 //   SDF_SPARSE: the bricks of a list (shared/SdfBake.h); block slot s is block mortonPosition(s %
 //       32) of brick s / 32, its point k is phi[16 s + k], pending entries are slots, and brick b's
-//       coarse point c (0..2 per axis) is coarse[27 b + c.x + 3 (c.y + 3 c.z)];
+//       coarse point c (0..2 per axis) is coarse[27 b + c.x + 3 (c.y + 3 c.z)], signed and read
+//       through the first entry at its grid point (coarseRep);
 //   SDF_POINTS: a list of query points, coarse[i] for point i (the coarse passes only).
 // Verify entries are indices into phi[].
 #if defined(SDF_SPARSE)
 layout(std430, binding = kBakeBrickBinding) readonly buffer Bricks { uvec4 bricks[]; };
+layout(std430, binding = kBakeCoarseRepBinding) readonly buffer CoarseRep { uint coarseRep[]; };
 uniform uint brickCount; // bricks in the list
 
 const uint kBrickBlocks = uint(kBakeBrickSize * kBakeBrickSize * kBakeBrickSize) /
@@ -127,6 +129,16 @@ uvec3 slotOrigin(uint slot) {
 #elif defined(SDF_POINTS)
 layout(std430, binding = kBakeBrickBinding) readonly buffer Queries { vec4 queryPoints[]; };
 #endif
+
+// The coarse entry the coarse sign pass signs as its item `item`: every entry of the dense grid
+// or the query points; the first entry of each distinct point of the bricks (coarseRep).
+uint coarseSignEntry(uint item) {
+#if defined(SDF_SPARSE)
+    return coarseRep[brickCount * kBrickCoarsePoints + item];
+#else
+    return item;
+#endif
+}
 
 // Position of coarse entry `item` [voxels].
 vec3 coarseItemPoint(uint item) {
