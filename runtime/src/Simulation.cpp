@@ -837,6 +837,12 @@ Result<void> Simulation::setParameters(const format::SimulationParams& params) {
         p.scorrN < 1.0f || p.xsph < 0.0f || p.vorticity < 0.0f)
         return bad("targetDensityError, relaxation, scorrK, xsph and vorticity must be >= 0, "
                    "scorrN >= 1");
+    // A larger h reads a dynamic body's distances further out: its sparse band must still hold
+    // them, as when the scene was loaded.
+    format::Scene changed = s.scene;
+    changed.simulation = p;
+    if (auto ok = checkColliderBands(changed, s.colliderAssets); !ok)
+        return ok;
     if (p.maxIterations > s.maxIterations) {
         // The per-iteration statistics slots and the solve args grow with the cap. Both are
         // allocated before either replaces its buffer, so a failure leaves nothing changed.

@@ -26,6 +26,7 @@
 #include <glm/vec3.hpp>
 
 #include "AnalyticAsset.h"
+#include "ProgramRun.h"
 #include "sluice/bake/MeshImport.h"
 #include "sluice/bake/TriangleSoup.h"
 #include "sluice/format/ColliderAsset.h"
@@ -283,20 +284,8 @@ inline ImportedMesh imported(TriangleSoup soup, std::string name = "analytic") {
     return mesh;
 }
 
-/// A fresh folder for test files: SLUICE_TEST_TMP/<name> if the build defines it, else under
-/// the system temp folder. Emptied if it exists.
-inline std::filesystem::path tempDir(const std::string& name) {
-#ifdef SLUICE_TEST_TMP
-    const std::filesystem::path root = SLUICE_TEST_TMP;
-#else
-    const std::filesystem::path root = std::filesystem::temp_directory_path() / "sluice-tests";
-#endif
-    const std::filesystem::path dir = root / name;
-    std::error_code ec;
-    std::filesystem::remove_all(dir, ec);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
+/// A fresh folder for test files (tests/common/ProgramRun.h).
+using testrun::tempDir;
 
 /// Writes the soup as a Wavefront OBJ ("v x y z" with 17 significant digits, "f a b c"
 /// 1-based), losing nothing on our side (assimp reads the coordinates as floats, so an import

@@ -19,6 +19,21 @@ struct RunResult {
     std::string err;
 };
 
+/// A fresh folder for test files: SLUICE_TEST_TMP/<name> if the test target defines it, else
+/// under the system temp folder. Emptied if it exists.
+inline std::filesystem::path tempDir(const std::string& name) {
+#ifdef SLUICE_TEST_TMP
+    const std::filesystem::path root = SLUICE_TEST_TMP;
+#else
+    const std::filesystem::path root = std::filesystem::temp_directory_path() / "sluice-tests";
+#endif
+    const std::filesystem::path dir = root / name;
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
 /// A whole file as bytes in a string (empty if it cannot be read).
 inline std::string readText(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);

@@ -21,12 +21,7 @@ using testrun::shown;
 
 const fs::path kAssets = SLUICE_BUILD_ASSETS_DIR; // scenes and baked colliders, side by side
 
-fs::path tempDir(const std::string& name) {
-    const fs::path dir = fs::path(SLUICE_TEST_TMP) / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+using testrun::tempDir;
 
 // Through test::runPlay: runs that render (--frames) must see the GL driver preloaded under
 // ASan, or LeakSanitizer reports Mesa's caches when the driver unloads (RenderTestSupport.h).

@@ -23,12 +23,7 @@ using testrun::shown;
 
 const fs::path kAssets = SLUICE_BUILD_ASSETS_DIR; // scenes and baked colliders, side by side
 
-fs::path tempDir(const std::string& name) {
-    const fs::path dir = fs::path(SLUICE_TEST_TMP) / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+using testrun::tempDir;
 
 testrun::RunResult play(const fs::path& dir, const std::vector<std::string>& args) {
     return runProgram(SLUICE_PLAY_EXE, dir, args);

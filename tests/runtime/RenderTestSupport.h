@@ -27,12 +27,7 @@ namespace fs = std::filesystem;
 inline const fs::path kAssets = SLUICE_BUILD_ASSETS_DIR;
 
 /// An empty folder for one test's files.
-inline fs::path tempDir(const std::string& name) {
-    const fs::path dir = fs::path(SLUICE_TEST_TMP) / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+using testrun::tempDir;
 
 /// A scene from JSON text whose collider assets are named relative to the build's assets.
 inline format::Scene sceneFromJson(const std::string& json) {

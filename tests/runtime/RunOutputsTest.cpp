@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "ProgramRun.h"
+
 #include "RunOutputs.h"
 
 namespace sluice::rt {
@@ -13,12 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path tempDir(const std::string& name) {
-    const fs::path dir = fs::path(SLUICE_TEST_TMP) / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+using testrun::tempDir;
 
 TEST(RunOutputs, CreatesTheParentsOfFilesAndTheFoldersThemselves) {
     const fs::path dir = tempDir("outputs-create");

@@ -25,12 +25,7 @@ namespace fs = std::filesystem;
 
 const fs::path kAssets = SLUICE_BUILD_ASSETS_DIR; // scenes and baked colliders, side by side
 
-fs::path tempDir(const std::string& name) {
-    const fs::path dir = fs::path(SLUICE_TEST_TMP) / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+using testrun::tempDir;
 
 /// Bakes tank.obj into dir/name with the CGAL backend at the tank scene's 7.5 mm voxels and
 /// `extra` arguments.
@@ -100,6 +95,44 @@ TEST_F(SparseScene, TheTankBakedDenseAndSparseOnOneGridPlaysTheSameRunBitForBit)
         differing += std::memcmp(&finals[0][n].position, &finals[1][n].position,
                                  sizeof(glm::vec3)) != 0;
     EXPECT_EQ(differing, 0u) << "of " << finals[0].size() << " particles";
+}
+
+TEST_F(SparseScene, ALargerKernelRadiusIsRefusedWhenADynamicBodysBandCannotHoldIt) {
+    // The committed sparse sphere (band 2 voxels of 0.05 m, radius 0.2 m) as a body, with the
+    // mass properties a closed mesh's bake stores. At 6 mm spacing and h = 12 mm its boundary
+    // reads phi up to h + 0.15 spacing = 12.9 mm: 0.26 + sqrt(3) = 1.99 voxels, inside the band.
+    const fs::path dir = tempDir("sparse-body-h");
+    auto asset = format::readAsset(fs::path(SLUICE_SOURCE_DIR) /
+                                   "tests/fuzz/corpus/asset_reader/sphere-sparse.slc");
+    ASSERT_TRUE(asset) << asset.error().message();
+    const double r = 0.2, volume = 4.0 / 3.0 * 3.141592653589793 * r * r * r;
+    asset->meta.meshMass =
+        format::MassProperties{volume, glm::dvec3(0.0), glm::dmat3(0.4 * volume * r * r)};
+    ASSERT_TRUE(format::writeAsset(dir / "ball.slc", *asset));
+    std::ofstream(dir / "scene.json") << R"({ "simulation": { "spacing": 0.006 },
+  "fluid": [ { "box": { "min": [0.3, 0.3, 0.3], "max": [0.33, 0.33, 0.33] } } ],
+  "colliders": [ { "asset": "ball.slc", "dynamic": { "density": 500 } } ] })";
+    auto scene = format::readScene(dir / "scene.json");
+    ASSERT_TRUE(scene) << scene.error().message();
+    auto colliders = loadSceneColliders(*scene);
+    ASSERT_TRUE(colliders) << colliders.error().message();
+    auto sim = Simulation::create(*scene, std::move(*colliders));
+    ASSERT_TRUE(sim) << sim.error().message();
+
+    // h = 18 mm reads 18.9 mm: 2.11 voxels, past the band. Refused, nothing changed.
+    format::SimulationParams wide = sim->parameters();
+    wide.kernelRadius = 0.018f;
+    auto refused = sim->setParameters(wide);
+    ASSERT_FALSE(refused);
+    EXPECT_EQ(refused.error().code, ErrorCode::InvalidArgument);
+    EXPECT_NE(refused.error().detail.find("--sparse --band 3"), std::string::npos)
+        << refused.error().detail;
+    EXPECT_FLOAT_EQ(sim->parameters().kernelRadius, 0.012f);
+    // A smaller h reads less: accepted.
+    format::SimulationParams narrow = sim->parameters();
+    narrow.kernelRadius = 0.011f;
+    EXPECT_TRUE(sim->setParameters(narrow));
+    EXPECT_FLOAT_EQ(sim->parameters().kernelRadius, 0.011f);
 }
 
 TEST_F(SparseScene, TheLevelScaleTerrainCatchesThePouredWaterWithNoneInsideIt) {

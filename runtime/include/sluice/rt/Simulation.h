@@ -146,7 +146,9 @@ public:
     /// NonFinite for a non-finite number; InvalidArgument for kernelRadius outside
     /// [1.5 spacing, 4 spacing], a timeStep <= 0, zero substeps or iterations, minIterations >
     /// maxIterations, scorrDeltaQ outside [0, kernelRadius), a negative targetDensityError,
-    /// relaxation, scorrK, xsph or vorticity, or scorrN < 1. A larger maxIterations grows two
+    /// relaxation, scorrK, xsph or vorticity, or scorrN < 1, or a kernelRadius whose reach a
+    /// sparse dynamic body's band does not hold (checkColliderBands, as when the scene was
+    /// loaded: the message names the `--band` to re-bake with). A larger maxIterations grows two
     /// small GPU buffers; if that allocation fails, its error is returned (GpuOutOfMemory).
     Result<void> setParameters(const format::SimulationParams& params);
 
