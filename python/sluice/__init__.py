@@ -187,13 +187,15 @@ def _as_mesh(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], scale: Optional[float
 def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int] = None,
          voxel_size: Optional[float] = None, padding: float = 3.0, backend: str = "auto",
          sign: str = "auto", storage: str = "f32", scale: Optional[float] = None,
-         progress: bool = True) -> Collider:
+         sparse: bool = False, band: float = 3.0, progress: bool = True) -> Collider:
     """Bakes a mesh into a collider, as ``sluice-bake bake`` does (same grid, field, provenance
     and, once saved, bytes).
 
     ``mesh`` is a Mesh (baked at the scale it was read at), a path (read at ``scale``, default
     1) or a ``(vertices, triangles)`` pair (scaled by ``scale``); the asset records the scale. Give ``resolution`` [voxels along the longest side, default 64] or
-    ``voxel_size`` [world units]. The GIL is released while it runs; a progress bar shows for
+    ``voxel_size`` [world units]. ``sparse=True`` bakes a narrow band of ``band`` voxels into a
+    NanoVDB grid (``sluice-bake bake --sparse --band``), on either backend. The GIL is released
+    while it runs; a progress bar shows for
     bakes over a second (tqdm where installed); Ctrl-C stops it (KeyboardInterrupt).
     """
     if resolution is not None and voxel_size is not None:
@@ -208,6 +210,8 @@ def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int]
     request.sign = sign
     request.storage = storage
     request.scale = m.scale
+    request.sparse = bool(sparse)
+    request.band = float(band)
     bar, callback, close = progress_hooks("baking " + m.source_file, progress)
     try:
         return Collider(_sluice.bake_mesh(m._m, request, bar, callback))

@@ -13,7 +13,8 @@ import os
 from concurrent.futures import Executor, ProcessPoolExecutor
 from typing import Any, Dict, Iterable, List, Optional, Union
 
-_OPTION_KEYS = ("resolution", "voxelSize", "padding", "sign", "storage", "scale", "backend")
+_OPTION_KEYS = ("resolution", "voxelSize", "padding", "sign", "storage", "scale", "backend",
+                "sparse", "band")
 
 
 def _entries(manifest_or_entries: Union[str, "os.PathLike[str]", Iterable[Dict[str, Any]]]
@@ -48,6 +49,8 @@ def bake_entry(entry: Dict[str, Any], force: bool = False) -> Dict[str, Any]:
     request.storage = str(entry.get("storage", "f32"))
     request.scale = float(entry.get("scale", 1.0))
     request.backend = str(entry.get("backend", "auto"))
+    request.sparse = bool(entry.get("sparse", False))
+    request.band = float(entry.get("band", 3.0))
     try:
         result = _sluice.bake_batch_entry(entry["mesh"], entry["output"], entry["label"], request,
                                           force, False, None)

@@ -14,6 +14,7 @@
 #include "Errors.h"
 #include "sluice/bake/BakeJob.h"
 #include "sluice/bake/BatchJob.h"
+#include "sluice/bake/SparseBaker.h"
 #include "sluice/bake/ValidateJob.h"
 #include "sluice/bake/VdbIO.h"
 #include "sluice/format/AssetIO.h"
@@ -77,10 +78,13 @@ Collider readAsset(const std::string& path) {
 
 Collider bakeMesh(const Mesh& mesh, const bake::BakeRequest& request, bool bar,
                   nb::object callback) {
-    if (Result<bake::BakeSettings> settings = bake::bakeSettingsFor(request); !settings)
+    Result<bake::BakeSettings> settings = bake::bakeSettingsFor(request);
+    if (!settings)
         raise(Family::Argument, settings.error());
-    Result<bake::GridSpec> grid =
-        bake::gridFor(mesh.mesh.soup.bounds(), bake::bakeSettingsFor(request)->grid);
+    const bake::Box bounds = mesh.mesh.soup.bounds();
+    Result<bake::GridSpec> grid = request.sparse
+                                      ? bake::sparseGridFor(bounds, settings->grid, request.band)
+                                      : bake::gridFor(bounds, settings->grid);
     const std::string shown = mesh.path.empty() ? mesh.mesh.sourceFile : mesh.path;
     if (!grid)
         raise(Family::Bake, grid.error(), "cannot bake", shown);
@@ -191,6 +195,8 @@ nb::dict entryDict(const bake::BatchEntry& e) {
     d["storage"] = e.request.storage;
     d["scale"] = e.request.scale;
     d["backend"] = e.request.backend;
+    d["sparse"] = e.request.sparse;
+    d["band"] = e.request.band;
     return d;
 }
 
@@ -236,7 +242,9 @@ void bindBake(nb::module_& m) {
         .def_rw("padding", &bake::BakeRequest::padding)
         .def_rw("sign", &bake::BakeRequest::sign)
         .def_rw("storage", &bake::BakeRequest::storage)
-        .def_rw("scale", &bake::BakeRequest::scale);
+        .def_rw("scale", &bake::BakeRequest::scale)
+        .def_rw("sparse", &bake::BakeRequest::sparse)
+        .def_rw("band", &bake::BakeRequest::band);
 
     nb::class_<bake::ValidateRequest>(m, "ValidateRequest",
                                       "The options of one validation (as `sluice-bake validate`).")

@@ -33,6 +33,27 @@ def test_python_and_cli_bakes_are_byte_identical(sphere_obj: Path, tmp_path: Pat
     assert collider.metadata["toolVersion"] == sluice.tool_version()
 
 
+@pytest.mark.parametrize("backend", ["cgal", "gpu"])
+def test_sparse_bakes_match_the_cli(sphere_obj: Path, tmp_path: Path, backend: str,
+                                    ctx_ok: bool) -> None:
+    if backend == "gpu" and not ctx_ok:
+        pytest.skip("no OpenGL 4.5 context")
+    cli_out = tmp_path / "cli.slc"
+    run_tool("sluice-bake", "bake", sphere_obj, "-o", cli_out, "--resolution", "24", "--sparse",
+             "--band", "4", "--backend", backend, "--quiet")
+    collider = sluice.bake(sphere_obj, resolution=24, backend=backend, sparse=True, band=4)
+    py_out = tmp_path / "py.slc"
+    collider.save(py_out)
+    assert py_out.read_bytes() == cli_out.read_bytes()
+    assert collider.metadata["layout"] == "sparse"
+    assert collider.metadata["bandWidth"] == 4.0
+    assert collider.metadata["bake"]["backend"] == backend
+    # Deep inside: -band voxels; the band is exact near the surface.
+    assert collider.sample([0.0, 0.0, 0.0])[0] < 0.0
+    with pytest.raises(sluice.InvalidArgument):
+        sluice.bake(sphere_obj, resolution=24, sparse=True, band=0.5)
+
+
 def test_voxel_size_and_padding_match_the_cli(tetra: Path, tmp_path: Path) -> None:
     run_tool("sluice-bake", "bake", tetra, "-o", tmp_path / "cli.slc", "--voxel-size", "0.05",
              "--padding", "2", "--sign", "winding", "--backend", "cgal", "--quiet")

@@ -97,6 +97,13 @@ def test_entries_can_be_given_as_dicts(tmp_path: Path) -> None:
     assert [r["status"] for r in results] == ["baked", "failed"]
     assert results[1]["error"]["type"] == "FileError"
     assert sluice.read_asset(tmp_path / "t.slc").metadata["bake"]["resolution"] == 6
+    # A sparse entry stays sparse, with its band.
+    sparse = sluice.bake_many(
+        [{"mesh": mesh, "output": tmp_path / "s.slc", "resolution": 8, "backend": "cgal",
+          "sparse": True, "band": 2}], executor=ProcessPoolExecutor(max_workers=1))
+    assert sparse[0]["status"] == "baked", sparse[0]
+    meta = sluice.read_asset(tmp_path / "s.slc").metadata
+    assert (meta["layout"], meta["bandWidth"]) == ("sparse", 2.0)
     with pytest.raises(sluice.InvalidArgument):
         sluice.bake_many([{"mesh": "x.obj"}])
     with pytest.raises(sluice.FileError):
