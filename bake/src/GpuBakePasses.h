@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
 #include <functional>
+#include <new>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,6 +27,23 @@ namespace sluice::bake {
 
 /// "N MiB", rounded up.
 std::string mib(std::uint64_t bytes);
+
+/// Runs `bake` (a GPU bake of `mesh`), turning what the libraries under it throw (CGAL's
+/// orientation, OpenVDB, allocation) into errors naming the mesh: SizeOverflow when out of
+/// memory, Unsupported otherwise.
+template <class Bake>
+Result<format::ColliderAsset> withGpuBakeErrors(const ImportedMesh& mesh, Bake&& bake) {
+    try {
+        return bake();
+    } catch (const std::bad_alloc&) {
+        return fail(ErrorCode::SizeOverflow,
+                    mesh.sourceFile + ": out of memory while baking; use a coarser grid");
+    } catch (const std::exception& e) {
+        return fail(ErrorCode::Unsupported, mesh.sourceFile +
+                                                ": preparing this mesh for the GPU bake failed (" +
+                                                e.what() + ")");
+    }
+}
 
 /// A buffer texture (samplerBuffer) over the whole of a buffer, which must outlive it. RAII.
 class BufferTexture {

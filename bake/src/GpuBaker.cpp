@@ -252,19 +252,9 @@ Result<format::ColliderAsset> bakeGpu(const ImportedMesh& mesh, const BakeSettin
     GpuBakeStats local;
     if (stats)
         *stats = {};
-    // CGAL (orientation) reports broken preconditions and allocation failures by throwing.
-    try {
-        Result<format::ColliderAsset> asset =
-            bakeChecked(mesh, settings, context, progress, options, stats ? *stats : local);
-        return asset;
-    } catch (const std::bad_alloc&) {
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": out of memory while baking; use a coarser grid");
-    } catch (const std::exception& e) {
-        return fail(ErrorCode::Unsupported, mesh.sourceFile +
-                                                ": preparing this mesh for the GPU bake failed (" +
-                                                e.what() + ")");
-    }
+    return withGpuBakeErrors(mesh, [&] {
+        return bakeChecked(mesh, settings, context, progress, options, stats ? *stats : local);
+    });
 }
 
 } // namespace sluice::bake

@@ -371,22 +371,10 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
     sparseStats.distanceSeconds = gpuSeconds;
     lap("gpu: band bricks (passes, readback, leaves)");
 
-    start = std::chrono::steady_clock::now();
-    for (std::size_t n = 0; n < plan.blocks.size(); ++n)
-        if (blockPhi[n] < 0.0)
-            builder.fillInside(plan.blocks[n], plan.blockEdge[n]);
-    Result<format::GridBytes> bytes = builder.finish();
-    if (!bytes)
-        return bytes.error();
-    sparseStats.buildSeconds = buildSeconds + secondsSince(start);
-
-    format::ColliderAsset asset;
-    asset.meta = sparseProvenance(mesh, *grid, settings, "gpu", soup->method, sparse.band);
-    asset.grid = std::move(*bytes);
-    auto tree = format::checkNanoVdbGrid(asset.grid, mesh.sourceFile);
-    SLUICE_ASSERT(tree.ok(), "the sparse GPU baker wrote a grid its own check rejects");
-    sparseStats.activeVoxels = tree->activeVoxels;
-    sparseStats.gridBytes = tree->bytes;
+    sparseStats.buildSeconds = buildSeconds;
+    Result<format::ColliderAsset> asset = finishSparseAsset(
+        builder, plan, blockPhi,
+        sparseProvenance(mesh, *grid, settings, "gpu", soup->method, sparse.band), sparseStats);
     lap("gpu: NanoVDB grid and asset (provenance, mass properties)");
     return asset;
 }
@@ -404,19 +392,11 @@ Result<format::ColliderAsset> bakeSparseGpu(const ImportedMesh& mesh, const Bake
         *stats = {};
     if (sparseStats)
         *sparseStats = {};
-    // CGAL (orientation) and OpenVDB report failures by throwing.
-    try {
+    return withGpuBakeErrors(mesh, [&] {
         return bakeSparseChecked(mesh, settings, sparse, context, showProgress, options,
                                  stats ? *stats : localStats,
                                  sparseStats ? *sparseStats : localSparse);
-    } catch (const std::bad_alloc&) {
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": out of memory while baking; use a coarser grid");
-    } catch (const std::exception& e) {
-        return fail(ErrorCode::Unsupported, mesh.sourceFile +
-                                                ": preparing this mesh for the GPU bake failed (" +
-                                                e.what() + ")");
-    }
+    });
 }
 
 } // namespace sluice::bake

@@ -291,27 +291,37 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
     stats.distanceSeconds = secondsSince(start) - buildSeconds;
     bar.finish();
 
-    const auto buildStart = std::chrono::steady_clock::now();
+    stats.buildSeconds = buildSeconds;
+    return finishSparseAsset(
+        builder, plan, blockPhi,
+        sparseProvenance(mesh, *grid, settings, "cgal", reference->signMethod(), sparse.band),
+        stats);
+}
+
+} // namespace
+
+Result<format::ColliderAsset> finishSparseAsset(SparseGridBuilder& builder, const SparsePlan& plan,
+                                                std::span<const double> blockPhi,
+                                                format::ColliderMeta meta,
+                                                SparseBakeStats& stats) {
+    SLUICE_ASSERT(blockPhi.size() == plan.blocks.size(), "finishSparseAsset: one phi per block");
+    const auto start = std::chrono::steady_clock::now();
     for (std::size_t n = 0; n < plan.blocks.size(); ++n)
         if (blockPhi[n] < 0.0)
             builder.fillInside(plan.blocks[n], plan.blockEdge[n]);
     Result<format::GridBytes> bytes = builder.finish();
     if (!bytes)
         return bytes.error();
-    stats.buildSeconds = buildSeconds + secondsSince(buildStart);
-
+    stats.buildSeconds += secondsSince(start);
     format::ColliderAsset asset;
-    asset.meta =
-        sparseProvenance(mesh, *grid, settings, "cgal", reference->signMethod(), sparse.band);
+    asset.meta = std::move(meta);
     asset.grid = std::move(*bytes);
-    auto tree = format::checkNanoVdbGrid(asset.grid, mesh.sourceFile);
-    SLUICE_ASSERT(tree.ok(), "the sparse baker wrote a grid its own check rejects");
+    auto tree = format::checkNanoVdbGrid(asset.grid, asset.meta.sourceFile);
+    SLUICE_ASSERT(tree.ok(), "a sparse bake wrote a grid its own check rejects");
     stats.activeVoxels = tree->activeVoxels;
     stats.gridBytes = tree->bytes;
     return asset;
 }
-
-} // namespace
 
 Result<format::ColliderAsset> bakeSparseCgal(const ImportedMesh& mesh, const BakeSettings& settings,
                                              const SparseSettings& sparse, bool showProgress,

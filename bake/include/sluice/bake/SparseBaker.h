@@ -102,6 +102,15 @@ private:
     std::unique_ptr<Impl> m_impl;
 };
 
+/// The end of a sparse bake: fills the plan's uniform blocks whose centre is inside
+/// (`blockPhi` < 0, one per block) as inside tiles, finishes the builder's grid and returns the
+/// asset with `meta`; adds the time to stats.buildSeconds and sets activeVoxels and gridBytes.
+/// Errors: those of SparseGridBuilder::finish.
+Result<format::ColliderAsset> finishSparseAsset(SparseGridBuilder& builder, const SparsePlan& plan,
+                                                std::span<const double> blockPhi,
+                                                format::ColliderMeta meta,
+                                                SparseBakeStats& stats);
+
 /// Bakes a sparse collider on the CPU with the CGAL reference (backend "cgal"): planSparse with
 /// the AABB tree's distance, exact signed distances (the reference's sign method) at every
 /// brick voxel, one signed sample per uniform block. With `showProgress`, a bar over the brick
