@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "CgalErrors.h"
+#include "BakeErrors.h"
 #include "MeshMass.h"
 #include "sluice/bake/CgalReference.h"
 

@@ -69,6 +69,17 @@ BufferTexture::~BufferTexture() {
         glDeleteTextures(1, &m_id);
 }
 
+Result<void> createStorage(std::span<const StorageAlloc> allocs) {
+    for (const StorageAlloc& a : allocs) {
+        Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
+        if (!buffer)
+            return buffer.error();
+        *a.buffer = std::move(*buffer);
+        a.buffer->bindStorage(GLuint(a.binding));
+    }
+    return {};
+}
+
 std::vector<BvhInputTriangle> voxelTriangles(const GpuSoup& soup, const GridSpec& grid) {
     std::vector<BvhInputTriangle> input;
     input.reserve(soup.triangles.size());

@@ -4,9 +4,7 @@
 #pragma once
 
 #include <cstdint>
-#include <exception>
 #include <functional>
-#include <new>
 #include <optional>
 #include <span>
 #include <string>
@@ -14,6 +12,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "BakeErrors.h"
 #include "Bvh.h"
 #include "GpuSoup.h"
 #include "sluice/bake/GpuBaker.h"
@@ -27,23 +26,6 @@ namespace sluice::bake {
 
 /// "N MiB", rounded up.
 std::string mib(std::uint64_t bytes);
-
-/// Runs `bake` (a GPU bake of `mesh`), turning what the libraries under it throw (CGAL's
-/// orientation, OpenVDB, allocation) into errors naming the mesh: SizeOverflow when out of
-/// memory, Unsupported otherwise.
-template <class Bake>
-Result<format::ColliderAsset> withGpuBakeErrors(const ImportedMesh& mesh, Bake&& bake) {
-    try {
-        return bake();
-    } catch (const std::bad_alloc&) {
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": out of memory while baking; use a coarser grid");
-    } catch (const std::exception& e) {
-        return fail(ErrorCode::Unsupported, mesh.sourceFile +
-                                                ": preparing this mesh for the GPU bake failed (" +
-                                                e.what() + ")");
-    }
-}
 
 /// A buffer texture (samplerBuffer) over the whole of a buffer, which must outlive it. RAII.
 class BufferTexture {
@@ -59,6 +41,16 @@ public:
 private:
     GLuint m_id = 0;
 };
+
+/// One storage buffer of a bake: where it goes, its size [bytes], its debug label and binding.
+struct StorageAlloc {
+    gpu::Buffer* buffer;
+    std::uint64_t bytes;
+    const char* label;
+    int binding;
+};
+/// Creates each buffer and binds it to its binding; the first failure's error.
+Result<void> createStorage(std::span<const StorageAlloc> allocs);
 
 /// The soup's triangles in grid-relative voxel coordinates: the float (i, j, k) is grid point
 /// (i, j, k) exactly.

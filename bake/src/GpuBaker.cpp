@@ -117,25 +117,14 @@ struct GridBuffers {
 
 Result<GridBuffers> createGridBuffers(const BakeSizes& sizes) {
     GridBuffers b;
-    struct Alloc {
-        gpu::Buffer* buffer;
-        std::uint64_t bytes;
-        const char* label;
-        int binding;
-    };
-    const Alloc allocs[] = {
+    const StorageAlloc allocs[] = {
         {&b.phi, sizes.grid, "bake distances", shared::kBakeDistanceBinding},
         {&b.coarse, sizes.coarse, "bake coarse points", shared::kBakeCoarseBinding},
         {&b.pending, sizes.pending, "bake pending blocks", shared::kBakePendingBinding},
         {&b.verify, sizes.verify, "bake verify points", shared::kBakeVerifyBinding},
     };
-    for (const Alloc& a : allocs) {
-        Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
-        if (!buffer)
-            return buffer.error();
-        *a.buffer = std::move(*buffer);
-        a.buffer->bindStorage(GLuint(a.binding));
-    }
+    if (Result<void> created = createStorage(allocs); !created)
+        return created.error();
     return b;
 }
 

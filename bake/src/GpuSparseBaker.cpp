@@ -120,13 +120,7 @@ Result<SparseBuffers> createSparseBuffers(const ImportedMesh& mesh, gpu::Context
     const std::uint64_t blocks =
         std::uint64_t(bricksPerBatch) * kBrickPoints / (4 * shared::kBakeBlockDepth);
     SparseBuffers b;
-    struct Alloc {
-        gpu::Buffer* buffer;
-        std::uint64_t bytes;
-        const char* label;
-        int binding;
-    };
-    const Alloc allocs[] = {
+    const StorageAlloc allocs[] = {
         {&b.list, std::uint64_t(std::max(bricksPerBatch, kQueriesPerBatch)) * sizeof(glm::uvec4),
          "sparse bake bricks / query points", shared::kBakeBrickBinding},
         {&b.phi, std::uint64_t(bricksPerBatch) * kBrickPoints * sizeof(float),
@@ -145,7 +139,7 @@ Result<SparseBuffers> createSparseBuffers(const ImportedMesh& mesh, gpu::Context
     const std::uint64_t maxBuffer =
         options.maxBufferBytes > 0 ? options.maxBufferBytes : context.info().maxSsboBytes;
     std::uint64_t total = 0;
-    for (const Alloc& a : allocs) {
+    for (const StorageAlloc& a : allocs) {
         total += a.bytes;
         if (a.bytes > maxBuffer)
             return fail(ErrorCode::SizeOverflow,
@@ -158,13 +152,8 @@ Result<SparseBuffers> createSparseBuffers(const ImportedMesh& mesh, gpu::Context
         return fail(ErrorCode::GpuOutOfMemory,
                     mesh.sourceFile + ": the sparse bake needs " + mib(total) +
                         " of GPU memory and " + mib(*available) + " are free; use --backend cgal");
-    for (const Alloc& a : allocs) {
-        Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
-        if (!buffer)
-            return buffer.error();
-        *a.buffer = std::move(*buffer);
-        a.buffer->bindStorage(GLuint(a.binding));
-    }
+    if (Result<void> created = createStorage(allocs); !created)
+        return created.error();
     return b;
 }
 

@@ -24,7 +24,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "CgalErrors.h"
+#include "BakeErrors.h"
 #include "NanoVdbHeaders.h"
 
 #include "sluice/format/NanoVdbCheck.h"
@@ -302,8 +302,7 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
 
 Result<format::ColliderAsset> finishSparseAsset(SparseGridBuilder& builder, const SparsePlan& plan,
                                                 std::span<const double> blockPhi,
-                                                format::ColliderMeta meta,
-                                                SparseBakeStats& stats) {
+                                                format::ColliderMeta meta, SparseBakeStats& stats) {
     SLUICE_ASSERT(blockPhi.size() == plan.blocks.size(), "finishSparseAsset: one phi per block");
     const auto start = std::chrono::steady_clock::now();
     for (std::size_t n = 0; n < plan.blocks.size(); ++n)

@@ -108,8 +108,7 @@ private:
 /// Errors: those of SparseGridBuilder::finish.
 Result<format::ColliderAsset> finishSparseAsset(SparseGridBuilder& builder, const SparsePlan& plan,
                                                 std::span<const double> blockPhi,
-                                                format::ColliderMeta meta,
-                                                SparseBakeStats& stats);
+                                                format::ColliderMeta meta, SparseBakeStats& stats);
 
 /// Bakes a sparse collider on the CPU with the CGAL reference (backend "cgal"): planSparse with
 /// the AABB tree's distance, exact signed distances (the reference's sign method) at every
