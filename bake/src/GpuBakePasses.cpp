@@ -90,6 +90,28 @@ std::vector<BvhInputTriangle> voxelTriangles(const GpuSoup& soup, const GridSpec
     return input;
 }
 
+Result<VoxelSoup> prepareVoxelSoup(const ImportedMesh& mesh, const GridSpec& grid, SignMode sign,
+                                   PhaseLog* phases) {
+    Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, sign);
+    if (!soup)
+        return soup.error();
+    lap(phases, "gpu: prepare the soup");
+    std::vector<BvhInputTriangle> triangles = voxelTriangles(*soup, grid);
+    return VoxelSoup{std::move(*soup), std::move(triangles)};
+}
+
+Bvh buildBakeBvh(std::span<const BvhInputTriangle> triangles, GpuBakeStats& stats,
+                 std::chrono::steady_clock::time_point start, PhaseLog* phases) {
+    Bvh bvh = buildBvh(triangles);
+    stats.triangles = bvh.triangleCount;
+    stats.nodes = bvh.nodeCount;
+    stats.depth = bvh.depth;
+    stats.bvhSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    lap(phases, "gpu: BVH build");
+    return bvh;
+}
+
 std::uint64_t bvhNodeBytes(std::uint64_t triangles) {
     // buildBvh makes fewer than two nodes per triangle, 2 texels each.
     return 4 * triangles * sizeof(glm::uvec4);

@@ -3,6 +3,7 @@
 // them. GpuBaker.cpp describes the passes; GpuSparseBaker.cpp runs them over brick lists.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -55,6 +56,20 @@ Result<void> createStorage(std::span<const StorageAlloc> allocs);
 /// The soup's triangles in grid-relative voxel coordinates: the float (i, j, k) is grid point
 /// (i, j, k) exactly.
 std::vector<BvhInputTriangle> voxelTriangles(const GpuSoup& soup, const GridSpec& grid);
+
+/// The soup prepared for the GPU (GpuSoup.h) and its triangles in grid-relative voxels; laps
+/// "gpu: prepare the soup". Errors of prepareGpuSoup.
+struct VoxelSoup {
+    GpuSoup soup;
+    std::vector<BvhInputTriangle> triangles;
+};
+Result<VoxelSoup> prepareVoxelSoup(const ImportedMesh& mesh, const GridSpec& grid, SignMode sign,
+                                   PhaseLog* phases);
+
+/// Builds the BVH over `triangles` and records its figures in `stats` (bvhSeconds from
+/// `start`, the soup's preparation included); laps "gpu: BVH build".
+Bvh buildBakeBvh(std::span<const BvhInputTriangle> triangles, GpuBakeStats& stats,
+                 std::chrono::steady_clock::time_point start, PhaseLog* phases);
 
 /// [bytes] The BVH's two node textures (an upper bound: fewer than two nodes per triangle) and
 /// the triangle texture.

@@ -184,11 +184,11 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
         return grid.error();
     const auto cpuStart = std::chrono::steady_clock::now();
     const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
-    Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, settings.sign);
-    if (!soup)
-        return soup.error();
-    lap("gpu: prepare the soup");
-    const std::vector<BvhInputTriangle> input = voxelTriangles(*soup, *grid);
+    Result<VoxelSoup> prepared = prepareVoxelSoup(mesh, *grid, settings.sign, options.phases);
+    if (!prepared)
+        return prepared.error();
+    const GpuSoup* soup = &prepared->soup;
+    const std::vector<BvhInputTriangle>& input = prepared->triangles;
 
     // Check sizes before building anything big.
     const glm::uvec3 dims = grid->dims;
@@ -196,13 +196,7 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     if (Result<void> fits = checkSizes(sizes, mesh, dims, input.size(), context, options); !fits)
         return fits.error();
 
-    const Bvh bvh = buildBvh(input);
-    stats.triangles = bvh.triangleCount;
-    stats.nodes = bvh.nodeCount;
-    stats.depth = bvh.depth;
-    stats.bvhSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - cpuStart).count();
-    lap("gpu: BVH build");
+    const Bvh bvh = buildBakeBvh(input, stats, cpuStart, options.phases);
 
     Result<BakePrograms> programs = compilePrograms(options.programCache, BakeLayout::Dense);
     if (!programs)

@@ -269,19 +269,14 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
                         " (float coordinates); use a coarser voxel size or --backend cgal");
     const auto cpuStart = std::chrono::steady_clock::now();
     const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
-    Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, settings.sign);
-    if (!soup)
-        return soup.error();
-    lap("gpu: prepare the soup");
-    const std::vector<BvhInputTriangle> input = voxelTriangles(*soup, *grid);
+    Result<VoxelSoup> prepared = prepareVoxelSoup(mesh, *grid, settings.sign, options.phases);
+    if (!prepared)
+        return prepared.error();
+    const GpuSoup* soup = &prepared->soup;
+    const std::vector<BvhInputTriangle>& input = prepared->triangles;
     if (Result<void> fits = checkBvhFits(mesh.sourceFile, input.size(), options); !fits)
         return fits.error();
-    const Bvh bvh = buildBvh(input);
-    stats.triangles = bvh.triangleCount;
-    stats.nodes = bvh.nodeCount;
-    stats.depth = bvh.depth;
-    stats.bvhSeconds = secondsSince(cpuStart);
-    lap("gpu: BVH build");
+    const Bvh bvh = buildBakeBvh(input, stats, cpuStart, options.phases);
 
     Result<BakePrograms> points = compilePrograms(options.programCache, BakeLayout::Points);
     if (!points)
