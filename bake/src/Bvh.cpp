@@ -1,11 +1,16 @@
 // BVH build for the GPU bake: binned SAH splits, preorder with links, fast-winding data per node.
+//
+// The build works on one 64-byte record per triangle (its float corners and double centroid),
+// kept in leaf order: each split partitions its own range of the records in place, so every
+// level reads its triangles contiguously and nothing is allocated per node. Boxes and the
+// fast-winding sums of an internal node are combined from its children; only the radius of the
+// ball around a node's centroid takes a pass over the node's corners.
 #include "Bvh.h"
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
-#include <memory>
-#include <numeric>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -27,34 +32,24 @@ std::uint32_t linkWord(std::uint32_t index, std::uint32_t count) {
     return (index << shared::kBvhLinkShift) | count;
 }
 
-/// One triangle as the GPU sees it (corners rounded once to float), with what the build needs
-/// of it in double.
-struct Primitive {
-    std::array<glm::dvec3, 3> corners; ///< the float corners, exactly
-    glm::dvec3 lo, hi;                 ///< box
+/// One triangle as the GPU sees it: corners rounded once to float, the centroid of those in
+/// double, and its index in the input.
+struct Ref {
+    glm::vec3 a, b, c;
+    std::uint32_t index = 0;
     glm::dvec3 centroid;
-    glm::dvec3 areaNormal; ///< area times unit normal
-    glm::dvec3 weighted;   ///< area times centroid
-    double area = 0.0;
 };
+static_assert(sizeof(Ref) == 64, "one cache line per triangle");
 
-Primitive primitive(const BvhInputTriangle& t) {
-    Primitive p;
-    p.corners = {glm::dvec3(glm::vec3(t.a)), glm::dvec3(glm::vec3(t.b)),
-                 glm::dvec3(glm::vec3(t.c))};
-    const auto& [a, b, c] = p.corners;
-    p.lo = glm::min(a, glm::min(b, c));
-    p.hi = glm::max(a, glm::max(b, c));
-    p.centroid = (a + b + c) / 3.0;
-    // Barill et al. 2018, eq. 14: the first-order coefficient is sum a_t n_t.
-    p.areaNormal = 0.5 * glm::cross(b - a, c - a);
-    p.area = glm::length(p.areaNormal);
-    p.weighted = p.area * p.centroid;
-    return p;
+glm::vec3 refLo(const Ref& r) {
+    return glm::min(r.a, glm::min(r.b, r.c));
+}
+glm::vec3 refHi(const Ref& r) {
+    return glm::max(r.a, glm::max(r.b, r.c));
 }
 
-double halfArea(const glm::dvec3& lo, const glm::dvec3& hi) {
-    const glm::dvec3 d = glm::max(hi - lo, glm::dvec3(0.0));
+double halfArea(const glm::vec3& lo, const glm::vec3& hi) {
+    const glm::dvec3 d = glm::max(glm::dvec3(hi) - glm::dvec3(lo), glm::dvec3(0.0));
     return d.x * d.y + d.y * d.z + d.z * d.x;
 }
 
@@ -64,67 +59,77 @@ constexpr std::uint32_t kParallelTriangles = 4096;
 /// triangles at a time, and this bounds the tree's depth (and the build's recursion) to
 /// kMaxSahDepth + log2(n).
 constexpr std::uint32_t kMaxSahDepth = 48;
+constexpr int kBins = 32;
+
+/// A node before it is laid out in preorder.
+struct Node {
+    glm::vec3 lo{0.0f}, hi{0.0f};
+    glm::dvec3 center{0.0}, dipole{0.0}, weighted{0.0};
+    double area = 0.0, radius = 0.0;
+    std::uint32_t begin = 0, end = 0;  ///< triangles refs[begin, end)
+    std::uint32_t first = 0, second = 0; ///< children (0: a leaf; node 0 is the root)
+    std::uint32_t size = 1;            ///< nodes in the subtree
+    std::uint32_t depth = 0;           ///< levels below this node
+};
 
 struct Builder {
-    std::vector<Primitive> primitives; ///< input order
-    std::vector<std::uint32_t> order;  ///< triangle indices, permuted into leaf order
-    Bvh bvh;
+    std::vector<Ref> refs;    ///< in leaf order once built
+    std::vector<Ref> scratch; ///< the same size: each split's stable partition goes through it
+    std::vector<Node> nodes;  ///< fewer than 2 n
+    std::atomic<std::uint32_t> nodeCount{1};
 
-    /// Halves order[begin, end) at the median centroid along the longest axis of the centroid
-    /// box; (coordinate, index) is a total order, so the halves do not depend on the library.
+    /// Halves refs[begin, end) at the median centroid along the longest axis of the centroid box;
+    /// (coordinate, index) is a total order, so the halves do not depend on the library.
     std::uint32_t medianSplit(std::uint32_t begin, std::uint32_t end, const glm::dvec3& clo,
                               const glm::dvec3& chi) {
         const glm::dvec3 extent = chi - clo;
         const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0
                          : extent.y >= extent.z                       ? 1
                                                                       : 2;
+        auto less = [axis](const Ref& l, const Ref& r) {
+            return l.centroid[axis] < r.centroid[axis] ||
+                   (l.centroid[axis] == r.centroid[axis] && l.index < r.index);
+        };
         const std::uint32_t mid = begin + (end - begin) / 2;
-        std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                         [&](std::uint32_t l, std::uint32_t r) {
-                             const double cl = primitives[l].centroid[axis];
-                             const double cr = primitives[r].centroid[axis];
-                             return cl < cr || (cl == cr && l < r);
-                         });
-        // nth_element leaves each half in an order of the library's choosing; sort them so the
-        // leaves' triangle order does not depend on it either.
-        std::sort(order.begin() + begin, order.begin() + mid);
-        std::sort(order.begin() + mid, order.begin() + end);
+        std::nth_element(refs.begin() + begin, refs.begin() + mid, refs.begin() + end, less);
+        // nth_element leaves each half in an order of the library's choosing; sort them by input
+        // index so the leaves' triangle order does not depend on it either.
+        auto byIndex = [](const Ref& l, const Ref& r) { return l.index < r.index; };
+        std::sort(refs.begin() + begin, refs.begin() + mid, byIndex);
+        std::sort(refs.begin() + mid, refs.begin() + end, byIndex);
         return mid;
     }
 
-    /// Splits order[begin, end) in two non-empty parts and returns where the second starts:
-    /// binned surface area heuristic over the centroid box (Wald 2007), which gives tighter
-    /// boxes than median splits and so fewer node visits per distance query; halves by index
-    /// where every centroid is the same. Stable partitions, so the result depends only on the
-    /// input order.
+    /// Splits refs[begin, end) in two non-empty parts and returns where the second starts: binned
+    /// surface area heuristic over the centroid box (Wald 2007), which gives tighter boxes than
+    /// median splits and so fewer node visits per distance query; halves where every centroid is
+    /// the same. Stable partitions, so the result depends only on the input order.
     std::uint32_t split(std::uint32_t begin, std::uint32_t end, const glm::dvec3& clo,
                         const glm::dvec3& chi, std::uint32_t depth) {
         if (depth >= kMaxSahDepth)
             return medianSplit(begin, end, clo, chi);
-        constexpr int kBins = 32;
         struct Bin {
-            glm::dvec3 lo{1e300}, hi{-1e300};
+            glm::vec3 lo{3e38f}, hi{-3e38f};
             std::uint32_t count = 0;
         };
-        auto binOf = [&](std::uint32_t triangle, int axis) {
-            const double extent = chi[axis] - clo[axis];
-            const int bin = int((primitives[triangle].centroid[axis] - clo[axis]) / extent * kBins);
-            return std::clamp(bin, 0, kBins - 1);
-        };
-        // The bins of all three axes in one pass over the triangles (the same bins as one pass
-        // per axis, read from memory once).
-        std::array<std::array<Bin, kBins>, 3> binsOf;
+        glm::dvec3 scale(0.0);
         std::array<bool, 3> splittable;
-        for (int axis = 0; axis < 3; ++axis)
+        for (int axis = 0; axis < 3; ++axis) {
             splittable[axis] = chi[axis] > clo[axis];
+            scale[axis] = splittable[axis] ? kBins / (chi[axis] - clo[axis]) : 0.0;
+        }
+        auto binOf = [&](const Ref& r, int axis) {
+            return std::clamp(int((r.centroid[axis] - clo[axis]) * scale[axis]), 0, kBins - 1);
+        };
+        // The bins of all three axes in one pass over the triangles.
+        std::array<std::array<Bin, kBins>, 3> binsOf;
         for (std::uint32_t n = begin; n < end; ++n) {
-            const Primitive& p = primitives[order[n]];
+            const Ref& r = refs[n];
+            const glm::vec3 lo = refLo(r), hi = refHi(r);
             for (int axis = 0; axis < 3; ++axis) {
-                if (!splittable[axis])
-                    continue;
-                Bin& bin = binsOf[axis][binOf(order[n], axis)];
-                bin.lo = glm::min(bin.lo, p.lo);
-                bin.hi = glm::max(bin.hi, p.hi);
+                Bin& bin = binsOf[axis][binOf(r, axis)];
+                bin.lo = glm::min(bin.lo, lo);
+                bin.hi = glm::max(bin.hi, hi);
                 ++bin.count;
             }
         }
@@ -161,83 +166,112 @@ struct Builder {
         }
         if (bestAxis < 0)
             return begin + (end - begin) / 2;
-        const auto middle =
-            std::stable_partition(order.begin() + begin, order.begin() + end,
-                                  [&](std::uint32_t t) { return binOf(t, bestAxis) <= bestBin; });
-        return std::uint32_t(middle - order.begin());
+        // Stable partition: the right side goes through the scratch range of the same triangles.
+        std::uint32_t left = begin, rightCount = 0;
+        for (std::uint32_t n = begin; n < end; ++n) {
+            if (binOf(refs[n], bestAxis) <= bestBin)
+                refs[left++] = refs[n];
+            else
+                scratch[begin + rightCount++] = refs[n];
+        }
+        std::copy_n(scratch.begin() + begin, rightCount, refs.begin() + left);
+        return left;
     }
 
-    /// A subtree before it is laid out in preorder.
-    struct Node {
-        glm::dvec3 lo, hi, center, dipole;
-        double radius = 0.0;
-        std::uint32_t begin = 0, end = 0; ///< triangles order[begin, end)
-        std::uint32_t size = 1;           ///< nodes in the subtree
-        std::uint32_t depth = 0;          ///< levels below this node
-        std::unique_ptr<Node> first, second;
-    };
-
-    /// The subtree of the triangles order[begin, end); big halves are built in parallel, which
-    /// does not change the result (each half only permutes its own range of `order`).
-    std::unique_ptr<Node> build(std::uint32_t begin, std::uint32_t end, std::uint32_t depth) {
-        auto node = std::make_unique<Node>();
-        node->begin = begin;
-        node->end = end;
-        // Box, centroid box and the fast-winding data, in double from the float corners.
-        glm::dvec3 clo(1e300), chi(-1e300), weighted(0.0);
-        node->lo = glm::dvec3(1e300);
-        node->hi = glm::dvec3(-1e300);
-        node->dipole = glm::dvec3(0.0);
-        double area = 0.0;
-        for (std::uint32_t n = begin; n < end; ++n) {
-            const Primitive& p = primitives[order[n]];
-            node->lo = glm::min(node->lo, p.lo);
-            node->hi = glm::max(node->hi, p.hi);
-            clo = glm::min(clo, p.centroid);
-            chi = glm::max(chi, p.centroid);
-            node->dipole += p.areaNormal;
-            weighted += p.weighted;
-            area += p.area;
+    /// The leaf's data from its triangles: box, fast-winding sums (Barill et al. 2018, eq. 14:
+    /// the first-order coefficient is sum a_t n_t) from the float corners, in double.
+    void leafData(Node& node) const {
+        node.lo = glm::vec3(3e38f);
+        node.hi = glm::vec3(-3e38f);
+        for (std::uint32_t n = node.begin; n < node.end; ++n) {
+            const Ref& r = refs[n];
+            node.lo = glm::min(node.lo, refLo(r));
+            node.hi = glm::max(node.hi, refHi(r));
+            const glm::dvec3 a(r.a), b(r.b), c(r.c);
+            const glm::dvec3 areaNormal = 0.5 * glm::cross(b - a, c - a);
+            const double area = glm::length(areaNormal);
+            node.dipole += areaNormal;
+            node.weighted += area * r.centroid;
+            node.area += area;
         }
-        node->center = area > 0.0 ? weighted / area : 0.5 * (node->lo + node->hi);
+    }
+
+    /// Centroid of the node's area and the radius of the ball around it holding its corners.
+    void ball(Node& node) const {
+        node.center = node.area > 0.0 ? node.weighted / node.area
+                                      : 0.5 * (glm::dvec3(node.lo) + glm::dvec3(node.hi));
         double radius2 = 0.0;
-        for (std::uint32_t n = begin; n < end; ++n)
-            for (const glm::dvec3& corner : primitives[order[n]].corners) {
-                const glm::dvec3 d = corner - node->center;
+        for (std::uint32_t n = node.begin; n < node.end; ++n)
+            for (const glm::vec3& corner : {refs[n].a, refs[n].b, refs[n].c}) {
+                const glm::dvec3 d = glm::dvec3(corner) - node.center;
                 radius2 = std::max(radius2, glm::dot(d, d));
             }
-        node->radius = std::sqrt(radius2);
-        if (end - begin <= std::uint32_t(shared::kBvhLeafSize))
-            return node;
-        const std::uint32_t mid = split(begin, end, clo, chi, depth);
-        if (end - begin > kParallelTriangles) {
-            tbb::parallel_invoke([&] { node->first = build(begin, mid, depth + 1); },
-                                 [&] { node->second = build(mid, end, depth + 1); });
-        } else {
-            node->first = build(begin, mid, depth + 1);
-            node->second = build(mid, end, depth + 1);
-        }
-        node->size = 1 + node->first->size + node->second->size;
-        node->depth = 1 + std::max(node->first->depth, node->second->depth);
-        return node;
+        node.radius = std::sqrt(radius2);
     }
 
-    /// Writes the subtree's texels from node `slot` on, in preorder.
-    void layOut(const Node& node, std::uint32_t slot) {
-        const bool leaf = !node.first;
+    /// Builds node `slot`, the subtree of refs[begin, end) whose centroid box is [clo, chi]; big
+    /// halves are built in parallel, which does not change the result (each half only permutes
+    /// its own range of the records, and the layout follows the tree, not the node slots).
+    void build(std::uint32_t slot, std::uint32_t begin, std::uint32_t end, const glm::dvec3& clo,
+               const glm::dvec3& chi, std::uint32_t depth) {
+        Node& node = nodes[slot];
+        node.begin = begin;
+        node.end = end;
+        if (end - begin <= std::uint32_t(shared::kBvhLeafSize)) {
+            leafData(node);
+            ball(node);
+            return;
+        }
+        const std::uint32_t mid = split(begin, end, clo, chi, depth);
+        // The halves' centroid boxes.
+        auto centroidBox = [&](std::uint32_t from, std::uint32_t to, glm::dvec3& lo,
+                               glm::dvec3& hi) {
+            lo = glm::dvec3(1e300);
+            hi = glm::dvec3(-1e300);
+            for (std::uint32_t n = from; n < to; ++n) {
+                lo = glm::min(lo, refs[n].centroid);
+                hi = glm::max(hi, refs[n].centroid);
+            }
+        };
+        glm::dvec3 lo1, hi1, lo2, hi2;
+        centroidBox(begin, mid, lo1, hi1);
+        centroidBox(mid, end, lo2, hi2);
+        node.first = nodeCount.fetch_add(2);
+        node.second = node.first + 1;
+        if (end - begin > kParallelTriangles) {
+            tbb::parallel_invoke([&] { build(node.first, begin, mid, lo1, hi1, depth + 1); },
+                                 [&] { build(node.second, mid, end, lo2, hi2, depth + 1); });
+        } else {
+            build(node.first, begin, mid, lo1, hi1, depth + 1);
+            build(node.second, mid, end, lo2, hi2, depth + 1);
+        }
+        const Node& a = nodes[node.first];
+        const Node& b = nodes[node.second];
+        node.lo = glm::min(a.lo, b.lo);
+        node.hi = glm::max(a.hi, b.hi);
+        node.dipole = a.dipole + b.dipole;
+        node.weighted = a.weighted + b.weighted;
+        node.area = a.area + b.area;
+        ball(node);
+        node.size = 1 + a.size + b.size;
+        node.depth = 1 + std::max(a.depth, b.depth);
+    }
+
+    /// Writes the texels of the subtree of `node` from preorder slot `slot` on.
+    void layOut(Bvh& bvh, const Node& node, std::uint32_t slot) const {
+        const bool leaf = node.first == 0;
         // A leaf's walk goes on at slot + 1; an internal node's skips past its subtree.
         const std::uint32_t link =
             leaf ? linkWord(node.begin, node.end - node.begin) : linkWord(slot + node.size, 0);
         const std::size_t texel = 2 * std::size_t(slot);
-        // lo and hi are minima and maxima of float corners, so they convert exactly.
         bvh.distanceNodes[texel] = nodeTexel(node.lo, 0);
         bvh.distanceNodes[texel + 1] = nodeTexel(node.hi, link);
         bvh.windingNodes[texel] =
             nodeTexel(node.center, glm::floatBitsToUint(float(node.radius * (1.0 + 1e-6))));
         bvh.windingNodes[texel + 1] = nodeTexel(node.dipole, link);
         if (!leaf) {
-            layOut(*node.first, slot + 1);
-            layOut(*node.second, slot + 1 + node.first->size);
+            layOut(bvh, nodes[node.first], slot + 1);
+            layOut(bvh, nodes[node.second], slot + 1 + nodes[node.first].size);
         }
     }
 };
@@ -248,25 +282,40 @@ Bvh buildBvh(std::span<const BvhInputTriangle> input) {
     SLUICE_ASSERT(!input.empty(), "buildBvh: no triangles");
     SLUICE_ASSERT(input.size() < kBvhMaxTriangles, "buildBvh: too many triangles");
     Builder builder;
-    builder.primitives.resize(input.size());
-    tbb::parallel_for(std::size_t(0), input.size(),
-                      [&](std::size_t n) { builder.primitives[n] = primitive(input[n]); });
-    builder.order.resize(input.size());
-    std::iota(builder.order.begin(), builder.order.end(), 0u);
-    const std::unique_ptr<Builder::Node> root = builder.build(0, std::uint32_t(input.size()), 0);
+    builder.refs.resize(input.size());
+    builder.scratch.resize(input.size());
+    builder.nodes.resize(2 * input.size());
+    tbb::parallel_for(std::size_t(0), input.size(), [&](std::size_t n) {
+        Ref& r = builder.refs[n];
+        r.a = glm::vec3(input[n].a);
+        r.b = glm::vec3(input[n].b);
+        r.c = glm::vec3(input[n].c);
+        r.index = std::uint32_t(n);
+        r.centroid = (glm::dvec3(r.a) + glm::dvec3(r.b) + glm::dvec3(r.c)) / 3.0;
+    });
+    glm::dvec3 clo(1e300), chi(-1e300);
+    for (const Ref& r : builder.refs) {
+        clo = glm::min(clo, r.centroid);
+        chi = glm::max(chi, r.centroid);
+    }
+    builder.build(0, 0, std::uint32_t(input.size()), clo, chi, 0);
 
-    Bvh& bvh = builder.bvh;
-    bvh.nodeCount = root->size;
-    bvh.depth = root->depth;
+    Bvh bvh;
+    const Node& root = builder.nodes[0];
+    bvh.nodeCount = root.size;
+    bvh.depth = root.depth;
     bvh.distanceNodes.resize(2 * std::size_t(bvh.nodeCount));
     bvh.windingNodes.resize(2 * std::size_t(bvh.nodeCount));
-    builder.layOut(*root, 0);
+    builder.layOut(bvh, root, 0);
     bvh.triangleCount = std::uint32_t(input.size());
-    bvh.triangles.reserve(3 * input.size());
-    for (std::uint32_t index : builder.order)
-        for (const glm::dvec3& corner : builder.primitives[index].corners)
-            bvh.triangles.push_back(glm::vec4(glm::vec3(corner), 0.0f));
-    return std::move(bvh);
+    bvh.triangles.resize(3 * input.size());
+    for (std::size_t n = 0; n < builder.refs.size(); ++n) {
+        const Ref& r = builder.refs[n];
+        bvh.triangles[3 * n] = glm::vec4(r.a, 0.0f);
+        bvh.triangles[3 * n + 1] = glm::vec4(r.b, 0.0f);
+        bvh.triangles[3 * n + 2] = glm::vec4(r.c, 0.0f);
+    }
+    return bvh;
 }
 
 } // namespace sluice::bake

@@ -133,12 +133,21 @@ bool selfIntersects(const TriangleSoup& soup) {
                                toPoint(soup.positions[t.z]).bbox(),
                            i);
     }
+    // Sorted and scanned as pointers (the boxes are 56 bytes), and brute force below ranges of
+    // 2000 boxes, as CGAL's own self-intersection test does: 0.19-0.23 s to 0.10 s of CPU on a
+    // 52,000-triangle mesh.
+    std::vector<const TriangleBox*> pointers(boxes.size());
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+        pointers[i] = &boxes[i];
     try {
         CGAL::box_self_intersection_d(
-            boxes.begin(), boxes.end(), [&](const TriangleBox& a, const TriangleBox& b) {
-                if (trianglesIntersect(soup, soup.triangles[a.info()], soup.triangles[b.info()]))
+            pointers.begin(), pointers.end(),
+            [&](const TriangleBox* a, const TriangleBox* b) {
+                if (trianglesIntersect(soup, soup.triangles[a->info()],
+                                       soup.triangles[b->info()]))
                     throw FoundIntersection{};
-            });
+            },
+            std::ptrdiff_t(2000));
     } catch (const FoundIntersection&) {
         return true;
     }
