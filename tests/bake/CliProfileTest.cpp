@@ -21,6 +21,7 @@
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/ExitCodes.h"
 #include "sluice/format/Hash.h"
+#include "sluice/format/Sanitizers.h"
 
 extern char** environ;
 
@@ -311,8 +312,14 @@ TEST(ProgramCache, AnUnwritableCacheFolderTurnsItOffAndTheBakeSucceeds) {
     const fs::path dir = testmesh::tempDir("program-cache-unwritable");
     const fs::path mesh = sphereMesh("program-cache-unwritable");
     std::ofstream(dir / "file") << "not a folder";
-    const TimedRun run = runBake(dir, gpuBake(mesh, dir / "s.slc"),
-                                 {"XDG_CACHE_HOME=" + (dir / "file").string()});
+    std::vector<std::string> env = {"XDG_CACHE_HOME=" + (dir / "file").string()};
+    // Under ASan this child's exit-time leak check crashes inside LeakSanitizer while it reads
+    // the thread-local storage of Mesa's threads ("Tracer caught signal 11", exit 1; with
+    // LSAN_OPTIONS=use_tls=0 it runs), depending on the binary's layout: a fault of the
+    // sanitizer runtime, not of the bake. Leaks are still checked by every other test.
+    if (kAddressSanitizer)
+        env.push_back("ASAN_OPTIONS=detect_leaks=0");
+    const TimedRun run = runBake(dir, gpuBake(mesh, dir / "s.slc"), env);
     ASSERT_EQ(run.code, kExitOk) << shown(run);
     EXPECT_FALSE(programCache(run)["enabled"].get<bool>()) << run.out;
 }
