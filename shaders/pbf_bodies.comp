@@ -131,12 +131,12 @@ void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
     // by a small fraction of its size).
     bvec3 wallLo = bvec3(false), wallHi = bvec3(false);
     if (P.hasDomain != 0u) {
-        wallLo = lessThan(x - reach, P.domainMin);
-        wallHi = greaterThan(x + reach, P.domainMax);
+        wallLo = lessThan(x - reach, P.domainMin - PBF_RADIUS);
+        wallHi = greaterThan(x + reach, P.domainMax + PBF_RADIUS);
     }
     uint staticMask = 0u; // bit c: static collider c may touch (colliders beyond 32 always)
     for (uint c = 0u; c < min(P.colliderCount, 32u); ++c)
-        if (colliders[c].body == kNoBody && mayTouch(c, x, reach + PBF_RADIUS))
+        if (colliders[c].body == kNoBody && mayTouch(c, x, reach))
             staticMask |= 1u << c;
     uint bodyMask = 0u, bodyMaskHigh = 0u; // bit o: body o's sphere meets this one's
     for (uint o = 0u; o < P.bodyCount; ++o) {
@@ -205,16 +205,14 @@ void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
     for (uint s = 0u; s < body.sampleCount; ++s) {
         vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
         vec3 pStart = x0 + rotate(q0, arm);
-        // Walls and static colliders keep a body's surface where they keep the particles'
-        // centres: the box particles are kept in, and a particle radius off a static collider
-        // (docs/bodies.md, "Contacts with static geometry").
+        // The domain's walls sit one particle radius beyond the box particles are kept in.
         if (anyWall) {
             for (int a = 0; a < 3; ++a) {
                 if (!wallLo[a] && !wallHi[a])
                     continue;
                 vec3 w = x + rotate(q, arm);
-                float below = P.domainMin[a] - w[a];
-                float above = w[a] - P.domainMax[a];
+                float below = (P.domainMin[a] - PBF_RADIUS) - w[a];
+                float above = w[a] - (P.domainMax[a] + PBF_RADIUS);
                 vec3 axis = vec3(0.0);
                 axis[a] = 1.0;
                 if (below > 0.0 || above > 0.0) {
@@ -234,7 +232,7 @@ void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
                 continue;
             vec3 w = x + rotate(q, arm);
             vec3 n;
-            float phi = colliderDistance(c, w, n) - PBF_RADIUS;
+            float phi = colliderDistance(c, w, n);
             float len = length(n);
             if (!(phi < 0.0) || !(len > 0.0))
                 continue;
