@@ -24,6 +24,7 @@
 #include "sluice/format/SdfSampler.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
+#include "sluice/rt/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
 
 namespace sluice::rt {
@@ -626,25 +627,15 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     std::uint64_t offset = 0; // [words]
     std::uint64_t sparseOffset = denseBytes(impl->colliderAssets); // [bytes]
     for (const format::ColliderAsset& a : impl->colliderAssets) {
-        shared::GpuCollider r{};
-        r.origin = glm::vec3(a.meta.origin);
-        r.voxelSize = float(a.meta.voxelSize);
-        r.boxMax =
-            glm::vec3(a.meta.origin + glm::dvec3(a.meta.dims - glm::uvec3(1)) * a.meta.voxelSize);
-        r.scale = 1.0f;
-        r.dims = a.meta.dims;
         if (a.sparse()) {
-            r.gridKind = shared::kColliderSparse;
-            r.sdfOffset = std::uint32_t(sparseOffset);
+            impl->colliderRecords.push_back(colliderRecord(a, std::uint32_t(sparseOffset)));
             impl->sdfBuf.upload(a.grid.data(), a.grid.size(), sparseOffset);
             sparseOffset += sparseSlotBytes(a);
         } else {
-            r.gridKind = shared::kColliderDense;
-            r.sdfOffset = std::uint32_t(offset);
+            impl->colliderRecords.push_back(colliderRecord(a, std::uint32_t(offset)));
             impl->sdfBuf.upload(a.distances, offset * sizeof(float));
             offset += a.pointCount();
         }
-        impl->colliderRecords.push_back(r);
     }
     for (std::size_t c = 0; c < impl->colliderRecords.size(); ++c) {
         shared::GpuCollider& r = impl->colliderRecords[c];

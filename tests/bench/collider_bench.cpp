@@ -25,7 +25,6 @@
 #include <string>
 #include <vector>
 
-#include "shared/Bodies.h"
 #include "shared/Pbf.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/SceneIO.h"
@@ -33,6 +32,7 @@
 #include "sluice/gpu/Context.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
+#include "sluice/rt/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "sluice/rt/Simulation.h"
 
@@ -56,22 +56,6 @@ int usage(const char* why) {
                  "[--steps N] [--repeat R]\n",
                  why);
     return 2;
-}
-
-/// The collider record the solver would upload for `asset` at the identity placement, its
-/// samples at `offset` in the SDF buffer (words for dense, bytes for sparse).
-shared::GpuCollider recordFor(const format::ColliderAsset& asset, std::uint32_t offset) {
-    shared::GpuCollider r{};
-    r.origin = glm::vec3(asset.meta.origin);
-    r.voxelSize = float(asset.meta.voxelSize);
-    r.boxMax = glm::vec3(asset.meta.origin +
-                         glm::dvec3(asset.meta.dims - glm::uvec3(1)) * asset.meta.voxelSize);
-    r.scale = 1.0f;
-    r.dims = asset.meta.dims;
-    r.sdfOffset = offset;
-    r.body = shared::kNoBody;
-    r.gridKind = asset.sparse() ? shared::kColliderSparse : shared::kColliderDense;
-    return r;
 }
 
 /// The collider's samples as the SDF buffer holds them.
@@ -148,7 +132,8 @@ int main(int argc, char** argv) {
     gpu::Buffer sdf[2], records[2];
     for (int k = 0; k < 2; ++k) {
         auto bytes = gpu::Buffer::createFrom(sdfBytes(assets[k]), "sdf");
-        auto record = gpu::Buffer::createFrom(std::vector{recordFor(assets[k], 0)}, "collider");
+        auto record =
+            gpu::Buffer::createFrom(std::vector{rt::colliderRecord(assets[k], 0)}, "collider");
         if (!bytes || !record)
             return usage("cannot allocate the collider buffers");
         sdf[k] = std::move(*bytes);

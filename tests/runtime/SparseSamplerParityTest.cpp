@@ -13,11 +13,11 @@
 
 #include "GpuTest.h"
 #include "SparseTestUtil.h"
-#include "shared/Bodies.h"
 #include "shared/Pbf.h"
 #include "sluice/format/SdfSampler.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
+#include "sluice/rt/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
 
 namespace sluice {
@@ -60,25 +60,14 @@ protected:
         data.resize(((data.size() + 31) & ~std::size_t(31)) + sparsePad);
         std::size_t denseWords = 0;
         for (const format::ColliderAsset* a : assets) {
-            shared::GpuCollider r{};
-            r.origin = glm::vec3(a->meta.origin);
-            r.voxelSize = float(a->meta.voxelSize);
-            r.boxMax = glm::vec3(a->meta.origin +
-                                 glm::dvec3(a->meta.dims - glm::uvec3(1)) * a->meta.voxelSize);
-            r.scale = 1.0f;
-            r.dims = a->meta.dims;
-            r.body = shared::kNoBody;
             if (a->sparse()) {
-                r.gridKind = shared::kColliderSparse;
-                r.sdfOffset = std::uint32_t(data.size());
+                records.push_back(rt::colliderRecord(*a, std::uint32_t(data.size())));
                 data.insert(data.end(), a->grid.begin(), a->grid.end());
                 data.resize((data.size() + 31) & ~std::size_t(31));
             } else {
-                r.gridKind = shared::kColliderDense;
-                r.sdfOffset = std::uint32_t(denseWords);
+                records.push_back(rt::colliderRecord(*a, std::uint32_t(denseWords)));
                 denseWords += a->distances.size();
             }
-            records.push_back(r);
         }
         data.resize(std::max<std::size_t>(data.size(), 4));
         auto colliderBuf = gpu::Buffer::createFrom(records, "colliders");
