@@ -14,6 +14,9 @@ spacing that fills the block with the wanted count):
                              "1M particles, 4 iterations, <= 4 ms per full step" floor, read per
                              substep (one solver step), and the 1M impostor render
   dam-break-1m.json          1,000,000 particles, shipped defaults
+  bodies-N-sS.json           tests/bench/pbf/bodies.py's pool with N = 0, 1, 16, 64 floating
+                             crates, at its llvmpipe spacing (2 cm, ~4,900 particles) and at
+                             5 mm (~300,000 particles): the coupling's share of the step
   <every shipped scene>      assets/*.json as built, for running every shader on the driver
 
 Colliders are named by file name, so the folder can live anywhere.
@@ -30,6 +33,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, os.path.join(HERE, "..", "pbf"))
 from sweep import spacing_for  # noqa: E402  (the spacing rule of the sweep, shared)
+from bodies import make_scene as make_bodies_scene  # noqa: E402  (the body bench's pool)
 
 
 def write_scene(template, assets, out, name, target, simulation_extra, description):
@@ -72,6 +76,13 @@ def main():
                 "Dam break, exactly 4 solver iterations a substep:")
     write_scene("dam-break.json", args.assets, args.out, "dam-break-1m", 1_000_000, {},
                 "Dam break, shipped solver defaults:")
+    for spacing, tag in ((0.02, "s20mm"), (0.005, "s5mm")):
+        for bodies in (0, 1, 16, 64):
+            path = os.path.join(args.out, f"bodies-{bodies}-{tag}.json")
+            with open(path, "w") as f:
+                json.dump(make_bodies_scene(bodies, spacing), f, indent=4)
+                f.write("\n")
+            print(f"{path}: {bodies} crates, spacing {spacing}")
 
 
 if __name__ == "__main__":

@@ -42,6 +42,9 @@ rm -rf .devpack
 "$shared/device/pack" .devpack "$build/bin/sluice-play" "$build/bin/sluice-bake" \
   "$build/bin/bake_bench"
 python3 tests/bench/device/make_scenes.py --assets "$build/assets" --out .devpack/scenes
+# The run tool carries 64 MiB at most: the big colliders (the terrain's NanoVDB band, 61 MB)
+# travel gzipped, and run.sh unpacks them.
+find .devpack/scenes -name '*.slc' -size +8M -exec gzip -9 {} +
 mkdir -p .devpack/meshes
 meshes=$(find "$build" build -path '*cgal/data/meshes' -type d 2>/dev/null | head -n 1)
 [ -n "$meshes" ] || { echo "pack: CGAL's meshes not found under $build (configure with tests on)" >&2; exit 2; }

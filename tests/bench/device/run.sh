@@ -5,9 +5,12 @@
 #
 #   bash tests/bench/device/run.sh [--quick]
 #
-# Writes into $OUT (default /tmp/sluice-device): gpu.txt, gl-info.txt, one JSON per benchmark,
+# Works in /tmp/sluice-device-work: gpu.txt, gl-info.txt, one log and one JSON per benchmark,
 # bake.md, shots/ (a picture of every shipped scene in both surface modes), and summary.txt,
-# which states each floor with the measured figure. Needs no Python. --quick: few steps and no
+# which states each floor with the measured figure. After every phase it puts summary.txt and
+# results.tar.gz (all of it but the baked asset) into $OUT (default /tmp/sluice-device): the run
+# tool brings back only a few files, and none of a call that ran past its limit but those
+# already there. Needs no Python. --quick: few steps and no
 # 1M-particle scenes, to try the script on llvmpipe.
 #
 # Exit status: 0 when everything ran (whether or not a floor is met: summary.txt says), 1 when
@@ -16,8 +19,9 @@ set -uo pipefail
 cd "$(dirname "$0")/../../.."
 quick=0
 [ "${1:-}" = "--quick" ] && quick=1
-out=${OUT:-/tmp/sluice-device}
-mkdir -p "$out/shots"
+final=${OUT:-/tmp/sluice-device}
+out=/tmp/sluice-device-work
+rm -rf "$out" && mkdir -p "$out/shots" "$final"
 failed=0
 
 # The GL/EGL dispatch libraries and NVIDIA's EGL vendor file, where this is the NVIDIA machine.
@@ -34,12 +38,15 @@ export LD_LIBRARY_PATH=$pack/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 bin=$pack/bin
 scenes=.devpack/scenes
 meshes=.devpack/meshes
+for packed in "$scenes"/*.slc.gz; do
+  [ -f "$packed" ] && { gunzip -f "$packed" || exit 1; }
+done
 
 # One step of the script: its output into $out/NAME.log, a line in the console either way.
 step() {
   local name=$1; shift
   local start=$SECONDS
-  if "$@" >"$out/$name.log" 2>&1; then
+  if timeout "${SLUICE_STEP_TIMEOUT:-240}" "$@" >"$out/$name.log" 2>&1; then
     echo "ok    $name ($((SECONDS - start)) s)"
   else
     echo "FAIL  $name (exit $?, $((SECONDS - start)) s): see $name.log"; tail -n 5 "$out/$name.log"
@@ -48,6 +55,53 @@ step() {
 }
 # A number from a JSON file written by sluice-play --bench (one key per line): json FILE KEY.
 json() { awk -v k="\"$2\":" '$1 == k { gsub(/,$/, "", $2); print $2; exit }' "$1"; }
+
+# The floors, each with its measured figure, and everything so far into $final.
+publish() {
+  {
+    echo "GPU: $(head -n 1 "$out/gpu.txt")"
+    echo "GL:  $(grep -m1 '^renderer' "$out/gl-info.txt" 2>/dev/null)"
+    f=$out/wave-sphere-15k.json
+    if [ -f "$f" ]; then
+      echo "15k wave-sphere ($(json "$f" particles) particles, $(json "$f" substeps) substeps," \
+        "$(json "$f" meanIterations) iterations): $(json "$f" stepsPerSecondGpu) steps/s by GPU" \
+        "timers, $(json "$f" stepsPerSecondWall) wall (floor: >= 3000)"
+    fi
+    f=$out/dam-break-1m-4it.json
+    if [ -f "$f" ]; then
+      awk -v s="$(json "$f" medianStepMs)" -v n="$(json "$f" substeps)" -v p="$(json "$f" particles)" \
+        'BEGIN { printf "1M dam break, 4 iterations (%d particles): %.3f ms per substep (full solver step), %.3f ms per %d-substep frame (floor: <= 4 ms per step)\n", p, s / n, s, n }'
+    fi
+    f=$out/render.json
+    if [ -f "$f" ]; then
+      echo "impostor spheres, $(json "$f" particles) particles at $(json "$f" width)x$(json "$f" height):" \
+        "$(json "$f" fluid) ms GPU (floor at 1M, 1920x1080: <= 2 ms), frame $(json "$f" medianFrameMs)" \
+        "ms, wall $(json "$f" wallMsPerFrame) ms per waited-for frame;" \
+        "timers cover drawing: $(json "$f" gpuTimersCoverDrawing)"
+    fi
+    for f in "$out"/wave-sphere-15k.json "$out"/dam-break-1m-4it.json; do
+      [ -f "$f" ] && echo "$(basename "$f" .json): $(json "$f" bytesPerParticle) bytes per particle (floor: <= 200)"
+    done
+    for tag in s20mm s5mm; do
+      f0=$out/bodies-0-$tag.json
+      [ -f "$f0" ] || continue
+      base=$(json "$f0" medianStepMs)
+      echo "bodies ($tag, $(json "$f0" particles) particles): fluid-only step $base ms"
+      for n in 1 16 64; do
+        f=$out/bodies-$n-$tag.json
+        [ -f "$f" ] || continue
+        awk -v n=$n -v b="$base" -v s="$(json "$f" medianStepMs)" -v p="$(json "$f" bodies)" \
+          'BEGIN { printf "  %2d bodies: step %.3f ms, %.2fx fluid-only, coupling share %.0f %%, body pass %.3f ms (%.0f %%)\n", n, s, s / b, 100 * (1 - b / s), p, 100 * p / s }'
+      done
+    done
+    echo "bake (bake_bench, seconds; floors: <= 0.03 s at 128^3, <= 0.2 s at 256^3):"
+    grep -E '^\|' "$out/bench-bake.log" 2>/dev/null
+    grep -E '^\|' "$out/bench-bake-bunny.log" 2>/dev/null
+    grep -E 'max|mismatch' "$out/validate-armadillo.log" 2>/dev/null | head -n 4
+  } >"$out/summary.txt"
+  cp "$out/summary.txt" "$final/summary.txt"
+  tar -czf "$final/results.tar.gz" -C "$out" --exclude='*.slc' .
+}
 
 (nvidia-smi -L 2>/dev/null || echo "no nvidia-smi") >"$out/gpu.txt"
 cat .devpack/commit >>"$out/gpu.txt" 2>/dev/null
@@ -60,7 +114,7 @@ steps=60
 [ $quick = 1 ] && steps=4
 for scene in "$scenes"/*.json; do
   name=$(basename "$scene" .json)
-  case $name in *-15k|*-1m|*-1m-4it) continue ;; esac
+  case $name in *-15k|*-1m|*-1m-4it|bodies-*) continue ;; esac
   for surface in spheres fluid; do
     step "shader-$name-$surface" "$bin/sluice-play" "$scene" --headless --check --quiet \
       --steps $steps --screenshot-at $steps --shots "$out/shots/$surface" --surface $surface \
@@ -72,6 +126,7 @@ res=128
 step bake-armadillo "$bin/sluice-bake" bake "$meshes/armadillo.off" --backend gpu \
   --resolution $res -o "$out/armadillo.slc"
 step validate-armadillo "$bin/sluice-bake" validate "$out/armadillo.slc" "$meshes/armadillo.off"
+publish
 
 # The solver floors. The 15k scene keeps the shipped adaptive iterations; the 1M scene runs
 # exactly 4 iterations a substep and is then drawn as 1M impostor spheres at 1920x1080.
@@ -89,6 +144,20 @@ else
     --bench-json "$out/dam-break-1m.json"
   cp "$out/dam-break-1m-4it.json" "$out/render.json" 2>/dev/null
 fi
+publish
+
+# What dynamic bodies cost (issue 13): tests/bench/pbf/bodies.py's pool with 0, 1, 16 and 64
+# floating crates, at its llvmpipe spacing and at 5 mm, each with its fluid-only run.
+bsteps=200
+[ $quick = 1 ] && bsteps=2
+for tag in s20mm s5mm; do
+  [ $quick = 1 ] && [ $tag = s5mm ] && continue
+  for n in 0 1 16 64; do
+    step "bench-bodies-$n-$tag" "$bin/sluice-play" "$scenes/bodies-$n-$tag.json" --bench \
+      --warmup 30 --steps $bsteps --bench-json "$out/bodies-$n-$tag.json"
+  done
+done
+publish
 
 # The baker floors (and the CPU peers on this machine's cores).
 if [ $quick = 1 ]; then
@@ -99,35 +168,6 @@ else
 fi
 cp "$out/bench-bake.log" "$out/bake.md" 2>/dev/null
 
-# The floors, each with its measured figure.
-{
-  echo "GPU: $(head -n 1 "$out/gpu.txt")"
-  echo "GL:  $(grep -m1 '^renderer' "$out/gl-info.txt" 2>/dev/null)"
-  f=$out/wave-sphere-15k.json
-  if [ -f "$f" ]; then
-    echo "15k wave-sphere ($(json "$f" particles) particles, $(json "$f" substeps) substeps," \
-      "$(json "$f" meanIterations) iterations): $(json "$f" stepsPerSecondGpu) steps/s by GPU" \
-      "timers, $(json "$f" stepsPerSecondWall) wall (floor: >= 3000)"
-  fi
-  f=$out/dam-break-1m-4it.json
-  if [ -f "$f" ]; then
-    awk -v s="$(json "$f" medianStepMs)" -v n="$(json "$f" substeps)" -v p="$(json "$f" particles)" \
-      'BEGIN { printf "1M dam break, 4 iterations (%d particles): %.3f ms per substep (full solver step), %.3f ms per %d-substep frame (floor: <= 4 ms per step)\n", p, s / n, s, n }'
-  fi
-  f=$out/render.json
-  if [ -f "$f" ]; then
-    echo "impostor spheres, $(json "$f" particles) particles at $(json "$f" width)x$(json "$f" height):" \
-      "$(json "$f" fluid) ms GPU (floor at 1M, 1920x1080: <= 2 ms), frame $(json "$f" medianFrameMs)" \
-      "ms, wall $(json "$f" wallMsPerFrame) ms per waited-for frame;" \
-      "timers cover drawing: $(json "$f" gpuTimersCoverDrawing)"
-  fi
-  for f in "$out"/wave-sphere-15k.json "$out"/dam-break-1m-4it.json; do
-    [ -f "$f" ] && echo "$(basename "$f" .json): $(json "$f" bytesPerParticle) bytes per particle (floor: <= 200)"
-  done
-  echo "bake (bake_bench, seconds; floors: <= 0.03 s at 128^3, <= 0.2 s at 256^3):"
-  grep -E '^\|' "$out/bench-bake.log" 2>/dev/null
-  grep -E '^\|' "$out/bench-bake-bunny.log" 2>/dev/null
-  grep -E 'max|mismatch' "$out/validate-armadillo.log" 2>/dev/null | head -n 4
-} >"$out/summary.txt"
+publish
 cat "$out/summary.txt"
 exit $failed
