@@ -1,7 +1,8 @@
 // Dynamic bodies, once per substep after the solve (docs/bodies.md): the fluid's reaction from
 // the fixed-point sums, gravity, integration, contacts with the domain box, the static colliders
 // and the other bodies, then each body's collider record for the next substep. One work group
-// holds every body.
+// holds every body; each body has the same power-of-two number of invocations (lanes), which
+// split its contact points against the other bodies. Lane 0 of a body does the rest.
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
@@ -9,7 +10,14 @@
 #define PBF_WITH_BODIES 1
 #include "shared/PbfGlsl.h"
 
-layout(local_size_x = kBodyLocalSize) in;
+// Invocations of the work group, chosen by Simulation (bodyGroupSize): kBodyGroupSize on a GPU;
+// 64 on a software renderer, which runs a group's invocations one after the other on one CPU
+// thread, where idle lanes cost time instead of saving it.
+#ifndef SLUICE_BODY_GROUP_SIZE
+#define SLUICE_BODY_GROUP_SIZE 512
+#endif
+const uint kGroupSize = SLUICE_BODY_GROUP_SIZE;
+layout(local_size_x = SLUICE_BODY_GROUP_SIZE) in;
 
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 layout(std430, binding = kBindBodySamples) readonly buffer BodySamples { vec4 samples[]; };
@@ -32,6 +40,33 @@ const uint kContactSweeps = 4u;
 // Every body's pose in the current sweep, for the others' contact tests.
 shared vec3 sPosition[kBodyLocalSize];
 shared vec4 sOrientation[kBodyLocalSize];
+// Each invocation's share of its body's corrections against other bodies in a sweep, summed
+// over the body's lanes in a fixed tree (so --deterministic stays byte-identical):
+// (sum of position steps, corrections), (sum of rotation steps, deepest), (sum of normals,
+// contacts); deepest and contacts are counted in the first sweep only.
+shared vec4 sPairStep[kGroupSize];
+shared vec4 sPairTurn[kGroupSize];
+shared vec4 sPairNormal[kGroupSize];
+// The contact points near a wall or a static collider, one bit each, for the sequential pass:
+// the body's lanes test a chunk of its points at once, its lane 0 then resolves the marked ones
+// in order and clears their words.
+const uint kCandidateWords = 1024u;
+shared uint sCandidates[kCandidateWords];
+// What each body may touch in this sweep (Reach, packed by lane 0): wall bits, static mask.
+shared uvec2 sReach[kBodyLocalSize];
+
+// Invocations per body: the largest power of two that fits every body into the group.
+uint lanesPerBody() {
+#if SLUICE_BODY_GROUP_SIZE <= 64
+    // A software renderer runs a group's invocations a SIMD vector at a time: one invocation per
+    // body keeps the bodies side by side in one vector.
+    return 1u;
+#endif
+    uint lanes = kGroupSize;
+    while (lanes > 1u && lanes * max(P.bodyCount, 1u) > kGroupSize)
+        lanes >>= 1;
+    return lanes;
+}
 
 vec4 quatMul(vec4 a, vec4 b) {
     return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
@@ -121,23 +156,21 @@ bool mayTouch(uint c, vec3 x, float reach) {
     return colliderDistance(c, x, n) <= reach;
 }
 
-// One sweep of body b's contact points against the domain box, the static colliders and the
-// other bodies' poses of this sweep. What the body's bounding sphere cannot reach is skipped.
-void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
-           inout float deepest, inout uint touching, inout vec3 normalSum) {
+// Lane `lane` of `lanes`'s share of body b's corrections against the other bodies in one
+// sweep: its points lane, lane + lanes, ... tested against the bodies whose bounding spheres
+// meet this one's, at their poses of this sweep's start. The corrections are summed, not
+// applied: the sweep averages them over all the body's points (sPairStep).
+void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, bool first,
+               out vec3 stepSum, out vec3 turnSum, out uint count, out float deepest,
+               out uint touching, out vec3 normalSum) {
+    stepSum = vec3(0.0);
+    turnSum = vec3(0.0);
+    normalSum = vec3(0.0);
+    count = 0u;
+    touching = 0u;
+    deepest = 0.0;
     GpuBody body = bodies[b];
     float reach = body.boundRadius;
-    // What this sweep tests, decided once from the pose at its start (a sweep moves the body
-    // by a small fraction of its size).
-    bvec3 wallLo = bvec3(false), wallHi = bvec3(false);
-    if (P.hasDomain != 0u) {
-        wallLo = lessThan(x - reach, P.domainMin - PBF_RADIUS);
-        wallHi = greaterThan(x + reach, P.domainMax + PBF_RADIUS);
-    }
-    uint staticMask = 0u; // bit c: static collider c may touch (colliders beyond 32 always)
-    for (uint c = 0u; c < min(P.colliderCount, 32u); ++c)
-        if (colliders[c].body == kNoBody && mayTouch(c, x, reach))
-            staticMask |= 1u << c;
     uint bodyMask = 0u, bodyMaskHigh = 0u; // bit o: body o's sphere meets this one's
     for (uint o = 0u; o < P.bodyCount; ++o) {
         vec3 d = sPosition[o] - x;
@@ -149,100 +182,154 @@ void sweep(uint b, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q, bool first,
                 bodyMaskHigh |= 1u << (o - 32u);
         }
     }
-    bool anyWall = any(wallLo) || any(wallHi);
-    vec3 pairDx = vec3(0.0), pairTurn = vec3(0.0);
-    uint pairCount = 0u;
-    if (!anyWall && staticMask == 0u && P.colliderCount <= 32u && bodyMask == 0u &&
-        bodyMaskHigh == 0u)
+    if (bodyMask == 0u && bodyMaskHigh == 0u)
         return;
-
-    // Other bodies first, from the pose at the sweep's start, their corrections averaged;
-    // then the walls and static colliders point by point, so their friction acts on what the
-    // pairs left.
-    if (bodyMask != 0u || bodyMaskHigh != 0u) {
-        for (uint s = 0u; s < body.sampleCount; ++s) {
-            vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
-            vec3 pStart = x0 + rotate(q0, arm);
-            for (uint o = 0u; o < P.bodyCount; ++o) {
-                bool near = o < 32u ? (bodyMask & (1u << o)) != 0u
-                                    : (bodyMaskHigh & (1u << (o - 32u))) != 0u;
-                if (!near)
-                    continue;
-                vec3 w = x + rotate(q, arm);
-                vec3 toOther = w - sPosition[o];
-                if (dot(toOther, toOther) >= bodies[o].boundRadius * bodies[o].boundRadius)
-                    continue;
-                vec3 n;
-                float phi = bodyDistance(o, w, n);
-                float len = length(n);
-                if (!(phi < 0.0) || !(len > 0.0))
-                    continue;
-                n /= len;
-                // The pair splits the correction by their inverse masses at the point; the other
-                // body moves its share when it tests its own points against this one.
-                float mine = inverseMassAt(b, worldInvInertia(b, q), w - x, n);
-                float theirs = inverseMassAt(o, worldInvInertia(o, sOrientation[o]), toOther, n);
-                if (first) {
-                    deepest = max(deepest, -phi);
-                    ++touching;
-                }
-                normalSum += n;
-                // Against another body the corrections of the sweep are averaged, not chained:
-                // each point would otherwise see the depth the previous one left and take its
-                // share of that again, and both bodies together would move the whole depth each.
-                vec3 dx, turn;
-                correction(b, x, q, arm, pStart, n, -phi, mine / (mine + theirs), dx, turn);
-                pairDx += dx;
-                pairTurn += turn;
-                ++pairCount;
-            }
-        }
-        if (pairCount > 0u) {
-            x += pairDx / float(pairCount);
-            q = normalize(q + 0.5 * quatMul(vec4(pairTurn / float(pairCount), 0.0), q));
-        }
-    }
-    for (uint s = 0u; s < body.sampleCount; ++s) {
+    mat3 invI = worldInvInertia(b, q);
+    for (uint s = lane; s < body.sampleCount; s += lanes) {
         vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
         vec3 pStart = x0 + rotate(q0, arm);
-        // The domain's walls sit one particle radius beyond the box particles are kept in.
-        if (anyWall) {
-            for (int a = 0; a < 3; ++a) {
-                if (!wallLo[a] && !wallHi[a])
-                    continue;
-                vec3 w = x + rotate(q, arm);
-                float below = (P.domainMin[a] - PBF_RADIUS) - w[a];
-                float above = w[a] - (P.domainMax[a] + PBF_RADIUS);
-                vec3 axis = vec3(0.0);
-                axis[a] = 1.0;
-                if (below > 0.0 || above > 0.0) {
-                    float depth = max(below, above);
-                    vec3 n = below > 0.0 ? axis : -axis;
-                    if (first) {
-                        deepest = max(deepest, depth);
-                        ++touching;
-                    }
-                    normalSum += n;
-                    resolve(b, x, q, arm, pStart, n, depth, 1.0);
-                }
-            }
-        }
-        for (uint c = 0u; c < P.colliderCount; ++c) {
-            if (colliders[c].body != kNoBody || (c < 32u && (staticMask & (1u << c)) == 0u))
+        vec3 w = x + rotate(q, arm);
+        for (uint o = 0u; o < P.bodyCount; ++o) {
+            bool near = o < 32u ? (bodyMask & (1u << o)) != 0u
+                                : (bodyMaskHigh & (1u << (o - 32u))) != 0u;
+            if (!near)
                 continue;
-            vec3 w = x + rotate(q, arm);
+            vec3 toOther = w - sPosition[o];
+            if (dot(toOther, toOther) >= bodies[o].boundRadius * bodies[o].boundRadius)
+                continue;
             vec3 n;
-            float phi = colliderDistance(c, w, n);
+            float phi = bodyDistance(o, w, n);
             float len = length(n);
             if (!(phi < 0.0) || !(len > 0.0))
                 continue;
+            n /= len;
+            // The pair splits the correction by their inverse masses at the point; the other
+            // body moves its share when it tests its own points against this one.
+            float mine = inverseMassAt(b, invI, w - x, n);
+            float theirs = inverseMassAt(o, worldInvInertia(o, sOrientation[o]), toOther, n);
             if (first) {
                 deepest = max(deepest, -phi);
                 ++touching;
             }
-            normalSum += n / len;
-            resolve(b, x, q, arm, pStart, n / len, -phi, 1.0);
+            normalSum += n;
+            // Against another body the corrections of the sweep are averaged, not chained:
+            // each point would otherwise see the depth the previous one left and take its
+            // share of that again, and both bodies together would move the whole depth each.
+            vec3 dx, turn;
+            correction(b, x, q, arm, pStart, n, -phi, mine / (mine + theirs), dx, turn);
+            stepSum += dx;
+            turnSum += turn;
+            ++count;
         }
+    }
+}
+
+// What body b's bounding sphere, centred at `xStart`, may touch in this sweep: the domain's
+// walls below and above on each axis, and the static colliders (bit c; beyond 32 always).
+struct Reach {
+    bvec3 wallLo;
+    bvec3 wallHi;
+    uint staticMask;
+};
+
+Reach reachOf(uint b, vec3 xStart) {
+    Reach r;
+    float reach = bodies[b].boundRadius;
+    r.wallLo = bvec3(false);
+    r.wallHi = bvec3(false);
+    if (P.hasDomain != 0u) {
+        r.wallLo = lessThan(xStart - reach, P.domainMin - PBF_RADIUS);
+        r.wallHi = greaterThan(xStart + reach, P.domainMax + PBF_RADIUS);
+    }
+    r.staticMask = 0u;
+    for (uint c = 0u; c < min(P.colliderCount, 32u); ++c)
+        if (colliders[c].body == kNoBody && mayTouch(c, xStart, reach))
+            r.staticMask |= 1u << c;
+    return r;
+}
+
+uvec2 packReach(Reach r) {
+    uvec3 lo = uvec3(r.wallLo), hi = uvec3(r.wallHi);
+    return uvec2(lo.x | lo.y << 1 | lo.z << 2 | hi.x << 3 | hi.y << 4 | hi.z << 5, r.staticMask);
+}
+
+Reach unpackReach(uvec2 bits) {
+    Reach r;
+    r.wallLo = notEqual(uvec3(bits.x) & uvec3(1u, 2u, 4u), uvec3(0u));
+    r.wallHi = notEqual(uvec3(bits.x) & uvec3(8u, 16u, 32u), uvec3(0u));
+    r.staticMask = bits.y;
+    return r;
+}
+
+bool reachesAnything(Reach r) {
+    return any(r.wallLo) || any(r.wallHi) || r.staticMask != 0u || P.colliderCount > 32u;
+}
+
+bool staticInReach(Reach r, uint c) {
+    return colliders[c].body == kNoBody && (c >= 32u || (r.staticMask & (1u << c)) != 0u);
+}
+
+// Whether body b's contact point at world w is within `margin` of a wall or a static collider
+// it may touch: the points the sequential pass below visits.
+bool nearWallOrStatic(Reach r, vec3 w, float margin) {
+    for (int a = 0; a < 3; ++a) {
+        if (r.wallLo[a] && (P.domainMin[a] - PBF_RADIUS) - w[a] > -margin)
+            return true;
+        if (r.wallHi[a] && w[a] - (P.domainMax[a] + PBF_RADIUS) > -margin)
+            return true;
+    }
+    for (uint c = 0u; c < P.colliderCount; ++c) {
+        if (!staticInReach(r, c))
+            continue;
+        vec3 n;
+        if (colliderDistance(c, w, n) < margin)
+            return true;
+    }
+    return false;
+}
+
+// Body b's contact point s against the domain box and the static colliders, resolved at once
+// (Gauss-Seidel), so their friction acts on what the pairs left.
+void wallsAndStatics(uint b, Reach r, uint s, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q,
+                     bool first, inout float deepest, inout uint touching,
+                     inout vec3 normalSum) {
+    vec3 arm = bodies[b].scale * (samples[bodies[b].sampleOffset + s].xyz - bodies[b].centerLocal);
+    vec3 pStart = x0 + rotate(q0, arm);
+    // The domain's walls sit one particle radius beyond the box particles are kept in.
+    for (int a = 0; a < 3; ++a) {
+        if (!r.wallLo[a] && !r.wallHi[a])
+            continue;
+        vec3 w = x + rotate(q, arm);
+        float below = (P.domainMin[a] - PBF_RADIUS) - w[a];
+        float above = w[a] - (P.domainMax[a] + PBF_RADIUS);
+        vec3 axis = vec3(0.0);
+        axis[a] = 1.0;
+        if (below > 0.0 || above > 0.0) {
+            float depth = max(below, above);
+            vec3 n = below > 0.0 ? axis : -axis;
+            if (first) {
+                deepest = max(deepest, depth);
+                ++touching;
+            }
+            normalSum += n;
+            resolve(b, x, q, arm, pStart, n, depth, 1.0);
+        }
+    }
+    for (uint c = 0u; c < P.colliderCount; ++c) {
+        if (!staticInReach(r, c))
+            continue;
+        vec3 w = x + rotate(q, arm);
+        vec3 n;
+        float phi = colliderDistance(c, w, n);
+        float len = length(n);
+        if (!(phi < 0.0) || !(len > 0.0))
+            continue;
+        if (first) {
+            deepest = max(deepest, -phi);
+            ++touching;
+        }
+        normalSum += n / len;
+        resolve(b, x, q, arm, pStart, n / len, -phi, 1.0);
     }
 }
 
@@ -266,11 +353,18 @@ void writeCollider(GpuBody body, vec3 x0, vec4 q0) {
 }
 
 void main() {
-    uint b = gl_LocalInvocationID.x;
+    uint t = gl_LocalInvocationIndex;
+    uint lanes = lanesPerBody();
+    uint b = t / lanes, lane = t % lanes;
     bool live = b < P.bodyCount;
+    bool lead = live && lane == 0u;
     vec3 x0 = vec3(0.0), x = vec3(0.0), v = vec3(0.0), force = vec3(0.0), torque = vec3(0.0);
     vec4 q0 = vec4(0.0, 0.0, 0.0, 1.0), q = q0;
     if (live) {
+        x0 = bodies[b].position;
+        q0 = bodies[b].orientation;
+    }
+    if (lead) {
         // The fluid's reaction: every particle the body pushed by dx gave it -m dx / dt.
         uint base = b * kBodySumWords;
         vec3 sumDx = vec3(sumAt(base), sumAt(base + 2u), sumAt(base + 4u)) / bodies[b].sumScale;
@@ -283,8 +377,6 @@ void main() {
         force = impulse * P.invDt;
         torque = angularImpulse * P.invDt;
 
-        x0 = bodies[b].position;
-        q0 = bodies[b].orientation;
         v = bodies[b].linearVelocity + P.dt * P.gravity + impulse * bodies[b].invMass;
         vec3 w = bodies[b].angularVelocity + worldInvInertia(b, q0) * angularImpulse;
         if (b == dragBody) {
@@ -303,19 +395,117 @@ void main() {
     float deepest = 0.0;
     uint touching = 0u;
     vec3 normalSum = vec3(0.0);
+    // Candidate words per body, and the chunks of points the largest body needs: the same in
+    // every invocation, as the barriers need.
+    uint words = min(kMaxBodySamples / 32u, kCandidateWords / max(P.bodyCount, 1u));
+    uint most = 0u;
+    for (uint o = 0u; o < P.bodyCount; ++o)
+        most = max(most, bodies[o].sampleCount);
+    uint chunks = (most + 32u * words - 1u) / (32u * words);
+    for (uint k = t; k < kCandidateWords; k += kGroupSize)
+        sCandidates[k] = 0u;
     for (uint it = 0u; it < kContactSweeps; ++it) {
-        if (live) {
+        bool first = it == 0u;
+        if (lead) {
             sPosition[b] = x;
             sOrientation[b] = q;
         }
         memoryBarrierShared();
         barrier();
-        if (live)
-            sweep(b, x0, q0, x, q, it == 0u, deepest, touching, normalSum);
+        vec3 stepSum = vec3(0.0), turnSum = vec3(0.0), normals = vec3(0.0);
+        uint count = 0u, touched = 0u;
+        float deep = 0.0;
+        if (live) {
+            x = sPosition[b];
+            q = sOrientation[b];
+            pairShare(b, lane, lanes, x0, q0, x, q, first, stepSum, turnSum, count, deep,
+                      touched, normals);
+        }
+        sPairStep[t] = vec4(stepSum, float(count));
+        sPairTurn[t] = vec4(turnSum, deep);
+        sPairNormal[t] = vec4(normals, float(touched));
+        memoryBarrierShared();
+        barrier();
+        for (uint stride = lanes >> 1; stride > 0u; stride >>= 1) {
+            if (lane < stride) {
+                sPairStep[t] += sPairStep[t + stride];
+                sPairTurn[t] = vec4(sPairTurn[t].xyz + sPairTurn[t + stride].xyz,
+                                    max(sPairTurn[t].w, sPairTurn[t + stride].w));
+                sPairNormal[t] += sPairNormal[t + stride];
+            }
+            memoryBarrierShared();
+            barrier();
+        }
+        if (lead) {
+            float pairs = sPairStep[t].w;
+            if (pairs > 0.0) {
+                x += sPairStep[t].xyz / pairs;
+                q = normalize(q + 0.5 * quatMul(vec4(sPairTurn[t].xyz / pairs, 0.0), q));
+            }
+            if (first) {
+                deepest = max(deepest, sPairTurn[t].w);
+                touching += uint(sPairNormal[t].w);
+            }
+            normalSum += sPairNormal[t].xyz;
+            sReach[b] = packReach(reachOf(b, sPosition[b])); // from the sweep's starting pose
+        }
+        // Then the walls and static colliders, point by point in order from lane 0. The lanes
+        // first mark, a chunk at a time and at the pose lane 0 has reached, the points within
+        // half a spacing of one; lane 0 resolves only those (a point farther off is met in a
+        // later sweep or substep). What the body's sphere at the sweep's start cannot reach is
+        // skipped.
+#if SLUICE_BODY_GROUP_SIZE <= 64
+        // A software renderer runs the lanes in turn: lane 0 visits every point itself.
+        if (lead) {
+            Reach r = unpackReach(sReach[b]);
+            if (reachesAnything(r))
+                for (uint s = 0u; s < bodies[b].sampleCount; ++s)
+                    wallsAndStatics(b, r, s, x0, q0, x, q, first, deepest, touching, normalSum);
+        }
+#else
+        for (uint chunk = 0u; chunk < chunks; ++chunk) {
+            if (lead) {
+                sPosition[b] = x;
+                sOrientation[b] = q;
+            }
+            memoryBarrierShared();
+            barrier();
+            Reach r = unpackReach(live ? sReach[b] : uvec2(0u));
+            bool reaches = live && reachesAnything(r);
+            uint firstPoint = chunk * 32u * words;
+            if (reaches) {
+                vec3 xc = sPosition[b];
+                vec4 qc = sOrientation[b];
+                GpuBody body = bodies[b];
+                uint endPoint = min(body.sampleCount, firstPoint + 32u * words);
+                for (uint s = firstPoint + lane; s < endPoint; s += lanes) {
+                    vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
+                    if (nearWallOrStatic(r, xc + rotate(qc, arm), PBF_RADIUS)) {
+                        uint bit = s - firstPoint;
+                        atomicOr(sCandidates[b * words + bit / 32u], 1u << (bit % 32u));
+                    }
+                }
+            }
+            memoryBarrierShared();
+            barrier();
+            if (lead && reaches) {
+                for (uint k = 0u; k < words; ++k) {
+                    uint bits = sCandidates[b * words + k];
+                    sCandidates[b * words + k] = 0u;
+                    while (bits != 0u) {
+                        uint bit = uint(findLSB(bits));
+                        bits &= bits - 1u;
+                        wallsAndStatics(b, r, firstPoint + 32u * k + bit, x0, q0, x, q, first,
+                                        deepest, touching, normalSum);
+                    }
+                }
+            }
+        }
+#endif
         memoryBarrierShared();
         barrier();
     }
-    if (!live)
+    if (!lead)
         return;
 
     // Velocities from the pose change (position-based), then restitution along the mean

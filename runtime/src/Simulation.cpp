@@ -66,6 +66,18 @@ bool anySparse(const std::vector<format::ColliderAsset>& assets) {
                        [](const format::ColliderAsset& a) { return a.sparse(); });
 }
 
+// Invocations of the body pass's work group for the current context: a software renderer
+// (Mesa's llvmpipe or softpipe, SwiftShader) runs a group's invocations in turn on one CPU
+// thread, where the lanes that split a body's points only add their barriers.
+std::uint32_t bodyGroupSize() {
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const std::string_view name = renderer ? renderer : "";
+    for (std::string_view software : {"llvmpipe", "softpipe", "SwiftShader"})
+        if (name.find(software) != std::string_view::npos)
+            return shared::kBodyLocalSize;
+    return shared::kBodyGroupSize;
+}
+
 } // namespace
 
 const char* passName(Pass pass) {
@@ -575,6 +587,11 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
                     scene.path + ": " + std::to_string(scene.colliders.size()) +
                         " colliders in the scene but " + std::to_string(colliders.size()) +
                         " assets given");
+    if (const std::uint32_t g = options.bodyGroupSize;
+        g != 0 && (g < shared::kBodyLocalSize || g > shared::kBodyGroupSize || (g & (g - 1)) != 0))
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": a body pass of " + std::to_string(g) +
+                        " invocations; give 0 (chosen for the renderer), 64, 128, 256 or 512");
     auto impl = std::make_unique<Impl>(scene);
     impl->options = options;
     impl->k = deriveConstants(scene.simulation);
@@ -609,8 +626,17 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     const std::span<const gpu::ShaderDefine> defines =
         anySparse(impl->colliderAssets) ? std::span<const gpu::ShaderDefine>(sparseDefine)
                                         : std::span<const gpu::ShaderDefine>();
+    // The body pass's work group (pbf_bodies.comp): kBodyGroupSize invocations on a GPU, 64 on
+    // a software renderer, which runs a group's invocations in turn on one CPU thread.
+    const std::string groupSize = std::to_string(
+        options.bodyGroupSize != 0 ? options.bodyGroupSize : bodyGroupSize());
+    std::vector<gpu::ShaderDefine> bodyDefines(defines.begin(), defines.end());
+    bodyDefines.push_back({"SLUICE_BODY_GROUP_SIZE", groupSize});
     for (const Build& b : builds) {
-        auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name), defines);
+        const bool body = b.program == &impl->bodies;
+        auto program = gpu::Program::compute(
+            b.name, shaders::shaderSource(b.name),
+            body ? std::span<const gpu::ShaderDefine>(bodyDefines) : defines);
         if (!program)
             return program.error();
         *b.program = std::move(*program);

@@ -7,9 +7,12 @@
 
 SLUICE_SHARED_BEGIN
 
-/// Invocations of the body pass: one work group holds every body (a scene has at most 64
+/// Bodies one body pass holds at most: one work group holds every body (a scene has at most 64
 /// colliders), so body-body contacts exchange poses through shared memory.
 SLUICE_CONST uint kBodyLocalSize = 64;
+/// Invocations of the body pass's work group on a GPU: each body gets the same power-of-two
+/// share of them (8 with 64 bodies, all 512 with one), which split its contact points.
+SLUICE_CONST uint kBodyGroupSize = 512;
 /// GpuCollider::body of a collider that is not a dynamic body.
 SLUICE_CONST uint kNoBody = 0xffffffffu;
 /// Fixed-point words per body in the reaction sums: 6 components (sum of dx [m], sum of r x dx

@@ -375,6 +375,73 @@ TEST_F(SimulationBodies, ThreeStackedBoxesStayPutOnTheFloor) {
     std::printf("stack: worst speed %.5f m/s\n", worstSpeed);
 }
 
+// Three boxes stacked on the floor and a fourth resting on a static box beside them, played
+// for `steps` with the body pass's work group at `groupSize` invocations.
+std::vector<BodyState> playContacts(std::uint32_t groupSize, int steps) {
+    format::Scene scene = testscene::emptyScene(kSpacing, 8, 16);
+    scene.domainMin = glm::vec3(0.0f);
+    scene.domainMax = glm::vec3(0.6f, 0.5f, 0.4f);
+    for (int i = 0; i < 3; ++i)
+        scene.colliders.push_back(cubeBody(glm::vec3(0.2f, (0.5f + float(i)) * kSide, 0.2f), 0.8f));
+    format::SceneCollider pedestal;
+    pedestal.asset = "cube.slc";
+    pedestal.translation = glm::vec3(0.45f, 0.5f * kSide, 0.2f);
+    scene.colliders.push_back(pedestal);
+    // Tilted a little, so it rocks onto the pedestal's top face and settles.
+    format::SceneCollider top = cubeBody(glm::vec3(0.45f, 1.5f * kSide + 0.005f, 0.2f), 0.8f);
+    top.rotationDegrees = glm::vec3(0.0f, 0.0f, 5.0f);
+    scene.colliders.push_back(top);
+    std::vector<format::ColliderAsset> assets(5, cubeAsset(kSide));
+    SimulationOptions options;
+    options.bodyGroupSize = groupSize;
+    auto sim = Simulation::create(scene, std::move(assets), options);
+    EXPECT_TRUE(sim) << sim.error().message();
+    if (!sim)
+        return {};
+    for (int step = 0; step < steps; ++step)
+        sim->step();
+    return sim->bodies();
+}
+
+TEST_F(SimulationBodies, TheGpuWorkGroupLayoutGivesTheSameContactsAsTheSoftwareOne) {
+    // On a GPU each body's contact points are split over several invocations (128 each with
+    // four bodies at 512), their corrections against the other bodies summed in a tree, and the
+    // points near a wall or a static collider marked in parallel before lane 0 resolves them in
+    // order; on llvmpipe one invocation per body does it all. Same physics, sums in another
+    // order: after 0.5 s of settling, the poses agree to a small fraction of a spacing.
+    const std::vector<BodyState> software = playContacts(64, 30);
+    const std::vector<BodyState> gpu = playContacts(512, 30);
+    ASSERT_EQ(software.size(), 4u);
+    ASSERT_EQ(gpu.size(), 4u);
+    for (std::size_t i = 0; i < software.size(); ++i) {
+        const double apart = glm::length(glm::dvec3(software[i].position - gpu[i].position));
+        const double turned =
+            std::abs(glm::dot(glm::dquat(software[i].orientation), glm::dquat(gpu[i].orientation)));
+        std::printf("body %zu: centre %.5f / %.5f m, %.2e m apart, |q.q'| = %.9f, contacts %u / %u\n",
+                    i, software[i].position.y, gpu[i].position.y, apart, turned,
+                    software[i].contacts, gpu[i].contacts);
+        EXPECT_LT(apart, 0.02 * kSpacing) << "body " << i;
+        EXPECT_GT(turned, std::cos(0.5 * glm::radians(0.2))) << "body " << i << ": within 0.2 degrees";
+        EXPECT_GT(gpu[i].contacts, 0u) << "body " << i << " rests on something";
+        EXPECT_TRUE(finite(gpu[i]));
+    }
+    // The tilted box settled flat on the pedestal: its centre half a side above the top face.
+    EXPECT_NEAR(gpu[3].position.y, 1.5 * kSide, 0.25 * kSpacing);
+}
+
+TEST_F(SimulationBodies, ABodyPassOfAnotherSizeIsRefused) {
+    format::Scene scene = testscene::emptyScene(kSpacing, 8, 16);
+    scene.colliders.push_back(cubeBody(glm::vec3(0.0f, 0.5f, 0.0f), 0.8f));
+    for (std::uint32_t size : {1u, 32u, 100u, 1024u}) {
+        SimulationOptions options;
+        options.bodyGroupSize = size;
+        auto sim = Simulation::create(scene, {cubeAsset(kSide)}, options);
+        ASSERT_FALSE(sim) << size;
+        EXPECT_NE(sim.error().message().find("invocations"), std::string::npos)
+            << sim.error().message();
+    }
+}
+
 TEST_F(SimulationBodies, ParticlesStartingInsideABodyAreLeftOutAndCounted) {
     format::Scene scene = tankScene(kTank, kDepth, 0.5f);
     // The cube's lower half is under water: rows 0.13 .. 0.27 in x and z (8 each), and the

@@ -27,6 +27,11 @@ struct SimulationOptions {
     bool deterministic = false;
     /// Time every pass group with GL timestamp queries (read back without stalling).
     bool timers = true;
+    /// Invocations of the body pass's work group (docs/bodies.md): 0 picks for the renderer,
+    /// 64 on a software one (one invocation per body) and 512 on a GPU (a body's contact points
+    /// split over its share of them); 64, 128, 256 or 512 force a layout, as the tests do to run
+    /// the GPU's on llvmpipe.
+    std::uint32_t bodyGroupSize = 0;
 };
 
 /// The pass groups timed per step, in order.
