@@ -370,8 +370,6 @@ void main() {
         vec3 sumDx = vec3(sumAt(base), sumAt(base + 2u), sumAt(base + 4u)) / bodies[b].sumScale;
         vec3 sumMoment =
             vec3(sumAt(base + 6u), sumAt(base + 8u), sumAt(base + 10u)) / bodies[b].momentScale;
-        for (uint k = 0u; k < kBodySumWords; ++k)
-            bodySums[base + k] = 0u;
         vec3 impulse = -P.particleMass * P.invDt * sumDx;
         vec3 angularImpulse = -P.particleMass * P.invDt * sumMoment;
         force = impulse * P.invDt;
@@ -379,6 +377,23 @@ void main() {
 
         v = bodies[b].linearVelocity + P.dt * P.gravity + impulse * bodies[b].invMass;
         vec3 w = bodies[b].angularVelocity + worldInvInertia(b, q0) * angularImpulse;
+        // The particles a wall held against the body: their pushes' reaction only stops the
+        // body moving into them (along the reaction's direction), like a contact with no
+        // bounce; none of it pushes the body away (docs/bodies.md).
+        uint held = base + kBodyHeldWords;
+        vec3 heldImpulse = -P.particleMass * P.invDt *
+            vec3(sumAt(held), sumAt(held + 2u), sumAt(held + 4u)) / bodies[b].sumScale;
+        vec3 heldAngular = -P.particleMass * P.invDt *
+            vec3(sumAt(held + 6u), sumAt(held + 8u), sumAt(held + 10u)) / bodies[b].momentScale;
+        float heldLength = length(heldImpulse);
+        if (heldLength > 0.0) {
+            float approach = -dot(v, heldImpulse / heldLength);
+            float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / heldLength) : 0.0;
+            v += share * heldImpulse * bodies[b].invMass;
+            w += share * (worldInvInertia(b, q0) * heldAngular);
+            force += share * heldImpulse * P.invDt;
+            torque += share * heldAngular * P.invDt;
+        }
         if (b == dragBody) {
             vec3 r = rotate(q0, bodies[b].scale * (dragAnchor - bodies[b].centerLocal));
             vec3 pointVelocity = v + cross(w, r);
@@ -388,6 +403,8 @@ void main() {
             v += impulse * bodies[b].invMass;
             w += worldInvInertia(b, q0) * cross(r, impulse);
         }
+        for (uint k = 0u; k < kBodySumWords; ++k)
+            bodySums[base + k] = 0u;
         x = x0 + P.dt * v;
         q = normalize(q0 + 0.5 * P.dt * quatMul(vec4(w, 0.0), q0));
     }

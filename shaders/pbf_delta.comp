@@ -4,8 +4,8 @@
 
 #define PBF_WITH_COLLIDERS 1
 #define PBF_WITH_BODIES 1
-#define PBF_BODY_REACTION addReaction
-void addReaction(uint b, vec3 x, vec3 dx);
+#define PBF_BODY_REACTION collisionReaction
+void collisionReaction(uint b, vec3 x, vec3 dx);
 #include "shared/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
@@ -40,9 +40,10 @@ void addFixed(uint lo, float value) {
 }
 
 // Body b pushed a particle by dx, which ends at x: the body takes the opposite impulse
-// -m dx / dt, summed here as dx and (x - c) x dx in fixed point (docs/bodies.md, "Reaction").
-void addReaction(uint b, vec3 x, vec3 dx) {
-    uint base = b * kBodySumWords;
+// -m dx / dt, summed here as dx and (x - c) x dx in fixed point (docs/bodies.md, "Reaction"),
+// into the sums starting at word `first` of the body's (0, or kBodyHeldWords).
+void addSums(uint b, uint first, vec3 x, vec3 dx) {
+    uint base = b * kBodySumWords + first;
     vec3 d = dx * bodies[b].sumScale;
     vec3 m = cross(x - bodies[b].position, dx) * bodies[b].momentScale;
     addFixed(base + 0u, d.x);
@@ -51,6 +52,25 @@ void addReaction(uint b, vec3 x, vec3 dx) {
     addFixed(base + 6u, m.x);
     addFixed(base + 8u, m.y);
     addFixed(base + 10u, m.z);
+}
+
+void addReaction(uint b, vec3 x, vec3 dx) {
+    addSums(b, 0u, x, dx);
+}
+
+// The body whose collision push-out (collide) moved this particle in this pass, and the sum of
+// those pushes, so that the part of them the domain clamp undoes is taken back (main, at the end).
+uint pushedBy = kNoBody;
+vec3 pushSum = vec3(0.0);
+
+// A collision push of body b on the particle: the body takes the reaction, and the push is
+// remembered.
+void collisionReaction(uint b, vec3 x, vec3 dx) {
+    addReaction(b, x, dx);
+    if (pushedBy == kNoBody || pushedBy == b) {
+        pushedBy = b;
+        pushSum += dx;
+    }
 }
 
 bool converged(uint k) {
@@ -127,5 +147,22 @@ void main() {
     x = collide(x, pos[i].xyz);
     if (!allFinite(x))
         x = xi;
-    predOut[i] = vec4(clampToDomain(x), 0.0);
+    vec3 clamped = clampToDomain(x);
+    // A particle a body pushes into a wall is put back by the wall: the body did not move it
+    // that far. That part of its collision reaction moves to the held sums, of which the body
+    // pass applies only what stops the body moving into the held particles (docs/bodies.md,
+    // "Particles held against a wall"): a particle held between a body and the floor carries
+    // the body as a grain of sand would, and no longer lifts it a little every iteration. The
+    // pressure push above keeps its whole reaction: the wall holding the particle is how the
+    // floor carries the water's pressure.
+    vec3 undone = clamped - x;
+    if (pushedBy != kNoBody) {
+        vec3 back = sign(undone) * min(abs(undone), abs(pushSum));
+        back = mix(vec3(0.0), back, lessThan(pushSum * undone, vec3(0.0)));
+        if (any(notEqual(back, vec3(0.0)))) {
+            addSums(pushedBy, 0u, clamped, back);
+            addSums(pushedBy, kBodyHeldWords, clamped, -back);
+        }
+    }
+    predOut[i] = vec4(clamped, 0.0);
 }

@@ -15,9 +15,13 @@ SLUICE_CONST uint kBodyLocalSize = 64;
 SLUICE_CONST uint kBodyGroupSize = 512;
 /// GpuCollider::body of a collider that is not a dynamic body.
 SLUICE_CONST uint kNoBody = 0xffffffffu;
-/// Fixed-point words per body in the reaction sums: 6 components (sum of dx [m], sum of r x dx
-/// [m^2]), each a 64-bit two's-complement integer split in a low and a high word.
-SLUICE_CONST uint kBodySumWords = 16;
+/// Fixed-point words per body in the reaction sums: twice 6 components (sum of dx [m], sum of
+/// r x dx [m^2]), each a 64-bit two's-complement integer split in a low and a high word: words
+/// 0-11 the reaction the body takes, words 12-23 the collision pushes a wall undid (the body
+/// takes only what stops it moving into the particles the wall holds), 24-31 spare.
+SLUICE_CONST uint kBodySumWords = 32;
+/// First word of the held-particle sums.
+SLUICE_CONST uint kBodyHeldWords = 12;
 /// Contact sample points of one body at most.
 SLUICE_CONST uint kMaxBodySamples = 2048;
 

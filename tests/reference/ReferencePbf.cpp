@@ -45,6 +45,8 @@ ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceColl
             body.collider = m_colliders.size();
             body.pose = c.bodyPose ? *c.bodyPose : rt::colliderPose(c.placement, 0.0f);
             body.centerOfMass = c.centerOfMass;
+            body.mass = c.mass;
+            body.velocity = glm::dvec3(c.linearVelocity);
             m_bodies.push_back(body);
         }
         m_colliders.push_back(collider);
@@ -173,6 +175,7 @@ void ReferencePbf::startBodyStep() {
     for (Body& b : m_bodies) {
         b.force = glm::dvec3(0.0);
         b.torque = glm::dvec3(0.0);
+        b.heldForce = glm::dvec3(0.0);
     }
 }
 
@@ -185,8 +188,23 @@ void ReferencePbf::finishBodySubstep(double share) {
     for (Body& b : m_bodies) {
         b.force += share * (-m * b.sumDx / (dt * dt));
         b.torque += share * (-m * b.sumMoment / (dt * dt));
+        // The held particles' reaction: only the part that stops the body moving into them,
+        // from its velocity after gravity and the rest of the reaction (pbf_bodies.comp).
+        const glm::dvec3 heldImpulse = -m * b.heldDx / dt;
+        const double held = glm::length(heldImpulse);
+        b.heldForce += share * heldImpulse / dt;
+        if (held > 0.0 && b.mass > 0.0) {
+            const glm::dvec3 v = b.velocity + dt * glm::dvec3(m_params.gravity) -
+                                 m * b.sumDx / dt / b.mass;
+            const double approach = -glm::dot(v, heldImpulse / held);
+            const double part = approach > 0.0 ? std::min(1.0, approach * b.mass / held) : 0.0;
+            b.force += share * part * heldImpulse / dt;
+            b.torque += share * part * (-m * b.heldMoment / (dt * dt));
+        }
         b.sumDx = glm::dvec3(0.0);
         b.sumMoment = glm::dvec3(0.0);
+        b.heldDx = glm::dvec3(0.0);
+        b.heldMoment = glm::dvec3(0.0);
     }
 }
 
@@ -194,6 +212,12 @@ void ReferencePbf::addReaction(Body& body, glm::vec3 x, glm::vec3 dx) {
     const glm::dvec3 d(dx);
     body.sumDx += d;
     body.sumMoment += glm::cross(glm::dvec3(x) - glm::dvec3(body.centerOfMass), d);
+}
+
+void ReferencePbf::addHeld(Body& body, glm::vec3 x, glm::vec3 dx) {
+    const glm::dvec3 d(dx);
+    body.heldDx += d;
+    body.heldMoment += glm::cross(glm::dvec3(x) - glm::dvec3(body.centerOfMass), d);
 }
 
 glm::dvec3 ReferencePbf::bodyForce(std::size_t b) const {
@@ -204,6 +228,11 @@ glm::dvec3 ReferencePbf::bodyForce(std::size_t b) const {
 glm::dvec3 ReferencePbf::bodyTorque(std::size_t b) const {
     SLUICE_ASSERT(b < m_bodies.size(), "ReferencePbf::bodyTorque: no such body");
     return m_bodies[b].torque;
+}
+
+glm::dvec3 ReferencePbf::bodyHeldForce(std::size_t b) const {
+    SLUICE_ASSERT(b < m_bodies.size(), "ReferencePbf::bodyHeldForce: no such body");
+    return m_bodies[b].heldForce;
 }
 
 // docs/bodies.md, "Boundary volume": the part of the poly6 support behind a flat boundary at
@@ -380,13 +409,30 @@ void ReferencePbf::solve() {
             }
             if (!isFinite(x))
                 x = xi;
-            collide(x, xOld[i], t0, t1);
+            Pushed pushed;
+            collide(x, xOld[i], t0, t1, pushed);
             if (!isFinite(x))
                 x = m_predicted[i];
+            glm::vec3 clamped = x;
             if (m_hasDomain)
                 for (int a = 0; a < 3; ++a) // std::max/min in this order keep a NaN a NaN
-                    x[a] = std::min(std::max(x[a], m_domainMin[a] + r), m_domainMax[a] - r);
-            m_predicted[i] = x;
+                    clamped[a] = std::min(std::max(x[a], m_domainMin[a] + r), m_domainMax[a] - r);
+            // docs/bodies.md, "Particles held against a wall": what the clamp undoes of a body's
+            // push-out moves from the body's reaction to its held sums.
+            if (pushed.body != kNoBody) {
+                glm::vec3 back(0.0f);
+                for (int a = 0; a < 3; ++a) {
+                    const float undone = clamped[a] - x[a];
+                    if (pushed.sum[a] * undone < 0.0f)
+                        back[a] = std::copysign(std::min(std::abs(undone), std::abs(pushed.sum[a])),
+                                                undone);
+                }
+                if (back != glm::vec3(0.0f)) {
+                    addReaction(m_bodies[pushed.body], clamped, back);
+                    addHeld(m_bodies[pushed.body], clamped, -back);
+                }
+            }
+            m_predicted[i] = clamped;
         }
         ++updates;
     }
@@ -401,7 +447,7 @@ void ReferencePbf::solve() {
     m_stats.iterationsLastSubstep = updates;
 }
 
-void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1) {
+void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1, Pushed& pushed) {
     const float r = m_c.radius;
     for (const Collider& c : m_colliders) {
         Body* body = c.body != kNoBody ? &m_bodies[c.body] : nullptr;
@@ -432,8 +478,13 @@ void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1) {
         // A body takes the opposite of its push-out and friction together (docs/bodies.md,
         // "Reaction"), with the moment arm from where the particle ends (the same moment as from
         // where it started, since dx x dx = 0, up to rounding).
-        if (body)
+        if (body) {
             addReaction(*body, x, x - xBefore);
+            if (pushed.body == kNoBody || pushed.body == c.body) {
+                pushed.body = c.body;
+                pushed.sum += x - xBefore;
+            }
+        }
     }
 }
 

@@ -26,6 +26,11 @@ struct ReferenceCollider {
     glm::vec3 centerOfMass{0.0f};
     /// Bodies only: the pose the body is held at; unset, the placement's pose at t = 0.
     std::optional<rt::ColliderPose> bodyPose;
+    /// Bodies only: its mass [kg] and velocity at the substep start [m/s], which decide how much
+    /// of the held particles' reaction it takes (docs/bodies.md, "Particles held against a
+    /// wall"); a mass of 0 takes none of it.
+    double mass = 0.0;
+    glm::vec3 linearVelocity{0.0f};
 };
 
 /// Runs the PBF step of docs/pbf.md on the CPU, one particle at a time, as the contract the GPU
@@ -106,6 +111,9 @@ public:
     /// -m sum (x - c) x dx / dt^2, x the particle's position after the correction dx; after
     /// step(), the mean over its substeps.
     glm::dvec3 bodyTorque(std::size_t b) const;
+    /// The force the particles a domain wall held against body b would have given it, before
+    /// the share that only stops the body (of the last step(), as bodyForce) [N].
+    glm::dvec3 bodyHeldForce(std::size_t b) const;
 
     /// Particles of the blocks left out because their centre started inside a body.
     std::uint32_t particlesRemovedAtSpawn() const { return m_removedAtSpawn; }
@@ -124,8 +132,13 @@ private:
         std::size_t collider = 0;
         rt::ColliderPose pose;
         glm::vec3 centerOfMass{0.0f};
+        double mass = 0.0;
+        glm::dvec3 velocity{0.0};  // at the substep start [m/s]
         glm::dvec3 sumDx{0.0};     // sum dx of the current substep [m]
         glm::dvec3 sumMoment{0.0}; // sum (x - c) x dx of the current substep [m^2]
+        glm::dvec3 heldDx{0.0};    // the collision pushes a domain wall undid [m]
+        glm::dvec3 heldMoment{0.0}; // [m^2]
+        glm::dvec3 heldForce{0.0}; // of heldDx, before the share [N]
         glm::dvec3 force{0.0};     // of the last substep, or the mean over the last step [N]
         glm::dvec3 torque{0.0};    // [N m]
     };
@@ -139,9 +152,15 @@ private:
     float boundaryShare(float phi) const;
     float boundaryShareSlope(float phi) const;
     void addReaction(Body& body, glm::vec3 x, glm::vec3 dx);
+    void addHeld(Body& body, glm::vec3 x, glm::vec3 dx);
     void startBodyStep();
     void finishBodySubstep(double share);
-    void collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1);
+    /// The body whose push-out moved a particle in collide(), and the sum of those pushes.
+    struct Pushed {
+        std::uint32_t body = kNoBody;
+        glm::vec3 sum{0.0f};
+    };
+    void collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1, Pushed& pushed);
     void vorticityAndXsph(std::vector<glm::vec3>& velocity) const;
     void finishStats();
 
