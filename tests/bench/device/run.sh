@@ -148,7 +148,7 @@ publish
 
 # What dynamic bodies cost (issue 13): tests/bench/pbf/bodies.py's pool with 0, 1, 16 and 64
 # floating crates, at its llvmpipe spacing and at 5 mm, each with its fluid-only run.
-bsteps=200
+bsteps=100
 [ $quick = 1 ] && bsteps=2
 for tag in s20mm s5mm; do
   [ $quick = 1 ] && [ $tag = s5mm ] && continue
