@@ -7,10 +7,10 @@
 #
 # Works in /tmp/sluice-device-work: gpu.txt, gl-info.txt, one log and one JSON per benchmark,
 # bake.md, shots/ (a picture of every shipped scene in both surface modes), and summary.txt,
-# which states each floor with the measured figure. After every phase it puts summary.txt and
-# results.tar.gz (all of it but the baked asset) into $OUT (default /tmp/sluice-device): the run
-# tool brings back only a few files, and none of a call that ran past its limit but those
-# already there. Needs no Python. --quick: few steps and no
+# which states each floor with the measured figure. After every phase it puts summary.txt,
+# results.tar.gz (all of it but the baked asset and the pictures) and shots.tar.gz into $OUT
+# (default /tmp/sluice-device): the run tool brings back only a few files, and of a call that ran
+# past its limit only those already there. Needs no Python. --quick: few steps and no
 # 1M-particle scenes, to try the script on llvmpipe.
 #
 # Exit status: 0 when everything ran (whether or not a floor is met: summary.txt says), 1 when
@@ -100,7 +100,9 @@ publish() {
     grep -E 'max|mismatch' "$out/validate-armadillo.log" 2>/dev/null | head -n 4
   } >"$out/summary.txt"
   cp "$out/summary.txt" "$final/summary.txt"
-  tar -czf "$final/results.tar.gz" -C "$out" --exclude='*.slc' .
+  tar -czf "$final/results.tar.gz" -C "$out" --exclude='*.slc' --exclude=./shots .
+  # The pictures apart: if they are over what the run tool brings back, the figures still come.
+  tar -czf "$final/shots.tar.gz" -C "$out" shots
 }
 
 (nvidia-smi -L 2>/dev/null || echo "no nvidia-smi") >"$out/gpu.txt"
