@@ -146,7 +146,7 @@ struct Simulation::Impl {
         confine, stats, bodies;
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
-    gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, omega, statsBuf;
+    gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
     gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
     gpu::Buffer colliderBuf, sdfBuf, params;
     gpu::Buffer bodyBuf, bodySums, bodySamples; // GpuBody[], fixed-point sums, contact points
@@ -229,7 +229,7 @@ Result<void> Simulation::Impl::allocate() {
         {&id[0], n * u, "id 0"},          {&id[1], n * u, "id 1"},
         {&hash, n * u, "hash"},
         {&rank, n * u, "rank"},           {&sortedToOld, n * u, "sortedToOld"},
-        {&omega, n * v4, "omega"},        {&cellCount, tableSize * u, "cellCount"},
+        {&cellCount, tableSize * u, "cellCount"},
         {&neighbourMask, n * shared::kNeighbourMaskWords * u, "neighbour mask"},
         {&cellStart, tableSize * u, "cellStart"},
         {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats),
@@ -252,9 +252,10 @@ Result<void> Simulation::Impl::allocate() {
     for (const Alloc& a : allocs)
         total += a.bytes;
     gpuBytes = total;
-    // Per particle of capacity: the particle arrays (7 vec4 + omega, 5 uint), the neighbour
-    // mask and the hash table's cellCount + cellStart, spread over the capacity and rounded up.
-    bytesPerParticle = 7 * v4 + 5 * u + v4 + shared::kNeighbourMaskWords * u +
+    // Per particle of capacity: the particle arrays (7 vec4, 5 uint; the vorticity omega lives
+    // in the idle position buffer, applyVorticityAndXsph), the neighbour mask and the hash
+    // table's cellCount + cellStart, spread over the capacity and rounded up.
+    bytesPerParticle = 7 * v4 + 5 * u + shared::kNeighbourMaskWords * u +
                        (2 * u * tableSize + n - 1) / n;
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
@@ -463,7 +464,6 @@ void Simulation::Impl::bindSharedBuffers() const {
     hash.bindStorage(shared::kBindHash);
     rank.bindStorage(shared::kBindRank);
     sortedToOld.bindStorage(shared::kBindSortedToOld);
-    omega.bindStorage(shared::kBindOmega);
     neighbourMask.bindStorage(shared::kBindNeighbourMask);
     bodyBuf.bindStorage(shared::kBindBodies);
     bodySums.bindStorage(shared::kBindBodySums);
@@ -547,10 +547,13 @@ void Simulation::Impl::updateVelocities() {
     end(Pass::Velocity);
 }
 
-// Step 6: vorticity confinement and XSPH, back into vel[cur].
+// Step 6: vorticity confinement and XSPH, back into vel[cur]. The vorticity omega goes into
+// pos[1 - cur], the positions before this substep's reorder, which nothing reads again: the
+// next reorder overwrites them (16 bytes a particle saved).
 void Simulation::Impl::applyVorticityAndXsph() {
     begin(Pass::Vorticity);
     const bool withVorticity = scene.simulation.vorticity > 0.0f;
+    pos[1 - cur].bindStorage(shared::kBindOmega);
     vel[1 - cur].bindStorage(shared::kBindVelIn);
     if (withVorticity) {
         dispatch(vorticity, count);
