@@ -50,8 +50,10 @@ shared vec4 sPairNormal[kGroupSize];
 // The contact points near a wall or a static collider, one bit each, for the sequential pass:
 // the body's lanes test a chunk of its points at once, its lane 0 then resolves the marked ones
 // in order and clears their words.
+#if SLUICE_BODY_GROUP_SIZE > 64
 const uint kCandidateWords = 1024u;
 shared uint sCandidates[kCandidateWords];
+#endif
 // What each body may touch in this sweep (Reach, packed by lane 0): wall bits, static mask.
 shared uvec2 sReach[kBodyLocalSize];
 
@@ -93,6 +95,22 @@ double sumAt(uint lo) {
     uint hi = bodySums[lo + 1u];
     double high = hi >= 0x80000000u ? double(hi) - 4294967296.0 : double(hi);
     return high * 4294967296.0 + double(bodySums[lo]);
+}
+
+// Three consecutive 64-bit sums from word lo: a vector's x, y and z.
+vec3 sum3At(uint lo) {
+    return vec3(sumAt(lo), sumAt(lo + 2u), sumAt(lo + 4u));
+}
+
+// Body b's contact point s relative to its centre of mass, in the asset's axes at world scale.
+vec3 armOf(uint b, uint s) {
+    return bodies[b].scale * (samples[bodies[b].sampleOffset + s].xyz - bodies[b].centerLocal);
+}
+
+// How far world point w lies beyond the wall below and the wall above on axis a: the domain's
+// walls sit one particle radius beyond the box particles are kept in.
+vec2 wallDepths(int a, vec3 w) {
+    return vec2((P.domainMin[a] - PBF_RADIUS) - w[a], w[a] - (P.domainMax[a] + PBF_RADIUS));
 }
 
 // Generalised inverse mass of body o at arm r along direction n (Mueller et al. 2020, eq. 2).
@@ -186,7 +204,7 @@ void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, 
         return;
     mat3 invI = worldInvInertia(b, q);
     for (uint s = lane; s < body.sampleCount; s += lanes) {
-        vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
+        vec3 arm = armOf(b, s);
         vec3 pStart = x0 + rotate(q0, arm);
         vec3 w = x + rotate(q, arm);
         for (uint o = 0u; o < P.bodyCount; ++o) {
@@ -273,9 +291,8 @@ bool staticInReach(Reach r, uint c) {
 // it may touch: the points the sequential pass below visits.
 bool nearWallOrStatic(Reach r, vec3 w, float margin) {
     for (int a = 0; a < 3; ++a) {
-        if (r.wallLo[a] && (P.domainMin[a] - PBF_RADIUS) - w[a] > -margin)
-            return true;
-        if (r.wallHi[a] && w[a] - (P.domainMax[a] + PBF_RADIUS) > -margin)
+        vec2 beyond = wallDepths(a, w);
+        if ((r.wallLo[a] && beyond.x > -margin) || (r.wallHi[a] && beyond.y > -margin))
             return true;
     }
     for (uint c = 0u; c < P.colliderCount; ++c) {
@@ -293,15 +310,13 @@ bool nearWallOrStatic(Reach r, vec3 w, float margin) {
 void wallsAndStatics(uint b, Reach r, uint s, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q,
                      bool first, inout float deepest, inout uint touching,
                      inout vec3 normalSum) {
-    vec3 arm = bodies[b].scale * (samples[bodies[b].sampleOffset + s].xyz - bodies[b].centerLocal);
+    vec3 arm = armOf(b, s);
     vec3 pStart = x0 + rotate(q0, arm);
-    // The domain's walls sit one particle radius beyond the box particles are kept in.
     for (int a = 0; a < 3; ++a) {
         if (!r.wallLo[a] && !r.wallHi[a])
             continue;
-        vec3 w = x + rotate(q, arm);
-        float below = (P.domainMin[a] - PBF_RADIUS) - w[a];
-        float above = w[a] - (P.domainMax[a] + PBF_RADIUS);
+        vec2 beyond = wallDepths(a, x + rotate(q, arm));
+        float below = beyond.x, above = beyond.y;
         vec3 axis = vec3(0.0);
         axis[a] = 1.0;
         if (below > 0.0 || above > 0.0) {
@@ -367,9 +382,8 @@ void main() {
     if (lead) {
         // The fluid's reaction: every particle the body pushed by dx gave it -m dx / dt.
         uint base = b * kBodySumWords;
-        vec3 sumDx = vec3(sumAt(base), sumAt(base + 2u), sumAt(base + 4u)) / bodies[b].sumScale;
-        vec3 sumMoment =
-            vec3(sumAt(base + 6u), sumAt(base + 8u), sumAt(base + 10u)) / bodies[b].momentScale;
+        vec3 sumDx = sum3At(base) / bodies[b].sumScale;
+        vec3 sumMoment = sum3At(base + 6u) / bodies[b].momentScale;
         vec3 impulse = -P.particleMass * P.invDt * sumDx;
         vec3 angularImpulse = -P.particleMass * P.invDt * sumMoment;
         force = impulse * P.invDt;
@@ -381,10 +395,8 @@ void main() {
         // body moving into them (along the reaction's direction), like a contact with no
         // bounce; none of it pushes the body away (docs/bodies.md).
         uint held = base + kBodyHeldWords;
-        vec3 heldImpulse = -P.particleMass * P.invDt *
-            vec3(sumAt(held), sumAt(held + 2u), sumAt(held + 4u)) / bodies[b].sumScale;
-        vec3 heldAngular = -P.particleMass * P.invDt *
-            vec3(sumAt(held + 6u), sumAt(held + 8u), sumAt(held + 10u)) / bodies[b].momentScale;
+        vec3 heldImpulse = -P.particleMass * P.invDt * sum3At(held) / bodies[b].sumScale;
+        vec3 heldAngular = -P.particleMass * P.invDt * sum3At(held + 6u) / bodies[b].momentScale;
         float heldLength = length(heldImpulse);
         if (heldLength > 0.0) {
             float approach = -dot(v, heldImpulse / heldLength);
@@ -412,6 +424,7 @@ void main() {
     float deepest = 0.0;
     uint touching = 0u;
     vec3 normalSum = vec3(0.0);
+#if SLUICE_BODY_GROUP_SIZE > 64
     // Candidate words per body, and the chunks of points the largest body needs: the same in
     // every invocation, as the barriers need.
     uint words = min(kMaxBodySamples / 32u, kCandidateWords / max(P.bodyCount, 1u));
@@ -421,6 +434,7 @@ void main() {
     uint chunks = (most + 32u * words - 1u) / (32u * words);
     for (uint k = t; k < kCandidateWords; k += kGroupSize)
         sCandidates[k] = 0u;
+#endif
     for (uint it = 0u; it < kContactSweeps; ++it) {
         bool first = it == 0u;
         if (lead) {
@@ -493,11 +507,9 @@ void main() {
             if (reaches) {
                 vec3 xc = sPosition[b];
                 vec4 qc = sOrientation[b];
-                GpuBody body = bodies[b];
-                uint endPoint = min(body.sampleCount, firstPoint + 32u * words);
+                uint endPoint = min(bodies[b].sampleCount, firstPoint + 32u * words);
                 for (uint s = firstPoint + lane; s < endPoint; s += lanes) {
-                    vec3 arm = body.scale * (samples[body.sampleOffset + s].xyz - body.centerLocal);
-                    if (nearWallOrStatic(r, xc + rotate(qc, arm), PBF_RADIUS)) {
+                    if (nearWallOrStatic(r, xc + rotate(qc, armOf(b, s)), PBF_RADIUS)) {
                         uint bit = s - firstPoint;
                         atomicOr(sCandidates[b * words + bit / 32u], 1u << (bit % 32u));
                     }

@@ -208,16 +208,23 @@ void ReferencePbf::finishBodySubstep(double share) {
     }
 }
 
-void ReferencePbf::addReaction(Body& body, glm::vec3 x, glm::vec3 dx) {
+namespace {
+
+// dx into `sum` and (x - c) x dx into `moment`, in double.
+void addSums(glm::dvec3& sum, glm::dvec3& moment, glm::vec3 c, glm::vec3 x, glm::vec3 dx) {
     const glm::dvec3 d(dx);
-    body.sumDx += d;
-    body.sumMoment += glm::cross(glm::dvec3(x) - glm::dvec3(body.centerOfMass), d);
+    sum += d;
+    moment += glm::cross(glm::dvec3(x) - glm::dvec3(c), d);
+}
+
+} // namespace
+
+void ReferencePbf::addReaction(Body& body, glm::vec3 x, glm::vec3 dx) {
+    addSums(body.sumDx, body.sumMoment, body.centerOfMass, x, dx);
 }
 
 void ReferencePbf::addHeld(Body& body, glm::vec3 x, glm::vec3 dx) {
-    const glm::dvec3 d(dx);
-    body.heldDx += d;
-    body.heldMoment += glm::cross(glm::dvec3(x) - glm::dvec3(body.centerOfMass), d);
+    addSums(body.heldDx, body.heldMoment, body.centerOfMass, x, dx);
 }
 
 glm::dvec3 ReferencePbf::bodyForce(std::size_t b) const {
