@@ -5,6 +5,10 @@
 #
 #   bash tests/bench/device/run.sh [--quick]
 #
+# SLUICE_DEVICE_PHASES (default "shaders solver render bodies bake") picks the phases, so a
+# re-run after a fix spends the device's minutes on what changed; SLUICE_BAKE_MESHES (default
+# "armadillo bunny00") and SLUICE_BAKE_REPEAT (5) size the baker phase.
+#
 # Works in /tmp/sluice-device-work: gpu.txt, gl-info.txt, one log and one JSON per benchmark,
 # bake.md, shots/ (a picture of every shipped scene in both surface modes), and summary.txt,
 # which states each floor with the measured figure. After every phase it puts summary.txt,
@@ -23,6 +27,8 @@ final=${OUT:-/tmp/sluice-device}
 out=/tmp/sluice-device-work
 rm -rf "$out" && mkdir -p "$out/shots" "$final"
 failed=0
+phases=${SLUICE_DEVICE_PHASES:-shaders solver render bodies bake}
+phase() { case " $phases " in *" $1 "*) return 0 ;; esac; return 1; }
 
 # The GL/EGL dispatch libraries and NVIDIA's EGL vendor file, where this is the NVIDIA machine.
 if ls .gl/*.deb >/dev/null 2>&1 && command -v dpkg >/dev/null && [ "$(id -u)" = 0 ] &&
@@ -36,7 +42,9 @@ pack=/tmp/sluice-pack
 rm -rf "$pack" && mkdir -p "$pack" && tar -xzf .devpack/pack.tar.gz -C "$pack" || exit 1
 export LD_LIBRARY_PATH=$pack/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 bin=$pack/bin
-scenes=.devpack/scenes
+# The scenes are unpacked into a copy, so .devpack stays under the carry limit for the next call.
+scenes=/tmp/sluice-device-scenes
+rm -rf "$scenes" && cp -r .devpack/scenes "$scenes" || exit 1
 meshes=.devpack/meshes
 for packed in "$scenes"/*.slc.gz; do
   [ -f "$packed" ] && { gunzip -f "$packed" || exit 1; }
@@ -72,12 +80,23 @@ publish() {
       awk -v s="$(json "$f" medianStepMs)" -v n="$(json "$f" substeps)" -v p="$(json "$f" particles)" \
         'BEGIN { printf "1M dam break, 4 iterations (%d particles): %.3f ms per substep (full solver step), %.3f ms per %d-substep frame (floor: <= 4 ms per step)\n", p, s / n, s, n }'
     fi
+    f=$out/dam-break-1m.json
+    if [ -f "$f" ]; then
+      awk -v s="$(json "$f" medianStepMs)" -v e="$(json "$f" emit)" -v n="$(json "$f" substeps)" \
+        'BEGIN { printf "1M dam break, shipped defaults: %.3f ms per substep (floor: <= 1.0), emit %.4f ms per substep (floor: <= 0.02)\n", s / n, e / n }'
+    fi
     f=$out/render.json
     if [ -f "$f" ]; then
       echo "impostor spheres, $(json "$f" particles) particles at $(json "$f" width)x$(json "$f" height):" \
         "$(json "$f" fluid) ms GPU (floor at 1M, 1920x1080: <= 2 ms), frame $(json "$f" medianFrameMs)" \
         "ms, wall $(json "$f" wallMsPerFrame) ms per waited-for frame;" \
         "timers cover drawing: $(json "$f" gpuTimersCoverDrawing)"
+    fi
+    f=$out/render-fluid.json
+    if [ -f "$f" ]; then
+      echo "screen-space surface, $(json "$f" particles) particles at $(json "$f" width)x$(json "$f" height):" \
+        "frame $(json "$f" medianFrameMs) ms GPU (floor at 1M, 1920x1080: <= 3 ms), wall" \
+        "$(json "$f" wallMsPerFrame) ms per waited-for frame"
     fi
     for f in "$out"/wave-sphere-15k.json "$out"/dam-break-1m-4it.json; do
       [ -f "$f" ] && echo "$(basename "$f" .json): $(json "$f" bytesPerParticle) bytes per particle (floor: <= 200)"
@@ -96,7 +115,7 @@ publish() {
     done
     echo "bake (bake_bench, seconds; floors: <= 0.03 s at 128^3, <= 0.2 s at 256^3):"
     grep -E '^\|' "$out/bench-bake.log" 2>/dev/null
-    grep -E '^\|' "$out/bench-bake-bunny.log" 2>/dev/null
+    grep -E '^\|' "$out/bench-bake-bunny00.log" 2>/dev/null
     grep -E 'max|mismatch' "$out/validate-armadillo.log" 2>/dev/null | head -n 4
   } >"$out/summary.txt"
   cp "$out/summary.txt" "$final/summary.txt"
@@ -114,61 +133,84 @@ cp "$out/gl-info.log" "$out/gl-info.txt"
 # surface modes (the render passes), and a mesh baked on the GPU and validated against CGAL.
 steps=60
 [ $quick = 1 ] && steps=4
-for scene in "$scenes"/*.json; do
-  name=$(basename "$scene" .json)
-  case $name in *-15k|*-1m|*-1m-4it|bodies-*) continue ;; esac
-  for surface in spheres fluid; do
-    step "shader-$name-$surface" "$bin/sluice-play" "$scene" --headless --check --quiet \
-      --steps $steps --screenshot-at $steps --shots "$out/shots/$surface" --surface $surface \
-      --size 1280x720
-  done
-done
 res=128
 [ $quick = 1 ] && res=32
-step bake-armadillo "$bin/sluice-bake" bake "$meshes/armadillo.off" --backend gpu \
-  --resolution $res -o "$out/armadillo.slc"
-step validate-armadillo "$bin/sluice-bake" validate "$out/armadillo.slc" "$meshes/armadillo.off"
-publish
-
-# The solver floors. The 15k scene keeps the shipped adaptive iterations; the 1M scene runs
-# exactly 4 iterations a substep and is then drawn as 1M impostor spheres at 1920x1080.
-if [ $quick = 1 ]; then
-  step bench-15k "$bin/sluice-play" "$scenes/wave-sphere-15k.json" --bench --warmup 2 --steps 3 \
-    --bench-json "$out/wave-sphere-15k.json"
-  step bench-render "$bin/sluice-play" "$scenes/dam-break.json" --bench --warmup 1 --steps 1 \
-    --bench-frames 3 --bench-json "$out/render.json"
-else
-  step bench-15k "$bin/sluice-play" "$scenes/wave-sphere-15k.json" --bench --warmup 300 \
-    --steps 3000 --bench-json "$out/wave-sphere-15k.json"
-  step bench-1m-4it "$bin/sluice-play" "$scenes/dam-break-1m-4it.json" --bench --warmup 30 \
-    --steps 200 --bench-frames 300 --bench-json "$out/dam-break-1m-4it.json"
-  step bench-1m "$bin/sluice-play" "$scenes/dam-break-1m.json" --bench --warmup 30 --steps 200 \
-    --bench-json "$out/dam-break-1m.json"
-  cp "$out/dam-break-1m-4it.json" "$out/render.json" 2>/dev/null
+if phase shaders; then
+  for scene in "$scenes"/*.json; do
+    name=$(basename "$scene" .json)
+    case $name in *-15k|*-1m|*-1m-4it|bodies-*) continue ;; esac
+    for surface in spheres fluid; do
+      step "shader-$name-$surface" "$bin/sluice-play" "$scene" --headless --check --quiet \
+        --steps $steps --screenshot-at $steps --shots "$out/shots/$surface" --surface $surface \
+        --size 1280x720
+    done
+  done
+  step bake-armadillo "$bin/sluice-bake" bake "$meshes/armadillo.off" --backend gpu \
+    --resolution $res -o "$out/armadillo.slc"
+  step validate-armadillo "$bin/sluice-bake" validate "$out/armadillo.slc" "$meshes/armadillo.off"
+  publish
 fi
-publish
+
+# The solver floors. The 15k scene keeps the shipped adaptive iterations; the 1M scenes run
+# exactly 4 iterations a substep and the shipped defaults.
+if phase solver; then
+  if [ $quick = 1 ]; then
+    step bench-15k "$bin/sluice-play" "$scenes/wave-sphere-15k.json" --bench --warmup 2 \
+      --steps 3 --bench-json "$out/wave-sphere-15k.json"
+  else
+    step bench-15k "$bin/sluice-play" "$scenes/wave-sphere-15k.json" --bench --warmup 300 \
+      --steps 3000 --bench-json "$out/wave-sphere-15k.json"
+    step bench-1m-4it "$bin/sluice-play" "$scenes/dam-break-1m-4it.json" --bench --warmup 30 \
+      --steps 200 --bench-json "$out/dam-break-1m-4it.json"
+    step bench-1m "$bin/sluice-play" "$scenes/dam-break-1m.json" --bench --warmup 30 \
+      --steps 200 --bench-json "$out/dam-break-1m.json"
+  fi
+  publish
+fi
+
+# The render floors: the 1M dam break after 35 frames of 4 iterations, drawn at 1920x1080 as
+# impostor spheres and as the screen-space surface.
+if phase render; then
+  rscene=$scenes/dam-break-1m-4it.json
+  rwarm=30 rsteps=5 rframes=300
+  [ $quick = 1 ] && rscene=$scenes/dam-break.json rwarm=1 rsteps=1 rframes=3
+  for surface in spheres fluid; do
+    json_out=$out/render.json
+    [ $surface = fluid ] && json_out=$out/render-fluid.json
+    step "bench-render-$surface" "$bin/sluice-play" "$rscene" --bench --warmup $rwarm \
+      --steps $rsteps --bench-frames $rframes --surface $surface --bench-json "$json_out"
+  done
+  publish
+fi
 
 # What dynamic bodies cost (issue 13): tests/bench/pbf/bodies.py's pool with 0, 1, 16 and 64
 # floating crates, at its llvmpipe spacing and at 5 mm, each with its fluid-only run.
 bsteps=100
 [ $quick = 1 ] && bsteps=2
-for tag in s20mm s5mm; do
-  [ $quick = 1 ] && [ $tag = s5mm ] && continue
-  for n in 0 1 16 64; do
-    step "bench-bodies-$n-$tag" "$bin/sluice-play" "$scenes/bodies-$n-$tag.json" --bench \
-      --warmup 30 --steps $bsteps --bench-json "$out/bodies-$n-$tag.json"
+if phase bodies; then
+  for tag in s20mm s5mm; do
+    [ $quick = 1 ] && [ $tag = s5mm ] && continue
+    for n in 0 1 16 64; do
+      step "bench-bodies-$n-$tag" "$bin/sluice-play" "$scenes/bodies-$n-$tag.json" --bench \
+        --warmup 30 --steps $bsteps --bench-json "$out/bodies-$n-$tag.json"
+    done
   done
-done
-publish
+  publish
+fi
 
 # The baker floors (and the CPU peers on this machine's cores).
-if [ $quick = 1 ]; then
-  step bench-bake "$bin/bake_bench" "$meshes/armadillo.off" 32 --repeat 1
-else
-  step bench-bake "$bin/bake_bench" "$meshes/armadillo.off" 128 256 --repeat 5
-  step bench-bake-bunny "$bin/bake_bench" "$meshes/bunny00.off" 128 256 --repeat 5
+if phase bake; then
+  for mesh in ${SLUICE_BAKE_MESHES:-armadillo bunny00}; do
+    log=bench-bake-$mesh
+    [ $mesh = armadillo ] && log=bench-bake
+    if [ $quick = 1 ]; then
+      step $log "$bin/bake_bench" "$meshes/$mesh.off" 32 --repeat 1
+    else
+      step $log "$bin/bake_bench" "$meshes/$mesh.off" 128 256 --repeat "${SLUICE_BAKE_REPEAT:-5}"
+    fi
+  done
+  cp "$out/bench-bake.log" "$out/bake.md" 2>/dev/null
 fi
-cp "$out/bench-bake.log" "$out/bake.md" 2>/dev/null
 
 publish
 cat "$out/summary.txt"
