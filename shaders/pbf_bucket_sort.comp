@@ -6,7 +6,6 @@
 
 layout(local_size_x = kPbfLocalSize) in;
 
-layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
 layout(std430, binding = kBindSortedToOld) buffer SortedToOld { uint sortedToOld[]; };
 
@@ -14,10 +13,10 @@ void main() {
     uint b = SLUICE_GLOBAL_ID.x;
     if (b >= P.activeBuckets)
         return;
-    uint n = cellCount[b];
+    uint s = cellStart[b];
+    uint n = cellStart[b + 1u] - s;
     if (n < 2u)
         return;
-    uint s = cellStart[b];
     for (uint a = 1u; a < n; ++a) {
         uint key = sortedToOld[s + a];
         uint k = a;

@@ -11,7 +11,6 @@ layout(std430, binding = kBindVelIn) readonly buffer VelIn { vec4 vel[]; };
 layout(std430, binding = kBindVelOut) writeonly buffer VelOut { vec4 velOut[]; };
 layout(std430, binding = kBindOmega) readonly buffer Omega { vec4 omega[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
-layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
 layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbourMask[]; };
 

@@ -13,7 +13,6 @@ uniform uint iteration; // k, the solver iteration of this dispatch
 // x* (xyz); lambda writes its lambda_i into w, for pbf_delta.comp (one read per neighbour).
 layout(std430, binding = kBindPredIn) buffer PredIn { vec4 pred[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
-layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
 layout(std430, binding = kBindNeighbourMask) buffer Mask { uint neighbourMask[]; };
 layout(std430, binding = kBindVelIn) buffer VelIn { vec4 vel[]; };
@@ -77,6 +76,8 @@ void main() {
         return;
 
     uint i = SLUICE_GLOBAL_ID.x;
+    if (i == 0u)
+        atomicAdd(stats.solveDispatches, 1u); // this dispatch ran (--bench counts them)
     float c = 0.0;
     if (i < PBF_COUNT) {
         vec3 xi = pred[i].xyz;

@@ -1,5 +1,7 @@
 // PBF step 2 and the counting half of the neighbour sort (docs/pbf.md): apply gravity, predict
-// x*, and count every particle into the hash bucket of its cell.
+// x*, and count every particle into the hash bucket of its cell (the scan of the last substep
+// left the counts at zero). Invocation 0 also opens the substep's solve: every iteration's
+// indirect group counts, no stop yet, empty error sums; the CPU uploads nothing per substep.
 #version 450 core
 
 #include "shared/PbfGlsl.h"
@@ -12,10 +14,31 @@ layout(std430, binding = kBindPredOut) writeonly buffer PredOut { vec4 pred[]; }
 layout(std430, binding = kBindCellCount) buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindHash) writeonly buffer Hash { uint hash[]; };
 layout(std430, binding = kBindRank) writeonly buffer Rank { uint rank[]; };
-layout(std430, binding = kBindStats) buffer Stats { PbfStats stats; };
+layout(std430, binding = kBindStats) buffer Stats {
+    PbfStats stats;
+    PbfIterationStats iterations[];
+};
+layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
+
+// What pbf_lambda.comp and pbf_delta.comp start each substep from. Nothing else in this pass
+// touches these words.
+void openSolve() {
+    uint groups = (PBF_COUNT + kPbfLocalSize - 1u) / kPbfLocalSize;
+    for (uint it = 0u; it < P.maxIterations; ++it) {
+        for (uint c = 0u; c < P.solveChunks; ++c) {
+            uint first = c * kPbfMaxGroupsPerDispatch;
+            uint n = first < groups ? min(groups - first, kPbfMaxGroupsPerDispatch) : 0u;
+            args[it * P.solveChunks + c] = PbfDispatchArgs(n, 1u, 1u);
+        }
+        iterations[it] = PbfIterationStats(0u, 0u, 0u, 0u);
+    }
+    stats.stopIteration = kPbfNoStop;
+}
 
 void main() {
     uint i = SLUICE_GLOBAL_ID.x;
+    if (i == 0u)
+        openSolve();
     if (i >= PBF_COUNT)
         return;
     vec3 v = vel[i].xyz + PBF_DT * P.gravity;

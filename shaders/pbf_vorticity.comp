@@ -9,7 +9,6 @@ layout(std430, binding = kBindPosIn) readonly buffer PosIn { vec4 pos[]; };
 layout(std430, binding = kBindVelIn) readonly buffer VelIn { vec4 vel[]; };
 layout(std430, binding = kBindOmega) writeonly buffer Omega { vec4 omega[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
-layout(std430, binding = kBindCellCount) readonly buffer CellCount { uint cellCount[]; };
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
 layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbourMask[]; };
 

@@ -113,6 +113,8 @@ struct StepFigures {
     std::uint64_t maskOverflow = 0;          ///< particle-substeps past the neighbour mask
     std::uint32_t maxCandidates = 0;         ///< most candidates of one particle
     std::uint32_t maxNeighbours = 0;         ///< most neighbours of one particle
+    GpuCommandCount commands;                ///< queued by the measured steps
+    std::uint64_t solveDispatchesRun = 0;    ///< lambda and delta dispatches that launched groups
 };
 
 /// The renderer of --bench-frames, created before the solver takes the colliders (it uploads
@@ -137,6 +139,7 @@ StepFigures measureSteps(Simulation& sim, const BenchOptions& o) {
     sim.drainPassTimes();
     StepFigures f;
     f.passMs.resize(std::size_t(Pass::Count));
+    const GpuCommandCount before = sim.commandCount();
     const auto start = std::chrono::steady_clock::now();
     for (std::uint64_t i = 0; i < o.steps; ++i) {
         sim.step();
@@ -154,7 +157,9 @@ StepFigures measureSteps(Simulation& sim, const BenchOptions& o) {
         f.maskOverflow += stats.maskOverflow;
         f.maxCandidates = std::max(f.maxCandidates, stats.maxCandidates);
         f.maxNeighbours = std::max(f.maxNeighbours, stats.maxNeighbours);
+        f.solveDispatchesRun += stats.solveDispatches;
     }
+    f.commands = sim.commandCount() - before;
     f.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return f;
 }
@@ -173,6 +178,9 @@ struct StepSummary {
     std::uint64_t maskOverflow = 0;
     std::uint32_t maxCandidates = 0;
     std::uint32_t maxNeighbours = 0;
+    double dispatchesPerSubstep = 0.0;    ///< issued, the step statistics' share included
+    double dispatchesRunPerSubstep = 0.0; ///< of them, the ones that launched work groups
+    double barriersPerSubstep = 0.0;
 };
 
 StepSummary summarize(const Simulation& sim, const format::Scene& scene, const BenchOptions& o,
@@ -194,6 +202,14 @@ StepSummary summarize(const Simulation& sim, const format::Scene& scene, const B
     s.maskOverflow = f.maskOverflow;
     s.maxCandidates = f.maxCandidates;
     s.maxNeighbours = f.maxNeighbours;
+    // Per substep, the step statistics' pass spread over the substeps. An idle indirect solve
+    // dispatch is issued and counted, but launches nothing; the GPU counts the ones that ran.
+    const double substepsMeasured = steps * std::max(1.0, s.substeps);
+    s.dispatchesPerSubstep = double(f.commands.dispatches) / substepsMeasured;
+    s.barriersPerSubstep = double(f.commands.barriers) / substepsMeasured;
+    const double idle = double(f.commands.indirect) - double(f.solveDispatchesRun);
+    s.dispatchesRunPerSubstep = (double(f.commands.dispatches) - std::max(idle, 0.0)) /
+                                substepsMeasured;
     const glm::uvec3 grid = sim.neighbourGridCells();
     s.grid = grid.x > 0 ? "dense " + std::to_string(grid.x) + "x" + std::to_string(grid.y) + "x" +
                               std::to_string(grid.z) + " cells"
@@ -219,6 +235,9 @@ nlohmann::json printSteps(const Simulation& sim, const format::Scene& scene,
                 "step", s.stepMedian, s.stepMedian > 0 ? 1e3 / s.stepMedian : 0.0,
                 s.stepsPerSecondWall, s.throughput, static_cast<unsigned long long>(sim.gpuBytes()),
                 static_cast<unsigned long long>(sim.bytesPerParticle()));
+    std::printf("  GPU commands per substep: %.2f dispatches (%.2f launched work; the rest are "
+                "solver iterations after the early stop), %.2f memory barriers\n",
+                s.dispatchesPerSubstep, s.dispatchesRunPerSubstep, s.barriersPerSubstep);
     std::printf("  neighbour grid: %s\n", s.grid.c_str());
     std::printf("  neighbour mask: %u bits per particle; most candidates %u, most neighbours %u; "
                 "%llu particle-substeps past the mask (tested in full)\n",
@@ -254,6 +273,9 @@ Result<void> writeBenchJson(const BenchOptions& o, const format::Scene& scene,
         {"maskOverflow", s.maskOverflow},
         {"maxCandidates", s.maxCandidates},
         {"maxNeighbours", s.maxNeighbours},
+        {"dispatchesPerSubstep", s.dispatchesPerSubstep},
+        {"dispatchesRunPerSubstep", s.dispatchesRunPerSubstep},
+        {"barriersPerSubstep", s.barriersPerSubstep},
     };
     if (!render.is_null())
         doc["render"] = render;
@@ -274,6 +296,7 @@ int runBench(const BenchOptions& o, const format::Scene& scene,
         return reportFailure(renderer.error());
     SimulationOptions options;
     options.deterministic = o.deterministic;
+    options.timers = true;
     auto sim = Simulation::create(scene, std::move(colliders), options);
     if (!sim)
         return reportFailure(sim.error());

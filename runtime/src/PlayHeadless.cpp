@@ -59,6 +59,7 @@ Result<HeadlessRun> startRun(const HeadlessOptions& o, const format::Scene& scen
     }
     SimulationOptions simOptions;
     simOptions.deterministic = o.deterministic;
+    simOptions.timers = true; // the statistics table and summary report GPU time per pass
     auto sim = Simulation::create(scene, std::move(colliders), simOptions);
     if (!sim)
         return sim.error();

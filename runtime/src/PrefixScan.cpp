@@ -1,4 +1,5 @@
-// Recursive block scan: level 0 scans the data, level l + 1 scans level l's block totals.
+// Prefix scan: one work group up to kScanSingleThreads x kScanSingleRun elements; above, the
+// recursive block scan: level 0 scans the data, level l + 1 scans level l's block totals.
 #include "PrefixScan.h"
 
 #include <string>
@@ -9,7 +10,8 @@
 namespace sluice::rt {
 
 namespace {
-constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
+constexpr std::uint64_t kMaxGroupsPerDispatch = shared::kPbfMaxGroupsPerDispatch;
+constexpr std::uint32_t kSingleMax = shared::kScanSingleThreads * shared::kScanSingleRun;
 
 std::uint32_t blocksFor(std::uint32_t count) {
     return (count + shared::kScanBlock - 1) / shared::kScanBlock;
@@ -18,14 +20,18 @@ std::uint32_t blocksFor(std::uint32_t count) {
 
 Result<PrefixScan> PrefixScan::create(std::uint32_t maxCount) {
     PrefixScan scan;
-    auto block = gpu::Program::compute("scan_block.comp", shaders::shaderSource("scan_block.comp"));
-    if (!block)
-        return block.error();
-    auto add = gpu::Program::compute("scan_add.comp", shaders::shaderSource("scan_add.comp"));
-    if (!add)
-        return add.error();
-    scan.m_block = std::move(*block);
-    scan.m_add = std::move(*add);
+    const struct {
+        gpu::Program* program;
+        const char* name;
+    } passes[] = {{&scan.m_single, "scan_single.comp"},
+                  {&scan.m_block, "scan_block.comp"},
+                  {&scan.m_add, "scan_add.comp"}};
+    for (const auto& pass : passes) {
+        auto program = gpu::Program::compute(pass.name, shaders::shaderSource(pass.name));
+        if (!program)
+            return program.error();
+        *pass.program = std::move(*program);
+    }
     std::uint32_t n = maxCount;
     do {
         n = blocksFor(n);
@@ -38,32 +44,57 @@ Result<PrefixScan> PrefixScan::create(std::uint32_t maxCount) {
     return scan;
 }
 
-void PrefixScan::exclusive(const gpu::Buffer& in, const gpu::Buffer& out,
-                           std::uint32_t count) const {
-    if (count == 0)
-        return;
-    scanLevel(in, out, count, 0);
+GpuCommandCount PrefixScan::exclusive(const gpu::Buffer& in, const gpu::Buffer& out,
+                                      std::uint32_t count) const {
+    return exclusive(in, out, ScanInput{count, count, false});
 }
 
-void PrefixScan::scanLevel(const gpu::Buffer& in, const gpu::Buffer& out, std::uint32_t count,
-                           std::size_t level) const {
+GpuCommandCount PrefixScan::exclusive(const gpu::Buffer& in, const gpu::Buffer& out,
+                                      const ScanInput& what) const {
+    SLUICE_ASSERT(what.inputCount <= what.count, "PrefixScan: more inputs than outputs");
+    SLUICE_ASSERT(!what.clearInput || in.id() != out.id(),
+                  "PrefixScan: clearing the input needs an output of its own");
+    return what.count == 0 ? GpuCommandCount{} : scanAt(in, out, what, 0);
+}
+
+GpuCommandCount PrefixScan::scanAt(const gpu::Buffer& in, const gpu::Buffer& out,
+                                   const ScanInput& what, std::size_t level) const {
+    if (what.count <= kSingleMax) {
+        in.bindStorage(shared::kBindScanInput);
+        out.bindStorage(shared::kBindScanData);
+        m_single.set("count", what.count);
+        m_single.set("inputCount", what.inputCount);
+        m_single.set("clearInput", what.clearInput ? 1u : 0u);
+        m_single.dispatch(glm::uvec3(1, 1, 1));
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        return {1, 0, 1};
+    }
+    return scanLevel(in, out, what, level);
+}
+
+GpuCommandCount PrefixScan::scanLevel(const gpu::Buffer& in, const gpu::Buffer& out,
+                                      const ScanInput& what, std::size_t level) const {
     SLUICE_ASSERT(level < m_sums.size(), "PrefixScan: more elements than create() allowed");
-    const std::uint32_t blocks = blocksFor(count);
+    const std::uint32_t blocks = blocksFor(what.count);
     const gpu::Buffer& sums = m_sums[level];
     in.bindStorage(shared::kBindScanInput);
     out.bindStorage(shared::kBindScanData);
     sums.bindStorage(shared::kBindScanSums);
-    m_block.set("count", count);
-    m_block.dispatchChunked(glm::uvec3(blocks, 1, 1), kMaxGroupsPerDispatch);
+    m_block.set("count", what.count);
+    m_block.set("inputCount", what.inputCount);
+    m_block.set("clearInput", what.clearInput ? 1u : 0u);
+    GpuCommandCount done;
+    done.dispatches += m_block.dispatchChunked(glm::uvec3(blocks, 1, 1), kMaxGroupsPerDispatch);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    if (blocks == 1)
-        return; // one block: its offset is 0
-    scanLevel(sums, sums, blocks, level + 1);
+    ++done.barriers;
+    done += scanAt(sums, sums, ScanInput{blocks, blocks, false}, level + 1);
     out.bindStorage(shared::kBindScanData);
     sums.bindStorage(shared::kBindScanSums);
-    m_add.set("count", count);
-    m_add.dispatchChunked(glm::uvec3(blocks, 1, 1), kMaxGroupsPerDispatch);
+    m_add.set("count", what.count);
+    done.dispatches += m_add.dispatchChunked(glm::uvec3(blocks, 1, 1), kMaxGroupsPerDispatch);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    ++done.barriers;
+    return done;
 }
 
 } // namespace sluice::rt

@@ -1,5 +1,6 @@
-// Exclusive prefix sum of a uint buffer on the GPU: block scans in shared memory, the block
-// totals scanned recursively, then added back (Blelloch 1990).
+// Exclusive prefix sum of a uint buffer on the GPU: one work group for small counts; otherwise
+// block scans in shared memory, the block totals scanned recursively, then added back
+// (Blelloch 1990).
 #pragma once
 
 #include <cstdint>
@@ -8,23 +9,39 @@
 #include "sluice/format/Result.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
+#include "sluice/rt/GpuCommandCount.h"
 
 namespace sluice::rt {
 
+/// What PrefixScan::exclusive scans.
+struct ScanInput {
+    std::uint32_t count = 0;      ///< outputs written: out[0 .. count)
+    std::uint32_t inputCount = 0; ///< inputs read, at most count; the ones after read as 0
+    bool clearInput = false;      ///< zero each input read (in must not be out)
+};
+
 class PrefixScan {
 public:
-    /// Compiles the two passes and allocates the per-level block totals for up to `maxCount`
+    /// Compiles the passes and allocates the per-level block totals for up to `maxCount`
     /// elements.
     static Result<PrefixScan> create(std::uint32_t maxCount);
 
     /// out[i] = in[0] + ... + in[i - 1] for i < count. `in` and `out` may be the same buffer.
     /// Queues GPU work only; issues the storage barriers it needs, including one at the end.
-    void exclusive(const gpu::Buffer& in, const gpu::Buffer& out, std::uint32_t count) const;
+    GpuCommandCount exclusive(const gpu::Buffer& in, const gpu::Buffer& out,
+                              std::uint32_t count) const;
+    /// The same with the inputs `what` describes (a shorter input, zeroed as it is read).
+    GpuCommandCount exclusive(const gpu::Buffer& in, const gpu::Buffer& out,
+                              const ScanInput& what) const;
 
 private:
-    void scanLevel(const gpu::Buffer& in, const gpu::Buffer& out, std::uint32_t count,
-                   std::size_t level) const;
+    /// One work group when `what` fits it, else the block scan of `level`.
+    GpuCommandCount scanAt(const gpu::Buffer& in, const gpu::Buffer& out, const ScanInput& what,
+                           std::size_t level) const;
+    GpuCommandCount scanLevel(const gpu::Buffer& in, const gpu::Buffer& out,
+                              const ScanInput& what, std::size_t level) const;
 
+    gpu::Program m_single;
     gpu::Program m_block;
     gpu::Program m_add;
     std::vector<gpu::Buffer> m_sums; // level l holds one total per block of level l

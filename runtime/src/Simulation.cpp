@@ -31,8 +31,8 @@ namespace sluice::rt {
 
 namespace {
 
-constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
-constexpr std::uint32_t kNoStop = 0xffffffffu;
+constexpr std::uint64_t kMaxGroupsPerDispatch = shared::kPbfMaxGroupsPerDispatch;
+constexpr std::uint32_t kNoStop = shared::kPbfNoStop;
 constexpr std::size_t kStatsHeaderBytes = sizeof(shared::PbfStats);
 
 std::uint32_t groupsFor(std::uint32_t items) {
@@ -142,8 +142,8 @@ struct Simulation::Impl {
     std::optional<BodyDrag> drag;      // the viewer's mouse spring
     std::uint32_t substepInStep = 0;   // which substep of the step is running
 
-    gpu::Program predict, scatter, bucketSort, reorder, lambda, delta, velocity, vorticity,
-        confine, stats, bodies;
+    gpu::Program predict, scatter, bucketSort, reorder, scatterReorder, lambda, delta, velocity,
+        vorticity, confine, stats, bodies;
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
     gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
@@ -152,7 +152,8 @@ struct Simulation::Impl {
     gpu::Buffer bodyBuf, bodySums, bodySamples; // GpuBody[], fixed-point sums, contact points
     gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
     std::uint32_t solveChunks = 1;
-    std::vector<shared::PbfDispatchArgs> solveArgsStaging;
+    std::optional<shared::PbfParams> uploadedParams; // what the parameter block holds
+    GpuCommandCount commands; // queued by the substeps and the step statistics, all steps
     std::vector<gpu::GpuTimer> timers;
     std::array<std::uint64_t, std::size_t(Pass::Count)> drainedNs{}; // totals at the last drain
     std::vector<ParticleState> staging;
@@ -174,21 +175,28 @@ struct Simulation::Impl {
     void applyVorticityAndXsph();
     void integrateBodies();
     void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;
-    void barrier() const { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
+    void memoryBarrier(GLbitfield bits) {
+        glMemoryBarrier(bits);
+        ++commands.barriers;
+    }
+    void barrier() { memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
     /// Sets `bytes` of the statistics buffer from byte `offset` on to the uint `value`, on the
     /// GPU (offsets from offsetof(shared::PbfStats, ...)).
     void fillStats(std::size_t offset, std::size_t bytes, std::uint32_t value) const {
         glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, GLintptr(offset), GLsizeiptr(bytes),
                                   GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
     }
-    void dispatch(const gpu::Program& program, std::uint32_t items) const {
-        program.dispatchChunked(glm::uvec3(groupsFor(items), 1, 1), kMaxGroupsPerDispatch);
+    void dispatch(const gpu::Program& program, std::uint32_t items) {
+        commands.dispatches +=
+            program.dispatchChunked(glm::uvec3(groupsFor(items), 1, 1), kMaxGroupsPerDispatch);
     }
     std::uint64_t solveArgsBytes(std::uint32_t iterations) const {
         return std::uint64_t(iterations) * solveChunks * sizeof(shared::PbfDispatchArgs);
     }
-    void uploadSolveArgs();
-    void dispatchSolve(const gpu::Program& program, std::uint32_t iteration) const;
+    void dispatchSolve(const gpu::Program& program, std::uint32_t iteration);
+    /// Resets what the predict pass resets (the stop and the error sums) when no particle is
+    /// live and it does not run.
+    void openEmptySubstep() const;
     /// Cells per axis of the dense grid over the domain box at the current h, or 0 when the
     /// hash is used (no domain, or more cells than the hash table's buckets).
     glm::uvec3 denseGridDims() const;
@@ -231,7 +239,7 @@ Result<void> Simulation::Impl::allocate() {
         {&rank, n * u, "rank"},           {&sortedToOld, n * u, "sortedToOld"},
         {&cellCount, tableSize * u, "cellCount"},
         {&neighbourMask, n * shared::kNeighbourMaskWords * u, "neighbour mask"},
-        {&cellStart, tableSize * u, "cellStart"},
+        {&cellStart, (tableSize + 1) * u, "cellStart"},
         {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats),
          "stats"},
         {&colliderBuf, std::max<std::uint64_t>(1, colliderAssets.size()) *
@@ -256,7 +264,7 @@ Result<void> Simulation::Impl::allocate() {
     // in the idle position buffer, applyVorticityAndXsph), the neighbour mask and the hash
     // table's cellCount + cellStart, spread over the capacity and rounded up.
     bytesPerParticle = 7 * v4 + 5 * u + shared::kNeighbourMaskWords * u +
-                       (2 * u * tableSize + n - 1) / n;
+                       (u * (2 * std::uint64_t(tableSize) + 1) + n - 1) / n;
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {
@@ -275,26 +283,9 @@ Result<void> Simulation::Impl::allocate() {
     return {};
 }
 
-// The solver's dispatch args for this substep: every iteration launches the groups `count`
-// needs, split like dispatchChunked. A plain upload, no read back: the early stop in
-// pbf_delta.comp zeroes the args of the iterations after it on the GPU.
-void Simulation::Impl::uploadSolveArgs() {
-    const std::uint32_t groups = groupsFor(count);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the last substep's stop wrote them
-    solveArgsStaging.assign(std::size_t(maxIterations) * solveChunks, {0, 1, 1});
-    for (std::uint32_t it = 0; it < maxIterations; ++it)
-        for (std::uint32_t c = 0; c < solveChunks; ++c) {
-            const std::uint64_t first = std::uint64_t(c) * kMaxGroupsPerDispatch;
-            solveArgsStaging[it * solveChunks + c].groupsX = std::uint32_t(
-                first < groups ? std::min<std::uint64_t>(groups - first, kMaxGroupsPerDispatch)
-                               : 0);
-        }
-    solveArgs.upload(solveArgsStaging);
-}
-
 // Lambda or delta of one iteration from its indirect args: a dispatch the early stop has
 // zeroed launches no work group, so an idle iteration costs only the API call.
-void Simulation::Impl::dispatchSolve(const gpu::Program& program, std::uint32_t iteration) const {
+void Simulation::Impl::dispatchSolve(const gpu::Program& program, std::uint32_t iteration) {
     program.use();
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, solveArgs.id());
     for (std::uint32_t c = 0; c < solveChunks; ++c) {
@@ -302,6 +293,8 @@ void Simulation::Impl::dispatchSolve(const gpu::Program& program, std::uint32_t 
                     glm::uvec3(std::uint32_t(c * kMaxGroupsPerDispatch), 0, 0));
         glDispatchComputeIndirect(
             GLintptr((std::size_t(iteration) * solveChunks + c) * sizeof(shared::PbfDispatchArgs)));
+        ++commands.dispatches;
+        ++commands.indirect;
         if (solveChunks > 1)
             glFlush();
     }
@@ -366,7 +359,12 @@ void Simulation::Impl::uploadParams() {
     p.particleMass = k.mass;
     p.boundaryScale = k.boundaryScale;
     p.bodyOffset = k.bodyOffset;
+    // Uploaded only when it changed (an emitter added particles, setParameters): a substep
+    // queues no buffer update of its own.
+    if (uploadedParams && std::memcmp(&*uploadedParams, &p, sizeof(p)) == 0)
+        return;
     params.upload(std::span(&p, 1));
+    uploadedParams = p;
 }
 
 void Simulation::Impl::uploadColliders(double t0, double t1) {
@@ -380,11 +378,14 @@ void Simulation::Impl::uploadColliders(double t0, double t1) {
         const ColliderPose before = colliderPose(scene.colliders[c], float(t0));
         const glm::mat4 world = poseMatrix(now);
         shared::GpuCollider& r = colliderRecords[c];
+        const shared::GpuCollider uploaded = r;
         r.worldToGrid = glm::inverse(world);
         r.rotation = glm::mat4_cast(now.rotation);
         r.motion = poseMatrix(before) * r.worldToGrid;
         r.scale = now.scale;
-        colliderBuf.upload(std::span(&r, 1), c * sizeof(shared::GpuCollider));
+        // A static collider's record is uploaded once; a kinematic one's when it moved.
+        if (std::memcmp(&uploaded, &r, sizeof(r)) != 0)
+            colliderBuf.upload(std::span(&r, 1), c * sizeof(shared::GpuCollider));
     }
 }
 
@@ -415,6 +416,8 @@ void Simulation::Impl::substep() {
     const double t0 = time;
     const double t1 = time + k.dt;
     emit(t0, t1);
+    if (count == 0)
+        openEmptySubstep();
     if (count > 0) {
         bindSharedBuffers();
         predictPositions();
@@ -431,8 +434,10 @@ void Simulation::Impl::substep() {
     time = t1;
 }
 
-// Step 1, and what the substep's passes read: parameters, solve args, collider poses and
-// cleared per-substep counters.
+// Step 1, and what the substep's passes read that the CPU owns: new particles, the parameters
+// and the kinematic colliders' poses, each uploaded only when it changed. The per-substep
+// resets are the GPU's: the predict pass opens the solve (its dispatch args, the stop, the
+// error sums) and the scan leaves the cell counts at zero for the next substep.
 void Simulation::Impl::emit(double t0, double t1) {
     begin(Pass::Emit);
     staging.clear();
@@ -440,21 +445,19 @@ void Simulation::Impl::emit(double t0, double t1) {
         capacityReached = true;
     append(staging);
     uploadParams();
-    uploadSolveArgs();
     uploadColliders(t0, t1);
-    // Per-substep counters: no stop yet, empty iteration sums, empty buckets.
-    fillStats(offsetof(shared::PbfStats, stopIteration), sizeof(std::uint32_t), kNoStop);
-    fillStats(kStatsHeaderBytes, statsBuf.size() - kStatsHeaderBytes, 0);
-    const std::uint32_t zero = 0;
-    glClearNamedBufferSubData(cellCount.id(), GL_R32UI, 0, cellCount.size(), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &zero);
     end(Pass::Emit);
 }
 
-// The buffers whose binding no pass of the substep changes.
+void Simulation::Impl::openEmptySubstep() const {
+    fillStats(offsetof(shared::PbfStats, stopIteration), sizeof(std::uint32_t), kNoStop);
+    fillStats(kStatsHeaderBytes, statsBuf.size() - kStatsHeaderBytes, 0);
+}
+
+// The buffers whose binding no pass of the substep changes. No barrier here: the last pass of
+// a substep (or the step statistics) ends with a storage barrier, and the CPU's uploads and
+// clears are ordered with the dispatches after them by GL itself.
 void Simulation::Impl::bindSharedBuffers() const {
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT |
-                    GL_BUFFER_UPDATE_BARRIER_BIT);
     params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
     statsBuf.bindStorage(shared::kBindStats);
     colliderBuf.bindStorage(shared::kBindColliders);
@@ -468,29 +471,35 @@ void Simulation::Impl::bindSharedBuffers() const {
     bodyBuf.bindStorage(shared::kBindBodies);
     bodySums.bindStorage(shared::kBindBodySums);
     bodySamples.bindStorage(shared::kBindBodySamples);
+    solveArgs.bindStorage(shared::kBindSolveArgs);
 }
 
-// Step 2: x* into pred[0], and each particle counted into its bucket.
+// Step 2: x* into pred[0], and each particle counted into its bucket; the solve's dispatch
+// args written for the indirect dispatches (hence the command barrier).
 void Simulation::Impl::predictPositions() {
     begin(Pass::Predict);
     bindParticles(pos[cur], vel[cur]);
     pred[0].bindStorage(shared::kBindPredOut);
     dispatch(predict, count);
-    barrier();
+    memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     end(Pass::Predict);
 }
 
 // Step 3: counting sort by bucket, then every particle reordered into the other buffers (x* of
-// the sorted order into predStart).
+// the sorted order into predStart). The scan gives each bucket its range, cellStart[b] ..
+// cellStart[b + 1], and zeroes the counts for the next substep. Without --deterministic the
+// reorder scatters each particle straight to its slot; with it, the slots are listed first
+// (scatter), put in source order inside each bucket, then gathered.
 void Simulation::Impl::sortIntoBuckets() {
     begin(Pass::Sort);
-    scan->exclusive(cellCount, cellStart, activeBuckets());
+    const std::uint32_t buckets = activeBuckets();
+    commands += scan->exclusive(cellCount, cellStart, ScanInput{buckets + 1, buckets, true});
     cellStart.bindStorage(shared::kBindCellStart);
     cellCount.bindStorage(shared::kBindCellCount);
-    dispatch(scatter, count);
-    barrier();
     if (options.deterministic) {
-        dispatch(bucketSort, activeBuckets());
+        dispatch(scatter, count);
+        barrier();
+        dispatch(bucketSort, buckets);
         barrier();
     }
     const int nxt = 1 - cur;
@@ -502,7 +511,7 @@ void Simulation::Impl::sortIntoBuckets() {
     predStart.bindStorage(shared::kBindPredOut);
     id[cur].bindStorage(shared::kBindIdIn);
     id[nxt].bindStorage(shared::kBindIdOut);
-    dispatch(reorder, count);
+    dispatch(options.deterministic ? reorder : scatterReorder, count);
     barrier();
     cur = nxt;
     end(Pass::Sort);
@@ -518,7 +527,6 @@ void Simulation::Impl::solve() {
     begin(Pass::Solve);
     predStart.bindStorage(shared::kBindPredStart);
     bindParticles(pos[cur], vel[cur]);
-    solveArgs.bindStorage(shared::kBindSolveArgs);
     const gpu::Buffer* in = &predStart;
     for (std::uint32_t it = 0; it < maxIterations; ++it) {
         in->bindStorage(shared::kBindPredIn);
@@ -528,7 +536,7 @@ void Simulation::Impl::solve() {
         pred[it % 2].bindStorage(shared::kBindPredOut);
         delta.set("iteration", it);
         dispatchSolve(delta, it);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
         in = &pred[it % 2];
     }
     end(Pass::Solve);
@@ -578,6 +586,7 @@ void Simulation::Impl::integrateBodies() {
     bodies.set("substepShare", 1.0f / float(std::max(1u, scene.simulation.substeps)));
     bodies.use();
     glDispatchCompute(1, 1, 1);
+    ++commands.dispatches;
     barrier();
     end(Pass::Bodies);
 }
@@ -619,6 +628,7 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     const Build builds[] = {
         {&impl->predict, "pbf_predict.comp"},   {&impl->scatter, "pbf_scatter.comp"},
         {&impl->bucketSort, "pbf_bucket_sort.comp"}, {&impl->reorder, "pbf_reorder.comp"},
+        {&impl->scatterReorder, "pbf_reorder.comp"},
         {&impl->lambda, "pbf_lambda.comp"},     {&impl->delta, "pbf_delta.comp"},
         {&impl->velocity, "pbf_velocity.comp"}, {&impl->vorticity, "pbf_vorticity.comp"},
         {&impl->confine, "pbf_confine.comp"},   {&impl->stats, "pbf_stats.comp"},
@@ -635,16 +645,20 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
         options.bodyGroupSize != 0 ? options.bodyGroupSize : bodyGroupSize());
     std::vector<gpu::ShaderDefine> bodyDefines(defines.begin(), defines.end());
     bodyDefines.push_back({"SLUICE_BODY_GROUP_SIZE", groupSize});
+    std::vector<gpu::ShaderDefine> scatterDefines(defines.begin(), defines.end());
+    scatterDefines.push_back({"PBF_SCATTER_REORDER", "1"});
     for (const Build& b : builds) {
-        const bool body = b.program == &impl->bodies;
-        auto program = gpu::Program::compute(
-            b.name, shaders::shaderSource(b.name),
-            body ? std::span<const gpu::ShaderDefine>(bodyDefines) : defines);
+        std::span<const gpu::ShaderDefine> these = defines;
+        if (b.program == &impl->bodies)
+            these = bodyDefines;
+        else if (b.program == &impl->scatterReorder)
+            these = scatterDefines;
+        auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name), these);
         if (!program)
             return program.error();
         *b.program = std::move(*program);
     }
-    auto scan = PrefixScan::create(impl->tableSize);
+    auto scan = PrefixScan::create(impl->tableSize + 1);
     if (!scan)
         return scan.error();
     impl->scan = std::make_unique<PrefixScan>(std::move(*scan));
@@ -704,6 +718,8 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     impl->append(initial);
     const std::uint32_t zero = 0;
     glClearNamedBufferData(impl->statsBuf.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    // Empty buckets: from here on, every scan leaves them so.
+    glClearNamedBufferData(impl->cellCount.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     impl->uploadParams();
     return Simulation(std::move(impl));
 }
@@ -719,7 +735,9 @@ void Simulation::step() {
         timer.poll();
     s.capacityReached = false;
     s.fillStats(offsetof(shared::PbfStats, nonFinite), sizeof(std::uint32_t), 0);
-    s.fillStats(offsetof(shared::PbfStats, maskOverflow), 4 * sizeof(std::uint32_t), 0);
+    s.fillStats(offsetof(shared::PbfStats, maskOverflow), 5 * sizeof(std::uint32_t), 0);
+    static_assert(offsetof(shared::PbfStats, solveDispatches) ==
+                  offsetof(shared::PbfStats, maskOverflow) + 4 * sizeof(std::uint32_t));
     const std::uint32_t substeps = std::max(1u, s.scene.simulation.substeps);
     for (std::uint32_t i = 0; i < substeps; ++i) {
         s.substepInStep = i;
@@ -731,7 +749,7 @@ void Simulation::step() {
     s.fillStats(offsetof(shared::PbfStats, insideColliders), sizeof(std::uint32_t), 0);
     s.fillStats(offsetof(shared::PbfStats, maxSpeedBits), sizeof(std::uint32_t), 0);
     if (s.count > 0) {
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        s.memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
         s.bindParticles(s.pos[s.cur], s.vel[s.cur]);
         s.statsBuf.bindStorage(shared::kBindStats);
@@ -740,7 +758,7 @@ void Simulation::step() {
         s.dispatch(s.stats, s.count);
     }
     s.end(Pass::Stats);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+    s.memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                     GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
     ++s.steps;
 }
@@ -763,6 +781,7 @@ StepStats Simulation::readStats() {
     out.maskOverflow = header.maskOverflow;
     out.maxCandidates = header.maxCandidates;
     out.maxNeighbours = header.maxNeighbours;
+    out.solveDispatches = header.solveDispatches;
     out.meanIterations =
         double(header.iterationSum) / double(std::max(1u, s.scene.simulation.substeps));
     const std::uint32_t stop = header.stopIteration;
@@ -912,6 +931,7 @@ const gpu::Buffer& Simulation::positionBuffer() const { return m_impl->pos[m_imp
 const gpu::Buffer& Simulation::velocityBuffer() const { return m_impl->vel[m_impl->cur]; }
 std::uint64_t Simulation::gpuBytes() const { return m_impl->gpuBytes; }
 std::uint64_t Simulation::bytesPerParticle() const { return m_impl->bytesPerParticle; }
+GpuCommandCount Simulation::commandCount() const { return m_impl->commands; }
 
 glm::uvec3 Simulation::neighbourGridCells() const { return m_impl->denseGridDims(); }
 std::vector<std::uint32_t> Simulation::solveGroups() const {
@@ -935,7 +955,6 @@ std::vector<Simulation::RecordedNeighbours> Simulation::recordedNeighbours() con
     const auto start = s.predStart.download<glm::vec4>(0, n);
     const auto ids = s.id[s.cur].download<std::uint32_t>(0, n);
     const auto cellStart = s.cellStart.download<std::uint32_t>();
-    const auto cellCount = s.cellCount.download<std::uint32_t>();
     const auto mask = s.neighbourMask.download<std::uint32_t>(
         0, std::size_t(n) * shared::kNeighbourMaskWords);
     // The candidate ranges exactly as PBF_RANGES_BEGIN walks them (same float arithmetic).
@@ -972,13 +991,12 @@ std::vector<Simulation::RecordedNeighbours> Simulation::recordedNeighbours() con
                         if (cc.y < 0 || cc.y >= int(dims.y) || cc.z < 0 || cc.z >= int(dims.z))
                             continue;
                         begin = cellStart[bucketOf({std::max(cell.x - 1, 0), cc.y, cc.z})];
-                        const std::uint32_t last =
-                            bucketOf({std::min(cell.x + 1, int(dims.x) - 1), cc.y, cc.z});
-                        end = cellStart[last] + cellCount[last];
+                        end = cellStart[bucketOf({std::min(cell.x + 1, int(dims.x) - 1), cc.y,
+                                                  cc.z}) + 1];
                     } else {
                         const std::uint32_t bucket = hashOf(cc);
                         begin = cellStart[bucket];
-                        end = begin + cellCount[bucket];
+                        end = cellStart[bucket + 1];
                     }
                     for (std::uint32_t j = begin; j < end; ++j, ++c) {
                         if (c < shared::kNeighbourMaskBits) {

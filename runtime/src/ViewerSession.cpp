@@ -19,6 +19,7 @@ Result<ViewerSession> ViewerSession::open(const std::string& scenePath, bool det
         return colliders.error();
     SimulationOptions options;
     options.deterministic = deterministic;
+    options.timers = true; // the panel's profiler
     auto sim = Simulation::create(*scene, *colliders, options);
     if (!sim)
         return sim.error();
@@ -41,6 +42,7 @@ void ViewerSession::step() {
 Result<void> ViewerSession::reset() {
     SimulationOptions options;
     options.deterministic = m_deterministic;
+    options.timers = true;
     auto sim = Simulation::create(m_scene, m_colliders, options);
     if (!sim)
         return sim.error();

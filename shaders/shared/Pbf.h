@@ -11,6 +11,15 @@ SLUICE_SHARED_BEGIN
 SLUICE_CONST uint kPbfLocalSize = 128;
 /// Elements one work group of the prefix scan handles (two per invocation).
 SLUICE_CONST uint kScanBlock = 1024;
+/// Invocations of the one-group scan (scan_single.comp), which scans up to
+/// kScanSingleThreads x kScanSingleRun elements in one dispatch: a run of consecutive elements
+/// per invocation, then one shared-memory scan of the runs' totals.
+SLUICE_CONST uint kScanSingleThreads = 1024;
+SLUICE_CONST uint kScanSingleRun = 64;
+/// Work groups one dispatch launches at most; more are split into chunks (ChunkedDispatch.h).
+SLUICE_CONST uint kPbfMaxGroupsPerDispatch = 65535;
+/// PbfStats::stopIteration before any iteration met the target.
+SLUICE_CONST uint kPbfNoStop = 0xffffffffu;
 /// Fixed-point scale of the per-iteration density-error sums (integer adds are order-free, so
 /// the sums, and the early stop they drive, are deterministic).
 SLUICE_CONST float kErrorFixedScale = 65536.0;
@@ -32,8 +41,10 @@ SLUICE_CONST uint kBindVelOut = 3;
 SLUICE_CONST uint kBindPredIn = 4;     ///< vec4 x* (xyz) [m]
 SLUICE_CONST uint kBindPredOut = 5;
 // Binding 6 is free: lambda_i lives in the w of the x* it was computed from (pbf_lambda.comp).
-SLUICE_CONST uint kBindCellCount = 7;  ///< uint per hash bucket
-SLUICE_CONST uint kBindCellStart = 8;  ///< uint per hash bucket (exclusive scan of the counts)
+SLUICE_CONST uint kBindCellCount = 7;  ///< uint per hash bucket: particles counted into it by the
+                                       ///< predict pass; the scan reads and zeroes it
+SLUICE_CONST uint kBindCellStart = 8;  ///< uint per hash bucket and one more: the exclusive scan
+                                       ///< of the counts, so bucket b is cellStart[b] .. cellStart[b + 1]
 SLUICE_CONST uint kBindHash = 9;       ///< uint bucket of each particle
 SLUICE_CONST uint kBindRank = 10;      ///< uint rank of each particle inside its bucket
 SLUICE_CONST uint kBindSortedToOld = 11; ///< uint source index of each sorted slot
@@ -138,9 +149,9 @@ struct PbfIterationStats {
     uint particles;     ///< particles that contributed
 };
 
-/// Indirect group counts of one solver dispatch (glDispatchComputeIndirect). The CPU writes
-/// maxIterations x chunks of them at each substep start; the early stop zeroes those of the
-/// later iterations, so the idle lambda and delta dispatches launch no work group.
+/// Indirect group counts of one solver dispatch (glDispatchComputeIndirect). The predict pass
+/// writes maxIterations x chunks of them at each substep start; the early stop zeroes those of
+/// the later iterations, so the idle lambda and delta dispatches launch no work group.
 struct PbfDispatchArgs {
     uint groupsX;
     uint groupsY;
@@ -157,6 +168,7 @@ struct PbfStats {
     uint maxCandidates;    ///< most candidate entries one particle visited (this step)
     uint maxNeighbours;    ///< most neighbours one particle had (this step)
     uint iterationSum;     ///< solver iterations summed over the substeps (this step)
+    uint solveDispatches;  ///< lambda and delta dispatches that launched work groups (this step)
     // Followed in the buffer by PbfIterationStats iterations[maxIterations].
 };
 
@@ -217,7 +229,8 @@ SLUICE_PBF_AT(PbfStats, maskOverflow, 16);
 SLUICE_PBF_AT(PbfStats, maxCandidates, 20);
 SLUICE_PBF_AT(PbfStats, maxNeighbours, 24);
 SLUICE_PBF_AT(PbfStats, iterationSum, 28);
-static_assert(sizeof(sluice::shared::PbfStats) == 32, "std430 size of PbfStats");
+SLUICE_PBF_AT(PbfStats, solveDispatches, 32);
+static_assert(sizeof(sluice::shared::PbfStats) == 36, "std430 size of PbfStats");
 static_assert(sizeof(sluice::shared::PbfDispatchArgs) == 12, "std430 size of PbfDispatchArgs");
 #undef SLUICE_PBF_AT
 #endif

@@ -87,12 +87,11 @@ bool allFinite(vec3 v) {
                         ivec3 lo_ = ivec3(max(pbfCell_.x - 1, 0), cc_.y, cc_.z);               \
                         ivec3 hi_ = ivec3(min(pbfCell_.x + 1, pbfDims_.x - 1), cc_.y, cc_.z);  \
                         begin_ = cellStart[cellBucket(lo_)];                                   \
-                        uint last_ = cellBucket(hi_);                                          \
-                        end_ = cellStart[last_] + cellCount[last_];                            \
+                        end_ = cellStart[cellBucket(hi_) + 1u];                                \
                     } else {                                                                   \
                         uint bucket_ = cellHash(cc_);                                          \
                         begin_ = cellStart[bucket_];                                           \
-                        end_ = begin_ + cellCount[bucket_];                                    \
+                        end_ = cellStart[bucket_ + 1u];                                        \
                     }
 #define PBF_RANGES_END                                                                         \
     pbfBase_ += end_ - begin_;                                                                 \
@@ -111,7 +110,7 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
 // candidate ranges again (a few reads of cellStart), and in each range the mask words that
 // cover it, one read per word, visiting the set bits in order (so the sums run in the order of
 // a full search). Candidates past the mask's bits get their word's bits from the full test.
-// The shader declares MASK (uint[kNeighbourMaskWords] per particle) and cellStart/cellCount.
+// The shader declares MASK (uint[kNeighbourMaskWords] per particle) and cellStart.
 // Inside the body: j, pj = POS[j], xj = pj.xyz, d = xi - xj and q2 = |d|^2 from the current positions
 // POS (q2 may reach h as particles move; the kernels are 0 there). The body must not use
 // `continue`. Close with PBF_NEIGHBOURS_END.

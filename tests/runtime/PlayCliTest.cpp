@@ -113,7 +113,8 @@ TEST(SluicePlay, PrintsTheStatisticsTableAndTimings) {
 
 // --bench's memory per particle counts the hash table and the mask: 132 bytes of particle
 // arrays (the vorticity shares an idle position buffer), the 48-byte neighbour mask, and
-// cellCount + cellStart (8 bytes x max(1024, bit_ceil(2 capacity)) buckets) over the capacity.
+// cellCount + cellStart (8 bytes x max(1024, bit_ceil(2 capacity)) buckets, and cellStart's
+// end) over the capacity. It also reports the GPU commands a substep queues.
 TEST(SluicePlay, BenchCountsTheHashTableAndTheNeighbourMaskInTheBytesPerParticle) {
     const fs::path dir = tempDir("bench");
     const fs::path scenePath = kAssets / "martin-moyce.json";
@@ -125,7 +126,7 @@ TEST(SluicePlay, BenchCountsTheHashTableAndTheNeighbourMaskInTheBytesPerParticle
     while (buckets < 2 * capacity)
         buckets *= 2;
     const std::uint64_t mask = 4 * shared::kNeighbourMaskWords;
-    const std::uint64_t expected = 132 + mask + (8 * buckets + capacity - 1) / capacity;
+    const std::uint64_t expected = 132 + mask + (8 * buckets + 4 + capacity - 1) / capacity;
     const auto result = play(dir, {scenePath.string(), "--headless", "--bench", "--warmup", "1",
                                    "--steps", "2", "--bench-json", (dir / "b.json").string()});
     ASSERT_EQ(result.code, 0) << shown(result);
@@ -139,6 +140,16 @@ TEST(SluicePlay, BenchCountsTheHashTableAndTheNeighbourMaskInTheBytesPerParticle
               std::string::npos)
         << result.out;
     EXPECT_GE(bench["gpuBytes"].get<std::uint64_t>(), expected * capacity - capacity);
+    // Counted commands (SimulationCommands pins them pass by pass): at most 8 iterations of
+    // two dispatches, and six other passes, with the step statistics' share; fewer run.
+    const double issued = bench["dispatchesPerSubstep"].get<double>();
+    const double ran = bench["dispatchesRunPerSubstep"].get<double>();
+    const double substeps = bench["substeps"].get<double>();
+    EXPECT_NEAR(issued, 6.0 + 2.0 * scene->simulation.maxIterations + 1.0 / substeps, 1e-9);
+    EXPECT_GE(ran, 6.0 + 2.0 * 2.0);
+    EXPECT_LT(ran, issued);
+    EXPECT_NEAR(bench["barriersPerSubstep"].get<double>(), issued + 1.0 / substeps, 1e-9);
+    EXPECT_NE(result.out.find("GPU commands per substep"), std::string::npos) << result.out;
 }
 
 struct BadScene {

@@ -16,6 +16,7 @@
 #include "sluice/format/Result.h"
 #include "sluice/format/Scene.h"
 #include "sluice/gpu/Buffer.h"
+#include "sluice/rt/GpuCommandCount.h"
 #include "sluice/rt/SceneSetup.h"
 
 namespace sluice::rt {
@@ -25,8 +26,9 @@ struct SimulationOptions {
     /// Restore a fixed particle order inside every hash bucket after the counting sort, so two
     /// runs give identical bytes (costs one short pass per substep).
     bool deterministic = false;
-    /// Time every pass group with GL timestamp queries (read back without stalling).
-    bool timers = true;
+    /// Time every pass group with GL timer queries (read back without stalling): for --bench,
+    /// sluice-play's statistics and the viewer's profiler; a game leaves them off.
+    bool timers = false;
     /// Invocations of the body pass's work group (docs/bodies.md): 0 picks for the renderer,
     /// 64 on a software one (one invocation per body) and 512 on a GPU (a body's contact points
     /// split over its share of them); 64, 128, 256 or 512 force a layout, as the tests do to run
@@ -68,6 +70,9 @@ struct StepStats {
     std::uint32_t maskOverflow = 0;
     std::uint32_t maxCandidates = 0; ///< most candidate entries of one particle (this step)
     std::uint32_t maxNeighbours = 0; ///< most neighbours of one particle (this step)
+    /// Lambda and delta dispatches of this step that launched work groups (the ones after an
+    /// early stop launch none).
+    std::uint32_t solveDispatches = 0;
     bool capacityReached = false;    ///< an emitter could not add particles this step
 };
 
@@ -179,11 +184,17 @@ public:
 
     /// GPU memory the simulation allocated, colliders included [bytes].
     std::uint64_t gpuBytes() const;
-    /// Of that, the bytes per particle of capacity [bytes]: the particle arrays (152) plus the
-    /// hash table (8 bytes x max(1024, bit_ceil(2 capacity)) buckets) divided by the capacity,
-    /// rounded up: 168 to 184 from 512 particles up (the table has at least 1024 buckets).
-    /// Colliders, statistics and parameters are not included.
+    /// Of that, the bytes per particle of capacity [bytes]: the particle arrays (7 vec4 and 5
+    /// uint, 132) and the neighbour mask (48), plus the hash table (8 bytes x max(1024,
+    /// bit_ceil(2 capacity)) buckets, and 4) divided by the capacity, rounded up: 196 to 212
+    /// from 512 particles up (the table has at least 1024 buckets). Colliders, statistics and
+    /// parameters are not included.
     std::uint64_t bytesPerParticle() const;
+
+    /// Dispatches and memory barriers queued so far, every step's (the substeps' and the step
+    /// statistics'); counted on the CPU where each is issued, so an indirect solve dispatch the
+    /// early stop left idle counts too (StepStats::solveDispatches says which ran).
+    GpuCommandCount commandCount() const;
 
     /// The neighbour grid of the next step: with a domain box whose h-wide cells are no more
     /// than the hash table's buckets, a dense grid of that many cells per axis (no hash

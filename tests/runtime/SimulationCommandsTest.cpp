@@ -1,0 +1,163 @@
+// The GPU commands a substep queues (docs/performance.md, "Dispatches and barriers"): counted
+// where they are issued, pinned here pass by pass, and the prefix scan that the neighbour grid's
+// sort runs in one dispatch for small grids.
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "GpuTest.h"
+#include "PrefixScan.h"
+#include "RuntimeTestScenes.h"
+#include "shared/Pbf.h"
+#include "sluice/gpu/Buffer.h"
+#include "sluice/rt/Simulation.h"
+
+namespace sluice::rt {
+namespace {
+
+using gpu::test::GpuTest;
+
+class SimulationCommands : public GpuTest {};
+
+/// A 12 x 10 x 6 column in a tank: 720 particles, a dense grid of 24 x 20 x 6 cells.
+format::Scene column(std::uint32_t substeps) {
+    format::Scene scene = testscene::smallScene({12, 10, 6}, 0.02f, substeps);
+    scene.simulation.minIterations = 2;
+    scene.simulation.maxIterations = 8;
+    return scene;
+}
+
+struct Counted {
+    GpuCommandCount perStep;  ///< queued by the last of the steps run
+    StepStats stats;          ///< of the last step
+};
+
+Counted run(const format::Scene& scene, const SimulationOptions& options, int steps) {
+    auto sim = Simulation::create(scene, {}, options);
+    EXPECT_TRUE(sim) << sim.error().message();
+    if (!sim)
+        return {};
+    GpuCommandCount before;
+    for (int i = 0; i < steps; ++i) {
+        before = sim->commandCount();
+        sim->step();
+    }
+    return {sim->commandCount() - before, sim->readStats()};
+}
+
+// Without bodies, per substep: predict, the one-group scan, the scatter-reorder, lambda and
+// delta for each of the 8 iterations (issued whether or not the early stop leaves them idle),
+// velocity, vorticity and confinement, each followed by one barrier; per step, the statistics
+// pass and its two barriers. The substep starts with no barrier of its own.
+TEST_F(SimulationCommands, ASubstepIssuesItsPassesAndOneBarrierEach) {
+    const std::uint32_t substeps = 3;
+    const Counted counted = run(column(substeps), {}, 2);
+    const std::uint64_t perSubstep = 1 + 1 + 1 + 2 * 8 + 3;
+    EXPECT_EQ(counted.perStep.dispatches, substeps * perSubstep + 1);
+    EXPECT_EQ(counted.perStep.indirect, substeps * 2 * 8u);
+    EXPECT_EQ(counted.perStep.barriers, substeps * perSubstep + 2);
+}
+
+// The shipped early stop at 2 iterations: lambda and delta of iterations 0, 1 and 2 run (the
+// third pair measures the error and stops), the 10 after launch nothing. What runs is at most
+// 12 dispatches a substep, the issue-27 budget for the wave-with-sphere scene.
+TEST_F(SimulationCommands, TheEarlyStopLeavesTheLaterIterationsIdle) {
+    format::Scene scene = column(2);
+    scene.simulation.targetDensityError = 10.0f; // met at the first check
+    const Counted counted = run(scene, {}, 2);
+    ASSERT_EQ(counted.stats.iterations, 2u);
+    EXPECT_EQ(counted.stats.solveDispatches, 2u * 6u);
+    const std::uint64_t launched =
+        counted.perStep.dispatches - (counted.perStep.indirect - counted.stats.solveDispatches);
+    EXPECT_EQ(launched, 2u * 12u + 1u); // 12 a substep, and the statistics pass
+    // And with no target every iteration runs.
+    scene.simulation.targetDensityError = 0.0f;
+    EXPECT_EQ(run(scene, {}, 2).stats.solveDispatches, 2u * 16u);
+}
+
+// --deterministic lists the slots, sorts each bucket and then gathers: two dispatches and two
+// barriers more a substep than the scatter-reorder.
+TEST_F(SimulationCommands, DeterministicRunsAddTheBucketSort) {
+    SimulationOptions options;
+    options.deterministic = true;
+    const Counted fast = run(column(2), {}, 1);
+    const Counted fixed = run(column(2), options, 1);
+    EXPECT_EQ(fixed.perStep.dispatches, fast.perStep.dispatches + 2 * 2);
+    EXPECT_EQ(fixed.perStep.barriers, fast.perStep.barriers + 2 * 2);
+}
+
+// Without vorticity confinement the omega pass is skipped.
+TEST_F(SimulationCommands, NoVorticityDropsItsPass) {
+    format::Scene scene = column(2);
+    const Counted with = run(scene, {}, 1);
+    scene.simulation.vorticity = 0.0f;
+    const Counted without = run(scene, {}, 1);
+    EXPECT_EQ(with.perStep.dispatches - without.perStep.dispatches, 2u);
+    EXPECT_EQ(with.perStep.barriers - without.perStep.barriers, 2u);
+}
+
+// A grid of more cells than one group scans takes the block scan: three dispatches.
+TEST_F(SimulationCommands, ALargeGridScansInBlocks) {
+    const format::Scene small = column(1);
+    format::Scene large = column(1);
+    large.domainMax = glm::vec3(4.0f, 0.4f, 4.0f); // 100 x 10 x 100 cells of 4 cm
+    large.simulation.capacity = 1u << 16;          // a hash table of as many buckets
+    {
+        auto sim = Simulation::create(large, {});
+        ASSERT_TRUE(sim) << sim.error().message();
+        ASSERT_EQ(sim->neighbourGridCells(), glm::uvec3(100, 10, 100));
+    }
+    ASSERT_GT(100u * 10u * 100u, shared::kScanSingleThreads * shared::kScanSingleRun);
+    const Counted one = run(small, {}, 1);
+    const Counted blocks = run(large, {}, 1);
+    EXPECT_EQ(blocks.perStep.dispatches, one.perStep.dispatches + 2);
+    EXPECT_EQ(blocks.perStep.barriers, one.perStep.barriers + 2);
+}
+
+class PrefixScanTest : public GpuTest {};
+
+// Both layouts against the CPU's sum, at the sizes where they meet: a shorter input read as
+// zeros, and the input zeroed as it is read (the neighbour grid's counts).
+TEST_F(PrefixScanTest, MatchesTheCpuAndClearsItsInput) {
+    const std::uint32_t single = shared::kScanSingleThreads * shared::kScanSingleRun;
+    auto scan = PrefixScan::create(3 * single);
+    ASSERT_TRUE(scan) << scan.error().message();
+    std::mt19937 random(7);
+    for (const std::uint32_t count : {1u, 2u, 1000u, 1025u, single - 1, single, single + 1,
+                                      2 * single + 123}) {
+        SCOPED_TRACE("count " + std::to_string(count));
+        std::vector<std::uint32_t> input(count);
+        for (std::uint32_t& v : input)
+            v = random() % 9;
+        auto in = gpu::Buffer::createFrom(input, "scan input");
+        auto out = gpu::Buffer::create(std::size_t(count) * 4, "scan output");
+        ASSERT_TRUE(in && out);
+        // The last two inputs are left out: read as 0 and not cleared.
+        const std::uint32_t used = count > 2 ? count - 2 : 0;
+        const GpuCommandCount queued = scan->exclusive(*in, *out, ScanInput{count, used, true});
+        EXPECT_EQ(queued.dispatches, count <= single ? 1u : 3u);
+        EXPECT_EQ(queued.barriers, queued.dispatches);
+        std::vector<std::uint32_t> want(count, 0), cleared = input;
+        for (std::uint32_t i = 1; i < count; ++i)
+            want[i] = want[i - 1] + (i - 1 < used ? input[i - 1] : 0u);
+        std::fill(cleared.begin(), cleared.begin() + used, 0u);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        EXPECT_EQ(out->download<std::uint32_t>(), want);
+        EXPECT_EQ(in->download<std::uint32_t>(), cleared);
+        // In place, every input read.
+        in->upload(input);
+        scan->exclusive(*in, *in, count);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        std::vector<std::uint32_t> all(count, 0);
+        std::exclusive_scan(input.begin(), input.end(), all.begin(), 0u);
+        EXPECT_EQ(in->download<std::uint32_t>(), all);
+    }
+}
+
+} // namespace
+} // namespace sluice::rt
