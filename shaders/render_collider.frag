@@ -164,7 +164,7 @@ void main() {
     gl_FragDepth = windowDepthOfWorld(world);
 #if defined(SLUICE_GLASS)
     float facing = abs(dot(n, toEye));
-    float fresnel = 0.04 + 0.96 * pow(1.0 - facing, 5.0);
+    float fresnel = 0.04 + 0.96 * pow(clamp(1.0 - facing, 0.0, 1.0), 5.0); // facing may round past 1
     vec3 tint = mix(uColour, vec3(0.85, 0.9, 0.95), 0.6);
     vec3 colour = mix(shade(tint, n, toEye, 0.8, 80.0), skyColour(reflect(-toEye, n)), fresnel);
     outColour = vec4(colour, 0.14 + 0.5 * fresnel);

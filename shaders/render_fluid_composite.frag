@@ -64,7 +64,8 @@ void main() {
     vec3 transmittance = exp(-absorb * thickness);
     vec3 body = behind * transmittance +
                 shade(F.waterColour, n, toEye, 0.0, 1.0) * (vec3(1.0) - transmittance);
-    float fresnel = F.fluidFresnelF0 + (1.0 - F.fluidFresnelF0) * pow(1.0 - max(dot(n, toEye), 0.0), 5.0);
+    float fresnel = F.fluidFresnelF0 +
+                    (1.0 - F.fluidFresnelF0) * pow(clamp(1.0 - dot(n, toEye), 0.0, 1.0), 5.0);
     vec3 h = normalize(F.lightDirection + toEye);
     float specular = pow(max(dot(n, h), 0.0), 120.0);
     vec3 colour = mix(body, skyColour(reflect(-toEye, n)), fresnel) + vec3(0.8 * specular);

@@ -15,6 +15,17 @@ SLUICE_CONST uint kRenderBindVelocities = 1; ///< vec4 v (xyz) [m/s], w = densit
 // The collider programs' sparse variant (SLUICE_SPARSE_COLLIDERS): every sparse collider's
 // NanoVDB grid, back to back at 32-byte aligned offsets (shared/NanoVdbGlsl.h).
 SLUICE_CONST uint kRenderBindSparse = 3;     ///< uint[]
+// The small spheres' compute pass (render_splat.comp): the particles too large for it, listed
+// for the impostor draw, and that draw's indirect arguments.
+SLUICE_CONST uint kRenderBindSplatList = 4;  ///< uint[] particle indices
+SLUICE_CONST uint kRenderBindSplatArgs = 5;  ///< SplatDrawArgs
+SLUICE_CONST uint kSplatLocalSize = 128;
+/// Widest and tallest a sphere's square may cover on screen [pixels] and be drawn by the
+/// compute pass (one invocation visits every pixel of it); larger ones are rasterised.
+SLUICE_CONST uint kSplatMaxSide = 8;
+// Image units of the compute pass.
+SLUICE_CONST uint kRenderImageSplatDepth = 0;  ///< r32ui: nearest window depth's bits per pixel
+SLUICE_CONST uint kRenderImageSplatWinner = 1; ///< r32ui: the particle of that depth, ~0u: none
 // Statistics reduction (render_stats.comp).
 SLUICE_CONST uint kRenderBindStats = 2;      ///< RenderStats, accumulated with atomics
 SLUICE_CONST uint kRenderStatsLocalSize = 128;
@@ -27,6 +38,8 @@ SLUICE_CONST uint kRenderUnitSceneColour = 1; ///< sampler2D: the opaque scene, 
 SLUICE_CONST uint kRenderUnitSceneDepth = 2;  ///< sampler2D: its depth, [0, 1] window depth
 SLUICE_CONST uint kRenderUnitFluidDepth = 3;  ///< sampler2D: fluid view depth [m], 0 = none
 SLUICE_CONST uint kRenderUnitThickness = 4;   ///< sampler2D: fluid thickness [m]
+SLUICE_CONST uint kRenderUnitSplatDepth = 5;  ///< usampler2D: render_splat.comp's nearest depths
+SLUICE_CONST uint kRenderUnitSplatWinner = 6; ///< usampler2D: and the particle of each
 
 // Colour modes of the particles (RenderFrame.colourMode).
 SLUICE_CONST uint kColourWater = 0;        ///< shaded water blue
@@ -66,9 +79,17 @@ struct RenderFrame {
     /* 352 */ float fluidRefraction;     ///< fluid surface: refraction offset [pixels per m]
     /* 356 */ float fluidFresnelF0;      ///< fluid surface: Fresnel reflectance at normal incidence
     /* 360 */ float fluidSphereRadius;   ///< sphere radius of its depth and thickness passes [m]
-    /* 364 */ uint pad0;
+    /* 364 */ uint reverseOrder;  ///< 1: draw the particles last to first (nearer front to back)
 };
 // clang-format on
+
+/// glDrawArraysIndirect's arguments for the listed particles: 6 vertices each.
+struct SplatDrawArgs {
+    uint vertexCount;
+    uint instanceCount;
+    uint firstVertex;
+    uint baseInstance;
+};
 
 /// What render_stats.comp accumulates over every particle.
 struct RenderStats {
@@ -99,8 +120,10 @@ SLUICE_RENDER_AT(particleCount, 332);
 SLUICE_RENDER_AT(waterColour, 336);
 SLUICE_RENDER_AT(fluidAbsorption, 348);
 SLUICE_RENDER_AT(fluidSphereRadius, 360);
+SLUICE_RENDER_AT(reverseOrder, 364);
 static_assert(sizeof(sluice::shared::RenderFrame) == 368, "std140 size of RenderFrame");
 static_assert(sizeof(sluice::shared::RenderStats) == 16, "std430 size of RenderStats");
+static_assert(sizeof(sluice::shared::SplatDrawArgs) == 16, "std430 size of SplatDrawArgs");
 #undef SLUICE_RENDER_AT
 #endif
 

@@ -67,6 +67,65 @@ vec3 colourMap(float t) {
                       dot(v4, kb) + dot(v2, kb2)), 0.0, 1.0);
 }
 
+// Where the view ray along unit direction rd (from the eye, the view-space origin) first meets
+// the sphere of view-space centre `centre` and radius r: false when it misses. `chord` is the
+// ray's length inside the sphere [m].
+bool sphereHit(vec3 rd, vec3 centre, float r, out vec3 hit, out float chord) {
+    float b = dot(rd, centre);
+    float c = dot(centre, centre) - r * r;
+    float disc = b * b - c;
+    hit = vec3(0.0);
+    chord = 0.0;
+    if (disc < 0.0)
+        return false;
+    float s = sqrt(disc);
+    hit = (b - s) * rd;
+    chord = 2.0 * s;
+    return true;
+}
+
+// The colour of a particle's sphere where the view ray along rd hits it, at view-space point
+// `hit` (water, speed or density error, F.colourMode), from its world velocity with the density
+// error C_i in w.
+vec3 sphereColour(vec3 rd, vec3 hit, vec3 centre, float r, vec4 velocity) {
+    vec3 n = mat3(F.invView) * ((hit - centre) / r);
+    vec3 toEye = -(mat3(F.invView) * rd);
+    uint mode = F.colourMode;
+    if (mode == kColourSpeed)
+        return shade(colourMap(length(velocity.xyz) / F.speedRange), n, toEye, 0.25, 40.0);
+    if (mode == kColourDensityError)
+        return shade(colourMap(velocity.w / F.densityErrorRange), n, toEye, 0.25, 40.0);
+    vec3 colour = shade(F.waterColour, n, toEye, 0.6, 60.0);
+    // A little sky reflected at grazing angles (Schlick's Fresnel term, F0 = 0.02).
+    // (n is a unit vector to rounding: 1 - n.toEye may come out a hair below 0, and pow of a
+    // negative base is undefined, black on some GPUs.)
+    float fresnel = 0.02 + 0.98 * pow(clamp(1.0 - dot(n, toEye), 0.0, 1.0), 5.0);
+    return mix(colour, skyColour(reflect(-toEye, n)), 0.6 * fresnel);
+}
+
+// The camera-facing square a particle's sphere is drawn on, as four view-space corners: in the
+// plane through the sphere's front point (normal to the eye direction), just large enough to
+// hold the sphere's exact perspective outline, so every fragment's ray that hits the sphere
+// crosses the square, and the hit lies behind it along the ray (conservative depth). False when
+// the eye is inside the sphere or the position is not finite.
+bool sphereSquare(vec3 centre, float r, out vec3 origin, out vec3 u, out vec3 v) {
+    float d = length(centre);
+    origin = centre;
+    u = vec3(0.0);
+    v = vec3(0.0);
+    if (!(d > 1.001 * r))
+        return false;
+    vec3 w = centre / d;
+    vec3 helper = abs(w.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
+    // The cone of rays from the eye tangent to the sphere (half-angle asin(r / d)) cuts the
+    // plane at distance d - r in a circle of radius (d - r) r / sqrt(d^2 - r^2).
+    float halfSize = (d - r) * r / sqrt(d * d - r * r);
+    u = halfSize * normalize(cross(helper, w));
+    v = cross(w, u);
+    origin = centre - r * w;
+    return true;
+}
+
 #endif // !__cplusplus
 
 #endif // SLUICE_SHARED_RENDER_GLSL_H

@@ -65,7 +65,8 @@ const ShaderDefine kPointsBake{"SDF_POINTS", "1"};
 
 /// Every program the libraries build, with the define combinations their code uses:
 /// SelfTest.cpp, Simulation.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp, FluidStatsProbe.cpp,
-/// Renderer.cpp, FluidSurfacePass.cpp, ColliderPass.cpp and GpuBaker.cpp (compilePrograms).
+/// Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp, ColliderPass.cpp and GpuBaker.cpp
+/// (compilePrograms).
 std::vector<ProgramCase> allPrograms() {
     return {
         compute("GpuSelfTest", gpuSource, "gpu_selftest.comp"),
@@ -98,6 +99,12 @@ std::vector<ProgramCase> allPrograms() {
                  {{"SLUICE_FLUID_DEPTH", "1"}}),
         graphics("RenderParticlesThickness", "render_particles.vert", "render_particles.frag",
                  {{"SLUICE_THICKNESS", "1"}}),
+        graphics("RenderParticlesListed", "render_particles.vert", "render_particles.frag",
+                 {{"SLUICE_PARTICLE_LIST", "1"}}),
+        compute("RenderSplat", runtimeSource, "render_splat.comp"),
+        compute("RenderSplatWinner", runtimeSource, "render_splat.comp",
+                {{"SLUICE_SPLAT_WINNER", "1"}}),
+        graphics("RenderSplatResolve", "render_fullscreen.vert", "render_splat_resolve.frag"),
         graphics("RenderBackdrop", "render_fullscreen.vert", "render_backdrop.frag"),
         graphics("RenderFluidSmooth", "render_fullscreen.vert", "render_fluid_smooth.frag"),
         graphics("RenderFluidComposite", "render_fullscreen.vert", "render_fluid_composite.frag"),

@@ -2,6 +2,8 @@
 // screen region of their block, colliders show where they project, depth orders particles and
 // colliders both ways, glass walls reveal the fluid in a tank, colour modes map speed, and a
 // deterministic run renders the same bytes twice.
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
@@ -283,6 +285,60 @@ TEST_F(RenderTest, DeterministicRunsRenderIdenticalImages) {
             << surfaceModeName(surface) << ": " << compareImages(images[0], images[1]).pixels
             << " pixels differ";
     }
+}
+
+// The compute passes for small spheres solve the impostors' ray-sphere hit at the same pixel
+// centres: the same pixels, the same colours to rounding, whether every sphere covers a few
+// pixels (all in compute) or tens (most rasterised from its list). Spheres at random positions,
+// so no two touch: where touching spheres meet, their depths are equal to 32-bit precision and
+// each path resolves the tie its own way (the compute one by the lower particle index).
+TEST_F(RenderTest, SmallSpheresInComputeDrawTheSamePixelsAsTheImpostors) {
+    Stage stage(kBlockScene);
+    ASSERT_TRUE(stage.ok());
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> across(-0.1f, 0.1f), up(0.0f, 0.2f);
+    std::vector<ParticleState> particles;
+    for (std::uint32_t i = 0; i < 600; ++i)
+        particles.push_back({{across(random), up(random), across(random)}, {}, i});
+    ASSERT_TRUE(stage.sim->setParticles(particles));
+    RenderSettings compute, raster;
+    raster.computeSmallSpheres = false;
+    const OrbitCamera camera = stage.camera;
+    for (const float zoom : {1.6f, 0.6f, 0.25f}) {
+        SCOPED_TRACE("zoom " + std::to_string(zoom));
+        stage.camera = camera;
+        stage.camera.zoom(zoom);
+        const Image viaCompute = stage.draw(compute);
+        const Image viaRaster = stage.draw(raster);
+        const std::size_t water = compareImages(viaRaster, stage.drawWithoutParticles()).pixels;
+        ASSERT_GT(water, 800u); // the spheres are in the picture
+        std::size_t changed = 0; // by more than rounding
+        for (std::uint32_t y = 0; y < kSize.y; ++y)
+            for (std::uint32_t x = 0; x < kSize.x; ++x)
+                changed += pixelDiffers(viaCompute, viaRaster, x, y) ? 1 : 0;
+        EXPECT_LE(double(changed), 0.002 * double(water)) << changed << " of " << water;
+    }
+}
+
+// A packed block seen from afar: every sphere a few pixels, touching its neighbours. The two
+// paths may differ only where touching spheres tie in depth (measured: no pixel).
+TEST_F(RenderTest, SmallSpheresInComputeDrawAPackedBlockAsTheImpostorsDo) {
+    auto scene = format::readScene(kAssets / "wave-sphere.json");
+    ASSERT_TRUE(scene) << scene.error().message();
+    Stage stage(std::move(*scene), true);
+    ASSERT_TRUE(stage.ok());
+    RenderSettings compute, raster;
+    raster.computeSmallSpheres = false;
+    const Image viaCompute = stage.draw(compute);
+    const Image viaRaster = stage.draw(raster);
+    const std::size_t water = compareImages(viaRaster, stage.drawWithoutParticles()).pixels;
+    ASSERT_GT(water, 3000u);
+    std::size_t changed = 0; // by more than rounding
+    for (std::uint32_t y = 0; y < kSize.y; ++y)
+        for (std::uint32_t x = 0; x < kSize.x; ++x)
+            changed += pixelDiffers(viaCompute, viaRaster, x, y) ? 1 : 0;
+    EXPECT_LE(double(changed), 0.005 * double(water)) << changed << " of " << water;
+    EXPECT_LT(compareImages(viaCompute, viaRaster).meanChannel, 0.05);
 }
 
 TEST_F(RenderTest, AsynchronousReadbackGivesTheSamePixelsAsReadPixels) {

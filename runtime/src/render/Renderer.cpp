@@ -8,6 +8,7 @@
 #include "ColliderPass.h"
 #include "FluidSurfacePass.h"
 #include "GlObjects.h"
+#include "SphereSplatPass.h"
 #include "shared/Render.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/GpuTimer.h"
@@ -80,6 +81,7 @@ struct Renderer::Impl {
     float floorY = 0.0f;
     ColliderPass colliders;
     FluidSurfacePass fluid;
+    SphereSplatPass splat;
     gpu::Program backdrop;
     gpu::Program particles;
     gpu::Buffer frame;
@@ -122,6 +124,8 @@ struct Renderer::Impl {
             return finalFb.error();
         if (auto ok = fluid.resize(newSize); !ok)
             return ok;
+        if (auto ok = splat.resize(newSize); !ok)
+            return ok;
         sceneColour = std::move(*colour);
         sceneDepth = std::move(*depth);
         finalColour = std::move(*finalC);
@@ -160,6 +164,9 @@ struct Renderer::Impl {
         f.fluidRefraction = settings.refraction;
         f.fluidFresnelF0 = 0.02f;
         f.fluidSphereRadius = settings.fluidSphereScale * sim.constants().radius;
+        // The solver keeps the particles sorted by cell, z slowest: drawn first to last they
+        // run along +z, so a camera looking down -z draws them nearer to front to back reversed.
+        f.reverseOrder = glm::dot(camera.target() - camera.eye(), glm::vec3(0, 0, 1)) < 0.0f;
         frame.upload(&f, sizeof f);
     }
 };
@@ -185,6 +192,10 @@ Result<Renderer> Renderer::create(const format::Scene& scene,
     if (!fluid)
         return fluid.error();
     impl->fluid = std::move(*fluid);
+    auto splat = SphereSplatPass::create();
+    if (!splat)
+        return splat.error();
+    impl->splat = std::move(*splat);
     auto backdrop =
         gpu::Program::graphics("render_backdrop", shaders::shaderSource("render_fullscreen.vert"),
                                shaders::shaderSource("render_backdrop.frag"));
@@ -265,10 +276,15 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
         r.fluid.draw(count, r.sceneColour.id(), r.sceneDepth.id(), r.finalTarget.id(), params);
         r.output = r.finalTarget.id();
     } else {
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        r.particles.use();
-        glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * std::uint64_t(count)));
+        // Small spheres in compute where asked and the list of large ones fits, else every
+        // sphere rasterised.
+        if (!settings.computeSmallSpheres ||
+            !r.splat.draw(count, r.sceneDepth.id())) {
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            r.particles.use();
+            glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * std::uint64_t(count)));
+        }
         r.output = r.sceneTarget.id();
     }
     r.passTimer(RenderPass::Fluid).end();

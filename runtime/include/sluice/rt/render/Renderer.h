@@ -55,6 +55,10 @@ struct RenderSettings {
     /// collider behind it) as glass, so the fluid inside stays visible.
     bool glassWalls = true;
     bool drawFloor = true;
+    /// Spheres: the ones that cover at most 8 x 8 pixels drawn by a compute pass (the same
+    /// pixels as the rasterised impostors, at a fraction of the cost where the GPU has little
+    /// rasteriser or the spheres are tiny); false rasterises every sphere.
+    bool computeSmallSpheres = true;
     /// Screen-space fluid: the spheres of its depth and thickness passes in particle radii
     /// (above 1.42 the rest lattice leaves no gaps), filter passes, filter radius and depth
     /// falloff in particle radii, absorption of the thickness [1/m], refraction offset
