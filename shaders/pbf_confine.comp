@@ -17,20 +17,27 @@ layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbo
 uniform uint withVorticity; // 0: omega was not computed this substep
 
 void main() {
-    uint i = SLUICE_GLOBAL_ID.x;
-    if (i >= PBF_COUNT)
-        return;
-    vec3 xi = pos[i].xyz;
-    vec3 vi = vel[i].xyz;
-    vec3 wi = withVorticity != 0u ? omega[i].xyz : vec3(0.0);
-    float wiLen = length(wi);
+    uint i = PBF_PARTICLE;
+    pbfLane = PBF_LANE;
+    bool live = i < PBF_COUNT;
+    vec3 vi = live ? vel[i].xyz : vec3(0.0);
+    vec3 wi = live && withVorticity != 0u ? omega[i].xyz : vec3(0.0);
     vec3 eta = vec3(0.0);
     vec3 blend = vec3(0.0);
-    PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pos, i, xi)
-        if (withVorticity != 0u)
-            eta += (length(omega[j].xyz) - wiLen) * spikyGrad(d, q2);
-        blend += (vel[j].xyz - vi) * poly6(q2);
-    PBF_NEIGHBOURS_END
+    if (live) {
+        vec3 xi = pos[i].xyz;
+        float wiLen = length(wi);
+        PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pos, i, xi)
+            if (withVorticity != 0u)
+                eta += (length(omega[j].xyz) - wiLen) * spikyGrad(d, q2);
+            blend += (vel[j].xyz - vi) * poly6(q2);
+        PBF_NEIGHBOURS_END
+    }
+    // Every lane's share (uniform: all reach the barriers).
+    eta = pbfLaneSum(vec4(eta, 0.0)).xyz;
+    blend = pbfLaneSum(vec4(blend, 0.0)).xyz;
+    if (!live || pbfLane != 0u)
+        return;
     eta *= PBF_VOLUME;
     float etaLen = length(eta);
     vec3 n = etaLen >= 1e-12 ? eta / etaLen : vec3(0.0);

@@ -82,26 +82,26 @@ bool converged(uint k) {
 
 void main() {
     uint k = iteration;
-    uint i = SLUICE_GLOBAL_ID.x;
-    if (i >= PBF_COUNT)
-        return;
+    uint i = PBF_PARTICLE;
+    pbfLane = PBF_LANE;
     if (stats.stopIteration < k)
         return; // a guard: after the stop this dispatch launches no work group
-    if (i == 0u)
+    if (SLUICE_GLOBAL_ID.x == 0u)
         atomicAdd(stats.solveDispatches, 1u); // this dispatch ran (--bench counts them)
     if (converged(k)) {
         // No update in this iteration: pbf_velocity.comp reads x* from this iteration's input
         // buffer. The later iterations' lambda and delta dispatches launch no group.
         if (gl_LocalInvocationIndex == 0u)
             atomicMin(stats.stopIteration, k);
-        if (i == 0u)
+        if (SLUICE_GLOBAL_ID.x == 0u)
             for (uint a = (k + 1u) * P.solveChunks; a < P.maxIterations * P.solveChunks; ++a)
                 args[a].groupsX = 0u;
         return;
     }
 
-    vec3 xi = pred[i].xyz;
-    float li = pred[i].w;
+    bool live = i < PBF_COUNT;
+    vec3 xi = live ? pred[i].xyz : vec3(0.0);
+    float li = live ? pred[i].w : 0.0;
     float scorrScale = -P.scorrK * P.lambdaRef;
     vec3 dp = vec3(0.0);
     // s_corr's (W / W(delta q))^n: pow() is exp2(n log2 w) on llvmpipe, two polynomial
@@ -109,7 +109,8 @@ void main() {
     // of w, w^2 and w^4 instead, the same to float rounding. The test is outside the loop so
     // the loop holds one form only.
     uint n = uint(P.scorrN);
-    if (float(n) == P.scorrN && n >= 1u && n <= 7u) {
+    bool integerN = float(n) == P.scorrN && n >= 1u && n <= 7u;
+    if (live && integerN) {
         bool odd = (n & 1u) != 0u, two = (n & 2u) != 0u, four = (n & 4u) != 0u;
         PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             float w = poly6(q2) * P.invWDeltaQ;
@@ -118,12 +119,15 @@ void main() {
             float scorr = scorrScale * wn;
             dp += (li + pj.w + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END
-    } else {
+    } else if (live) {
         PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             float scorr = scorrScale * pow(poly6(q2) * P.invWDeltaQ, P.scorrN);
             dp += (li + pj.w + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END
     }
+    dp = pbfLaneSum(vec4(dp, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)
+    if (!live || pbfLane != 0u)
+        return;
     // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
     // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
     // pbf_velocity.comp counts what still goes wrong.

@@ -34,38 +34,49 @@ void addNeighbour(vec3 d, float q2, inout float density, inout vec3 gradSum, ino
 
 // Iteration 0 (x* = the start positions): the full search over the candidates, which also
 // records N(i) as the mask every later neighbour pass of the substep reads (docs/pbf.md step
-// 3). Candidates come in increasing order, so each mask word is complete when the next begins.
-void searchAndRecord(uint i, vec3 xi, inout float density, inout vec3 gradSum, inout float gradSq) {
+// 3). This lane visits the candidates of its mask words (w % PBF_LANES == pbfLane) in increasing
+// order, so each of its words is complete when its next one begins, and writes only those words.
+// Returns the neighbours this lane found.
+uint searchAndRecord(uint i, vec3 xi, inout float density, inout vec3 gradSum,
+                     inout float gradSq) {
     uint maskBase = i * kNeighbourMaskWords;
-    uint word = 0u, bits = 0u, neighbours = 0u;
+    uint word = pbfLane, bits = 0u, neighbours = 0u;
     PBF_RANGES_BEGIN(predStart, i)
-        for (uint j = begin_; j < end_; ++j) {
-            uint c = pbfBase_ + (j - begin_);
-            if (c < kNeighbourMaskBits && (c >> 5u) != word) {
-                neighbourMask[maskBase + word] = bits;
-                word = c >> 5u;
-                bits = 0u;
-            }
-            vec3 xj = pred[j].xyz;
-            if (!pbfIsNeighbour(xi, xj, i, j, pbfDense_, cc_))
+        uint stop_ = pbfBase_ + (end_ - begin_);
+        for (uint w = pbfBase_ >> 5u; w < ((stop_ + 31u) >> 5u); ++w) {
+            if (w % kPbfLanes != pbfLane)
                 continue;
-            if (c < kNeighbourMaskBits)
-                bits |= 1u << (c & 31u);
-            ++neighbours;
-            vec3 d = xi - xj;
-            addNeighbour(d, dot(d, d), density, gradSum, gradSq);
+            uint hi = min(stop_, (w + 1u) << 5u);
+            for (uint c = max(pbfBase_, w << 5u); c < hi; ++c) {
+                if (c < kNeighbourMaskBits && w != word) {
+                    neighbourMask[maskBase + word] = bits;
+                    word = w;
+                    bits = 0u;
+                }
+                uint j = begin_ + (c - pbfBase_);
+                vec3 xj = pred[j].xyz;
+                if (!pbfIsNeighbour(xi, xj, i, j, pbfDense_, cc_))
+                    continue;
+                if (c < kNeighbourMaskBits)
+                    bits |= 1u << (c & 31u);
+                ++neighbours;
+                vec3 d = xi - xj;
+                addNeighbour(d, dot(d, d), density, gradSum, gradSq);
+            }
         }
     PBF_RANGES_END
     uint candidates = pbfBase_;
-    // The words after the last candidate: the one being filled, then zeros.
-    for (; word < kNeighbourMaskWords; ++word) {
+    // This lane's words after its last candidate: the one being filled, then zeros.
+    for (; word < kNeighbourMaskWords; word += kPbfLanes) {
         neighbourMask[maskBase + word] = bits;
         bits = 0u;
     }
-    if (candidates > kNeighbourMaskBits)
-        atomicAdd(stats.maskOverflow, 1u);
-    atomicMax(stats.maxCandidates, candidates);
-    atomicMax(stats.maxNeighbours, neighbours);
+    if (pbfLane == 0u) {
+        if (candidates > kNeighbourMaskBits)
+            atomicAdd(stats.maskOverflow, 1u);
+        atomicMax(stats.maxCandidates, candidates);
+    }
+    return neighbours;
 }
 
 void main() {
@@ -75,22 +86,36 @@ void main() {
     if (stats.stopIteration < k)
         return;
 
-    uint i = SLUICE_GLOBAL_ID.x;
-    if (i == 0u)
+    uint i = PBF_PARTICLE;
+    pbfLane = PBF_LANE;
+    if (SLUICE_GLOBAL_ID.x == 0u)
         atomicAdd(stats.solveDispatches, 1u); // this dispatch ran (--bench counts them)
-    float c = 0.0;
-    if (i < PBF_COUNT) {
-        vec3 xi = pred[i].xyz;
-        float density = poly6(0.0); // the particle itself
-        vec3 gradSum = vec3(0.0);
-        float gradSq = 0.0;
+    bool live = i < PBF_COUNT;
+    vec3 xi = live ? pred[i].xyz : vec3(0.0);
+    float density = pbfLane == 0u ? poly6(0.0) : 0.0; // the particle itself
+    vec3 gradSum = vec3(0.0);
+    float gradSq = 0.0;
+    float neighbours = 0.0;
+    if (live) {
         if (k == 0u) {
-            searchAndRecord(i, xi, density, gradSum, gradSq);
+            neighbours = float(searchAndRecord(i, xi, density, gradSum, gradSq));
         } else {
             PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
                 addNeighbour(d, q2, density, gradSum, gradSq);
             PBF_NEIGHBOURS_END
         }
+    }
+    // Every lane's share (uniform: all invocations reach the barriers).
+    vec4 sums = pbfLaneSum(vec4(gradSum, gradSq));
+    vec2 counted = pbfLaneSum(vec4(density, neighbours, 0.0, 0.0)).xy;
+
+    float c = 0.0;
+    if (live && pbfLane == 0u) {
+        gradSum = sums.xyz;
+        gradSq = sums.w;
+        density = counted.x;
+        if (k == 0u)
+            atomicMax(stats.maxNeighbours, uint(counted.y));
         // Dynamic bodies fill part of the support (docs/bodies.md): their boundary volume adds
         // to the density, and the particle's own gradient gains its slope.
         float boundary = 0.0;
@@ -125,8 +150,9 @@ void main() {
         if (old + fixedSum < old)
             atomicAdd(iterations[k].errorHi, 1u);
         atomicMax(iterations[k].errorMaxBits, floatBitsToUint(groupMax[0]));
-        uint first = SLUICE_GLOBAL_ID.x - t; // this group's first particle
-        uint live = PBF_COUNT > first ? min(PBF_COUNT - first, kPbfLocalSize) : 0u;
+        const uint perGroup = kPbfLocalSize / kPbfLanes;
+        uint first = (SLUICE_GLOBAL_ID.x - t) / kPbfLanes; // this group's first particle
+        uint live = PBF_COUNT > first ? min(PBF_COUNT - first, perGroup) : 0u;
         atomicAdd(iterations[k].particles, live);
     }
 }

@@ -23,7 +23,7 @@ layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatc
 // What pbf_lambda.comp and pbf_delta.comp start each substep from. Nothing else in this pass
 // touches these words.
 void openSolve() {
-    uint groups = (PBF_COUNT + kPbfLocalSize - 1u) / kPbfLocalSize;
+    uint groups = (PBF_COUNT * kPbfLanes + kPbfLocalSize - 1u) / kPbfLocalSize;
     for (uint it = 0u; it < P.maxIterations; ++it) {
         for (uint c = 0u; c < P.solveChunks; ++c) {
             uint first = c * kPbfMaxGroupsPerDispatch;

@@ -13,15 +13,19 @@ layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellSt
 layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbourMask[]; };
 
 void main() {
-    uint i = SLUICE_GLOBAL_ID.x;
-    if (i >= PBF_COUNT)
-        return;
-    vec3 xi = pos[i].xyz;
-    vec3 vi = vel[i].xyz;
+    uint i = PBF_PARTICLE;
+    pbfLane = PBF_LANE;
+    bool live = i < PBF_COUNT;
     vec3 w = vec3(0.0);
-    PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pos, i, xi)
-        // grad_j W(x_i - x_j) = gradW(x_j - x_i) = -gradW(d)
-        w += cross(vel[j].xyz - vi, -spikyGrad(d, q2));
-    PBF_NEIGHBOURS_END
-    omega[i] = vec4(PBF_VOLUME * w, 0.0);
+    if (live) {
+        vec3 xi = pos[i].xyz;
+        vec3 vi = vel[i].xyz;
+        PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pos, i, xi)
+            // grad_j W(x_i - x_j) = gradW(x_j - x_i) = -gradW(d)
+            w += cross(vel[j].xyz - vi, -spikyGrad(d, q2));
+        PBF_NEIGHBOURS_END
+    }
+    w = pbfLaneSum(vec4(w, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)
+    if (live && pbfLane == 0u)
+        omega[i] = vec4(PBF_VOLUME * w, 0.0);
 }

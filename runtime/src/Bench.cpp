@@ -238,7 +238,8 @@ nlohmann::json printSteps(const Simulation& sim, const format::Scene& scene,
     std::printf("  GPU commands per substep: %.2f dispatches (%.2f launched work; the rest are "
                 "solver iterations after the early stop), %.2f memory barriers\n",
                 s.dispatchesPerSubstep, s.dispatchesRunPerSubstep, s.barriersPerSubstep);
-    std::printf("  neighbour grid: %s\n", s.grid.c_str());
+    std::printf("  neighbour grid: %s; %u invocations per particle in the neighbour passes\n",
+                s.grid.c_str(), sim.neighbourLanes());
     std::printf("  neighbour mask: %u bits per particle; most candidates %u, most neighbours %u; "
                 "%llu particle-substeps past the mask (tested in full)\n",
                 shared::kNeighbourMaskBits, s.maxCandidates, s.maxNeighbours,
@@ -269,6 +270,8 @@ Result<void> writeBenchJson(const BenchOptions& o, const format::Scene& scene,
         {"gpuBytes", sim.gpuBytes()},
         {"bytesPerParticle", sim.bytesPerParticle()},
         {"neighbourGrid", s.grid},
+        {"neighbourLanes", sim.neighbourLanes()},
+        {"computeSmallSpheres", o.render.computeSmallSpheres},
         {"neighbourMaskBits", shared::kNeighbourMaskBits},
         {"maskOverflow", s.maskOverflow},
         {"maxCandidates", s.maxCandidates},
@@ -297,6 +300,7 @@ int runBench(const BenchOptions& o, const format::Scene& scene,
     SimulationOptions options;
     options.deterministic = o.deterministic;
     options.timers = true;
+    options.neighbourLanes = o.neighbourLanes;
     auto sim = Simulation::create(scene, std::move(colliders), options);
     if (!sim)
         return reportFailure(sim.error());

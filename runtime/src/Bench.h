@@ -18,6 +18,7 @@ struct BenchOptions {
     std::uint64_t warmup = 20;  ///< steps run first and not measured
     std::string json;           ///< results file, empty for none
     bool deterministic = false;
+    std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes
     /// After the steps: frames of the final state rendered and GPU-timed one at a time (0:
     /// none), at `renderSize` pixels, drawn with `render`, the scene camera's distance times
     /// `zoom`.

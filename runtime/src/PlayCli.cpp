@@ -50,6 +50,8 @@ struct PlayOptions {
     std::string plyDir;
     std::uint64_t dumpEvery = 1;
     bool deterministic = false;
+    std::uint32_t neighbourLanes = 0; // 0: chosen for the renderer and the scene
+    bool rasterSpheres = false;
     bool check = false;
     bool quiet = false;
     bool strict = false;
@@ -87,6 +89,7 @@ Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::
                     "--surface " + o.surface + ": expected spheres or fluid");
     settings.colour = *colour;
     settings.surface = *surface;
+    settings.computeSmallSpheres = !o.rasterSpheres;
     return {};
 }
 
@@ -269,6 +272,7 @@ int startBench(const PlayOptions& o, const Rendering& rendering, LoadedScene loa
     bench.warmup = o.warmup;
     bench.json = o.benchJson;
     bench.deterministic = o.deterministic;
+    bench.neighbourLanes = o.neighbourLanes;
     bench.renderFrames = o.benchFrames;
     bench.zoom = o.capture.zoom;
     if (o.benchFrames > 0) {
@@ -305,6 +309,7 @@ int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene 
     headless.plyDir = o.plyDir;
     headless.dumpEvery = o.dumpEvery;
     headless.deterministic = o.deterministic;
+    headless.neighbourLanes = o.neighbourLanes;
     headless.check = o.check;
     headless.quiet = o.quiet;
     headless.capture = o.capture;
@@ -366,6 +371,13 @@ int run(int argc, char** argv) {
         ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_flag("--deterministic", o.deterministic,
                  "Fixed particle order inside hash buckets: identical results run to run");
+    app.add_option("--neighbour-lanes", o.neighbourLanes,
+                   "Invocations per particle in the solver's neighbour passes: 1, 2, 4, 8, 16 or "
+                   "32 (default: 1 on a software renderer, on a GPU enough to fill it)")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16, 32}));
+    app.add_flag("--raster-spheres", o.rasterSpheres,
+                 "Rasterise every particle sphere (default: the ones of at most 8x8 pixels in a "
+                 "compute pass, the same pixels)");
     app.add_flag("--check", o.check,
                  "Exit 1 if a particle went non-finite or ended inside a collider");
     app.add_flag("--quiet", o.quiet, "Print nothing but errors");

@@ -60,6 +60,7 @@ Result<HeadlessRun> startRun(const HeadlessOptions& o, const format::Scene& scen
     SimulationOptions simOptions;
     simOptions.deterministic = o.deterministic;
     simOptions.timers = true; // the statistics table and summary report GPU time per pass
+    simOptions.neighbourLanes = o.neighbourLanes;
     auto sim = Simulation::create(scene, std::move(colliders), simOptions);
     if (!sim)
         return sim.error();

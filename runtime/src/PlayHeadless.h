@@ -23,6 +23,7 @@ struct HeadlessOptions {
     std::string plyDir;           ///< PLY folder, empty for none
     std::uint64_t dumpEvery = 1;  ///< a PLY file every K steps
     bool deterministic = false;
+    std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes
     bool check = false; ///< exit 1 when a particle went non-finite or ended inside a collider
     bool quiet = false;
     CaptureOptions capture;          ///< --frames, --video, --screenshot-at

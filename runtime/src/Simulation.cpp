@@ -66,16 +66,31 @@ bool anySparse(const std::vector<format::ColliderAsset>& assets) {
                        [](const format::ColliderAsset& a) { return a.sparse(); });
 }
 
-// Invocations of the body pass's work group for the current context: a software renderer
-// (Mesa's llvmpipe or softpipe, SwiftShader) runs a group's invocations in turn on one CPU
-// thread, where the lanes that split a body's points only add their barriers.
-std::uint32_t bodyGroupSize() {
+// Whether the current context renders in software (Mesa's llvmpipe or softpipe, SwiftShader),
+// which runs a work group's invocations in turn on one CPU thread: there, lanes that split one
+// item's work only add their barriers.
+bool softwareRenderer() {
     const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const std::string_view name = renderer ? renderer : "";
     for (std::string_view software : {"llvmpipe", "softpipe", "SwiftShader"})
         if (name.find(software) != std::string_view::npos)
-            return shared::kBodyLocalSize;
-    return shared::kBodyGroupSize;
+            return true;
+    return false;
+}
+
+// Invocations of the body pass's work group for the current context.
+std::uint32_t bodyGroupSize() {
+    return softwareRenderer() ? shared::kBodyLocalSize : shared::kBodyGroupSize;
+}
+
+// Invocations per particle of the neighbour passes for `capacity` particles on this context.
+std::uint32_t neighbourLanesFor(std::uint32_t capacity) {
+    if (softwareRenderer())
+        return 1;
+    std::uint32_t lanes = 1;
+    while (lanes < 8 && std::uint64_t(capacity) * lanes * 2 <= kNeighbourLanesTarget)
+        lanes *= 2;
+    return lanes;
 }
 
 } // namespace
@@ -141,6 +156,7 @@ struct Simulation::Impl {
     std::uint32_t removedAtSpawn = 0; // particles of the blocks that started inside a body
     std::optional<BodyDrag> drag;      // the viewer's mouse spring
     std::uint32_t substepInStep = 0;   // which substep of the step is running
+    std::uint32_t lanes = 1;           // invocations per particle of the neighbour passes
 
     gpu::Program predict, scatter, bucketSort, reorder, scatterReorder, lambda, delta, velocity,
         vorticity, confine, stats, bodies;
@@ -564,12 +580,12 @@ void Simulation::Impl::applyVorticityAndXsph() {
     pos[1 - cur].bindStorage(shared::kBindOmega);
     vel[1 - cur].bindStorage(shared::kBindVelIn);
     if (withVorticity) {
-        dispatch(vorticity, count);
+        dispatch(vorticity, count * lanes);
         barrier();
     }
     vel[cur].bindStorage(shared::kBindVelOut);
     confine.set("withVorticity", withVorticity ? 1u : 0u);
-    dispatch(confine, count);
+    dispatch(confine, count * lanes);
     barrier();
     end(Pass::Vorticity);
 }
@@ -599,6 +615,12 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
                     scene.path + ": " + std::to_string(scene.colliders.size()) +
                         " colliders in the scene but " + std::to_string(colliders.size()) +
                         " assets given");
+    if (const std::uint32_t l = options.neighbourLanes;
+        l != 0 && (l > 32 || (l & (l - 1)) != 0))
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": " + std::to_string(l) +
+                        " neighbour lanes; give 0 (chosen for the renderer and the scene), 1, 2, "
+                        "4, 8, 16 or 32");
     if (const std::uint32_t g = options.bodyGroupSize;
         g != 0 && (g < shared::kBodyLocalSize || g > shared::kBodyGroupSize || (g & (g - 1)) != 0))
         return fail(ErrorCode::InvalidArgument,
@@ -610,8 +632,17 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     impl->capacity = std::max<std::uint32_t>(scene.simulation.capacity, 1);
     impl->maxIterations = std::max<std::uint32_t>(scene.simulation.maxIterations, 1);
     impl->tableSize = std::max<std::uint32_t>(1024, std::bit_ceil(2 * impl->capacity));
+    impl->lanes = options.neighbourLanes != 0 ? options.neighbourLanes
+                                              : neighbourLanesFor(impl->capacity);
+    const std::uint64_t laneItems = std::uint64_t(impl->capacity) * impl->lanes;
+    if (laneItems > 0xffffffffull)
+        return fail(ErrorCode::InvalidArgument,
+                    scene.path + ": a capacity of " + std::to_string(impl->capacity) +
+                        " particles at " + std::to_string(impl->lanes) +
+                        " neighbour lanes each is more invocations than one pass may have");
     impl->solveChunks = std::max<std::uint32_t>(
-        1, std::uint32_t((std::uint64_t(groupsFor(impl->capacity)) + kMaxGroupsPerDispatch - 1) /
+        1, std::uint32_t((std::uint64_t(gpu::groupCount(laneItems, shared::kPbfLocalSize)) +
+                          kMaxGroupsPerDispatch - 1) /
                          kMaxGroupsPerDispatch));
     impl->colliderAssets = std::move(colliders);
     auto bodies = setUpBodies(scene, impl->colliderAssets, impl->k);
@@ -647,12 +678,19 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     bodyDefines.push_back({"SLUICE_BODY_GROUP_SIZE", groupSize});
     std::vector<gpu::ShaderDefine> scatterDefines(defines.begin(), defines.end());
     scatterDefines.push_back({"PBF_SCATTER_REORDER", "1"});
+    // The neighbour passes split each particle over its lanes; predict sizes their dispatches.
+    std::vector<gpu::ShaderDefine> laneDefines(defines.begin(), defines.end());
+    laneDefines.push_back({"PBF_LANES", std::to_string(impl->lanes)});
+    const gpu::Program* const laned[] = {&impl->predict, &impl->lambda, &impl->delta,
+                                         &impl->vorticity, &impl->confine};
     for (const Build& b : builds) {
         std::span<const gpu::ShaderDefine> these = defines;
         if (b.program == &impl->bodies)
             these = bodyDefines;
         else if (b.program == &impl->scatterReorder)
             these = scatterDefines;
+        else if (std::find(std::begin(laned), std::end(laned), b.program) != std::end(laned))
+            these = laneDefines;
         auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name), these);
         if (!program)
             return program.error();
@@ -932,6 +970,7 @@ const gpu::Buffer& Simulation::velocityBuffer() const { return m_impl->vel[m_imp
 std::uint64_t Simulation::gpuBytes() const { return m_impl->gpuBytes; }
 std::uint64_t Simulation::bytesPerParticle() const { return m_impl->bytesPerParticle; }
 GpuCommandCount Simulation::commandCount() const { return m_impl->commands; }
+std::uint32_t Simulation::neighbourLanes() const { return m_impl->lanes; }
 
 glm::uvec3 Simulation::neighbourGridCells() const { return m_impl->denseGridDims(); }
 std::vector<std::uint32_t> Simulation::solveGroups() const {

@@ -11,6 +11,18 @@
 
 layout(std140, binding = kBindParams) uniform PbfParamsBlock { PbfParams P; };
 
+// Invocations per particle in the neighbour passes (lambda, delta, vorticity, confinement): a
+// particle's candidates are split over PBF_LANES adjacent invocations by neighbour-mask word
+// (word w goes to lane w % PBF_LANES), and their sums are added in a fixed tree (pbfLaneSum).
+// On a GPU a small scene then fills more of the machine and each invocation walks a fraction of
+// the neighbours; 1 (every particle one invocation) on software renderers and large scenes.
+#ifndef PBF_LANES
+#define PBF_LANES 1
+#endif
+const uint kPbfLanes = uint(PBF_LANES);
+// This invocation's lane; set by the pass's main before any neighbour loop.
+uint pbfLane = 0u;
+
 #define PBF_H (P.h)
 #define PBF_H2 (P.h2)
 #define PBF_VOLUME (P.volume)
@@ -121,6 +133,8 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
         PBF_RANGES_BEGIN(START, i)                                                             \
         uint pbfStop_ = pbfBase_ + (end_ - begin_);                                            \
         for (uint pbfW_ = pbfBase_ >> 5u; pbfW_ < ((pbfStop_ + 31u) >> 5u); ++pbfW_) {        \
+            if (pbfW_ % kPbfLanes != pbfLane)                                                  \
+                continue; /* another lane's word */                                            \
             uint pbfFirst_ = pbfW_ << 5u; /* candidate number of the word's bit 0 */           \
             uint pbfLo_ = max(pbfBase_, pbfFirst_) - pbfFirst_;                                \
             uint pbfHi_ = min(pbfStop_, pbfFirst_ + 32u) - pbfFirst_;                          \
@@ -147,6 +161,36 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
     }                                                                                          \
     PBF_RANGES_END                                                                             \
     }
+
+#if PBF_LANES > 1
+shared vec4 pbfLaneSums[kPbfLocalSize];
+#endif
+
+// The sum of v over the PBF_LANES invocations of this invocation's particle, the same in each of
+// them: a fixed tree in shared memory, so every run adds in the same order. Every invocation of
+// the group must call it (it holds barriers), the same number of times.
+vec4 pbfLaneSum(vec4 v) {
+#if PBF_LANES > 1
+    uint t = gl_LocalInvocationID.x;
+    uint lane = t % kPbfLanes;
+    barrier(); // the last call's reads are done
+    pbfLaneSums[t] = v;
+    for (uint s = kPbfLanes / 2u; s > 0u; s >>= 1u) {
+        barrier();
+        if (lane < s)
+            pbfLaneSums[t] += pbfLaneSums[t + s];
+    }
+    barrier();
+    return pbfLaneSums[t - lane];
+#else
+    return v;
+#endif
+}
+
+// The particle and lane of this invocation of a neighbour pass (macros: gl_WorkGroupSize may
+// only be used after the pass's local_size line).
+#define PBF_PARTICLE (SLUICE_GLOBAL_ID.x / kPbfLanes)
+#define PBF_LANE (SLUICE_GLOBAL_ID.x % kPbfLanes)
 
 #ifdef PBF_WITH_BODIES
 layout(std430, binding = kBindBodies) buffer BodiesBuf { GpuBody bodies[]; };

@@ -205,6 +205,25 @@ TEST(SluicePlay, MissingSceneFileAndBadArgumentsExitTwo) {
     auto badSteps =
         play(dir, {(kAssets / "drop.json").string(), "--headless", "--steps", "-3"});
     EXPECT_EQ(badSteps.code, 2) << shown(badSteps);
+    auto badLanes = play(dir, {(kAssets / "drop.json").string(), "--headless", "--steps", "1",
+                               "--neighbour-lanes", "3"});
+    EXPECT_EQ(badLanes.code, 2) << shown(badLanes);
+    EXPECT_NE(badLanes.err.find("--neighbour-lanes"), std::string::npos) << badLanes.err;
+}
+
+// --neighbour-lanes and --raster-spheres reach the solver and the renderer, and --bench says
+// what it ran with.
+TEST(SluicePlay, BenchReportsItsNeighbourLanesAndSphereDrawing) {
+    const fs::path dir = tempDir("bench-lanes");
+    const auto result = play(dir, {(kAssets / "drop.json").string(), "--bench", "--warmup", "0",
+                                   "--steps", "1", "--neighbour-lanes", "4", "--bench-frames",
+                                   "1", "--size", "64x48", "--raster-spheres", "--bench-json",
+                                   (dir / "b.json").string()});
+    ASSERT_EQ(result.code, 0) << shown(result);
+    const auto bench = nlohmann::json::parse(testrun::readText(dir / "b.json"));
+    EXPECT_EQ(bench["neighbourLanes"].get<std::uint32_t>(), 4u);
+    EXPECT_FALSE(bench["computeSmallSpheres"].get<bool>());
+    EXPECT_NE(result.out.find("4 invocations per particle"), std::string::npos) << result.out;
 }
 
 } // namespace

@@ -119,6 +119,43 @@ TEST_F(SimulationCommands, ALargeGridScansInBlocks) {
     EXPECT_EQ(blocks.perStep.barriers, one.perStep.barriers + 2);
 }
 
+// Neighbour lanes: the same dispatches, each neighbour pass launching `lanes` invocations per
+// particle; the lanes record one mask and run the same early stop. A lane count that is not a
+// power of two up to 32 is refused. A software renderer picks one lane.
+TEST_F(SimulationCommands, NeighbourLanesWidenTheNeighbourPassesOnly) {
+    format::Scene scene = column(2);
+    scene.simulation.targetDensityError = 10.0f;
+    const Counted one = run(scene, {}, 2);
+    SimulationOptions options;
+    options.neighbourLanes = 8;
+    auto sim = Simulation::create(scene, {}, options);
+    ASSERT_TRUE(sim) << sim.error().message();
+    EXPECT_EQ(sim->neighbourLanes(), 8u);
+    const GpuCommandCount before = sim->commandCount();
+    sim->step();
+    const GpuCommandCount perStep = sim->commandCount() - before;
+    EXPECT_EQ(perStep.dispatches, one.perStep.dispatches);
+    EXPECT_EQ(perStep.barriers, one.perStep.barriers);
+    const std::uint32_t groups =
+        (sim->particleCount() * 8 + shared::kPbfLocalSize - 1) / shared::kPbfLocalSize;
+    const std::vector<std::uint32_t> launched = sim->solveGroups();
+    ASSERT_EQ(launched.size(), 8u);
+    EXPECT_EQ(launched[0], groups);
+    EXPECT_EQ(launched[2], groups);
+    EXPECT_EQ(launched[3], 0u) << "stopped at iteration 2, as with one lane";
+    EXPECT_EQ(sim->readStats().iterations, 2u);
+
+    auto automatic = Simulation::create(scene, {});
+    ASSERT_TRUE(automatic);
+    EXPECT_EQ(automatic->neighbourLanes(), 1u) << "llvmpipe: one invocation per particle";
+    for (const std::uint32_t bad : {3u, 64u}) {
+        options.neighbourLanes = bad;
+        auto refused = Simulation::create(scene, {}, options);
+        ASSERT_FALSE(refused);
+        EXPECT_NE(refused.error().message().find("neighbour lanes"), std::string::npos);
+    }
+}
+
 class PrefixScanTest : public GpuTest {};
 
 // Both layouts against the CPU's sum, at the sizes where they meet: a shorter input read as

@@ -89,14 +89,32 @@ double meanPositionDifference(const std::vector<ParticleState>& a,
 // Both neighbour grids: the domain box as above gives 5 x 50 x 7 cells, fewer than the hash
 // table's 8192 buckets, so the solver uses the dense grid; the same box reaching up to y = 100 m
 // (nothing gets there) needs 5 x 2525 x 7 cells and the solver hashes instead.
-class SimulationParity : public GpuTest, public ::testing::WithParamInterface<bool> {};
+// Each grid also with the neighbour passes split over lanes (4 and 8 invocations per particle,
+// the layouts a GPU picks for small scenes): the same sums in another fixed order.
+struct ParityCase {
+    bool dense;
+    std::uint32_t lanes;
+};
 
-INSTANTIATE_TEST_SUITE_P(Grids, SimulationParity, ::testing::Values(true, false),
-                         [](const auto& param) { return param.param ? "Dense" : "Hash"; });
+void PrintTo(const ParityCase& c, std::ostream* os) {
+    *os << (c.dense ? "dense grid, " : "hash, ") << c.lanes << " lanes";
+}
+
+class SimulationParity : public GpuTest, public ::testing::WithParamInterface<ParityCase> {};
+
+INSTANTIATE_TEST_SUITE_P(Grids, SimulationParity,
+                         ::testing::Values(ParityCase{true, 1}, ParityCase{false, 1},
+                                           ParityCase{true, 4}, ParityCase{false, 8}),
+                         [](const auto& param) {
+                             return std::string(param.param.dense ? "Dense" : "Hash") +
+                                    (param.param.lanes > 1
+                                         ? std::to_string(param.param.lanes) + "Lanes"
+                                         : "");
+                         });
 
 TEST_P(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfterTwenty) {
     ParityScene p = parityScene();
-    const bool dense = GetParam();
+    const bool dense = GetParam().dense;
     if (!dense)
         p.scene.domainMax->y = 100.0f;
     std::vector<ref::ReferenceCollider> refColliders;
@@ -105,8 +123,10 @@ TEST_P(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfter
     ref::ReferencePbf cpu(p.scene, refColliders);
     SimulationOptions options;
     options.deterministic = true;
+    options.neighbourLanes = GetParam().lanes;
     auto gpu = Simulation::create(p.scene, p.assets, options);
     ASSERT_TRUE(gpu) << gpu.error().message();
+    ASSERT_EQ(gpu->neighbourLanes(), GetParam().lanes);
     ASSERT_EQ(gpu->particleCount(), cpu.particles().size());
     ASSERT_GT(gpu->particleCount(), 1900u);
     const double h = p.scene.simulation.kernelRadius;

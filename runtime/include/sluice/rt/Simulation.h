@@ -34,7 +34,17 @@ struct SimulationOptions {
     /// split over its share of them); 64, 128, 256 or 512 force a layout, as the tests do to run
     /// the GPU's on llvmpipe.
     std::uint32_t bodyGroupSize = 0;
+    /// Invocations per particle in the neighbour passes (lambda, delta, vorticity,
+    /// confinement), which split its candidates and add their sums in a fixed order: 0 picks 1
+    /// on a software renderer and, on a GPU, enough that the capacity times it fills about
+    /// kNeighbourLanesTarget invocations (at most 8); 1, 2, 4, 8, 16 or 32 force it. A
+    /// --deterministic run gives the same bytes for the same lanes.
+    std::uint32_t neighbourLanes = 0;
 };
+
+/// Invocations the automatic neighbour lanes aim to fill on a GPU: a few per core of a large
+/// one, so a scene of a few thousand particles still spreads over the whole machine.
+inline constexpr std::uint32_t kNeighbourLanesTarget = 1u << 18;
 
 /// The pass groups timed per step, in order.
 enum class Pass : std::uint32_t {
@@ -195,6 +205,8 @@ public:
     /// statistics'); counted on the CPU where each is issued, so an indirect solve dispatch the
     /// early stop left idle counts too (StepStats::solveDispatches says which ran).
     GpuCommandCount commandCount() const;
+    /// Invocations per particle of the neighbour passes (SimulationOptions::neighbourLanes).
+    std::uint32_t neighbourLanes() const;
 
     /// The neighbour grid of the next step: with a domain box whose h-wide cells are no more
     /// than the hash table's buckets, a dense grid of that many cells per axis (no hash
