@@ -75,6 +75,16 @@ publish() {
         "$(json "$f" meanIterations) iterations): $(json "$f" stepsPerSecondGpu) steps/s by GPU" \
         "timers, $(json "$f" stepsPerSecondWall) wall (floor: >= 3000)"
     fi
+    f=$out/wave-sphere-15k.json
+    if [ -f "$f" ]; then
+      echo "  GPU commands per substep: $(json "$f" dispatchesPerSubstep) dispatches issued," \
+        "$(json "$f" dispatchesRunPerSubstep) launched work, $(json "$f" barriersPerSubstep)" \
+        "barriers; $(json "$f" neighbourLanes) neighbour lanes"
+    fi
+    for f in "$out"/wave-sphere-15k-lanes-*.json; do
+      [ -f "$f" ] && echo "  with $(json "$f" neighbourLanes) lanes: $(json "$f" stepsPerSecondGpu)" \
+        "steps/s by GPU timers, $(json "$f" stepsPerSecondWall) wall"
+    done
     f=$out/dam-break-1m-4it.json
     if [ -f "$f" ]; then
       awk -v s="$(json "$f" medianStepMs)" -v n="$(json "$f" substeps)" -v p="$(json "$f" particles)" \
@@ -91,6 +101,11 @@ publish() {
         "$(json "$f" fluid) ms GPU (floor at 1M, 1920x1080: <= 2 ms), frame $(json "$f" medianFrameMs)" \
         "ms, wall $(json "$f" wallMsPerFrame) ms per waited-for frame;" \
         "timers cover drawing: $(json "$f" gpuTimersCoverDrawing)"
+    fi
+    f=$out/render-raster.json
+    if [ -f "$f" ]; then
+      echo "  the same, every sphere rasterised (--raster-spheres): $(json "$f" fluid) ms GPU," \
+        "frame $(json "$f" medianFrameMs) ms, wall $(json "$f" wallMsPerFrame) ms"
     fi
     f=$out/render-fluid.json
     if [ -f "$f" ]; then
@@ -164,6 +179,12 @@ if phase solver; then
       --steps 200 --bench-json "$out/dam-break-1m-4it.json"
     step bench-1m "$bin/sluice-play" "$scenes/dam-break-1m.json" --bench --warmup 30 \
       --steps 200 --bench-json "$out/dam-break-1m.json"
+    # The neighbour lanes the GPU does not pick for 15k, for comparison.
+    for lanes in 1 2 4 16; do
+      step "bench-15k-lanes-$lanes" "$bin/sluice-play" "$scenes/wave-sphere-15k.json" --bench \
+        --warmup 100 --steps 1000 --neighbour-lanes $lanes \
+        --bench-json "$out/wave-sphere-15k-lanes-$lanes.json"
+    done
   fi
   publish
 fi
@@ -180,6 +201,9 @@ if phase render; then
     step "bench-render-$surface" "$bin/sluice-play" "$rscene" --bench --warmup $rwarm \
       --steps $rsteps --bench-frames $rframes --surface $surface --bench-json "$json_out"
   done
+  # Every sphere rasterised, for comparison with the compute pass for small ones.
+  step bench-render-raster "$bin/sluice-play" "$rscene" --bench --warmup $rwarm \
+    --steps $rsteps --bench-frames $rframes --raster-spheres --bench-json "$out/render-raster.json"
   publish
 fi
 
