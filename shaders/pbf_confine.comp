@@ -20,6 +20,10 @@ void main() {
     uint i = PBF_PARTICLE;
     pbfLane = PBF_LANE;
     bool live = i < PBF_COUNT;
+#if PBF_LANES == 1
+    if (!live)
+        return; // one lane: no barriers below
+#endif
     vec3 vi = live ? vel[i].xyz : vec3(0.0);
     vec3 wi = live && withVorticity != 0u ? omega[i].xyz : vec3(0.0);
     vec3 eta = vec3(0.0);

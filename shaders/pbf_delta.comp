@@ -100,6 +100,10 @@ void main() {
     }
 
     bool live = i < PBF_COUNT;
+#if PBF_LANES == 1
+    if (!live)
+        return; // one lane: no barriers below
+#endif
     vec3 xi = live ? pred[i].xyz : vec3(0.0);
     float li = live ? pred[i].w : 0.0;
     float scorrScale = -P.scorrK * P.lambdaRef;

@@ -44,8 +44,7 @@ uint searchAndRecord(uint i, vec3 xi, inout float density, inout vec3 gradSum,
     PBF_RANGES_BEGIN(predStart, i)
         uint stop_ = pbfBase_ + (end_ - begin_);
         for (uint w = pbfBase_ >> 5u; w < ((stop_ + 31u) >> 5u); ++w) {
-            if (w % kPbfLanes != pbfLane)
-                continue;
+            PBF_SKIP_OTHER_LANES(w)
             uint hi = min(stop_, (w + 1u) << 5u);
             for (uint c = max(pbfBase_, w << 5u); c < hi; ++c) {
                 if (c < kNeighbourMaskBits && w != word) {

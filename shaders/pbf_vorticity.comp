@@ -16,6 +16,10 @@ void main() {
     uint i = PBF_PARTICLE;
     pbfLane = PBF_LANE;
     bool live = i < PBF_COUNT;
+#if PBF_LANES == 1
+    if (!live)
+        return; // one lane: no barriers below
+#endif
     vec3 w = vec3(0.0);
     if (live) {
         vec3 xi = pos[i].xyz;

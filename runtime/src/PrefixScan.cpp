@@ -1,5 +1,4 @@
-// Prefix scan: one work group up to kScanSingleThreads x kScanSingleRun elements; above, the
-// recursive block scan: level 0 scans the data, level l + 1 scans level l's block totals.
+// Recursive block scan: level 0 scans the data, level l + 1 scans level l's block totals.
 #include "PrefixScan.h"
 
 #include <string>
@@ -11,7 +10,6 @@ namespace sluice::rt {
 
 namespace {
 constexpr std::uint64_t kMaxGroupsPerDispatch = shared::kPbfMaxGroupsPerDispatch;
-constexpr std::uint32_t kSingleMax = shared::kScanSingleThreads * shared::kScanSingleRun;
 
 std::uint32_t blocksFor(std::uint32_t count) {
     return (count + shared::kScanBlock - 1) / shared::kScanBlock;
@@ -23,9 +21,7 @@ Result<PrefixScan> PrefixScan::create(std::uint32_t maxCount) {
     const struct {
         gpu::Program* program;
         const char* name;
-    } passes[] = {{&scan.m_single, "scan_single.comp"},
-                  {&scan.m_block, "scan_block.comp"},
-                  {&scan.m_add, "scan_add.comp"}};
+    } passes[] = {{&scan.m_block, "scan_block.comp"}, {&scan.m_add, "scan_add.comp"}};
     for (const auto& pass : passes) {
         auto program = gpu::Program::compute(pass.name, shaders::shaderSource(pass.name));
         if (!program)
@@ -54,22 +50,7 @@ GpuCommandCount PrefixScan::exclusive(const gpu::Buffer& in, const gpu::Buffer& 
     SLUICE_ASSERT(what.inputCount <= what.count, "PrefixScan: more inputs than outputs");
     SLUICE_ASSERT(!what.clearInput || in.id() != out.id(),
                   "PrefixScan: clearing the input needs an output of its own");
-    return what.count == 0 ? GpuCommandCount{} : scanAt(in, out, what, 0);
-}
-
-GpuCommandCount PrefixScan::scanAt(const gpu::Buffer& in, const gpu::Buffer& out,
-                                   const ScanInput& what, std::size_t level) const {
-    if (what.count <= kSingleMax) {
-        in.bindStorage(shared::kBindScanInput);
-        out.bindStorage(shared::kBindScanData);
-        m_single.set("count", what.count);
-        m_single.set("inputCount", what.inputCount);
-        m_single.set("clearInput", what.clearInput ? 1u : 0u);
-        m_single.dispatch(glm::uvec3(1, 1, 1));
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        return {1, 0, 1};
-    }
-    return scanLevel(in, out, what, level);
+    return what.count == 0 ? GpuCommandCount{} : scanLevel(in, out, what, 0);
 }
 
 GpuCommandCount PrefixScan::scanLevel(const gpu::Buffer& in, const gpu::Buffer& out,
@@ -87,7 +68,9 @@ GpuCommandCount PrefixScan::scanLevel(const gpu::Buffer& in, const gpu::Buffer& 
     done.dispatches += m_block.dispatchChunked(glm::uvec3(blocks, 1, 1), kMaxGroupsPerDispatch);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     ++done.barriers;
-    done += scanAt(sums, sums, ScanInput{blocks, blocks, false}, level + 1);
+    if (blocks == 1)
+        return done; // one block: its offset is 0
+    done += scanLevel(sums, sums, ScanInput{blocks, blocks, false}, level + 1);
     out.bindStorage(shared::kBindScanData);
     sums.bindStorage(shared::kBindScanSums);
     m_add.set("count", what.count);

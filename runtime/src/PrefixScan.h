@@ -1,6 +1,8 @@
-// Exclusive prefix sum of a uint buffer on the GPU: one work group for small counts; otherwise
-// block scans in shared memory, the block totals scanned recursively, then added back
-// (Blelloch 1990).
+// Exclusive prefix sum of a uint buffer on the GPU: block scans in shared memory, the block
+// totals scanned recursively, then added back (Blelloch 1990). One dispatch up to kScanBlock
+// elements, three up to kScanBlock^2. (A one-group scan of up to 65,536 elements in one
+// dispatch was tried: on an H200 it took 2.5 times as long as the three dispatches at 25k,
+// docs/performance.md.)
 #pragma once
 
 #include <cstdint>
@@ -35,13 +37,9 @@ public:
                               const ScanInput& what) const;
 
 private:
-    /// One work group when `what` fits it, else the block scan of `level`.
-    GpuCommandCount scanAt(const gpu::Buffer& in, const gpu::Buffer& out, const ScanInput& what,
-                           std::size_t level) const;
     GpuCommandCount scanLevel(const gpu::Buffer& in, const gpu::Buffer& out,
                               const ScanInput& what, std::size_t level) const;
 
-    gpu::Program m_single;
     gpu::Program m_block;
     gpu::Program m_add;
     std::vector<gpu::Buffer> m_sums; // level l holds one total per block of level l

@@ -11,11 +11,6 @@ SLUICE_SHARED_BEGIN
 SLUICE_CONST uint kPbfLocalSize = 128;
 /// Elements one work group of the prefix scan handles (two per invocation).
 SLUICE_CONST uint kScanBlock = 1024;
-/// Invocations of the one-group scan (scan_single.comp), which scans up to
-/// kScanSingleThreads x kScanSingleRun elements in one dispatch: a run of consecutive elements
-/// per invocation, then one shared-memory scan of the runs' totals.
-SLUICE_CONST uint kScanSingleThreads = 1024;
-SLUICE_CONST uint kScanSingleRun = 64;
 /// Work groups one dispatch launches at most; more are split into chunks (ChunkedDispatch.h).
 SLUICE_CONST uint kPbfMaxGroupsPerDispatch = 65535;
 /// PbfStats::stopIteration before any iteration met the target.

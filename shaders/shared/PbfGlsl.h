@@ -22,6 +22,14 @@ layout(std140, binding = kBindParams) uniform PbfParamsBlock { PbfParams P; };
 const uint kPbfLanes = uint(PBF_LANES);
 // This invocation's lane; set by the pass's main before any neighbour loop.
 uint pbfLane = 0u;
+// In a loop over mask words: skips word w unless it is this lane's (nothing with one lane).
+#if PBF_LANES > 1
+#define PBF_SKIP_OTHER_LANES(w)                                                                \
+    if ((w) % kPbfLanes != pbfLane)                                                            \
+        continue;
+#else
+#define PBF_SKIP_OTHER_LANES(w)
+#endif
 
 #define PBF_H (P.h)
 #define PBF_H2 (P.h2)
@@ -133,8 +141,7 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
         PBF_RANGES_BEGIN(START, i)                                                             \
         uint pbfStop_ = pbfBase_ + (end_ - begin_);                                            \
         for (uint pbfW_ = pbfBase_ >> 5u; pbfW_ < ((pbfStop_ + 31u) >> 5u); ++pbfW_) {        \
-            if (pbfW_ % kPbfLanes != pbfLane)                                                  \
-                continue; /* another lane's word */                                            \
+            PBF_SKIP_OTHER_LANES(pbfW_)                                                        \
             uint pbfFirst_ = pbfW_ << 5u; /* candidate number of the word's bit 0 */           \
             uint pbfLo_ = max(pbfBase_, pbfFirst_) - pbfFirst_;                                \
             uint pbfHi_ = min(pbfStop_, pbfFirst_ + 32u) - pbfFirst_;                          \

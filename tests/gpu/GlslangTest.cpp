@@ -90,7 +90,6 @@ std::vector<ProgramCase> allPrograms() {
         compute("PbfBodiesSparse", runtimeSource, "pbf_bodies.comp", {kSparse}),
         compute("ColliderProbe", runtimeSource, "collider_probe.comp"),
         compute("ColliderProbeSparse", runtimeSource, "collider_probe.comp", {kSparse}),
-        compute("ScanSingle", runtimeSource, "scan_single.comp"),
         compute("ScanBlock", runtimeSource, "scan_block.comp"),
         compute("ScanAdd", runtimeSource, "scan_add.comp"),
         compute("RenderStats", runtimeSource, "render_stats.comp"),

@@ -1,6 +1,6 @@
 // The GPU commands a substep queues (docs/performance.md, "Dispatches and barriers"): counted
-// where they are issued, pinned here pass by pass, and the prefix scan that the neighbour grid's
-// sort runs in one dispatch for small grids.
+// where they are issued, pinned here pass by pass, and the prefix scan of the neighbour grid's
+// sort, which also clears the counts it reads.
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
@@ -50,10 +50,10 @@ Counted run(const format::Scene& scene, const SimulationOptions& options, int st
     return {sim->commandCount() - before, sim->readStats()};
 }
 
-// Without bodies, per substep: predict, the one-group scan, the scatter-reorder, lambda and
-// delta for each of the 8 iterations (issued whether or not the early stop leaves them idle),
-// velocity, vorticity and confinement, each followed by one barrier; per step, the statistics
-// pass and its two barriers. The substep starts with no barrier of its own.
+// Without bodies, per substep: predict, the scan (180 cells: one block), the scatter-reorder,
+// lambda and delta for each of the 8 iterations (issued whether or not the early stop leaves
+// them idle), velocity, vorticity and confinement, each followed by one barrier; per step, the
+// statistics pass and its two barriers. The substep starts with no barrier of its own.
 TEST_F(SimulationCommands, ASubstepIssuesItsPassesAndOneBarrierEach) {
     const std::uint32_t substeps = 3;
     const Counted counted = run(column(substeps), {}, 2);
@@ -101,7 +101,7 @@ TEST_F(SimulationCommands, NoVorticityDropsItsPass) {
     EXPECT_EQ(with.perStep.barriers - without.perStep.barriers, 2u);
 }
 
-// A grid of more cells than one group scans takes the block scan: three dispatches.
+// A grid of more cells than one block takes three scan dispatches: blocks, their totals, add.
 TEST_F(SimulationCommands, ALargeGridScansInBlocks) {
     const format::Scene small = column(1);
     format::Scene large = column(1);
@@ -112,7 +112,7 @@ TEST_F(SimulationCommands, ALargeGridScansInBlocks) {
         ASSERT_TRUE(sim) << sim.error().message();
         ASSERT_EQ(sim->neighbourGridCells(), glm::uvec3(100, 10, 100));
     }
-    ASSERT_GT(100u * 10u * 100u, shared::kScanSingleThreads * shared::kScanSingleRun);
+    ASSERT_GT(100u * 10u * 100u, shared::kScanBlock);
     const Counted one = run(small, {}, 1);
     const Counted blocks = run(large, {}, 1);
     EXPECT_EQ(blocks.perStep.dispatches, one.perStep.dispatches + 2);
@@ -161,12 +161,12 @@ class PrefixScanTest : public GpuTest {};
 // Both layouts against the CPU's sum, at the sizes where they meet: a shorter input read as
 // zeros, and the input zeroed as it is read (the neighbour grid's counts).
 TEST_F(PrefixScanTest, MatchesTheCpuAndClearsItsInput) {
-    const std::uint32_t single = shared::kScanSingleThreads * shared::kScanSingleRun;
-    auto scan = PrefixScan::create(3 * single);
+    const std::uint32_t block = shared::kScanBlock;
+    auto scan = PrefixScan::create(block * block + 5);
     ASSERT_TRUE(scan) << scan.error().message();
     std::mt19937 random(7);
-    for (const std::uint32_t count : {1u, 2u, 1000u, 1025u, single - 1, single, single + 1,
-                                      2 * single + 123}) {
+    for (const std::uint32_t count : {1u, 2u, 1000u, block, block + 1, 65536u, block * block,
+                                      block * block + 5}) {
         SCOPED_TRACE("count " + std::to_string(count));
         std::vector<std::uint32_t> input(count);
         for (std::uint32_t& v : input)
@@ -177,7 +177,7 @@ TEST_F(PrefixScanTest, MatchesTheCpuAndClearsItsInput) {
         // The last two inputs are left out: read as 0 and not cleared.
         const std::uint32_t used = count > 2 ? count - 2 : 0;
         const GpuCommandCount queued = scan->exclusive(*in, *out, ScanInput{count, used, true});
-        EXPECT_EQ(queued.dispatches, count <= single ? 1u : 3u);
+        EXPECT_EQ(queued.dispatches, count <= block ? 1u : count <= block * block ? 3u : 5u);
         EXPECT_EQ(queued.barriers, queued.dispatches);
         std::vector<std::uint32_t> want(count, 0), cleared = input;
         for (std::uint32_t i = 1; i < count; ++i)

@@ -36,15 +36,15 @@ struct SimulationOptions {
     std::uint32_t bodyGroupSize = 0;
     /// Invocations per particle in the neighbour passes (lambda, delta, vorticity,
     /// confinement), which split its candidates and add their sums in a fixed order: 0 picks 1
-    /// on a software renderer and, on a GPU, enough that the capacity times it fills about
-    /// kNeighbourLanesTarget invocations (at most 8); 1, 2, 4, 8, 16 or 32 force it. A
+    /// on a software renderer and, on a GPU, the most (up to 8) for which the capacity times
+    /// the lanes stays within kNeighbourLanesTarget; 1, 2, 4, 8, 16 or 32 force it. A
     /// --deterministic run gives the same bytes for the same lanes.
     std::uint32_t neighbourLanes = 0;
 };
 
-/// Invocations the automatic neighbour lanes aim to fill on a GPU: a few per core of a large
-/// one, so a scene of a few thousand particles still spreads over the whole machine.
-inline constexpr std::uint32_t kNeighbourLanesTarget = 1u << 18;
+/// Invocations the automatic neighbour lanes fill at most on a GPU: on an H200, 15k particles ran
+/// fastest at 4 lanes (60k invocations), slower at 8 and 16 (docs/performance.md).
+inline constexpr std::uint32_t kNeighbourLanesTarget = 1u << 16;
 
 /// The pass groups timed per step, in order.
 enum class Pass : std::uint32_t {
