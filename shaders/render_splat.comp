@@ -11,6 +11,9 @@
 //   SLUICE_SPLAT_WINNER  the lowest index among the particles whose hit has that depth: equal
 //                        depths (touching spheres, at 32-bit depth precision) resolve the same
 //                        way every run, whatever order the invocations ran in
+//   SLUICE_SPLAT_THICKNESS  the screen-space fluid's thickness: every hit's chord, weighted as
+//                        render_particles.frag weighs it, summed in fixed point (order-free)
+// The spheres have radius uRadius: the particles' own, or the fluid surface's larger ones.
 // Rays through the pixel centres, so a pixel is covered exactly when the impostor draw covers
 // it (render_particles.vert's square contains the sphere's outline, and this box the square).
 #version 450 core
@@ -22,9 +25,13 @@ layout(local_size_x = kSplatLocalSize) in;
 
 layout(std430, binding = kRenderBindPositions) readonly buffer Positions { vec4 positions[]; };
 layout(binding = kRenderUnitSceneDepth) uniform sampler2D sceneDepth;
-#ifdef SLUICE_SPLAT_WINNER
+uniform float uRadius; // [m]
+
+#if defined(SLUICE_SPLAT_WINNER)
 layout(binding = kRenderImageSplatDepth, r32ui) readonly uniform uimage2D nearest;
 layout(binding = kRenderImageSplatWinner, r32ui) uniform uimage2D winner;
+#elif defined(SLUICE_SPLAT_THICKNESS)
+layout(binding = kRenderImageSplatThickness, r32ui) uniform uimage2D thickness;
 #else
 layout(binding = kRenderImageSplatDepth, r32ui) coherent uniform uimage2D nearest;
 layout(std430, binding = kRenderBindSplatList) writeonly buffer List { uint listed[]; };
@@ -60,7 +67,7 @@ void main() {
     uint i = SLUICE_GLOBAL_ID.x;
     if (i >= F.particleCount)
         return;
-    float r = F.particleRadius;
+    float r = uRadius;
     vec3 centre = (F.view * vec4(positions[i].xyz, 1.0)).xyz;
     vec3 origin, u, v;
     if (!sphereSquare(centre, r, origin, u, v))
@@ -68,7 +75,7 @@ void main() {
     ivec2 lo, hi;
     bool boxed = screenBox(origin, u, v, lo, hi);
     if (!boxed || any(greaterThan(hi - lo, ivec2(int(kSplatMaxSide) - 1)))) {
-#ifndef SLUICE_SPLAT_WINNER
+#if !defined(SLUICE_SPLAT_WINNER) && !defined(SLUICE_SPLAT_THICKNESS)
         listed[atomicAdd(args.vertexCount, 6u) / 6u] = i;
 #endif
         return;
@@ -85,9 +92,15 @@ void main() {
             float depth = windowDepthOfView(hit);
             if (depth >= texelFetch(sceneDepth, p, 0).r)
                 continue;
-#ifdef SLUICE_SPLAT_WINNER
+#if defined(SLUICE_SPLAT_WINNER)
             if (imageLoad(nearest, p).r == floatBitsToUint(depth))
                 imageAtomicMin(winner, p, i);
+#elif defined(SLUICE_SPLAT_THICKNESS)
+            // Metres of water: each particle stands for a cube of the rest spacing (2 r0)^3,
+            // its sphere holds 4/3 pi r^3.
+            float r0 = F.particleRadius;
+            float metres = chord * (8.0 * r0 * r0 * r0) / (4.18879 * r * r * r);
+            imageAtomicAdd(thickness, p, uint(metres * kSplatThicknessScale + 0.5));
 #else
             imageAtomicMin(nearest, p, floatBitsToUint(depth));
 #endif

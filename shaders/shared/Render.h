@@ -26,6 +26,10 @@ SLUICE_CONST uint kSplatMaxSide = 8;
 // Image units of the compute pass.
 SLUICE_CONST uint kRenderImageSplatDepth = 0;  ///< r32ui: nearest window depth's bits per pixel
 SLUICE_CONST uint kRenderImageSplatWinner = 1; ///< r32ui: the particle of that depth, ~0u: none
+SLUICE_CONST uint kRenderImageSplatThickness = 2; ///< r32ui: summed chords, kSplatThicknessScale
+/// Fixed-point scale of the compute pass's summed thickness [1/m]: micrometres, so integer adds
+/// (order-free) hold up to 4 km of water.
+SLUICE_CONST float kSplatThicknessScale = 1.0e6;
 // Statistics reduction (render_stats.comp).
 SLUICE_CONST uint kRenderBindStats = 2;      ///< RenderStats, accumulated with atomics
 SLUICE_CONST uint kRenderStatsLocalSize = 128;
@@ -40,6 +44,7 @@ SLUICE_CONST uint kRenderUnitFluidDepth = 3;  ///< sampler2D: fluid view depth [
 SLUICE_CONST uint kRenderUnitThickness = 4;   ///< sampler2D: fluid thickness [m]
 SLUICE_CONST uint kRenderUnitSplatDepth = 5;  ///< usampler2D: render_splat.comp's nearest depths
 SLUICE_CONST uint kRenderUnitSplatWinner = 6; ///< usampler2D: and the particle of each
+SLUICE_CONST uint kRenderUnitSplatThickness = 7; ///< usampler2D: render_splat.comp's thickness
 
 // Colour modes of the particles (RenderFrame.colourMode).
 SLUICE_CONST uint kColourWater = 0;        ///< shaded water blue

@@ -9,37 +9,48 @@
 namespace sluice::rt {
 namespace {
 
-Result<gpu::Program> particleVariant(const char* name, const char* define) {
-    const std::array<gpu::ShaderDefine, 1> defines{{{define, "1"}}};
+Result<gpu::Program> particleVariant(const char* name, const char* define, bool listed = false) {
+    const std::array<gpu::ShaderDefine, 2> defines{{{define, "1"}, {"SLUICE_PARTICLE_LIST", "1"}}};
     return gpu::Program::graphics(name, shaders::shaderSource("render_particles.vert"),
-                                  shaders::shaderSource("render_particles.frag"), defines);
+                                  shaders::shaderSource("render_particles.frag"),
+                                  std::span(defines.data(), listed ? 2 : 1));
 }
 
-Result<gpu::Program> fullScreen(const char* name, const char* fragment) {
+Result<gpu::Program> fullScreen(const char* name, const char* fragment,
+                                std::span<const gpu::ShaderDefine> defines = {}) {
     return gpu::Program::graphics(name, shaders::shaderSource("render_fullscreen.vert"),
-                                  shaders::shaderSource(fragment));
+                                  shaders::shaderSource(fragment), defines);
 }
 
 } // namespace
 
 Result<FluidSurfacePass> FluidSurfacePass::create() {
     FluidSurfacePass pass;
-    auto depth = particleVariant("render_particles (fluid depth)", "SLUICE_FLUID_DEPTH");
-    if (!depth)
-        return depth.error();
-    auto thickness = particleVariant("render_particles (thickness)", "SLUICE_THICKNESS");
-    if (!thickness)
-        return thickness.error();
-    auto smooth = fullScreen("render_fluid_smooth", "render_fluid_smooth.frag");
-    if (!smooth)
-        return smooth.error();
-    auto composite = fullScreen("render_fluid_composite", "render_fluid_composite.frag");
-    if (!composite)
-        return composite.error();
-    pass.m_depthProgram = std::move(*depth);
-    pass.m_thicknessProgram = std::move(*thickness);
-    pass.m_smoothProgram = std::move(*smooth);
-    pass.m_compositeProgram = std::move(*composite);
+    const std::array<gpu::ShaderDefine, 1> thicknessDefine{{{"SLUICE_THICKNESS", "1"}}};
+    struct Built {
+        gpu::Program* program;
+        Result<gpu::Program> built;
+    } programs[] = {
+        {&pass.m_depthProgram,
+         particleVariant("render_particles (fluid depth)", "SLUICE_FLUID_DEPTH")},
+        {&pass.m_thicknessProgram,
+         particleVariant("render_particles (thickness)", "SLUICE_THICKNESS")},
+        {&pass.m_depthListed,
+         particleVariant("render_particles (fluid depth, listed)", "SLUICE_FLUID_DEPTH", true)},
+        {&pass.m_thicknessListed,
+         particleVariant("render_particles (thickness, listed)", "SLUICE_THICKNESS", true)},
+        {&pass.m_depthResolve, fullScreen("render_splat_fluid (depth)", "render_splat_fluid.frag")},
+        {&pass.m_thicknessResolve,
+         fullScreen("render_splat_fluid (thickness)", "render_splat_fluid.frag", thicknessDefine)},
+        {&pass.m_smoothProgram, fullScreen("render_fluid_smooth", "render_fluid_smooth.frag")},
+        {&pass.m_compositeProgram,
+         fullScreen("render_fluid_composite", "render_fluid_composite.frag")},
+    };
+    for (Built& p : programs) {
+        if (!p.built)
+            return p.built.error();
+        *p.program = std::move(*p.built);
+    }
     return pass;
 }
 
@@ -83,34 +94,74 @@ Result<void> FluidSurfacePass::resize(glm::uvec2 size) {
     return {};
 }
 
+// Steps 1 and 2 with the spheres of a few pixels in compute: their nearest depth and summed
+// thickness resolved into the targets, then the listed large spheres rasterised over them
+// (depth-tested, or added).
+bool FluidSurfacePass::drawSpheresSplatted(std::uint32_t particleCount, GLuint sceneDepth,
+                                           SphereSplatPass& splat, float sphereRadius) const {
+    if (particleCount == 0 || !splat.reserve(particleCount))
+        return false;
+    splat.computeNearest(particleCount, sphereRadius, sceneDepth);
+    splat.computeThickness(particleCount, sphereRadius, sceneDepth);
+    splat.bindResults();
+    const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    const GLfloat far = 1.0f;
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_depthTarget.id());
+    glClearNamedFramebufferfv(m_depthTarget.id(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(m_depthTarget.id(), GL_DEPTH, 0, &far);
+    glDepthFunc(GL_ALWAYS);
+    m_depthResolve.use();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthFunc(GL_LESS);
+    splat.drawListed(m_depthListed);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, m_thicknessTarget.id());
+    glDisable(GL_DEPTH_TEST);
+    m_thicknessResolve.use(); // every pixel: no clear needed
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    splat.drawListed(m_thicknessListed);
+    glDisable(GL_BLEND);
+    return true;
+}
+
 void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLuint sceneDepth,
-                            GLuint output, const FluidSurfaceParams& params) const {
+                            GLuint output, const FluidSurfaceParams& params,
+                            SphereSplatPass* splat, float sphereRadius) const {
     const GLsizei vertices = static_cast<GLsizei>(6 * std::uint64_t(particleCount));
     const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     const GLfloat far = 1.0f;
     glDisable(GL_CULL_FACE);
     glBindTextureUnit(shared::kRenderUnitSceneDepth, sceneDepth);
 
-    // 1. The front-most sphere's view depth per pixel (the opaque scene tested in the shader).
-    glBindFramebuffer(GL_FRAMEBUFFER, m_depthTarget.id());
-    glClearNamedFramebufferfv(m_depthTarget.id(), GL_COLOR, 0, zero);
-    glClearNamedFramebufferfv(m_depthTarget.id(), GL_DEPTH, 0, &far);
-    glDisable(GL_BLEND);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    m_depthProgram.use();
-    glDrawArrays(GL_TRIANGLES, 0, vertices);
+    if (splat == nullptr ||
+        !drawSpheresSplatted(particleCount, sceneDepth, *splat, sphereRadius)) {
+        // 1. The front-most sphere's view depth per pixel (the opaque scene tested in the
+        // shader).
+        glBindFramebuffer(GL_FRAMEBUFFER, m_depthTarget.id());
+        glClearNamedFramebufferfv(m_depthTarget.id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(m_depthTarget.id(), GL_DEPTH, 0, &far);
+        glDisable(GL_BLEND);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        m_depthProgram.use();
+        glDrawArrays(GL_TRIANGLES, 0, vertices);
 
-    // 2. Thickness: every sphere's chord along the ray, summed.
-    glBindFramebuffer(GL_FRAMEBUFFER, m_thicknessTarget.id());
-    glClearNamedFramebufferfv(m_thicknessTarget.id(), GL_COLOR, 0, zero);
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    m_thicknessProgram.use();
-    glDrawArrays(GL_TRIANGLES, 0, vertices);
-    glDisable(GL_BLEND);
+        // 2. Thickness: every sphere's chord along the ray, summed.
+        glBindFramebuffer(GL_FRAMEBUFFER, m_thicknessTarget.id());
+        glClearNamedFramebufferfv(m_thicknessTarget.id(), GL_COLOR, 0, zero);
+        glDisable(GL_DEPTH_TEST);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        m_thicknessProgram.use();
+        glDrawArrays(GL_TRIANGLES, 0, vertices);
+        glDisable(GL_BLEND);
+    }
 
     // 3. Bilateral smoothing of the depth, ping-ponging with the filter texture.
     m_smoothProgram.use();

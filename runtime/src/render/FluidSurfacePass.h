@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "GlObjects.h"
+#include "SphereSplatPass.h"
 #include "sluice/format/Result.h"
 #include "sluice/gpu/Program.h"
 
@@ -33,13 +34,26 @@ public:
 
     /// Draws the fluid of `particleCount` particles over the opaque scene (`sceneColour`,
     /// `sceneDepth`, textures of the current size) into `output`, which has a colour and a depth
-    /// attachment: every pixel of `output` is written, colour and depth.
+    /// attachment: every pixel of `output` is written, colour and depth. With `splat`, the
+    /// spheres of a few pixels go through its compute passes (depth and thickness), the rest
+    /// are rasterised; without, every sphere is rasterised. `sphereRadius` is the frame
+    /// block's fluidSphereRadius [m].
     void draw(std::uint32_t particleCount, GLuint sceneColour, GLuint sceneDepth, GLuint output,
-              const FluidSurfaceParams& params) const;
+              const FluidSurfaceParams& params, SphereSplatPass* splat,
+              float sphereRadius) const;
 
 private:
+    /// Steps 1 and 2 of draw() through the compute passes; false (nothing drawn) when the list
+    /// of large spheres has no room.
+    bool drawSpheresSplatted(std::uint32_t particleCount, GLuint sceneDepth,
+                             SphereSplatPass& splat, float sphereRadius) const;
+
     gpu::Program m_depthProgram;
     gpu::Program m_thicknessProgram;
+    gpu::Program m_depthListed;      // the same two over the compute pass's list
+    gpu::Program m_thicknessListed;
+    gpu::Program m_depthResolve;     // render_splat_fluid.frag: the compute pass's depths
+    gpu::Program m_thicknessResolve; // and thickness
     gpu::Program m_smoothProgram;
     gpu::Program m_compositeProgram;
     glm::uvec2 m_size{0};

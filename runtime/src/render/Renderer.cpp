@@ -273,13 +273,15 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
         params.smoothingIterations = settings.smoothingIterations;
         params.filterRadius = settings.filterRadius * radius;
         params.depthFalloff = std::max(settings.depthFalloff * radius, 1e-6f);
-        r.fluid.draw(count, r.sceneColour.id(), r.sceneDepth.id(), r.finalTarget.id(), params);
+        r.fluid.draw(count, r.sceneColour.id(), r.sceneDepth.id(), r.finalTarget.id(), params,
+                     settings.computeSmallSpheres ? &r.splat : nullptr,
+                     settings.fluidSphereScale * radius);
         r.output = r.finalTarget.id();
     } else {
         // Small spheres in compute where asked and the list of large ones fits, else every
         // sphere rasterised.
         if (!settings.computeSmallSpheres ||
-            !r.splat.draw(count, r.sceneDepth.id())) {
+            !r.splat.drawSpheres(count, sim.constants().radius, r.sceneDepth.id())) {
             glEnable(GL_DEPTH_TEST);
             glDepthFunc(GL_LESS);
             r.particles.use();
