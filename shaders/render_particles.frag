@@ -27,7 +27,7 @@ layout(depth_greater) out float gl_FragDepth;
 void main() {
     // The ray through the pixel centre, computed as render_splat.comp computes it (not from
     // vViewPos), so both draw the same pixels with the same colours.
-    vec3 rd = normalize(viewOfWindow(gl_FragCoord.xy * F.invViewportSize, 1.0));
+    vec3 rd = viewRayOfPixel(gl_FragCoord.xy);
 #if defined(SLUICE_FLUID_DEPTH) || defined(SLUICE_THICKNESS)
     float r = F.fluidSphereRadius; // larger than the particles, so the lattice leaves no holes
 #else

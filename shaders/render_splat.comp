@@ -83,8 +83,7 @@ void main() {
     for (int y = lo.y; y <= hi.y; ++y) {
         for (int x = lo.x; x <= hi.x; ++x) {
             ivec2 p = ivec2(x, y);
-            vec2 uv = (vec2(p) + 0.5) * F.invViewportSize;
-            vec3 rd = normalize(viewOfWindow(uv, 1.0));
+            vec3 rd = viewRayOfPixel(vec2(p) + 0.5);
             vec3 hit;
             float chord;
             if (!sphereHit(rd, centre, r, hit, chord))

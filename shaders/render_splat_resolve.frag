@@ -20,7 +20,7 @@ void main() {
         discard;
     float r = F.particleRadius;
     vec3 centre = (F.view * vec4(positions[i].xyz, 1.0)).xyz;
-    vec3 rd = normalize(viewOfWindow(gl_FragCoord.xy * F.invViewportSize, 1.0));
+    vec3 rd = viewRayOfPixel(gl_FragCoord.xy);
     vec3 hit;
     float chord;
     if (!sphereHit(rd, centre, r, hit, chord))

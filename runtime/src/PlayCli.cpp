@@ -137,6 +137,7 @@ constexpr OptionUse kOptionUses[] = {
     {"--no-panel", false, true, false},
     {"--steps-per-frame", false, true, false},
     {"--screenshot-panel", false, true, false},
+    {"--neighbour-lanes", true, false, true},
 };
 
 bool usedIn(const OptionUse& use, PlayMode mode) {
@@ -171,7 +172,7 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
                                 ? "with --bench without --bench-frames"
                                 : "in a --headless run without --frames, --video or "
                                   "--screenshot-at";
-    for (const char* name : {"--size", "--colour", "--surface", "--zoom"})
+    for (const char* name : {"--size", "--colour", "--surface", "--zoom", "--raster-spheres"})
         if (given(name) && !renders)
             out.push_back(unusedOption(name, renderWhy));
 }

@@ -177,6 +177,7 @@ struct Simulation::Impl {
     explicit Impl(const format::Scene& s) : scene(s), emitters(s) {}
 
     Result<void> allocate();
+    Result<void> compilePasses();
     void uploadParams();
     void uploadColliders(double t0, double t1);
     void append(const std::vector<ParticleState>& particles);
@@ -607,6 +608,55 @@ void Simulation::Impl::integrateBodies() {
     end(Pass::Bodies);
 }
 
+// Compiles every pass of the step with the defines this simulation needs.
+Result<void> Simulation::Impl::compilePasses() {
+    struct Build {
+        gpu::Program* program;
+        const char* name;
+    };
+    const Build builds[] = {
+        {&predict, "pbf_predict.comp"},   {&scatter, "pbf_scatter.comp"},
+        {&bucketSort, "pbf_bucket_sort.comp"}, {&reorder, "pbf_reorder.comp"},
+        {&scatterReorder, "pbf_reorder.comp"},
+        {&lambda, "pbf_lambda.comp"},     {&delta, "pbf_delta.comp"},
+        {&velocity, "pbf_velocity.comp"}, {&vorticity, "pbf_vorticity.comp"},
+        {&confine, "pbf_confine.comp"},   {&stats, "pbf_stats.comp"},
+        {&bodies, "pbf_bodies.comp"},
+    };
+    // NanoVDB's reader (shared/NanoVdbGlsl.h) is compiled in only when a collider needs it.
+    const std::array<gpu::ShaderDefine, 1> sparseDefine{{{"SLUICE_SPARSE_COLLIDERS", "1"}}};
+    const std::span<const gpu::ShaderDefine> defines =
+        anySparse(colliderAssets) ? std::span<const gpu::ShaderDefine>(sparseDefine)
+                                        : std::span<const gpu::ShaderDefine>();
+    // The body pass's work group (pbf_bodies.comp): kBodyGroupSize invocations on a GPU, 64 on
+    // a software renderer, which runs a group's invocations in turn on one CPU thread.
+    const std::string groupSize = std::to_string(
+        options.bodyGroupSize != 0 ? options.bodyGroupSize : bodyGroupSize());
+    std::vector<gpu::ShaderDefine> bodyDefines(defines.begin(), defines.end());
+    bodyDefines.push_back({"SLUICE_BODY_GROUP_SIZE", groupSize});
+    std::vector<gpu::ShaderDefine> scatterDefines(defines.begin(), defines.end());
+    scatterDefines.push_back({"PBF_SCATTER_REORDER", "1"});
+    // The neighbour passes split each particle over its lanes; predict sizes their dispatches.
+    std::vector<gpu::ShaderDefine> laneDefines(defines.begin(), defines.end());
+    laneDefines.push_back({"PBF_LANES", std::to_string(lanes)});
+    const gpu::Program* const laned[] = {&predict, &lambda, &delta,
+                                         &vorticity, &confine};
+    for (const Build& b : builds) {
+        std::span<const gpu::ShaderDefine> these = defines;
+        if (b.program == &bodies)
+            these = bodyDefines;
+        else if (b.program == &scatterReorder)
+            these = scatterDefines;
+        else if (std::find(std::begin(laned), std::end(laned), b.program) != std::end(laned))
+            these = laneDefines;
+        auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name), these);
+        if (!program)
+            return program.error();
+        *b.program = std::move(*program);
+    }
+    return {};
+}
+
 Result<Simulation> Simulation::create(const format::Scene& scene,
                                       std::vector<format::ColliderAsset> colliders,
                                       const SimulationOptions& options) {
@@ -651,51 +701,8 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
     impl->bodySetup = std::move(*bodies);
     impl->bodyCount = std::uint32_t(impl->bodySetup.records.size());
 
-    // Compile every pass.
-    struct Build {
-        gpu::Program* program;
-        const char* name;
-    };
-    const Build builds[] = {
-        {&impl->predict, "pbf_predict.comp"},   {&impl->scatter, "pbf_scatter.comp"},
-        {&impl->bucketSort, "pbf_bucket_sort.comp"}, {&impl->reorder, "pbf_reorder.comp"},
-        {&impl->scatterReorder, "pbf_reorder.comp"},
-        {&impl->lambda, "pbf_lambda.comp"},     {&impl->delta, "pbf_delta.comp"},
-        {&impl->velocity, "pbf_velocity.comp"}, {&impl->vorticity, "pbf_vorticity.comp"},
-        {&impl->confine, "pbf_confine.comp"},   {&impl->stats, "pbf_stats.comp"},
-        {&impl->bodies, "pbf_bodies.comp"},
-    };
-    // NanoVDB's reader (shared/NanoVdbGlsl.h) is compiled in only when a collider needs it.
-    const std::array<gpu::ShaderDefine, 1> sparseDefine{{{"SLUICE_SPARSE_COLLIDERS", "1"}}};
-    const std::span<const gpu::ShaderDefine> defines =
-        anySparse(impl->colliderAssets) ? std::span<const gpu::ShaderDefine>(sparseDefine)
-                                        : std::span<const gpu::ShaderDefine>();
-    // The body pass's work group (pbf_bodies.comp): kBodyGroupSize invocations on a GPU, 64 on
-    // a software renderer, which runs a group's invocations in turn on one CPU thread.
-    const std::string groupSize = std::to_string(
-        options.bodyGroupSize != 0 ? options.bodyGroupSize : bodyGroupSize());
-    std::vector<gpu::ShaderDefine> bodyDefines(defines.begin(), defines.end());
-    bodyDefines.push_back({"SLUICE_BODY_GROUP_SIZE", groupSize});
-    std::vector<gpu::ShaderDefine> scatterDefines(defines.begin(), defines.end());
-    scatterDefines.push_back({"PBF_SCATTER_REORDER", "1"});
-    // The neighbour passes split each particle over its lanes; predict sizes their dispatches.
-    std::vector<gpu::ShaderDefine> laneDefines(defines.begin(), defines.end());
-    laneDefines.push_back({"PBF_LANES", std::to_string(impl->lanes)});
-    const gpu::Program* const laned[] = {&impl->predict, &impl->lambda, &impl->delta,
-                                         &impl->vorticity, &impl->confine};
-    for (const Build& b : builds) {
-        std::span<const gpu::ShaderDefine> these = defines;
-        if (b.program == &impl->bodies)
-            these = bodyDefines;
-        else if (b.program == &impl->scatterReorder)
-            these = scatterDefines;
-        else if (std::find(std::begin(laned), std::end(laned), b.program) != std::end(laned))
-            these = laneDefines;
-        auto program = gpu::Program::compute(b.name, shaders::shaderSource(b.name), these);
-        if (!program)
-            return program.error();
-        *b.program = std::move(*program);
-    }
+    if (auto ok = impl->compilePasses(); !ok)
+        return ok.error();
     auto scan = PrefixScan::create(impl->tableSize + 1);
     if (!scan)
         return scan.error();

@@ -26,6 +26,14 @@ vec3 viewOfWindow(vec2 uv, float depth) {
     return view.xyz / view.w;
 }
 
+// Unit view-space direction of the ray from the eye through window position `pixel` [pixels]
+// (a pixel centre is its integer corner + 0.5), for the symmetric perspective projection the
+// cameras use: cheaper than unprojecting through invProj, and the same in every shader.
+vec3 viewRayOfPixel(vec2 pixel) {
+    vec2 ndc = 2.0 * pixel * F.invViewportSize - 1.0;
+    return normalize(vec3(ndc.x / F.proj[0][0], ndc.y / F.proj[1][1], -1.0));
+}
+
 // World-space direction of the view ray through window position `uv`.
 vec3 worldRayOfWindow(vec2 uv) {
     vec3 viewDir = viewOfWindow(uv, 1.0);

@@ -167,7 +167,13 @@ INSTANTIATE_TEST_SUITE_P(
                       "--frames does nothing with --bench [unused-option]"},
         OptionMistake{"dumpEveryWithoutDumpPly",
                       {"--headless", "--steps", "1", "--dump-every", "2"},
-                      "--dump-every does nothing without --dump-ply [unused-option]"}),
+                      "--dump-every does nothing without --dump-ply [unused-option]"},
+        OptionMistake{"neighbourLanesInWindow",
+                      {"--neighbour-lanes", "4"},
+                      "--neighbour-lanes does nothing in the window [unused-option]"},
+        OptionMistake{"rasterSpheresWithoutPictures",
+                      {"--headless", "--steps", "1", "--raster-spheres"},
+                      "--raster-spheres does nothing in a --headless run without --frames"}),
     [](const auto& paramInfo) { return std::string(paramInfo.param.name); });
 
 TEST(SluicePlayChecks, ShippedSceneStartsWithoutWarningsAndPrintsColliderSizes) {
