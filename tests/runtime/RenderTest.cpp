@@ -287,6 +287,29 @@ TEST_F(RenderTest, DeterministicRunsRenderIdenticalImages) {
     }
 }
 
+// One frame drawn with the compute passes for small spheres and with every sphere rasterised:
+// the water's pixels (those the particles change) and how many of them the two draw
+// differently by more than rounding (a channel off by more than 2).
+struct PathDiff {
+    std::size_t water = 0;
+    std::size_t changed = 0;
+    double meanChannel = 0.0;
+};
+
+PathDiff computeAgainstRaster(Stage& stage, RenderSettings settings) {
+    settings.computeSmallSpheres = true;
+    const Image viaCompute = stage.draw(settings);
+    settings.computeSmallSpheres = false;
+    const Image viaRaster = stage.draw(settings);
+    PathDiff d;
+    d.water = compareImages(viaRaster, stage.drawWithoutParticles(settings)).pixels;
+    for (std::uint32_t y = 0; y < kSize.y; ++y)
+        for (std::uint32_t x = 0; x < kSize.x; ++x)
+            d.changed += pixelDiffers(viaCompute, viaRaster, x, y) ? 1 : 0;
+    d.meanChannel = compareImages(viaCompute, viaRaster).meanChannel;
+    return d;
+}
+
 // The compute passes for small spheres solve the impostors' ray-sphere hit at the same pixel
 // centres: the same pixels, the same colours to rounding, whether every sphere covers a few
 // pixels (all in compute) or tens (most rasterised from its list). Spheres at random positions,
@@ -301,22 +324,14 @@ TEST_F(RenderTest, SmallSpheresInComputeDrawTheSamePixelsAsTheImpostors) {
     for (std::uint32_t i = 0; i < 600; ++i)
         particles.push_back({{across(random), up(random), across(random)}, {}, i});
     ASSERT_TRUE(stage.sim->setParticles(particles));
-    RenderSettings compute, raster;
-    raster.computeSmallSpheres = false;
     const OrbitCamera camera = stage.camera;
     for (const float zoom : {1.6f, 0.6f, 0.25f}) {
         SCOPED_TRACE("zoom " + std::to_string(zoom));
         stage.camera = camera;
         stage.camera.zoom(zoom);
-        const Image viaCompute = stage.draw(compute);
-        const Image viaRaster = stage.draw(raster);
-        const std::size_t water = compareImages(viaRaster, stage.drawWithoutParticles()).pixels;
-        ASSERT_GT(water, 800u); // the spheres are in the picture
-        std::size_t changed = 0; // by more than rounding
-        for (std::uint32_t y = 0; y < kSize.y; ++y)
-            for (std::uint32_t x = 0; x < kSize.x; ++x)
-                changed += pixelDiffers(viaCompute, viaRaster, x, y) ? 1 : 0;
-        EXPECT_LE(double(changed), 0.002 * double(water)) << changed << " of " << water;
+        const PathDiff d = computeAgainstRaster(stage, {});
+        ASSERT_GT(d.water, 800u); // the spheres are in the picture
+        EXPECT_LE(double(d.changed), 0.002 * double(d.water)) << d.changed << " of " << d.water;
     }
 }
 
@@ -330,25 +345,17 @@ TEST_F(RenderTest, SmallSpheresInComputeGiveTheSameFluidSurface) {
     ASSERT_TRUE(stage.ok());
     for (int step = 0; step < 6; ++step)
         stage.sim->step();
-    RenderSettings compute, raster;
-    compute.surface = raster.surface = SurfaceMode::Fluid;
-    raster.computeSmallSpheres = false;
+    RenderSettings fluid;
+    fluid.surface = SurfaceMode::Fluid;
     const OrbitCamera camera = stage.camera;
     for (const float zoom : {1.0f, 0.3f}) {
         SCOPED_TRACE("zoom " + std::to_string(zoom));
         stage.camera = camera;
         stage.camera.zoom(zoom);
-        const Image viaCompute = stage.draw(compute);
-        const Image viaRaster = stage.draw(raster);
-        const std::size_t water =
-            compareImages(viaRaster, stage.drawWithoutParticles(raster)).pixels;
-        ASSERT_GT(water, 3000u);
-        std::size_t changed = 0;
-        for (std::uint32_t y = 0; y < kSize.y; ++y)
-            for (std::uint32_t x = 0; x < kSize.x; ++x)
-                changed += pixelDiffers(viaCompute, viaRaster, x, y) ? 1 : 0;
-        EXPECT_LE(double(changed), 0.002 * double(water)) << changed << " of " << water;
-        EXPECT_LT(compareImages(viaCompute, viaRaster).meanChannel, 0.05);
+        const PathDiff d = computeAgainstRaster(stage, fluid);
+        ASSERT_GT(d.water, 3000u);
+        EXPECT_LE(double(d.changed), 0.002 * double(d.water)) << d.changed << " of " << d.water;
+        EXPECT_LT(d.meanChannel, 0.05);
     }
 }
 
@@ -359,18 +366,10 @@ TEST_F(RenderTest, SmallSpheresInComputeDrawAPackedBlockAsTheImpostorsDo) {
     ASSERT_TRUE(scene) << scene.error().message();
     Stage stage(std::move(*scene), true);
     ASSERT_TRUE(stage.ok());
-    RenderSettings compute, raster;
-    raster.computeSmallSpheres = false;
-    const Image viaCompute = stage.draw(compute);
-    const Image viaRaster = stage.draw(raster);
-    const std::size_t water = compareImages(viaRaster, stage.drawWithoutParticles()).pixels;
-    ASSERT_GT(water, 3000u);
-    std::size_t changed = 0; // by more than rounding
-    for (std::uint32_t y = 0; y < kSize.y; ++y)
-        for (std::uint32_t x = 0; x < kSize.x; ++x)
-            changed += pixelDiffers(viaCompute, viaRaster, x, y) ? 1 : 0;
-    EXPECT_LE(double(changed), 0.005 * double(water)) << changed << " of " << water;
-    EXPECT_LT(compareImages(viaCompute, viaRaster).meanChannel, 0.05);
+    const PathDiff d = computeAgainstRaster(stage, {});
+    ASSERT_GT(d.water, 3000u);
+    EXPECT_LE(double(d.changed), 0.005 * double(d.water)) << d.changed << " of " << d.water;
+    EXPECT_LT(d.meanChannel, 0.05);
 }
 
 TEST_F(RenderTest, AsynchronousReadbackGivesTheSamePixelsAsReadPixels) {
