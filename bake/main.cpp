@@ -1,4 +1,4 @@
 // sluice-bake: the offline collider baker. All logic lives in the sluice_bake library.
-#include "sluice/bake/Cli.h"
+#include "sluice/bake/commands/Cli.h"
 
 int main(int argc, char** argv) { return sluice::bake::runCli(argc, argv); }

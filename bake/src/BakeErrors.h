@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 #include "sluice/format/Result.h"
 
 namespace sluice::bake {

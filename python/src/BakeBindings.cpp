@@ -12,11 +12,11 @@
 #include <nanobind/stl/tuple.h>
 
 #include "Errors.h"
-#include "sluice/bake/BakeJob.h"
-#include "sluice/bake/BatchJob.h"
-#include "sluice/bake/SparseBaker.h"
-#include "sluice/bake/ValidateJob.h"
-#include "sluice/bake/VdbIO.h"
+#include "sluice/bake/jobs/BakeJob.h"
+#include "sluice/bake/jobs/BatchJob.h"
+#include "sluice/bake/sparse/SparseBaker.h"
+#include "sluice/bake/jobs/ValidateJob.h"
+#include "sluice/bake/interop/VdbIO.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/SdfSampler.h"

@@ -10,7 +10,7 @@
 
 #include <nanobind/nanobind.h>
 
-#include "sluice/bake/Progress.h"
+#include "sluice/bake/jobs/Progress.h"
 #include "sluice/format/Result.h"
 
 namespace sluice::py {

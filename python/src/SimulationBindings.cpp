@@ -12,10 +12,10 @@
 #include <Python.h>
 
 #include "Errors.h"
-#include "StatsReport.h"
+#include "play/StatsReport.h"
 #include "sluice/format/SceneIO.h"
 #include "sluice/gpu/Context.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::py {
 namespace {

@@ -2,7 +2,7 @@
 #include <nanobind/nanobind.h>
 
 #include "Errors.h"
-#include "sluice/bake/Isolated.h"
+#include "sluice/bake/import/Isolated.h"
 
 namespace sluice::py {
 void bindBake(nb::module_& m);

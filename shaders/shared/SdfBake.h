@@ -1,6 +1,6 @@
 // Layouts, bindings and constants of the GPU SDF bake (shaders/sdf_*.comp, shared/SdfBakeGlsl.h).
-// Shared by GLSL and C++ (bake/src/Bvh.cpp builds the texel arrays, GpuBaker.cpp uploads them).
-// bake/src/GpuBaker.cpp describes the passes.
+// Shared by GLSL and C++ (bake/src/gpu/Bvh.cpp builds the texel arrays, GpuBaker.cpp uploads them).
+// bake/src/gpu/GpuBaker.cpp describes the passes.
 //
 // Coordinates on the GPU are grid-relative and in voxels: (p - grid origin) / voxelSize, so grid
 // point (i, j, k) sits exactly at (i, j, k) and float keeps ~1e-7 relative precision of numbers

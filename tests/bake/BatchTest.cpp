@@ -12,7 +12,7 @@
 
 #include "CliRun.h"
 #include "TestMeshes.h"
-#include "sluice/bake/Cli.h"
+#include "sluice/bake/commands/Cli.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/Hash.h"
 

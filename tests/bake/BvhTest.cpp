@@ -1,4 +1,4 @@
-// The GPU bake's BVH (bake/src/Bvh.h): every triangle in exactly one leaf, boxes that are the
+// The GPU bake's BVH (bake/src/gpu/Bvh.h): every triangle in exactly one leaf, boxes that are the
 // union of what they hold, balls that hold every corner, the fast-winding sums, links that walk
 // the tree in preorder, and the same arrays on every build.
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "Bvh.h"
+#include "gpu/Bvh.h"
 
 namespace sluice::bake {
 namespace {

@@ -11,9 +11,9 @@
 #include <tbb/global_control.h>
 
 #include "TestMeshes.h"
-#include "sluice/bake/CgalReference.h"
+#include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/Grid.h"
-#include "sluice/bake/Progress.h"
+#include "sluice/bake/jobs/Progress.h"
 
 namespace {
 

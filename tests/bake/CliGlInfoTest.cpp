@@ -13,7 +13,7 @@
 #include <sys/wait.h>
 
 #include "TestMeshes.h"
-#include "sluice/bake/Cli.h"
+#include "sluice/bake/commands/Cli.h"
 #include "sluice/format/AssetIO.h"
 
 namespace sluice::bake {

@@ -17,8 +17,8 @@
 
 #include "../gpu/GpuTest.h"
 #include "TestMeshes.h"
-#include "sluice/bake/CgalReference.h"
-#include "sluice/bake/GpuBaker.h"
+#include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/format/AssetIO.h"
 
 namespace {

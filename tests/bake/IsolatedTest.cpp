@@ -11,8 +11,8 @@
 #include <gtest/gtest.h>
 
 #include "TestMeshes.h"
-#include "sluice/bake/Isolated.h"
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/Isolated.h"
+#include "sluice/bake/import/MeshImport.h"
 
 using namespace sluice;
 using namespace sluice::bake;

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "TestMeshes.h"
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 #include "sluice/format/Hash.h"
 
 namespace {

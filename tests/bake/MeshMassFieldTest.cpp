@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include "TestMeshes.h"
-#include "sluice/bake/BakeJob.h"
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/jobs/BakeJob.h"
+#include "sluice/bake/import/MeshImport.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/MassProperties.h"
 

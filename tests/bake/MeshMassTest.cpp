@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "MeshMass.h"
+#include "import/MeshMass.h"
 #include "TestMeshes.h"
 
 namespace {

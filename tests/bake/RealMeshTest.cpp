@@ -18,8 +18,8 @@
 #include <gtest/gtest.h>
 
 #include "TestMeshes.h"
-#include "sluice/bake/CgalReference.h"
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/import/MeshImport.h"
 
 namespace {
 

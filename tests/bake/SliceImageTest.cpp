@@ -15,7 +15,7 @@
 #include <stb/stb_image.h>
 
 #include "TestMeshes.h"
-#include "sluice/bake/SliceImage.h"
+#include "sluice/bake/validate/SliceImage.h"
 
 namespace fs = std::filesystem;
 using namespace sluice;

@@ -27,8 +27,8 @@
 
 #include "AnalyticAsset.h"
 #include "ProgramRun.h"
-#include "sluice/bake/MeshImport.h"
-#include "sluice/bake/TriangleSoup.h"
+#include "sluice/bake/import/MeshImport.h"
+#include "sluice/bake/import/TriangleSoup.h"
 #include "sluice/format/ColliderAsset.h"
 
 namespace sluice::testmesh {

@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "TestMeshes.h"
-#include "sluice/bake/CgalReference.h"
-#include "sluice/bake/Validate.h"
+#include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/validate/Validate.h"
 #include "sluice/format/AssetIO.h"
 
 namespace sluice::bake {

@@ -23,7 +23,7 @@
 #pragma GCC diagnostic pop
 
 #include "TestMeshes.h"
-#include "sluice/bake/VdbIO.h"
+#include "sluice/bake/interop/VdbIO.h"
 #include "sluice/format/Hash.h"
 
 namespace fs = std::filesystem;

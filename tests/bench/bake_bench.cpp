@@ -42,10 +42,10 @@
 #include <openvdb/tools/MeshToVolume.h>
 #pragma GCC diagnostic pop
 
-#include "sluice/bake/CgalReference.h"
-#include "sluice/bake/GpuBaker.h"
+#include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/bake/Grid.h"
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 #include "WholeProcess.h"
 #include "sluice/gpu/Context.h"
 

@@ -32,9 +32,9 @@
 #include "sluice/gpu/Context.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
-#include "sluice/rt/ColliderRecord.h"
+#include "sluice/rt/sim/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace {
 

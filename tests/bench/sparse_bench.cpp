@@ -25,7 +25,7 @@
 #include <openvdb/tools/MeshToVolume.h>
 #pragma GCC diagnostic pop
 
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 
 int main(int argc, char** argv) {
     using namespace sluice;

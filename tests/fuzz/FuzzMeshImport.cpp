@@ -18,7 +18,7 @@
 #include <unistd.h>
 
 #include "FuzzSupport.h"
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 
 namespace {
 

@@ -2,7 +2,7 @@
 //
 // An accepted scene must satisfy what SceneIO.h and Scene.h promise and what the runtime's
 // CPU-side setup assumes (rt::deriveConstants, rt::fillBlocks, rt::EmitterSchedule and
-// rt::colliderPose, compiled in from runtime/src/SceneSetup.cpp): the particle count the reader
+// rt::colliderPose, compiled in from runtime/src/sim/SceneSetup.cpp): the particle count the reader
 // sized the capacity with is the count the runtime creates. No single allocation may exceed
 // what the text's size justifies.
 #include <cmath>
@@ -14,7 +14,7 @@
 
 #include "FuzzSupport.h"
 #include "sluice/format/SceneIO.h"
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Scene.h"
 #include "sluice/format/SdfSampler.h"
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::ref {
 

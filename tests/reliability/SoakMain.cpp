@@ -22,8 +22,8 @@
 #include "sluice/format/SceneIO.h"
 #include "sluice/format/SdfSampler.h"
 #include "sluice/gpu/Context.h"
-#include "sluice/rt/SceneSetup.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/SceneSetup.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace {
 

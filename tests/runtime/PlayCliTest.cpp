@@ -12,7 +12,7 @@
 #include "ProgramRun.h"
 #include "shared/Pbf.h"
 #include "sluice/format/SceneIO.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

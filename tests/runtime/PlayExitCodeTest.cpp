@@ -2,7 +2,7 @@
 // sluice/format/ExitCodes.h.
 #include <gtest/gtest.h>
 
-#include "sluice/rt/PlayCli.h"
+#include "sluice/rt/play/PlayCli.h"
 
 namespace sluice::rt {
 namespace {

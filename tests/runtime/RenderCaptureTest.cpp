@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "CaptureFrames.h"
-#include "CaptureVideo.h"
+#include "capture/CaptureFrames.h"
+#include "capture/CaptureVideo.h"
 #include "RenderTestSupport.h"
 #include "sluice/rt/render/Image.h"
 

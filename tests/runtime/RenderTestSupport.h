@@ -14,7 +14,7 @@
 #include "ProgramRun.h"
 #include "sluice/format/SceneIO.h"
 #include "sluice/gpu/Context.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/Renderer.h"
 #include "sluice/rt/render/SceneFraming.h"

@@ -8,7 +8,7 @@
 
 #include "ProgramRun.h"
 
-#include "RunOutputs.h"
+#include "play/RunOutputs.h"
 
 namespace sluice::rt {
 namespace {

@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "SceneChecks.h"
+#include "play/SceneChecks.h"
 #include "sluice/format/SceneIO.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

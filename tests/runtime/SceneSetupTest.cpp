@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "RuntimeTestScenes.h"
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 using namespace sluice;
 

@@ -13,7 +13,7 @@
 
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

@@ -11,11 +11,11 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "PrefixScan.h"
+#include "sim/PrefixScan.h"
 #include "RuntimeTestScenes.h"
 #include "shared/Pbf.h"
 #include "sluice/gpu/Buffer.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

@@ -13,7 +13,7 @@
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "shared/Pbf.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

@@ -8,7 +8,7 @@
 #include "GpuTest.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

@@ -6,10 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#include "ColliderBands.h"
+#include "sim/ColliderBands.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/SceneIO.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace fs = std::filesystem;
 using namespace sluice;

@@ -17,7 +17,7 @@
 #include "sluice/format/SdfSampler.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
-#include "sluice/rt/ColliderRecord.h"
+#include "sluice/rt/sim/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
 
 namespace sluice {

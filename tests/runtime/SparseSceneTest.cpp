@@ -16,7 +16,7 @@
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/SceneIO.h"
 #include "sluice/format/SdfSampler.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ViewerBodies.h"
+#include "viewer/ViewerBodies.h"
 
 namespace sluice::rt {
 namespace {

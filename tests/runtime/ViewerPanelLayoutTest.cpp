@@ -1,7 +1,7 @@
 // The viewer panel's layout from the font and window sizes, without a window.
 #include <gtest/gtest.h>
 
-#include "ViewerPanel.h"
+#include "viewer/ViewerPanel.h"
 
 namespace sluice::rt {
 namespace {

@@ -7,8 +7,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "ViewerInput.h"
-#include "ViewerPick.h"
+#include "viewer/ViewerInput.h"
+#include "viewer/ViewerPick.h"
 
 namespace sluice::rt {
 namespace {

@@ -8,8 +8,8 @@
 
 #include "GpuTest.h"
 #include "RenderTestSupport.h"
-#include "ViewerPick.h"
-#include "ViewerSession.h"
+#include "viewer/ViewerPick.h"
+#include "viewer/ViewerSession.h"
 #include "ViewerTestScene.h"
 
 namespace sluice::rt {

@@ -20,10 +20,10 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "CaptureFrames.h"
+#include "capture/CaptureFrames.h"
 #include "RenderTestSupport.h"
-#include "Viewer.h"
-#include "ViewerPanel.h"
+#include "viewer/Viewer.h"
+#include "viewer/ViewerPanel.h"
 #include "ViewerTestScene.h"
 
 extern char** environ;

@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "BakeErrors.h"
-#include "MeshMass.h"
-#include "sluice/bake/CgalReference.h"
+#include "import/MeshMass.h"
+#include "sluice/bake/cgal/CgalReference.h"
 
 namespace sluice::bake {
 

@@ -18,7 +18,7 @@
 //    Crossings are decided with exact orientation predicates (EPICK); a crossing through an
 //    edge, a vertex or an end point is not counted but sends that point to brute force.
 //    For a closed soup K is empty and w_M = W_Z is the integer winding number.
-#include "sluice/bake/CgalReference.h"
+#include "sluice/bake/cgal/CgalReference.h"
 
 #include <algorithm>
 #include <array>
@@ -41,8 +41,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 
-#include "BoundaryChain.h"
-#include "WindingNumber.h"
+#include "import/BoundaryChain.h"
+#include "cgal/WindingNumber.h"
 
 namespace sluice::bake {
 

@@ -3,7 +3,7 @@
 // Built with -fno-math-errno -fno-rounding-math (bake/CMakeLists.txt): otherwise std::sqrt is
 // a library call (for errno, and for CGAL's dynamic rounding mode) and the block loop does not
 // vectorize. Nothing here reads errno or changes the rounding mode.
-#include "WindingNumber.h"
+#include "cgal/WindingNumber.h"
 
 #include <cmath>
 #include <numbers>

@@ -6,14 +6,14 @@
 #include <memory>
 #include <optional>
 
-#include "CliSupport.h"
-#include "PhaseReport.h"
-#include "sluice/bake/BakeJob.h"
-#include "sluice/bake/CgalReference.h"
-#include "sluice/bake/Cli.h"
-#include "sluice/bake/GpuBaker.h"
+#include "commands/CliSupport.h"
+#include "jobs/PhaseReport.h"
+#include "sluice/bake/jobs/BakeJob.h"
+#include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/commands/Cli.h"
+#include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/bake/Grid.h"
-#include "sluice/bake/SparseBaker.h"
+#include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/gpu/Context.h"

@@ -34,9 +34,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "CliSupport.h"
-#include "sluice/bake/BatchJob.h"
-#include "sluice/bake/Cli.h"
+#include "commands/CliSupport.h"
+#include "sluice/bake/jobs/BatchJob.h"
+#include "sluice/bake/commands/Cli.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/BatchManifest.h"

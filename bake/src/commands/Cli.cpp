@@ -1,11 +1,11 @@
 // runCli: the sluice-bake command line (CLI11), its subcommands and its exit codes.
-#include "sluice/bake/Cli.h"
+#include "sluice/bake/commands/Cli.h"
 
 #include <exception>
 #include <iostream>
 #include <vector>
 
-#include "CliSupport.h"
+#include "commands/CliSupport.h"
 
 namespace sluice::bake {
 namespace {

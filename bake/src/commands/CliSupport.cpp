@@ -1,5 +1,5 @@
 // Helpers shared by the sluice-bake subcommands: errors, loading by file type, names and JSON.
-#include "CliSupport.h"
+#include "commands/CliSupport.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,9 +9,9 @@
 
 #include <sys/resource.h>
 
-#include "sluice/bake/Cli.h"
-#include "sluice/bake/NanoVdbIO.h"
-#include "sluice/bake/VdbIO.h"
+#include "sluice/bake/commands/Cli.h"
+#include "sluice/bake/interop/NanoVdbIO.h"
+#include "sluice/bake/interop/VdbIO.h"
 #include "sluice/format/AssetIO.h"
 
 namespace sluice::bake::cli {

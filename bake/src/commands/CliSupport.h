@@ -11,8 +11,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "sluice/bake/MeshImport.h"
-#include "sluice/bake/Validate.h"
+#include "sluice/bake/import/MeshImport.h"
+#include "sluice/bake/validate/Validate.h"
 #include "sluice/format/CliErrors.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/ExitCodes.h"

@@ -2,10 +2,10 @@
 #include <iostream>
 #include <memory>
 
-#include "CliSupport.h"
-#include "sluice/bake/Cli.h"
-#include "sluice/bake/NanoVdbIO.h"
-#include "sluice/bake/VdbIO.h"
+#include "commands/CliSupport.h"
+#include "sluice/bake/commands/Cli.h"
+#include "sluice/bake/interop/NanoVdbIO.h"
+#include "sluice/bake/interop/VdbIO.h"
 #include "sluice/format/AssetIO.h"
 
 namespace sluice::bake::cli {

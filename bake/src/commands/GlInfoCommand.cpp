@@ -2,8 +2,8 @@
 #include <iostream>
 #include <memory>
 
-#include "CliSupport.h"
-#include "sluice/bake/Cli.h"
+#include "commands/CliSupport.h"
+#include "sluice/bake/commands/Cli.h"
 #include "sluice/gpu/Context.h"
 
 namespace sluice::bake::cli {

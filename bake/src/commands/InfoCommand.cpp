@@ -6,10 +6,10 @@
 #include <memory>
 #include <optional>
 
-#include "CliSupport.h"
-#include "sluice/bake/Cli.h"
-#include "sluice/bake/NanoVdbIO.h"
-#include "sluice/bake/SliceImage.h"
+#include "commands/CliSupport.h"
+#include "sluice/bake/commands/Cli.h"
+#include "sluice/bake/interop/NanoVdbIO.h"
+#include "sluice/bake/validate/SliceImage.h"
 #include "sluice/format/AssetHeader.h"
 #include "sluice/format/Hash.h"
 #include "sluice/format/NanoVdbCheck.h"

@@ -3,9 +3,9 @@
 #include <iostream>
 #include <memory>
 
-#include "CliSupport.h"
-#include "sluice/bake/Cli.h"
-#include "sluice/bake/ValidateJob.h"
+#include "commands/CliSupport.h"
+#include "sluice/bake/commands/Cli.h"
+#include "sluice/bake/jobs/ValidateJob.h"
 #include "sluice/format/AssetIO.h"
 
 namespace sluice::bake::cli {

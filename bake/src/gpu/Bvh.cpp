@@ -5,7 +5,7 @@
 // level reads its triangles contiguously and nothing is allocated per node. Boxes and the
 // fast-winding sums of an internal node are combined from its children; only the radius of the
 // ball around a node's centroid takes a pass over the node's corners.
-#include "Bvh.h"
+#include "gpu/Bvh.h"
 
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 // The passes and buffers the dense and sparse GPU bakes share (GpuBakePasses.h).
-#include "GpuBakePasses.h"
+#include "gpu/GpuBakePasses.h"
 
 #include <algorithm>
 #include <chrono>

@@ -14,9 +14,9 @@
 #include <glm/vec3.hpp>
 
 #include "BakeErrors.h"
-#include "Bvh.h"
-#include "GpuSoup.h"
-#include "sluice/bake/GpuBaker.h"
+#include "gpu/Bvh.h"
+#include "gpu/GpuSoup.h"
+#include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Gl.h"

@@ -14,7 +14,7 @@
 //      exact one of the few too near the decision value.
 // Every pass is split into dispatches of a bounded number of work groups; the CPU reads back two
 // counters per slab and nothing else until the end.
-#include "sluice/bake/GpuBaker.h"
+#include "sluice/bake/gpu/GpuBaker.h"
 
 #include <algorithm>
 #include <chrono>
@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "GpuBakePasses.h"
+#include "gpu/GpuBakePasses.h"
 
 namespace sluice::bake {
 

@@ -1,5 +1,5 @@
 // The triangle soup of a GPU bake, prepared as the CGAL reference prepares it.
-#include "GpuSoup.h"
+#include "gpu/GpuSoup.h"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +13,7 @@
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <glm/geometric.hpp>
 
-#include "BoundaryChain.h"
+#include "import/BoundaryChain.h"
 
 namespace sluice::bake {
 

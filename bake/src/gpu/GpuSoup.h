@@ -7,8 +7,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "sluice/bake/CgalReference.h"
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/import/MeshImport.h"
 #include "sluice/format/Result.h"
 
 namespace sluice::bake {

@@ -20,9 +20,9 @@
 #include <utility>
 #include <vector>
 
-#include "GpuBakePasses.h"
-#include "sluice/bake/GpuBaker.h"
-#include "sluice/bake/SparseBaker.h"
+#include "gpu/GpuBakePasses.h"
+#include "sluice/bake/gpu/GpuBaker.h"
+#include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/NanoVdbCheck.h"
 
 namespace sluice::bake {

@@ -1,5 +1,5 @@
 // Forked-child isolation for third-party parsers: the answer travels back through a pipe.
-#include "sluice/bake/Isolated.h"
+#include "sluice/bake/import/Isolated.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -7,7 +7,7 @@
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/intersections.h>
 
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 
 namespace sluice::bake {
 

@@ -1,5 +1,5 @@
 // Mesh import through assimp: every mesh of the file, node transforms applied, welded positions.
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 
 #include <algorithm>
 #include <bit>
@@ -24,7 +24,7 @@
 
 #include "sluice/format/Hash.h"
 
-#include "PlyCheck.h"
+#include "import/PlyCheck.h"
 
 namespace sluice::bake {
 

@@ -1,5 +1,5 @@
 // Exact mass properties of a closed triangle mesh from surface integrals (divergence theorem).
-#include "MeshMass.h"
+#include "import/MeshMass.h"
 
 #include <algorithm>
 #include <array>

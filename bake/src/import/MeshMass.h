@@ -3,7 +3,7 @@
 
 #include <optional>
 
-#include "sluice/bake/TriangleSoup.h"
+#include "sluice/bake/import/TriangleSoup.h"
 #include "sluice/format/ColliderAsset.h"
 
 namespace sluice::bake {

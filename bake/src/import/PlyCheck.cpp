@@ -1,5 +1,5 @@
 // PLY pre-flight check: see PlyCheck.h.
-#include "PlyCheck.h"
+#include "import/PlyCheck.h"
 
 #include <algorithm>
 #include <array>

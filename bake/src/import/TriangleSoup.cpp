@@ -1,5 +1,5 @@
 // Bounding box of a triangle soup.
-#include "sluice/bake/TriangleSoup.h"
+#include "sluice/bake/import/TriangleSoup.h"
 
 #include <glm/common.hpp>
 

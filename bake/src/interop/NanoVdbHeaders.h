@@ -2,7 +2,7 @@
 // with their warnings silenced so -Werror never trips on them.
 #pragma once
 
-#include "VdbHeaders.h"
+#include "interop/VdbHeaders.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wshadow"

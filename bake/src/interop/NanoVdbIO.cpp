@@ -1,13 +1,13 @@
 // NanoVDB interchange: .nvdb files written from sparse assets, read back as hostile input.
-#include "sluice/bake/NanoVdbIO.h"
+#include "sluice/bake/interop/NanoVdbIO.h"
 
 #include <cmath>
 #include <cstring>
 #include <sstream>
 #include <string>
 
-#include "NanoVdbHeaders.h"
-#include "VdbMesh.h"
+#include "interop/NanoVdbHeaders.h"
+#include "interop/VdbMesh.h"
 
 #include "sluice/format/AtomicFile.h"
 

@@ -1,5 +1,5 @@
 // OpenVDB interchange: collider assets out as float level sets, level sets in as meshes.
-#include "sluice/bake/VdbIO.h"
+#include "sluice/bake/interop/VdbIO.h"
 
 #include <algorithm>
 #include <array>
@@ -26,9 +26,9 @@
 #include <tbb/parallel_for.h>
 #include <unistd.h>
 
-#include "VdbFileCheck.h"
-#include "VdbHeaders.h"
-#include "VdbMesh.h"
+#include "interop/VdbFileCheck.h"
+#include "interop/VdbHeaders.h"
+#include "interop/VdbMesh.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/format/Hash.h"
 

@@ -3,8 +3,8 @@
 
 #include <filesystem>
 
-#include "VdbHeaders.h"
-#include "sluice/bake/MeshImport.h"
+#include "interop/VdbHeaders.h"
+#include "sluice/bake/import/MeshImport.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 

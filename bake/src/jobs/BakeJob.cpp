@@ -1,13 +1,13 @@
 // One bake as a library call: what `sluice-bake bake` does between parsing and printing.
-#include "sluice/bake/BakeJob.h"
+#include "sluice/bake/jobs/BakeJob.h"
 
 #include <cmath>
 #include <cstring>
 #include <optional>
 
-#include "CliSupport.h"
+#include "commands/CliSupport.h"
 #include "sluice/bake/Grid.h"
-#include "sluice/bake/SparseBaker.h"
+#include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/Hash.h"
 #include "sluice/gpu/Context.h"

@@ -1,10 +1,10 @@
 // One batch-manifest entry as a library call: the manifest's entries, freshness, and the bake.
-#include "sluice/bake/BatchJob.h"
+#include "sluice/bake/jobs/BatchJob.h"
 
 #include <chrono>
 
-#include "CliSupport.h"
-#include "sluice/bake/SparseBaker.h"
+#include "commands/CliSupport.h"
+#include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/AssetIO.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/format/Hash.h"

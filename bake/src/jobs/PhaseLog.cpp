@@ -1,5 +1,5 @@
 // The phase timeline of one process: steady-clock laps, process CPU time, the kernel's start time.
-#include "sluice/bake/PhaseLog.h"
+#include "sluice/bake/jobs/PhaseLog.h"
 
 #include <ctime>
 #include <fstream>

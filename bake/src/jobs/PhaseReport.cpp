@@ -1,5 +1,5 @@
 // The phase timeline of a bake for people and for JSON (`sluice-bake bake --profile`).
-#include "PhaseReport.h"
+#include "jobs/PhaseReport.h"
 
 #include <algorithm>
 #include <cstdio>

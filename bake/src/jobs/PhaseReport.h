@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sluice/bake/PhaseLog.h"
+#include "sluice/bake/jobs/PhaseLog.h"
 
 namespace sluice::bake::cli {
 

@@ -1,5 +1,5 @@
 // A thread-safe progress bar on stderr for long bakes and validations.
-#include "sluice/bake/Progress.h"
+#include "sluice/bake/jobs/Progress.h"
 
 #include <cstdio>
 #include <utility>

@@ -1,10 +1,10 @@
 // One validation as a library call: what `sluice-bake validate` does between parsing and printing.
-#include "sluice/bake/ValidateJob.h"
+#include "sluice/bake/jobs/ValidateJob.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "CliSupport.h"
+#include "commands/CliSupport.h"
 
 namespace sluice::bake {
 

@@ -10,7 +10,7 @@
 //      and one signed sample at each uniform block's centre.
 //   4. SparseGridBuilder: OpenVDB leaves from the bricks, inside blocks filled as inactive
 //      tiles of -band (OpenVDB picks the largest tiles that fit), then openToNanoVDB.
-#include "sluice/bake/SparseBaker.h"
+#include "sluice/bake/sparse/SparseBaker.h"
 
 #include <algorithm>
 #include <chrono>
@@ -25,7 +25,7 @@
 #include <tbb/parallel_for.h>
 
 #include "BakeErrors.h"
-#include "NanoVdbHeaders.h"
+#include "interop/NanoVdbHeaders.h"
 
 #include "sluice/format/NanoVdbCheck.h"
 

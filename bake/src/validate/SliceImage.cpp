@@ -1,5 +1,5 @@
 // Slice pictures of a collider: distance colour map with the zero contour, beside the gradient.
-#include "sluice/bake/SliceImage.h"
+#include "sluice/bake/validate/SliceImage.h"
 
 #include <algorithm>
 #include <cctype>

@@ -15,7 +15,7 @@
 
 #include <nanovdb/NanoVDB.h>
 
-#include "SparseValidate.h"
+#include "validate/SparseValidate.h"
 
 namespace sluice::bake::detail {
 

@@ -1,7 +1,7 @@
 // Private: validate() for sparse assets (band accuracy and tile signs), see SparseValidate.cpp.
 #pragma once
 
-#include "sluice/bake/Validate.h"
+#include "sluice/bake/validate/Validate.h"
 
 namespace sluice::bake::detail {
 

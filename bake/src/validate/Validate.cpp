@@ -1,7 +1,7 @@
 // bake::validate: compares a collider asset with the exact CGAL reference, point by point.
-#include "sluice/bake/Validate.h"
+#include "sluice/bake/validate/Validate.h"
 
-#include "SparseValidate.h"
+#include "validate/SparseValidate.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Frame schedules, size parsing and the PNG + video fan-out of captured frames.
-#include "CaptureFrames.h"
+#include "capture/CaptureFrames.h"
 
 #include <charconv>
 #include <cstdio>

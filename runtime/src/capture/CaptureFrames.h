@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "CaptureVideo.h"
+#include "capture/CaptureVideo.h"
 #include "sluice/format/Result.h"
 #include "sluice/rt/render/Image.h"
 

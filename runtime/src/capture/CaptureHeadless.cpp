@@ -1,9 +1,9 @@
 // Headless capture: render on the captured steps, read back through the fence ring, write.
-#include "CaptureHeadless.h"
+#include "capture/CaptureHeadless.h"
 
 #include <ostream>
 
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/SceneFraming.h"
 

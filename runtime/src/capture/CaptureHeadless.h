@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include "CaptureFrames.h"
+#include "capture/CaptureFrames.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/format/Scene.h"

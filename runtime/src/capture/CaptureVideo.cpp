@@ -1,6 +1,6 @@
 // ffmpeg as a child process (posix_spawn, no shell): raw RGB frames on its stdin, its messages
 // in a log file beside the video, the MP4 renamed into place when it exits cleanly.
-#include "CaptureVideo.h"
+#include "capture/CaptureVideo.h"
 
 #include <cerrno>
 #include <csignal>

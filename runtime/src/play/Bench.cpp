@@ -1,5 +1,5 @@
 // The benchmark loop: warm-up, then one GPU-timed step at a time, medians over the steps.
-#include "Bench.h"
+#include "play/Bench.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,12 +12,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "SceneChecks.h"
+#include "play/SceneChecks.h"
 #include "shared/Pbf.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/gpu/Context.h"
-#include "sluice/rt/PlayCli.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/play/PlayCli.h"
+#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/SceneFraming.h"
 
 namespace sluice::rt {

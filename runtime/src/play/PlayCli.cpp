@@ -1,6 +1,6 @@
 // runPlay: the sluice-play command line (CLI11), the headless run loop with its optional frame
 // capture, and the hand-over to the viewer window.
-#include "sluice/rt/PlayCli.h"
+#include "sluice/rt/play/PlayCli.h"
 
 #include <exception>
 #include <iostream>
@@ -10,16 +10,16 @@
 
 #include <CLI/CLI.hpp>
 
-#include "Bench.h"
-#include "CaptureFrames.h"
-#include "CaptureVideo.h"
-#include "PlayHeadless.h"
-#include "RunOutputs.h"
-#include "SceneChecks.h"
-#include "Viewer.h"
+#include "play/Bench.h"
+#include "capture/CaptureFrames.h"
+#include "capture/CaptureVideo.h"
+#include "play/PlayHeadless.h"
+#include "play/RunOutputs.h"
+#include "play/SceneChecks.h"
+#include "viewer/Viewer.h"
 #include "sluice/format/CliErrors.h"
 #include "sluice/format/SceneIO.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/Renderer.h"
 
 namespace sluice::rt {

@@ -1,6 +1,6 @@
 // The headless run loop: statistics rows, PLY dumps and captured frames after each step, then
 // the timing summary and the statistics file.
-#include "PlayHeadless.h"
+#include "play/PlayHeadless.h"
 
 #include <chrono>
 #include <cstdio>
@@ -11,15 +11,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "CaptureHeadless.h"
-#include "SceneChecks.h"
-#include "StatsReport.h"
+#include "capture/CaptureHeadless.h"
+#include "play/SceneChecks.h"
+#include "play/StatsReport.h"
 #include "sluice/format/Suggest.h"
 #include "sluice/format/AtomicFile.h"
 #include "sluice/gpu/Context.h"
-#include "sluice/rt/PlayCli.h"
-#include "sluice/rt/PlyWriter.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/play/PlayCli.h"
+#include "sluice/rt/play/PlyWriter.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <glm/vec2.hpp>
 
-#include "CaptureFrames.h"
+#include "capture/CaptureFrames.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Scene.h"
 #include "sluice/rt/render/Renderer.h"

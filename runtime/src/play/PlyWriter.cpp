@@ -1,5 +1,5 @@
 // Binary little-endian PLY: an ASCII header, then packed records (x y z vx vy vz id).
-#include "sluice/rt/PlyWriter.h"
+#include "sluice/rt/play/PlyWriter.h"
 
 #include <algorithm>
 #include <bit>

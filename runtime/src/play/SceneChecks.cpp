@@ -1,6 +1,6 @@
 // Scene sanity checks: particles of every block and emitter against the domain box and the
 // colliders' distance fields, and each collider's size against the particle spacing.
-#include "SceneChecks.h"
+#include "play/SceneChecks.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "sluice/format/GridSamples.h"
 #include "sluice/format/SdfSampler.h"
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 namespace {

@@ -1,5 +1,5 @@
 // Formatting of step statistics for people (table) and programs (JSON).
-#include "StatsReport.h"
+#include "play/StatsReport.h"
 
 #include <cstdio>
 

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 

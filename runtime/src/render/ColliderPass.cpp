@@ -7,10 +7,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "SparseGrids.h"
+#include "sim/SparseGrids.h"
 #include "shared/Render.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 #include "sluice/rt/render/Renderer.h"
 
 namespace sluice::rt {

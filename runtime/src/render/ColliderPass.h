@@ -15,7 +15,7 @@
 #include "sluice/gpu/Program.h"
 #include "sluice/gpu/Texture3D.h"
 
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 

@@ -8,7 +8,7 @@
 #include "shared/Render.h"
 #include "sluice/format/Assert.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 

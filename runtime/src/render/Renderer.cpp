@@ -14,7 +14,7 @@
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/SceneFraming.h"
 
 namespace sluice::rt {

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 namespace {

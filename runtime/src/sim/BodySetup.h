@@ -12,7 +12,7 @@
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/format/Scene.h"
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 

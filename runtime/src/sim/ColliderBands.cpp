@@ -1,11 +1,11 @@
 // Sparse colliders' bands against the distances the solver reads.
-#include "ColliderBands.h"
+#include "sim/ColliderBands.h"
 
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 

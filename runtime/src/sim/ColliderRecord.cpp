@@ -1,5 +1,5 @@
 // The solver's GPU record of a collider built from its asset (sluice/rt/ColliderRecord.h).
-#include "sluice/rt/ColliderRecord.h"
+#include "sluice/rt/sim/ColliderRecord.h"
 
 #include "shared/Bodies.h"
 

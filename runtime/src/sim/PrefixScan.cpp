@@ -1,5 +1,5 @@
 // Recursive block scan: level 0 scans the data, level l + 1 scans level l's block totals.
-#include "PrefixScan.h"
+#include "sim/PrefixScan.h"
 
 #include <string>
 

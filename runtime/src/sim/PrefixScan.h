@@ -11,7 +11,7 @@
 #include "sluice/format/Result.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
-#include "sluice/rt/GpuCommandCount.h"
+#include "sluice/rt/sim/GpuCommandCount.h"
 
 namespace sluice::rt {
 

@@ -1,5 +1,5 @@
 // Derived PBF constants, initial particles, emitter schedules and collider poses (docs/pbf.md).
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 #include <algorithm>
 #include <cmath>

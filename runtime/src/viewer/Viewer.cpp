@@ -2,7 +2,7 @@
 // (render, present with the panel, collect finished readbacks, step). Nothing in a frame waits
 // for the GPU but the dynamic bodies' poses: statistics, timers and captured frames all come back
 // through fences a few frames later.
-#include "Viewer.h"
+#include "viewer/Viewer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -22,14 +22,14 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
-#include "CaptureVideo.h"
-#include "ViewerBodies.h"
-#include "ViewerInput.h"
-#include "ViewerPanel.h"
-#include "ViewerPick.h"
-#include "ViewerSession.h"
+#include "capture/CaptureVideo.h"
+#include "viewer/ViewerBodies.h"
+#include "viewer/ViewerInput.h"
+#include "viewer/ViewerPanel.h"
+#include "viewer/ViewerPick.h"
+#include "viewer/ViewerSession.h"
 #include "sluice/gpu/Context.h"
-#include "sluice/rt/PlayCli.h"
+#include "sluice/rt/play/PlayCli.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
 #include "sluice/rt/render/FrameReadback.h"
 #include "sluice/rt/render/Image.h"

@@ -10,9 +10,9 @@
 
 #include <glm/glm.hpp>
 
-#include "CaptureFrames.h"
-#include "ViewerPanel.h"
-#include "ViewerSession.h"
+#include "capture/CaptureFrames.h"
+#include "viewer/ViewerPanel.h"
+#include "viewer/ViewerSession.h"
 #include "sluice/rt/render/OrbitCamera.h"
 #include "sluice/rt/render/Renderer.h"
 

@@ -1,6 +1,6 @@
 // The panel's body rows: plain figures copied from the simulation, the noisy submerged share
 // averaged over simulated time.
-#include "ViewerBodies.h"
+#include "viewer/ViewerBodies.h"
 
 #include <cmath>
 #include <filesystem>

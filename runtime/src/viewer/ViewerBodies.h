@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "sluice/format/Scene.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 

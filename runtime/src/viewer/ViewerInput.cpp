@@ -1,5 +1,5 @@
 // Key bindings and mouse drags of the viewer window.
-#include "ViewerInput.h"
+#include "viewer/ViewerInput.h"
 
 #include <cmath>
 

@@ -4,7 +4,7 @@
 
 #include <glm/glm.hpp>
 
-#include "ViewerPanel.h"
+#include "viewer/ViewerPanel.h"
 #include "sluice/rt/render/OrbitCamera.h"
 
 namespace sluice::rt {

@@ -1,6 +1,6 @@
 // The ImGui panel: simulation parameters applied when an edit ends, render modes, statistics,
 // the dynamic bodies.
-#include "ViewerPanel.h"
+#include "viewer/ViewerPanel.h"
 
 #include <algorithm>
 

@@ -9,10 +9,10 @@
 
 #include <glm/vec2.hpp>
 
-#include "ViewerBodies.h"
-#include "ViewerPick.h"
+#include "viewer/ViewerBodies.h"
+#include "viewer/ViewerPick.h"
 #include "sluice/format/Scene.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
 #include "sluice/rt/render/OrbitCamera.h"
 #include "sluice/rt/render/Renderer.h"

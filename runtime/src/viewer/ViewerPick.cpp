@@ -1,5 +1,5 @@
 // Cursor rays through the orbit camera, for picking bodies with the mouse.
-#include "ViewerPick.h"
+#include "viewer/ViewerPick.h"
 
 #include <cmath>
 

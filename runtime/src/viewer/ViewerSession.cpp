@@ -1,6 +1,6 @@
 // Live scene changes for the viewer: parameters, emitters and the mouse spring through the
 // simulation's setters, reset and reload by building it again.
-#include "ViewerSession.h"
+#include "viewer/ViewerSession.h"
 
 #include <algorithm>
 

@@ -10,11 +10,11 @@
 
 #include <glm/glm.hpp>
 
-#include "ViewerPick.h"
+#include "viewer/ViewerPick.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/format/Scene.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/Renderer.h"
 
 namespace sluice::rt {

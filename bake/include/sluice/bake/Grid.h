@@ -5,7 +5,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "sluice/bake/TriangleSoup.h"
+#include "sluice/bake/import/TriangleSoup.h"
 #include "sluice/format/Result.h"
 
 namespace sluice::bake {

@@ -9,8 +9,8 @@
 #include <glm/vec3.hpp>
 
 #include "sluice/bake/Grid.h"
-#include "sluice/bake/MeshImport.h"
-#include "sluice/bake/Progress.h"
+#include "sluice/bake/import/MeshImport.h"
+#include "sluice/bake/jobs/Progress.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 

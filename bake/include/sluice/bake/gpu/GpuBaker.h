@@ -3,11 +3,11 @@
 
 #include <cstdint>
 
-#include "sluice/bake/CgalReference.h"
-#include "sluice/bake/MeshImport.h"
-#include "sluice/bake/PhaseLog.h"
-#include "sluice/bake/Progress.h"
-#include "sluice/bake/SparseBaker.h"
+#include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/import/MeshImport.h"
+#include "sluice/bake/jobs/PhaseLog.h"
+#include "sluice/bake/jobs/Progress.h"
+#include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 #include "sluice/gpu/Context.h"

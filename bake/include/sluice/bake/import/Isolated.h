@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "sluice/bake/TriangleSoup.h"
+#include "sluice/bake/import/TriangleSoup.h"
 #include "sluice/format/Result.h"
 
 namespace sluice::bake {

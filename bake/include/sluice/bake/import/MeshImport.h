@@ -5,9 +5,9 @@
 #include <functional>
 #include <string>
 
-#include "sluice/bake/Isolated.h"
-#include "sluice/bake/PhaseLog.h"
-#include "sluice/bake/TriangleSoup.h"
+#include "sluice/bake/import/Isolated.h"
+#include "sluice/bake/jobs/PhaseLog.h"
+#include "sluice/bake/import/TriangleSoup.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 

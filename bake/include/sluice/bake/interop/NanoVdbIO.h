@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/NanoVdbCheck.h"
 #include "sluice/format/Result.h"

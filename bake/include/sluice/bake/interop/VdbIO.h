@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "sluice/bake/MeshImport.h"
+#include "sluice/bake/import/MeshImport.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 

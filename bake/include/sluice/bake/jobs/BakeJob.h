@@ -10,10 +10,10 @@
 
 #include <glm/vec3.hpp>
 
-#include "sluice/bake/CgalReference.h"
-#include "sluice/bake/GpuBaker.h"
-#include "sluice/bake/MeshImport.h"
-#include "sluice/bake/Progress.h"
+#include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/gpu/GpuBaker.h"
+#include "sluice/bake/import/MeshImport.h"
+#include "sluice/bake/jobs/Progress.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 

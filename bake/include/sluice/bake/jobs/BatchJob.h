@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "sluice/bake/BakeJob.h"
-#include "sluice/bake/Progress.h"
+#include "sluice/bake/jobs/BakeJob.h"
+#include "sluice/bake/jobs/Progress.h"
 #include "sluice/format/BatchManifest.h"
 #include "sluice/format/Result.h"
 

@@ -5,9 +5,9 @@
 #include <optional>
 #include <string>
 
-#include "sluice/bake/MeshImport.h"
-#include "sluice/bake/Progress.h"
-#include "sluice/bake/Validate.h"
+#include "sluice/bake/import/MeshImport.h"
+#include "sluice/bake/jobs/Progress.h"
+#include "sluice/bake/validate/Validate.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 

@@ -9,7 +9,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "sluice/bake/CgalReference.h"
+#include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"

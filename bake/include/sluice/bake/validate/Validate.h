@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-#include "sluice/bake/CgalReference.h"
+#include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/format/ColliderAsset.h"
 #include "sluice/format/Result.h"
 

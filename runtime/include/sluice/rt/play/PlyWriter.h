@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "sluice/format/Result.h"
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 
