@@ -11,10 +11,12 @@
 #include "shared/PbfGlsl.h"
 
 // Invocations of the work group, chosen by Simulation (bodyGroupSize): kBodyGroupSize on a GPU;
-// 64 on a software renderer, which runs a group's invocations one after the other on one CPU
-// thread, where idle lanes cost time instead of saving it.
+// kBodyLocalSize on a software renderer, which runs a group's invocations one after the other on
+// one CPU thread, where idle lanes cost time instead of saving it. SLUICE_BODY_SPLIT_POINTS is 1
+// when the group is larger than that: the lanes then split a body's points near the walls too.
 #ifndef SLUICE_BODY_GROUP_SIZE
-#define SLUICE_BODY_GROUP_SIZE 512
+#define SLUICE_BODY_GROUP_SIZE kBodyGroupSize
+#define SLUICE_BODY_SPLIT_POINTS 1
 #endif
 const uint kGroupSize = SLUICE_BODY_GROUP_SIZE;
 layout(local_size_x = SLUICE_BODY_GROUP_SIZE) in;
@@ -50,7 +52,7 @@ shared vec4 sPairNormal[kGroupSize];
 // The contact points near a wall or a static collider, one bit each, for the sequential pass:
 // the body's lanes test a chunk of its points at once, its lane 0 then resolves the marked ones
 // in order and clears their words.
-#if SLUICE_BODY_GROUP_SIZE > 64
+#if SLUICE_BODY_SPLIT_POINTS
 const uint kCandidateWords = 1024u;
 shared uint sCandidates[kCandidateWords];
 #endif
@@ -59,7 +61,7 @@ shared uvec2 sReach[kBodyLocalSize];
 
 // Invocations per body: the largest power of two that fits every body into the group.
 uint lanesPerBody() {
-#if SLUICE_BODY_GROUP_SIZE <= 64
+#if !SLUICE_BODY_SPLIT_POINTS
     // A software renderer runs a group's invocations a SIMD vector at a time: one invocation per
     // body keeps the bodies side by side in one vector.
     return 1u;
@@ -90,16 +92,18 @@ mat3 worldInvInertia(uint o, vec4 q) {
     return r * mat3(bodies[o].invInertia) * transpose(r);
 }
 
-// The 64-bit two's-complement sum in words (lo, lo + 1), as a double.
-double sumAt(uint lo) {
+// Component `axis` of body b's fixed-point sum that starts at word `sum` (shared/Bodies.h), a
+// 64-bit two's-complement integer, as a double.
+double sumAt(uint b, uint sum, uint axis) {
+    uint lo = bodySumWord(b, sum, axis);
     uint hi = bodySums[lo + 1u];
     double high = hi >= 0x80000000u ? double(hi) - 4294967296.0 : double(hi);
     return high * 4294967296.0 + double(bodySums[lo]);
 }
 
-// Three consecutive 64-bit sums from word lo: a vector's x, y and z.
-vec3 sum3At(uint lo) {
-    return vec3(sumAt(lo), sumAt(lo + 2u), sumAt(lo + 4u));
+// Body b's vector sum that starts at word `sum`.
+vec3 sumOf(uint b, uint sum) {
+    return vec3(sumAt(b, sum, 0u), sumAt(b, sum, 1u), sumAt(b, sum, 2u));
 }
 
 // Body b's contact point s relative to its centre of mass, in the asset's axes at world scale.
@@ -367,198 +371,255 @@ void writeCollider(GpuBody body, vec3 x0, vec4 q0) {
     colliders[c].scale = s;
 }
 
-void main() {
+// One body through the pass: its pose at the substep start (x0, q0), the pose and velocity
+// being integrated (x, q, v; w the angular velocity before the contacts), the fluid's force and
+// torque for the report, and what its contacts touched (counted in the first sweep).
+struct BodyStep {
+    vec3 x0;
+    vec4 q0;
+    vec3 x;
+    vec4 q;
+    vec3 v;
+    vec3 w;
+    vec3 force;
+    vec3 torque;
+    float deepest;
+    uint touching;
+    vec3 normalSum;
+};
+
+// The fluid's reaction: every particle the body pushed by dx gave it -m dx / dt; gravity.
+void takeFluidReaction(uint b, inout BodyStep s) {
+    vec3 sumDx = sumOf(b, kBodySumPush) / bodies[b].sumScale;
+    vec3 sumMoment = sumOf(b, kBodySumMoment) / bodies[b].momentScale;
+    vec3 impulse = -P.particleMass * P.invDt * sumDx;
+    vec3 angularImpulse = -P.particleMass * P.invDt * sumMoment;
+    s.force = impulse * P.invDt;
+    s.torque = angularImpulse * P.invDt;
+    s.v = bodies[b].linearVelocity + P.dt * P.gravity + impulse * bodies[b].invMass;
+    s.w = bodies[b].angularVelocity + worldInvInertia(b, s.q0) * angularImpulse;
+}
+
+// The particles a wall held against the body: their pushes' reaction only stops the body moving
+// into them (along the reaction's direction), like a contact with no bounce; none of it pushes
+// the body away (docs/bodies.md).
+void takeHeldReaction(uint b, inout BodyStep s) {
+    vec3 heldImpulse = -P.particleMass * P.invDt * sumOf(b, kBodySumHeldPush) / bodies[b].sumScale;
+    vec3 heldAngular =
+        -P.particleMass * P.invDt * sumOf(b, kBodySumHeldMoment) / bodies[b].momentScale;
+    float heldLength = length(heldImpulse);
+    if (heldLength > 0.0) {
+        float approach = -dot(s.v, heldImpulse / heldLength);
+        float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / heldLength) : 0.0;
+        s.v += share * heldImpulse * bodies[b].invMass;
+        s.w += share * (worldInvInertia(b, s.q0) * heldAngular);
+        s.force += share * heldImpulse * P.invDt;
+        s.torque += share * heldAngular * P.invDt;
+    }
+}
+
+// The viewer's mouse spring, when it holds this body.
+void pullByDrag(uint b, inout BodyStep s) {
+    if (b != dragBody)
+        return;
+    vec3 r = rotate(s.q0, bodies[b].scale * (dragAnchor - bodies[b].centerLocal));
+    vec3 pointVelocity = s.v + cross(s.w, r);
+    vec3 pull = dragOmega * dragOmega * (dragTarget - (s.x0 + r)) - 2.0 * dragOmega * pointVelocity;
+    vec3 impulse = bodies[b].mass * P.dt * pull;
+    s.v += impulse * bodies[b].invMass;
+    s.w += worldInvInertia(b, s.q0) * cross(r, impulse);
+}
+
+// The sums start again for the next substep's passes.
+void clearSums(uint b) {
+    for (uint k = 0u; k < kBodySumWords; ++k)
+        bodySums[b * kBodySumWords + k] = 0u;
+}
+
+// One sweep of the contacts against the other bodies: the lead publishes its pose, each lane
+// sums its share of the body's corrections (pairShare), the lanes' sums are added in a fixed tree
+// (so --deterministic stays byte-identical), and the lead applies their mean and packs what the
+// body may touch next (walls, static colliders). Every invocation calls it (barriers).
+void pairContacts(uint b, uint lane, uint lanes, bool live, bool lead, bool first,
+                  inout BodyStep s) {
     uint t = gl_LocalInvocationIndex;
-    uint lanes = lanesPerBody();
-    uint b = t / lanes, lane = t % lanes;
-    bool live = b < P.bodyCount;
-    bool lead = live && lane == 0u;
-    vec3 x0 = vec3(0.0), x = vec3(0.0), v = vec3(0.0), force = vec3(0.0), torque = vec3(0.0);
-    vec4 q0 = vec4(0.0, 0.0, 0.0, 1.0), q = q0;
-    if (live) {
-        x0 = bodies[b].position;
-        q0 = bodies[b].orientation;
-    }
     if (lead) {
-        // The fluid's reaction: every particle the body pushed by dx gave it -m dx / dt.
-        uint base = b * kBodySumWords;
-        vec3 sumDx = sum3At(base) / bodies[b].sumScale;
-        vec3 sumMoment = sum3At(base + 6u) / bodies[b].momentScale;
-        vec3 impulse = -P.particleMass * P.invDt * sumDx;
-        vec3 angularImpulse = -P.particleMass * P.invDt * sumMoment;
-        force = impulse * P.invDt;
-        torque = angularImpulse * P.invDt;
-
-        v = bodies[b].linearVelocity + P.dt * P.gravity + impulse * bodies[b].invMass;
-        vec3 w = bodies[b].angularVelocity + worldInvInertia(b, q0) * angularImpulse;
-        // The particles a wall held against the body: their pushes' reaction only stops the
-        // body moving into them (along the reaction's direction), like a contact with no
-        // bounce; none of it pushes the body away (docs/bodies.md).
-        uint held = base + kBodyHeldWords;
-        vec3 heldImpulse = -P.particleMass * P.invDt * sum3At(held) / bodies[b].sumScale;
-        vec3 heldAngular = -P.particleMass * P.invDt * sum3At(held + 6u) / bodies[b].momentScale;
-        float heldLength = length(heldImpulse);
-        if (heldLength > 0.0) {
-            float approach = -dot(v, heldImpulse / heldLength);
-            float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / heldLength) : 0.0;
-            v += share * heldImpulse * bodies[b].invMass;
-            w += share * (worldInvInertia(b, q0) * heldAngular);
-            force += share * heldImpulse * P.invDt;
-            torque += share * heldAngular * P.invDt;
-        }
-        if (b == dragBody) {
-            vec3 r = rotate(q0, bodies[b].scale * (dragAnchor - bodies[b].centerLocal));
-            vec3 pointVelocity = v + cross(w, r);
-            vec3 pull = dragOmega * dragOmega * (dragTarget - (x0 + r)) -
-                        2.0 * dragOmega * pointVelocity;
-            vec3 impulse = bodies[b].mass * P.dt * pull;
-            v += impulse * bodies[b].invMass;
-            w += worldInvInertia(b, q0) * cross(r, impulse);
-        }
-        for (uint k = 0u; k < kBodySumWords; ++k)
-            bodySums[base + k] = 0u;
-        x = x0 + P.dt * v;
-        q = normalize(q0 + 0.5 * P.dt * quatMul(vec4(w, 0.0), q0));
+        sPosition[b] = s.x;
+        sOrientation[b] = s.q;
     }
-
-    float deepest = 0.0;
-    uint touching = 0u;
-    vec3 normalSum = vec3(0.0);
-#if SLUICE_BODY_GROUP_SIZE > 64
-    // Candidate words per body, and the chunks of points the largest body needs: the same in
-    // every invocation, as the barriers need.
-    uint words = min(kMaxBodySamples / 32u, kCandidateWords / max(P.bodyCount, 1u));
-    uint most = 0u;
-    for (uint o = 0u; o < P.bodyCount; ++o)
-        most = max(most, bodies[o].sampleCount);
-    uint chunks = (most + 32u * words - 1u) / (32u * words);
-    for (uint k = t; k < kCandidateWords; k += kGroupSize)
-        sCandidates[k] = 0u;
-#endif
-    for (uint it = 0u; it < kContactSweeps; ++it) {
-        bool first = it == 0u;
-        if (lead) {
-            sPosition[b] = x;
-            sOrientation[b] = q;
+    memoryBarrierShared();
+    barrier();
+    vec3 stepSum = vec3(0.0), turnSum = vec3(0.0), normals = vec3(0.0);
+    uint count = 0u, touched = 0u;
+    float deep = 0.0;
+    if (live) {
+        s.x = sPosition[b];
+        s.q = sOrientation[b];
+        pairShare(b, lane, lanes, s.x0, s.q0, s.x, s.q, first, stepSum, turnSum, count, deep,
+                  touched, normals);
+    }
+    sPairStep[t] = vec4(stepSum, float(count));
+    sPairTurn[t] = vec4(turnSum, deep);
+    sPairNormal[t] = vec4(normals, float(touched));
+    memoryBarrierShared();
+    barrier();
+    for (uint stride = lanes >> 1; stride > 0u; stride >>= 1) {
+        if (lane < stride) {
+            sPairStep[t] += sPairStep[t + stride];
+            sPairTurn[t] = vec4(sPairTurn[t].xyz + sPairTurn[t + stride].xyz,
+                                max(sPairTurn[t].w, sPairTurn[t + stride].w));
+            sPairNormal[t] += sPairNormal[t + stride];
         }
-        memoryBarrierShared();
-        barrier();
-        vec3 stepSum = vec3(0.0), turnSum = vec3(0.0), normals = vec3(0.0);
-        uint count = 0u, touched = 0u;
-        float deep = 0.0;
-        if (live) {
-            x = sPosition[b];
-            q = sOrientation[b];
-            pairShare(b, lane, lanes, x0, q0, x, q, first, stepSum, turnSum, count, deep,
-                      touched, normals);
-        }
-        sPairStep[t] = vec4(stepSum, float(count));
-        sPairTurn[t] = vec4(turnSum, deep);
-        sPairNormal[t] = vec4(normals, float(touched));
-        memoryBarrierShared();
-        barrier();
-        for (uint stride = lanes >> 1; stride > 0u; stride >>= 1) {
-            if (lane < stride) {
-                sPairStep[t] += sPairStep[t + stride];
-                sPairTurn[t] = vec4(sPairTurn[t].xyz + sPairTurn[t + stride].xyz,
-                                    max(sPairTurn[t].w, sPairTurn[t + stride].w));
-                sPairNormal[t] += sPairNormal[t + stride];
-            }
-            memoryBarrierShared();
-            barrier();
-        }
-        if (lead) {
-            float pairs = sPairStep[t].w;
-            if (pairs > 0.0) {
-                x += sPairStep[t].xyz / pairs;
-                q = normalize(q + 0.5 * quatMul(vec4(sPairTurn[t].xyz / pairs, 0.0), q));
-            }
-            if (first) {
-                deepest = max(deepest, sPairTurn[t].w);
-                touching += uint(sPairNormal[t].w);
-            }
-            normalSum += sPairNormal[t].xyz;
-            sReach[b] = packReach(reachOf(b, sPosition[b])); // from the sweep's starting pose
-        }
-        // Then the walls and static colliders, point by point in order from lane 0. The lanes
-        // first mark, a chunk at a time and at the pose lane 0 has reached, the points within
-        // half a spacing of one; lane 0 resolves only those (a point farther off is met in a
-        // later sweep or substep). What the body's sphere at the sweep's start cannot reach is
-        // skipped.
-#if SLUICE_BODY_GROUP_SIZE <= 64
-        // A software renderer runs the lanes in turn: lane 0 visits every point itself.
-        if (lead) {
-            Reach r = unpackReach(sReach[b]);
-            if (reachesAnything(r))
-                for (uint s = 0u; s < bodies[b].sampleCount; ++s)
-                    wallsAndStatics(b, r, s, x0, q0, x, q, first, deepest, touching, normalSum);
-        }
-#else
-        for (uint chunk = 0u; chunk < chunks; ++chunk) {
-            if (lead) {
-                sPosition[b] = x;
-                sOrientation[b] = q;
-            }
-            memoryBarrierShared();
-            barrier();
-            Reach r = unpackReach(live ? sReach[b] : uvec2(0u));
-            bool reaches = live && reachesAnything(r);
-            uint firstPoint = chunk * 32u * words;
-            if (reaches) {
-                vec3 xc = sPosition[b];
-                vec4 qc = sOrientation[b];
-                uint endPoint = min(bodies[b].sampleCount, firstPoint + 32u * words);
-                for (uint s = firstPoint + lane; s < endPoint; s += lanes) {
-                    if (nearWallOrStatic(r, xc + rotate(qc, armOf(b, s)), PBF_RADIUS)) {
-                        uint bit = s - firstPoint;
-                        atomicOr(sCandidates[b * words + bit / 32u], 1u << (bit % 32u));
-                    }
-                }
-            }
-            memoryBarrierShared();
-            barrier();
-            if (lead && reaches) {
-                for (uint k = 0u; k < words; ++k) {
-                    uint bits = sCandidates[b * words + k];
-                    sCandidates[b * words + k] = 0u;
-                    while (bits != 0u) {
-                        uint bit = uint(findLSB(bits));
-                        bits &= bits - 1u;
-                        wallsAndStatics(b, r, firstPoint + 32u * k + bit, x0, q0, x, q, first,
-                                        deepest, touching, normalSum);
-                    }
-                }
-            }
-        }
-#endif
         memoryBarrierShared();
         barrier();
     }
     if (!lead)
         return;
+    float pairs = sPairStep[t].w;
+    if (pairs > 0.0) {
+        s.x += sPairStep[t].xyz / pairs;
+        s.q = normalize(s.q + 0.5 * quatMul(vec4(sPairTurn[t].xyz / pairs, 0.0), s.q));
+    }
+    if (first) {
+        s.deepest = max(s.deepest, sPairTurn[t].w);
+        s.touching += uint(sPairNormal[t].w);
+    }
+    s.normalSum += sPairNormal[t].xyz;
+    sReach[b] = packReach(reachOf(b, sPosition[b])); // from the sweep's starting pose
+}
 
-    // Velocities from the pose change (position-based), then restitution along the mean
-    // contact normal for impacts faster than what gravity adds in one substep.
-    vec3 vNew = (x - x0) * P.invDt;
-    vec4 dq = quatMul(q, vec4(-q0.xyz, q0.w));
+#if SLUICE_BODY_SPLIT_POINTS
+// The candidate words per body and the chunks of points the largest body needs, the same in
+// every invocation (the barriers need that); the words start cleared.
+void candidateLayout(out uint words, out uint chunks) {
+    words = min(kMaxBodySamples / 32u, kCandidateWords / max(P.bodyCount, 1u));
+    uint most = 0u;
+    for (uint o = 0u; o < P.bodyCount; ++o)
+        most = max(most, bodies[o].sampleCount);
+    chunks = (most + 32u * words - 1u) / (32u * words);
+    for (uint k = gl_LocalInvocationIndex; k < kCandidateWords; k += kGroupSize)
+        sCandidates[k] = 0u;
+}
+
+// The walls and static colliders, point by point in order from the lead: the lanes first mark, a
+// chunk at a time and at the pose the lead has reached, the points within half a spacing of one;
+// the lead resolves only those (a point farther off is met in a later sweep or substep). What
+// the body's sphere at the sweep's start cannot reach is skipped. Every invocation calls it.
+void wallAndStaticContacts(uint b, uint lane, uint lanes, bool live, bool lead, bool first,
+                           uint words, uint chunks, inout BodyStep s) {
+    for (uint chunk = 0u; chunk < chunks; ++chunk) {
+        if (lead) {
+            sPosition[b] = s.x;
+            sOrientation[b] = s.q;
+        }
+        memoryBarrierShared();
+        barrier();
+        Reach r = unpackReach(live ? sReach[b] : uvec2(0u));
+        bool reaches = live && reachesAnything(r);
+        uint firstPoint = chunk * 32u * words;
+        if (reaches) {
+            vec3 xc = sPosition[b];
+            vec4 qc = sOrientation[b];
+            uint endPoint = min(bodies[b].sampleCount, firstPoint + 32u * words);
+            for (uint p = firstPoint + lane; p < endPoint; p += lanes) {
+                if (nearWallOrStatic(r, xc + rotate(qc, armOf(b, p)), PBF_RADIUS)) {
+                    uint bit = p - firstPoint;
+                    atomicOr(sCandidates[b * words + bit / 32u], 1u << (bit % 32u));
+                }
+            }
+        }
+        memoryBarrierShared();
+        barrier();
+        if (lead && reaches) {
+            for (uint k = 0u; k < words; ++k) {
+                uint bits = sCandidates[b * words + k];
+                sCandidates[b * words + k] = 0u;
+                while (bits != 0u) {
+                    uint bit = uint(findLSB(bits));
+                    bits &= bits - 1u;
+                    wallsAndStatics(b, r, firstPoint + 32u * k + bit, s.x0, s.q0, s.x, s.q, first,
+                                    s.deepest, s.touching, s.normalSum);
+                }
+            }
+        }
+    }
+}
+#else
+// On a software renderer the lanes run in turn: the lead visits every point itself.
+void wallAndStaticContacts(uint b, bool lead, bool first, inout BodyStep s) {
+    if (!lead)
+        return;
+    Reach r = unpackReach(sReach[b]);
+    if (reachesAnything(r))
+        for (uint p = 0u; p < bodies[b].sampleCount; ++p)
+            wallsAndStatics(b, r, p, s.x0, s.q0, s.x, s.q, first, s.deepest, s.touching,
+                            s.normalSum);
+}
+#endif
+
+// Velocities from the pose change (position-based), then restitution along the mean contact
+// normal for impacts faster than what gravity adds in one substep; the body's record and its
+// collider's for the next substep.
+void finish(uint b, BodyStep s) {
+    vec3 vNew = (s.x - s.x0) * P.invDt;
+    vec4 dq = quatMul(s.q, vec4(-s.q0.xyz, s.q0.w));
     vec3 wNew = 2.0 * P.invDt * (dq.w < 0.0 ? -dq.xyz : dq.xyz);
-    float nLen = length(normalSum);
-    if (touching > 0u && nLen > 0.0 && bodies[b].restitution > 0.0) {
-        vec3 n = normalSum / nLen;
-        float approach = dot(v, n);
+    float nLen = length(s.normalSum);
+    if (s.touching > 0u && nLen > 0.0 && bodies[b].restitution > 0.0) {
+        vec3 n = s.normalSum / nLen;
+        float approach = dot(s.v, n);
         if (-approach > 2.0 * length(P.gravity) * P.dt)
             vNew += n * (-bodies[b].restitution * approach - dot(vNew, n));
     }
-
     GpuBody body = bodies[b];
-    body.position = x;
-    body.orientation = q;
+    body.position = s.x;
+    body.orientation = s.q;
     body.linearVelocity = vNew;
     body.angularVelocity = wNew;
-    body.force = (firstSubstep != 0u ? vec3(0.0) : body.force) + substepShare * force;
-    body.torque = (firstSubstep != 0u ? vec3(0.0) : body.torque) + substepShare * torque;
-    body.contactDepth = deepest;
-    body.contacts = touching;
+    body.force = (firstSubstep != 0u ? vec3(0.0) : body.force) + substepShare * s.force;
+    body.torque = (firstSubstep != 0u ? vec3(0.0) : body.torque) + substepShare * s.torque;
+    body.contactDepth = s.deepest;
+    body.contacts = s.touching;
     bodies[b] = body;
-    writeCollider(body, x0, q0);
+    writeCollider(body, s.x0, s.q0);
+}
+
+void main() {
+    uint lanes = lanesPerBody();
+    uint b = gl_LocalInvocationIndex / lanes, lane = gl_LocalInvocationIndex % lanes;
+    bool live = b < P.bodyCount;
+    bool lead = live && lane == 0u;
+    BodyStep s;
+    s.x0 = live ? bodies[b].position : vec3(0.0);
+    s.q0 = live ? bodies[b].orientation : vec4(0.0, 0.0, 0.0, 1.0);
+    s.x = vec3(0.0);
+    s.q = s.q0;
+    s.v = s.w = s.force = s.torque = s.normalSum = vec3(0.0);
+    s.deepest = 0.0;
+    s.touching = 0u;
+    if (lead) {
+        takeFluidReaction(b, s);
+        takeHeldReaction(b, s);
+        pullByDrag(b, s);
+        clearSums(b);
+        s.x = s.x0 + P.dt * s.v;
+        s.q = normalize(s.q0 + 0.5 * P.dt * quatMul(vec4(s.w, 0.0), s.q0));
+    }
+#if SLUICE_BODY_SPLIT_POINTS
+    uint words, chunks;
+    candidateLayout(words, chunks);
+#endif
+    for (uint sweep = 0u; sweep < kContactSweeps; ++sweep) {
+        bool first = sweep == 0u;
+        pairContacts(b, lane, lanes, live, lead, first, s);
+#if SLUICE_BODY_SPLIT_POINTS
+        wallAndStaticContacts(b, lane, lanes, live, lead, first, words, chunks, s);
+#else
+        wallAndStaticContacts(b, lead, first, s);
+#endif
+        memoryBarrierShared();
+        barrier();
+    }
+    if (lead)
+        finish(b, s);
 }

@@ -40,21 +40,20 @@ void addFixed(uint lo, float value) {
 
 // Body b pushed a particle by dx, which ends at x: the body takes the opposite impulse
 // -m dx / dt, summed here as dx and (x - c) x dx in fixed point (docs/bodies.md, "Reaction"),
-// into the sums starting at word `first` of the body's (0, or kBodyHeldWords).
-void addSums(uint b, uint first, vec3 x, vec3 dx) {
-    uint base = b * kBodySumWords + first;
+// into its push and moment sums, or with `held` into the held ones (shared/Bodies.h).
+void addSums(uint b, bool held, vec3 x, vec3 dx) {
+    uint push = held ? kBodySumHeldPush : kBodySumPush;
+    uint moment = held ? kBodySumHeldMoment : kBodySumMoment;
     vec3 d = dx * bodies[b].sumScale;
     vec3 m = cross(x - bodies[b].position, dx) * bodies[b].momentScale;
-    addFixed(base + 0u, d.x);
-    addFixed(base + 2u, d.y);
-    addFixed(base + 4u, d.z);
-    addFixed(base + 6u, m.x);
-    addFixed(base + 8u, m.y);
-    addFixed(base + 10u, m.z);
+    for (uint axis = 0u; axis < 3u; ++axis)
+        addFixed(bodySumWord(b, push, axis), d[axis]);
+    for (uint axis = 0u; axis < 3u; ++axis)
+        addFixed(bodySumWord(b, moment, axis), m[axis]);
 }
 
 void addReaction(uint b, vec3 x, vec3 dx) {
-    addSums(b, 0u, x, dx);
+    addSums(b, false, x, dx);
 }
 
 // The body whose collision push-out (collide) moved this particle in this pass, and the sum of
@@ -169,8 +168,8 @@ void main() {
         vec3 back = sign(undone) * min(abs(undone), abs(pushSum));
         back = mix(vec3(0.0), back, lessThan(pushSum * undone, vec3(0.0)));
         if (any(notEqual(back, vec3(0.0)))) {
-            addSums(pushedBy, 0u, clamped, back);
-            addSums(pushedBy, kBodyHeldWords, clamped, -back);
+            addSums(pushedBy, false, clamped, back);
+            addSums(pushedBy, true, clamped, -back);
         }
     }
     predOut[i] = vec4(clamped, 0.0);

@@ -1,5 +1,6 @@
 // Scene files: JSON (read with cereal's rapidjson) to format::Scene, validated, defaults derived.
 #include "sluice/format/SceneIO.h"
+#include "sluice/format/SimulationLimits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -53,28 +54,22 @@ Bounds above(float lo) {
 }
 
 // "1.5 is out of range [0, 1]" or "-2 is out of range: must be > 0", plus an optional note.
-void checkRange(float value, const std::string& shown, const std::string& path, Bounds b,
-                const std::string& note = {}) {
-    const bool low = b.loOpen ? !(value > b.lo) : !(value >= b.lo);
-    const bool high = b.hiOpen ? !(value < b.hi) : !(value <= b.hi);
-    if (!low && !high)
-        return;
-    std::string problem = shown + " is out of range";
-    if (std::isinf(b.hi))
-        problem += std::string(": must be ") + (b.loOpen ? "> " : ">= ") + formatFloat(b.lo);
-    else
-        problem += std::string(" ") + (b.loOpen ? "(" : "[") + formatFloat(b.lo) + ", " +
-                   formatFloat(b.hi) + (b.hiOpen ? ")" : "]");
-    if (!note.empty())
-        problem += " (" + note + ")";
-    throwAt(ErrorCode::InvalidArgument, path, std::move(problem));
+void checkRange(double value, const std::string& shown, const std::string& path,
+                const ParamRange& range) {
+    std::string problem = rangeProblem(value, shown, range);
+    if (!problem.empty())
+        throwAt(ErrorCode::InvalidArgument, path, std::move(problem));
+}
+
+float readFloatIn(const rj::Value& value, const std::string& path, const ParamRange& range) {
+    const float f = readFloat(value, path);
+    checkRange(f, formatNumber(value.GetDouble()), path, range);
+    return f;
 }
 
 float readFloatIn(const rj::Value& value, const std::string& path, Bounds b,
                   const std::string& note = {}) {
-    const float f = readFloat(value, path);
-    checkRange(f, formatNumber(value.GetDouble()), path, b, note);
-    return f;
+    return readFloatIn(value, path, ParamRange{b.lo, b.hi, b.loOpen, b.hiOpen, note});
 }
 
 std::string vecText(glm::vec3 v) {
@@ -147,55 +142,58 @@ void SceneParser::readSimulation(const rj::Value* value) {
                         "minIterations", "maxIterations", "targetDensityError", "relaxation",
                         "scorrK", "scorrN", "scorrDeltaQ", "xsph", "vorticity", "gravity",
                         "capacity"});
-    auto floatIn = [&](std::string_view key, float& out, Bounds b, const std::string& note = {}) {
+    // Ranges from the one table (SimulationLimits.h); spacing first, as the kernel radius's
+    // range and every default are in units of it, then the kernel radius, which bounds
+    // scorrDeltaQ.
+    auto rangeOf = [&](std::string_view key) {
+        return simulationParamRange(key, p.spacing, p.kernelRadius);
+    };
+    auto floatIn = [&](std::string_view key, float& out) {
         const rj::Value* v = o.find(key);
         if (v)
-            out = readFloatIn(*v, o.pathOf(key), b, note);
+            out = readFloatIn(*v, o.pathOf(key), rangeOf(key));
         return v != nullptr;
     };
-    auto intIn = [&](std::string_view key, std::uint32_t& out, std::int64_t lo, std::int64_t hi) {
+    auto intIn = [&](std::string_view key, std::uint32_t& out) {
         const rj::Value* v = o.find(key);
-        if (v)
-            out = std::uint32_t(detail::readInteger(*v, o.pathOf(key), lo, hi));
+        if (v) {
+            const ParamRange r = rangeOf(key);
+            out = std::uint32_t(detail::readInteger(*v, o.pathOf(key), std::int64_t(r.lo),
+                                                    std::int64_t(r.hi)));
+        }
         return v != nullptr;
     };
 
-    // Spacing first: other ranges and every default are in units of it.
-    floatIn("spacing", p.spacing, closed(1e-4f, 10.0f));
+    floatIn("spacing", p.spacing);
     const float s = p.spacing;
-    // Below 1.5 spacings the rest lattice's nearest neighbours sit at or past h, where the
-    // spiky gradient vanishes: the lambda denominator is 0 and the solver constants infinite
-    // (found by tests/fuzz at h = s).
-    if (!floatIn("kernelRadius", p.kernelRadius, closed(1.5f * s, 4.0f * s),
-                 "1.5 to 4 times spacing " + formatFloat(s)))
-        p.kernelRadius = 2.0f * s;
+    p.kernelRadius = 2.0f * s; // the default, unless given
+    floatIn("kernelRadius", p.kernelRadius);
     const float h = p.kernelRadius;
-    floatIn("restDensity", p.restDensity, above(0.0f));
-    floatIn("timeStep", p.timeStep, {0.0f, 1.0f, true, false});
-    m_givenSubsteps = intIn("substeps", p.substeps, 1, 1000);
-    intIn("minIterations", p.minIterations, 1, 1000);
-    const bool givenMax = intIn("maxIterations", p.maxIterations, 1, 1000);
+    floatIn("restDensity", p.restDensity);
+    floatIn("timeStep", p.timeStep);
+    m_givenSubsteps = intIn("substeps", p.substeps);
+    intIn("minIterations", p.minIterations);
+    const bool givenMax = intIn("maxIterations", p.maxIterations);
     if (!givenMax)
         p.maxIterations = 8;
     if (p.maxIterations < p.minIterations)
         throwAt(ErrorCode::InvalidArgument, o.pathOf("maxIterations"),
                 std::to_string(p.maxIterations) + (givenMax ? "" : " (the default)") +
                     " is less than minIterations " + std::to_string(p.minIterations));
-    floatIn("targetDensityError", p.targetDensityError, closed(0.0f, 1.0f));
-    if (!floatIn("relaxation", p.relaxation, closed(0.0f, 100.0f)))
+    floatIn("targetDensityError", p.targetDensityError);
+    if (!floatIn("relaxation", p.relaxation))
         p.relaxation = 0.01f;
-    if (!floatIn("scorrK", p.scorrK, atLeast(0.0f)))
+    if (!floatIn("scorrK", p.scorrK))
         p.scorrK = 0.1f;
-    floatIn("scorrN", p.scorrN, closed(1.0f, 8.0f));
-    if (!floatIn("scorrDeltaQ", p.scorrDeltaQ, {0.0f, h, false, true},
-                 "0 to kernelRadius " + formatFloat(h) + ", excluded"))
+    floatIn("scorrN", p.scorrN);
+    if (!floatIn("scorrDeltaQ", p.scorrDeltaQ))
         p.scorrDeltaQ = static_cast<float>(0.2 * double(h));
-    floatIn("xsph", p.xsph, closed(0.0f, 1.0f));
-    if (!floatIn("vorticity", p.vorticity, atLeast(0.0f)))
+    floatIn("xsph", p.xsph);
+    if (!floatIn("vorticity", p.vorticity))
         p.vorticity = static_cast<float>(0.01 * std::sqrt(9.81 * double(h)));
     if (const rj::Value* g = o.find("gravity"))
         p.gravity = readVec3(*g, o.pathOf("gravity"));
-    m_givenCapacity = intIn("capacity", p.capacity, 1, kMaxSceneParticles);
+    m_givenCapacity = intIn("capacity", p.capacity);
 }
 
 FluidBlock SceneParser::readBlock(const rj::Value& value, const std::string& path) {
@@ -384,7 +382,7 @@ void SceneParser::readCamera(const rj::Value& value, const std::string& path) {
         throwAt(ErrorCode::InvalidArgument, o.pathOf("target"),
                 vecText(cam.target) + " equals the position; the camera needs a direction");
     if (const rj::Value* v = o.find("fov"))
-        cam.fovDegrees = readFloatIn(*v, o.pathOf("fov"), {1.0f, 179.0f, true, true});
+        cam.fovDegrees = readFloatIn(*v, o.pathOf("fov"), Bounds{1.0f, 179.0f, true, true});
     cam.set = true;
 }
 

@@ -14,7 +14,8 @@
 //     padding (pad0, pad1, ...). Give every struct C++ static_asserts on its size and on the
 //     offsets of its fields in an `#ifdef __cplusplus` block;
 //   - functions shared by both languages are `SLUICE_FUNC float f(uint i) { ... }`, using only
-//     operations spelled the same in both (float(x) casts, sin, sqrt, min, max, abs, dot);
+//     operations spelled the same in both (float(x) casts, sin, sqrt, min, max, abs, dot,
+//     floor, clamp; ivec3 beside the struct types);
 //   - C++-only includes go inside `#ifdef __cplusplus` with angle brackets: quoted includes are
 //     inlined into the GLSL by cmake/SluiceEmbedScript.cmake wherever they appear.
 // Keep these files ASCII: GLSL compilers may reject other bytes, even in comments.
@@ -34,13 +35,16 @@ namespace sluice::shared {
 using uint = std::uint32_t;
 using vec2 = glm::vec2;
 using vec3 = glm::vec3;
+using ivec3 = glm::ivec3;
 using uvec3 = glm::uvec3;
 using vec4 = glm::vec4;
 using ivec4 = glm::ivec4;
 using uvec4 = glm::uvec4;
 using mat4 = glm::mat4;
 // GLSL built-ins, so shared function bodies resolve to the float overloads.
+using glm::clamp;
 using glm::dot;
+using glm::floor;
 using glm::max;
 using glm::min;
 using std::abs;

@@ -167,6 +167,28 @@ struct PbfStats {
     // Followed in the buffer by PbfIterationStats iterations[maxIterations].
 };
 
+/// The neighbour grid's cell of a point x [m] (docs/pbf.md step 3): on the dense grid from
+/// `origin` with `dims` cells per axis, clamped into it (a point outside counts in the nearest
+/// boundary cell, so cells of points closer than h stay at most one apart); unbounded cells
+/// (dims.x == 0) otherwise. invH = 1 / h [1/m]. The GPU passes and the tests' decoder of the
+/// neighbour mask call this one definition.
+SLUICE_FUNC ivec3 pbfCellOf(vec3 x, vec3 origin, uvec3 dims, float invH) {
+    if (dims.x == 0u)
+        return ivec3(floor(x * invH));
+    return clamp(ivec3(floor((x - origin) * invH)), ivec3(0), ivec3(dims) - 1);
+}
+
+/// Cell c's bucket in a table of mask + 1 buckets (a power of two), for unbounded cells: the
+/// spatial hash of Teschner et al. 2003, in uint arithmetic.
+SLUICE_FUNC uint pbfCellHash(ivec3 c, uint mask) {
+    return ((uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u)) & mask;
+}
+
+/// Cell c's bucket on the dense grid of `dims` cells: x fastest.
+SLUICE_FUNC uint pbfDenseBucket(ivec3 c, uvec3 dims) {
+    return uint(c.x) + dims.x * (uint(c.y) + dims.y * uint(c.z));
+}
+
 SLUICE_SHARED_END
 
 #ifdef __cplusplus

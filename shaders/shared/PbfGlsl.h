@@ -58,21 +58,16 @@ vec3 spikyGrad(vec3 x, float q2) {
 bool denseGrid() { return P.denseGrid != 0u; }
 
 ivec3 cellOf(vec3 x) {
-    if (denseGrid())
-        return clamp(ivec3(floor((x - P.gridOrigin) * P.invH)), ivec3(0), ivec3(P.gridDims) - 1);
-    return ivec3(floor(x * P.invH));
+    return pbfCellOf(x, P.gridOrigin, denseGrid() ? P.gridDims : uvec3(0u), P.invH);
 }
 
 uint cellHash(ivec3 c) {
-    return ((uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u)) &
-           P.hashMask;
+    return pbfCellHash(c, P.hashMask);
 }
 
 // The bucket of cell c: its dense index, or its hash.
 uint cellBucket(ivec3 c) {
-    if (denseGrid())
-        return uint(c.x) + P.gridDims.x * (uint(c.y) + P.gridDims.y * uint(c.z));
-    return cellHash(c);
+    return denseGrid() ? pbfDenseBucket(c, P.gridDims) : cellHash(c);
 }
 
 // Finite test on the bits: compilers may assume isnan() and isinf() are false.

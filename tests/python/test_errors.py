@@ -251,6 +251,12 @@ def test_bad_simulation_parameters_are_invalid_argument() -> None:
         sim.set_parameters(kernel_radius=-1.0)
     with pytest.raises(sluice.InvalidArgument):
         sim.set_parameters(spacing=0.5)
+    # The scene reader's ranges (one table for both): what a file may not hold, a script may
+    # not set either.
+    with pytest.raises(sluice.InvalidArgument, match="xsph"):
+        sim.set_parameters(xsph=5.0)
+    with pytest.raises(sluice.InvalidArgument, match="timeStep"):
+        sim.set_parameters(time_step=5.0)
     with pytest.raises(sluice.InvalidArgument):
         sim.set_particles(positions=np.zeros((sim.capacity + 1, 3)))
     with pytest.raises(sluice.InvalidArgument):

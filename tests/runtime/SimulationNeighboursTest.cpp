@@ -11,9 +11,10 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
+#include "NeighbourRecords.h"
 #include "RuntimeTestScenes.h"
 #include "shared/Pbf.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {
@@ -44,7 +45,7 @@ struct Check {
 // every j with |x*_i - x*_j| < h recorded once, nothing else. Pairs within 1e-5 h^2 of h^2
 // may fall either way (the GPU may fuse the distance's multiply-adds) and are not judged.
 Check checkAgainstBruteForce(const Simulation& sim) {
-    const auto records = sim.recordedNeighbours();
+    const auto records = test::recordedNeighbours(sim);
     const float h = sim.constants().h;
     const double h2 = double(h) * h;
     Check check;

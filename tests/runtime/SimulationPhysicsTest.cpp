@@ -13,7 +13,7 @@
 #include "GpuTest.h"
 #include "MartinMoyce.h"
 #include "RuntimeTestScenes.h"
-#include "sluice/rt/Simulation.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {
@@ -318,6 +318,18 @@ TEST_F(SimulationPhysics, RejectedParametersNameTheirCodeAndChangeNothing) {
     EXPECT_EQ(after.gravity, before.gravity);
     EXPECT_EQ(sim->constants().h, before.kernelRadius);
     EXPECT_EQ(sim->solveGroups().size(), iterationsBefore);
+
+    // Values the scene reader refuses are refused here too, by the same table
+    // (format/SimulationLimits.h), naming the parameter.
+    for (const auto& [name, value] : {std::pair{"xsph", 5.0f}, std::pair{"timeStep", 5.0f}}) {
+        format::SimulationParams outside = before;
+        (std::string(name) == "xsph" ? outside.xsph : outside.timeStep) = value;
+        rejected = sim->setParameters(outside);
+        ASSERT_FALSE(rejected) << name;
+        EXPECT_EQ(rejected.error().code, ErrorCode::InvalidArgument);
+        EXPECT_NE(rejected.error().message().find(name), std::string::npos)
+            << rejected.error().message();
+    }
 
     // The bounds themselves are accepted.
     format::SimulationParams edge = before;

@@ -16,8 +16,8 @@
 #include "sluice/format/Result.h"
 #include "sluice/format/Scene.h"
 #include "sluice/gpu/Buffer.h"
-#include "sluice/rt/GpuCommandCount.h"
-#include "sluice/rt/SceneSetup.h"
+#include "sluice/rt/sim/GpuCommandCount.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 
@@ -254,17 +254,21 @@ public:
     /// between steps only.
     std::vector<std::uint32_t> solveGroups() const;
 
-    /// N(i) of one particle as the last substep's neighbour mask records it.
-    struct RecordedNeighbours {
-        std::uint32_t id = 0;         ///< the particle
-        glm::vec3 start{0.0f};        ///< its x* at the substep start, which chose N(i) [m]
-        std::uint32_t candidates = 0; ///< entries of its cell ranges (docs/pbf.md step 3)
-        std::vector<std::uint32_t> fromMask;  ///< ids whose mask bit is set, visiting order
-        std::vector<std::uint32_t> pastMask;  ///< ids past the mask's bits that pass the test
+    /// The buffers of the last substep that fix N(i) (docs/pbf.md step 3), read back for the
+    /// tests' decoder of the neighbour mask: per particle in sorted order its x* at the substep
+    /// start and its id, the buckets' ranges (cellStart, one more than the buckets) and the
+    /// masks (kNeighbourMaskWords each), and the grid they were built on. A sync.
+    struct NeighbourState {
+        std::vector<glm::vec4> start;        ///< x* at the substep start (xyz) [m]
+        std::vector<std::uint32_t> ids;
+        std::vector<std::uint32_t> cellStart;
+        std::vector<std::uint32_t> mask;
+        glm::uvec3 gridDims{0};              ///< dense grid cells per axis; 0: the hash
+        glm::vec3 gridOrigin{0.0f};          ///< the dense grid's corner [m]
+        float h = 0.0f;                      ///< cell size [m]
+        std::uint32_t tableSize = 0;         ///< hash buckets (a power of two)
     };
-    /// Every particle's recorded neighbours, decoded on the CPU from the buffers of the last
-    /// substep (start positions, ids, cell ranges, masks), in sorted order. A sync.
-    std::vector<RecordedNeighbours> recordedNeighbours() const;
+    NeighbourState neighbourState() const;
 
     /// @}
 

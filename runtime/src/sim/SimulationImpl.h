@@ -1,0 +1,210 @@
+// Private: the state of a Simulation (Simulation::Impl) and the small helpers its sources share:
+// Simulation.cpp (creation, parameters), SimulationBuffers.cpp (buffers, uploads, programs),
+// SimulationPasses.cpp (the step, pass by pass) and SimulationReadback.cpp (what comes back).
+#pragma once
+
+#include "sluice/rt/sim/Simulation.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <span>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "shared/Bodies.h"
+#include "shared/ChunkedDispatch.h"
+#include "shared/Pbf.h"
+#include "sim/BodySetup.h"
+#include "sim/ColliderBands.h"
+#include "sim/PrefixScan.h"
+#include "sim/SparseGrids.h"
+#include "sluice/format/AssetIO.h"
+#include "sluice/format/SdfSampler.h"
+#include "sluice/gpu/GpuTimer.h"
+#include "sluice/gpu/Program.h"
+#include "sluice/rt/RuntimeShaders.h"
+#include "sluice/rt/sim/ColliderRecord.h"
+
+namespace sluice::rt {
+
+static_assert(shared::kBodyLocalSize == format::kMaxSceneColliders,
+              "one body pass holds every dynamic body a scene may have");
+
+inline constexpr std::uint64_t kMaxGroupsPerDispatch = shared::kPbfMaxGroupsPerDispatch;
+inline constexpr std::uint32_t kNoStop = shared::kPbfNoStop;
+inline constexpr std::size_t kStatsHeaderBytes = sizeof(shared::PbfStats);
+
+inline std::uint32_t groupsFor(std::uint32_t items) {
+    return gpu::groupCount(items, shared::kPbfLocalSize);
+}
+
+// Affine world transform of a pose: translate * rotate * scale.
+inline glm::mat4 poseMatrix(const ColliderPose& pose) {
+    return glm::translate(glm::mat4(1.0f), pose.translation) * glm::mat4_cast(pose.rotation) *
+           glm::scale(glm::mat4(1.0f), glm::vec3(pose.scale));
+}
+
+// The dense grids' part of the SDF buffer, rounded up so the sparse grids after it start aligned.
+inline std::uint64_t denseBytes(const std::vector<format::ColliderAsset>& assets) {
+    std::uint64_t floats = 0;
+    for (const format::ColliderAsset& a : assets)
+        floats += a.sparse() ? 0 : a.pointCount();
+    return alignToGrid(floats * sizeof(float));
+}
+
+// The whole SDF buffer [bytes]: dense grids, then sparse grids.
+inline std::uint64_t colliderDataBytes(const std::vector<format::ColliderAsset>& assets) {
+    std::uint64_t bytes = denseBytes(assets);
+    for (const format::ColliderAsset& a : assets)
+        bytes += a.sparse() ? sparseSlotBytes(a) : 0;
+    return bytes;
+}
+
+inline bool anySparse(const std::vector<format::ColliderAsset>& assets) {
+    return std::any_of(assets.begin(), assets.end(),
+                       [](const format::ColliderAsset& a) { return a.sparse(); });
+}
+
+// Whether the current context renders in software (Mesa's llvmpipe or softpipe, SwiftShader),
+// which runs a work group's invocations in turn on one CPU thread: there, lanes that split one
+// item's work only add their barriers.
+inline bool softwareRenderer() {
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const std::string_view name = renderer ? renderer : "";
+    for (std::string_view software : {"llvmpipe", "softpipe", "SwiftShader"})
+        if (name.find(software) != std::string_view::npos)
+            return true;
+    return false;
+}
+
+// Invocations of the body pass's work group for the current context.
+inline std::uint32_t bodyGroupSize() {
+    return softwareRenderer() ? shared::kBodyLocalSize : shared::kBodyGroupSize;
+}
+
+// Invocations per particle of the neighbour passes for `capacity` particles on this context.
+inline std::uint32_t neighbourLanesFor(std::uint32_t capacity) {
+    if (softwareRenderer())
+        return 1;
+    std::uint32_t lanes = 1;
+    while (lanes < 8 && std::uint64_t(capacity) * lanes * 2 <= kNeighbourLanesTarget)
+        lanes *= 2;
+    return lanes;
+}
+
+struct Simulation::Impl {
+    format::Scene scene;
+    PbfConstants k;
+    SimulationOptions options;
+    std::uint32_t capacity = 0;
+    std::uint32_t tableSize = 0;
+    std::uint32_t maxIterations = 0;
+    std::uint32_t count = 0;
+    std::uint32_t nextId = 0;
+    int cur = 0; // which of pos/vel/id [2] holds the current particles
+    double time = 0.0;
+    std::uint64_t steps = 0;
+    bool capacityReached = false;
+    bool emittersOn = true;
+    std::uint64_t gpuBytes = 0;
+    std::uint64_t bytesPerParticle = 0;
+    EmitterSchedule emitters;
+    std::vector<format::ColliderAsset> colliderAssets;
+    std::vector<shared::GpuCollider> colliderRecords;
+    BodySetup bodySetup;
+    std::uint32_t bodyCount = 0;
+    std::uint32_t removedAtSpawn = 0; // particles of the blocks that started inside a body
+    std::optional<BodyDrag> drag;     // the viewer's mouse spring
+    std::uint32_t substepInStep = 0;  // which substep of the step is running
+    std::uint32_t lanes = 1;          // invocations per particle of the neighbour passes
+
+    gpu::Program predict, scatter, bucketSort, reorder, scatterReorder, lambda, delta, velocity,
+        vorticity, confine, stats, bodies;
+    std::unique_ptr<PrefixScan> scan;
+    gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
+    gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
+    gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
+    gpu::Buffer colliderBuf, sdfBuf, params;
+    gpu::Buffer bodyBuf, bodySums, bodySamples; // GpuBody[], fixed-point sums, contact points
+    gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
+    std::uint32_t solveChunks = 1;
+    std::optional<shared::PbfParams> uploadedParams; // what the parameter block holds
+    GpuCommandCount commands; // queued by the substeps and the step statistics, all steps
+    std::vector<gpu::GpuTimer> timers;
+    std::array<std::uint64_t, std::size_t(Pass::Count)> drainedNs{}; // totals at the last drain
+    std::vector<ParticleState> staging;
+
+    explicit Impl(const format::Scene& s) : scene(s), emitters(s) {}
+
+    /// Sizes that follow from the scene and the options: capacity, iteration cap, hash table,
+    /// neighbour lanes, solve chunks. InvalidArgument when the passes would be too large.
+    Result<void> size(const SimulationOptions& options);
+    Result<void> allocate();
+    Result<void> compilePasses();
+    /// Every collider grid into the SDF buffer (dense ones first, then the sparse ones,
+    /// 32-byte aligned), their records, and the bodies' initial records and contact points.
+    void uploadColliderGrids();
+    /// The fluid blocks' particles, less those inside a body. InvalidArgument when they
+    /// outnumber the capacity.
+    Result<void> fillBlocks();
+    void uploadParams();
+    void uploadColliders(double t0, double t1);
+    void append(const std::vector<ParticleState>& particles);
+    /// One substep: the passes below, in the order of docs/pbf.md.
+    void substep();
+    void emit(double t0, double t1);
+    void bindSharedBuffers() const;
+    void predictPositions();
+    void sortIntoBuckets();
+    void solve();
+    void updateVelocities();
+    void applyVorticityAndXsph();
+    void integrateBodies();
+    void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;
+    void memoryBarrier(GLbitfield bits) {
+        glMemoryBarrier(bits);
+        ++commands.barriers;
+    }
+    void barrier() { memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
+    /// Sets `bytes` of the statistics buffer from byte `offset` on to the uint `value`, on the
+    /// GPU (offsets from offsetof(shared::PbfStats, ...)).
+    void fillStats(std::size_t offset, std::size_t bytes, std::uint32_t value) const {
+        glClearNamedBufferSubData(statsBuf.id(), GL_R32UI, GLintptr(offset), GLsizeiptr(bytes),
+                                  GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
+    }
+    void dispatch(const gpu::Program& program, std::uint32_t items) {
+        commands.dispatches +=
+            program.dispatchChunked(glm::uvec3(groupsFor(items), 1, 1), kMaxGroupsPerDispatch);
+    }
+    std::uint64_t solveArgsBytes(std::uint32_t iterations) const {
+        return std::uint64_t(iterations) * solveChunks * sizeof(shared::PbfDispatchArgs);
+    }
+    void dispatchSolve(const gpu::Program& program, std::uint32_t iteration);
+    /// Resets what the predict pass resets (the stop and the error sums) when no particle is
+    /// live and it does not run.
+    void openEmptySubstep() const;
+    /// Cells per axis of the dense grid over the domain box at the current h, or 0 when the
+    /// hash is used (no domain, or more cells than the hash table's buckets).
+    glm::uvec3 denseGridDims() const;
+    /// Buckets in use: the dense grid's cells, or tableSize for the hash.
+    std::uint32_t activeBuckets() const {
+        const glm::uvec3 dims = denseGridDims();
+        return dims.x > 0 ? dims.x * dims.y * dims.z : tableSize;
+    }
+    void begin(Pass p) {
+        if (options.timers)
+            timers[std::size_t(p)].begin();
+    }
+    void end(Pass p) {
+        if (options.timers)
+            timers[std::size_t(p)].end();
+    }
+};
+
+} // namespace sluice::rt

@@ -1,0 +1,245 @@
+// The step, pass by pass, in the order of docs/pbf.md ("One substep at time t"): emit, predict,
+// sort, solve, velocity, vorticity and XSPH, bodies; then the step's statistics.
+#include "sim/SimulationImpl.h"
+
+namespace sluice::rt {
+
+void Simulation::Impl::bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const {
+    posIn.bindStorage(shared::kBindPosIn);
+    velIn.bindStorage(shared::kBindVelIn);
+}
+
+// Lambda or delta of one iteration from its indirect args: a dispatch the early stop has
+// zeroed launches no work group, so an idle iteration costs only the API call.
+void Simulation::Impl::dispatchSolve(const gpu::Program& program, std::uint32_t iteration) {
+    program.use();
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, solveArgs.id());
+    for (std::uint32_t c = 0; c < solveChunks; ++c) {
+        program.set(shared::kGroupOffsetUniform,
+                    glm::uvec3(std::uint32_t(c * kMaxGroupsPerDispatch), 0, 0));
+        glDispatchComputeIndirect(
+            GLintptr((std::size_t(iteration) * solveChunks + c) * sizeof(shared::PbfDispatchArgs)));
+        ++commands.dispatches;
+        ++commands.indirect;
+        if (solveChunks > 1)
+            glFlush();
+    }
+}
+
+// One substep: the passes of docs/pbf.md, "One substep at time t", in order. The neighbour
+// sort (step 3) counts into buckets in the predict pass and sorts after it.
+void Simulation::Impl::substep() {
+    const double t0 = time;
+    const double t1 = time + k.dt;
+    emit(t0, t1);
+    if (count == 0)
+        openEmptySubstep();
+    if (count > 0) {
+        bindSharedBuffers();
+        predictPositions();
+        sortIntoBuckets();
+        solve();
+        updateVelocities();
+        applyVorticityAndXsph();
+    }
+    if (bodyCount > 0) {
+        if (count == 0)
+            bindSharedBuffers();
+        integrateBodies();
+    }
+    time = t1;
+}
+
+// Step 1, and what the substep's passes read that the CPU owns: new particles, the parameters
+// and the kinematic colliders' poses, each uploaded only when it changed. The per-substep
+// resets are the GPU's: the predict pass opens the solve (its dispatch args, the stop, the
+// error sums) and the scan leaves the cell counts at zero for the next substep.
+void Simulation::Impl::emit(double t0, double t1) {
+    begin(Pass::Emit);
+    staging.clear();
+    if (emittersOn && !emitters.emit(float(t0), count, capacity, nextId, staging))
+        capacityReached = true;
+    append(staging);
+    uploadParams();
+    uploadColliders(t0, t1);
+    end(Pass::Emit);
+}
+
+void Simulation::Impl::openEmptySubstep() const {
+    fillStats(offsetof(shared::PbfStats, stopIteration), sizeof(std::uint32_t), kNoStop);
+    fillStats(kStatsHeaderBytes, statsBuf.size() - kStatsHeaderBytes, 0);
+}
+
+// The buffers whose binding no pass of the substep changes. No barrier here: the last pass of
+// a substep (or the step statistics) ends with a storage barrier, and the CPU's uploads and
+// clears are ordered with the dispatches after them by GL itself.
+void Simulation::Impl::bindSharedBuffers() const {
+    params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
+    statsBuf.bindStorage(shared::kBindStats);
+    colliderBuf.bindStorage(shared::kBindColliders);
+    sdfBuf.bindStorage(shared::kBindSdf);
+    cellCount.bindStorage(shared::kBindCellCount);
+    cellStart.bindStorage(shared::kBindCellStart);
+    hash.bindStorage(shared::kBindHash);
+    rank.bindStorage(shared::kBindRank);
+    sortedToOld.bindStorage(shared::kBindSortedToOld);
+    neighbourMask.bindStorage(shared::kBindNeighbourMask);
+    bodyBuf.bindStorage(shared::kBindBodies);
+    bodySums.bindStorage(shared::kBindBodySums);
+    bodySamples.bindStorage(shared::kBindBodySamples);
+    solveArgs.bindStorage(shared::kBindSolveArgs);
+}
+
+// Step 2: x* into pred[0], and each particle counted into its bucket; the solve's dispatch
+// args written for the indirect dispatches (hence the command barrier).
+void Simulation::Impl::predictPositions() {
+    begin(Pass::Predict);
+    bindParticles(pos[cur], vel[cur]);
+    pred[0].bindStorage(shared::kBindPredOut);
+    dispatch(predict, count);
+    memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    end(Pass::Predict);
+}
+
+// Step 3: counting sort by bucket, then every particle reordered into the other buffers (x* of
+// the sorted order into predStart). The scan gives each bucket its range, cellStart[b] ..
+// cellStart[b + 1], and zeroes the counts for the next substep. Without --deterministic the
+// reorder scatters each particle straight to its slot; with it, the slots are listed first
+// (scatter), put in source order inside each bucket, then gathered.
+void Simulation::Impl::sortIntoBuckets() {
+    begin(Pass::Sort);
+    const std::uint32_t buckets = activeBuckets();
+    commands += scan->exclusive(cellCount, cellStart, ScanInput{buckets + 1, buckets, true});
+    cellStart.bindStorage(shared::kBindCellStart);
+    cellCount.bindStorage(shared::kBindCellCount);
+    if (options.deterministic) {
+        dispatch(scatter, count);
+        barrier();
+        dispatch(bucketSort, buckets);
+        barrier();
+    }
+    const int nxt = 1 - cur;
+    pos[cur].bindStorage(shared::kBindPosIn);
+    pos[nxt].bindStorage(shared::kBindPosOut);
+    vel[cur].bindStorage(shared::kBindVelIn);
+    vel[nxt].bindStorage(shared::kBindVelOut);
+    pred[0].bindStorage(shared::kBindPredIn);
+    predStart.bindStorage(shared::kBindPredOut);
+    id[cur].bindStorage(shared::kBindIdIn);
+    id[nxt].bindStorage(shared::kBindIdOut);
+    dispatch(options.deterministic ? reorder : scatterReorder, count);
+    barrier();
+    cur = nxt;
+    end(Pass::Sort);
+}
+
+// Step 4: the solver iterations. Iteration k reads x* from predStart (k = 0) or
+// pred[(k - 1) % 2] and writes pred[k % 2]; predStart keeps the substep's start positions,
+// which fix the neighbour sets: lambda of iteration 0 searches the candidates in full and
+// records N(i) in neighbourMask, which every later neighbour pass of the substep reads (docs/
+// pbf.md step 3). The early stop (pbf_delta.comp) zeroes the dispatch args of the
+// later iterations: the CPU issues every dispatch without knowing where the GPU stopped.
+void Simulation::Impl::solve() {
+    begin(Pass::Solve);
+    predStart.bindStorage(shared::kBindPredStart);
+    bindParticles(pos[cur], vel[cur]);
+    const gpu::Buffer* in = &predStart;
+    for (std::uint32_t it = 0; it < maxIterations; ++it) {
+        in->bindStorage(shared::kBindPredIn);
+        lambda.set("iteration", it);
+        dispatchSolve(lambda, it);
+        barrier();
+        pred[it % 2].bindStorage(shared::kBindPredOut);
+        delta.set("iteration", it);
+        dispatchSolve(delta, it);
+        memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        in = &pred[it % 2];
+    }
+    end(Pass::Solve);
+}
+
+// Step 5: velocity, x <- x*, non-finite guard; velocities go to the other buffer. The shader
+// picks, by stats.stopIteration, the buffer the last iteration that ran wrote.
+void Simulation::Impl::updateVelocities() {
+    begin(Pass::Velocity);
+    pred[0].bindStorage(shared::kBindPredIn);
+    pred[1].bindStorage(shared::kBindPredOther);
+    vel[cur].bindStorage(shared::kBindVelIn);
+    vel[1 - cur].bindStorage(shared::kBindVelOut);
+    dispatch(velocity, count);
+    barrier();
+    end(Pass::Velocity);
+}
+
+// Step 6: vorticity confinement and XSPH, back into vel[cur]. The vorticity omega goes into
+// pos[1 - cur], the positions before this substep's reorder, which nothing reads again: the
+// next reorder overwrites them (16 bytes a particle saved).
+void Simulation::Impl::applyVorticityAndXsph() {
+    begin(Pass::Vorticity);
+    const bool withVorticity = scene.simulation.vorticity > 0.0f;
+    pos[1 - cur].bindStorage(shared::kBindOmega);
+    vel[1 - cur].bindStorage(shared::kBindVelIn);
+    if (withVorticity) {
+        dispatch(vorticity, count * lanes);
+        barrier();
+    }
+    vel[cur].bindStorage(shared::kBindVelOut);
+    confine.set("withVorticity", withVorticity ? 1u : 0u);
+    dispatch(confine, count * lanes);
+    barrier();
+    end(Pass::Vorticity);
+}
+
+// After step 7, the body pass (docs/bodies.md, "The body pass"): the bodies take the fluid's
+// reaction, move, meet each other and the walls, and rewrite their collider records; one work
+// group for all of them.
+void Simulation::Impl::integrateBodies() {
+    begin(Pass::Bodies);
+    bodies.set("dragBody", drag ? drag->body : shared::kNoBody);
+    bodies.set("dragAnchor", drag ? drag->anchor : glm::vec3(0.0f));
+    bodies.set("dragTarget", drag ? drag->target : glm::vec3(0.0f));
+    bodies.set("dragOmega", 2.0f * 3.14159265f * 3.0f);
+    bodies.set("firstSubstep", substepInStep == 0 ? 1u : 0u);
+    bodies.set("substepShare", 1.0f / float(std::max(1u, scene.simulation.substeps)));
+    bodies.use();
+    glDispatchCompute(1, 1, 1);
+    ++commands.dispatches;
+    barrier();
+    end(Pass::Bodies);
+}
+
+void Simulation::step() {
+    Impl& s = *m_impl;
+    for (auto& timer : s.timers)
+        timer.poll();
+    s.capacityReached = false;
+    s.fillStats(offsetof(shared::PbfStats, nonFinite), sizeof(std::uint32_t), 0);
+    s.fillStats(offsetof(shared::PbfStats, maskOverflow), 5 * sizeof(std::uint32_t), 0);
+    static_assert(offsetof(shared::PbfStats, solveDispatches) ==
+                  offsetof(shared::PbfStats, maskOverflow) + 4 * sizeof(std::uint32_t));
+    const std::uint32_t substeps = std::max(1u, s.scene.simulation.substeps);
+    for (std::uint32_t i = 0; i < substeps; ++i) {
+        s.substepInStep = i;
+        s.substep();
+    }
+
+    // Step statistics: max speed and particles inside colliders, from the final state.
+    s.begin(Pass::Stats);
+    s.fillStats(offsetof(shared::PbfStats, insideColliders), sizeof(std::uint32_t), 0);
+    s.fillStats(offsetof(shared::PbfStats, maxSpeedBits), sizeof(std::uint32_t), 0);
+    if (s.count > 0) {
+        s.memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
+        s.bindParticles(s.pos[s.cur], s.vel[s.cur]);
+        s.statsBuf.bindStorage(shared::kBindStats);
+        s.colliderBuf.bindStorage(shared::kBindColliders);
+        s.sdfBuf.bindStorage(shared::kBindSdf);
+        s.dispatch(s.stats, s.count);
+    }
+    s.end(Pass::Stats);
+    s.memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+                    GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    ++s.steps;
+}
+
+} // namespace sluice::rt
