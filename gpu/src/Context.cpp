@@ -6,7 +6,7 @@
 
 #include "DebugState.h"
 #include "Egl.h"
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 #include "sluice/gpu/Gl.h"
 
 namespace sluice::gpu {

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::gpu {
 namespace {

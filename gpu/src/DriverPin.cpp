@@ -6,7 +6,7 @@
 #include <dlfcn.h>
 #include <link.h>
 
-#include "sluice/format/Sanitizers.h"
+#include "sluice/format/support/Sanitizers.h"
 
 namespace sluice::gpu {
 

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Context.h"
 
 namespace sluice::gpu {

@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "DebugState.h"
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::gpu {
 

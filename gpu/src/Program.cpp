@@ -6,7 +6,7 @@
 
 #include "DebugState.h"
 #include "shared/ChunkedDispatch.h"
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::gpu {
 namespace {

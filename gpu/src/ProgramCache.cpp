@@ -20,8 +20,8 @@
 
 #include <unistd.h>
 
-#include "sluice/format/AtomicFile.h" // readFileBytes
-#include "sluice/format/Hash.h"
+#include "sluice/format/support/AtomicFile.h" // readFileBytes
+#include "sluice/format/support/Hash.h"
 
 namespace sluice::gpu {
 namespace {

@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "DebugState.h"
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::gpu {
 namespace {

@@ -17,9 +17,9 @@
 #include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/bake/jobs/ValidateJob.h"
 #include "sluice/bake/interop/VdbIO.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/AtomicFile.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 namespace sluice::py {
 namespace {

@@ -11,7 +11,7 @@
 #include <nanobind/nanobind.h>
 
 #include "sluice/bake/jobs/Progress.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::py {
 

@@ -13,7 +13,7 @@
 
 #include "Errors.h"
 #include "play/StatsReport.h"
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/sim/Simulation.h"
 

@@ -45,6 +45,40 @@ void cellCorner(uvec3 origin, uint brick, int s, out uint index, out vec3 point)
 #endif
 }
 
+// The block's signed distances [voxels] from its nearest squared distances `best`, and the mask
+// of its points whose sign is still unknown (for the sign pass). Inside the open ball of radius
+// |phi(c)| around a coarse point c there is no surface, and the winding number of a closed
+// surface only changes across it, so a point in the ball has c's sign. The margin keeps float
+// rounding of phi(c) on the safe side. (The corners are read only here, after the walk, so the
+// walk needs fewer registers.)
+uint signBlock(uvec3 origin, uint brick, bool live, vec3 q0, vec3 q1, float z[kDepth],
+               vec4 best[kDepth], out float signedDistance[kPoints]) {
+    vec3 cornerPoint[8];
+    float cornerDistance[8]; // signed [voxels]
+    for (int s = 0; s < 8; ++s) {
+        uint index;
+        cellCorner(origin, brick, s, index, cornerPoint[s]);
+        cornerDistance[s] = coarse[index].distance;
+    }
+    uint pendingMask = 0u;
+    for (int k = 0; k < kPoints; ++k) {
+        uvec3 id = origin + blockPointOffset(k);
+        float d = sqrt(best[k >> 2][k & 3]);
+        vec3 p = layerPoint(q0, q1, z[k >> 2], k & 3);
+        float sign = 0.0;
+        for (int s = 0; s < 8; ++s) {
+            float radius = abs(cornerDistance[s]) * (1.0 - 1.0e-5) - 1.0e-3;
+            vec3 r = p - cornerPoint[s];
+            bool covered = propagate != 0u && radius > 0.0 && dot(r, r) < radius * radius;
+            sign = sign == 0.0 && covered ? (cornerDistance[s] < 0.0 ? -1.0 : 1.0) : sign;
+        }
+        bool onGrid = live && all(lessThan(id, dims));
+        pendingMask |= onGrid && d > 0.0 && sign == 0.0 ? 1u << k : 0u;
+        signedDistance[k] = sign < 0.0 ? -d : d;
+    }
+    return pendingMask;
+}
+
 void main() {
 #if defined(SDF_SPARSE)
     // Work groups along x over the list, two bricks each; the entry is the block's slot.
@@ -84,34 +118,8 @@ void main() {
     }
     walkBlock(q0, q1, z, best, nearest);
 
-    // Sign: inside the open ball of radius |phi(c)| around a coarse point c there is no surface,
-    // and the winding number of a closed surface only changes across it, so a point in the ball
-    // has c's sign. The margin keeps float rounding of phi(c) on the safe side. (Read only now,
-    // so the walk above needs fewer registers.)
-    vec3 cornerPoint[8];
-    float cornerDistance[8]; // signed [voxels]
-    for (int s = 0; s < 8; ++s) {
-        uint index;
-        cellCorner(origin, brick, s, index, cornerPoint[s]);
-        cornerDistance[s] = coarse[index].distance;
-    }
-    uint pendingMask = 0u;
     float signedDistance[kPoints];
-    for (int k = 0; k < kPoints; ++k) {
-        uvec3 id = origin + blockPointOffset(k);
-        float d = sqrt(best[k >> 2][k & 3]);
-        vec3 p = layerPoint(q0, q1, z[k >> 2], k & 3);
-        float sign = 0.0;
-        for (int s = 0; s < 8; ++s) {
-            float radius = abs(cornerDistance[s]) * (1.0 - 1.0e-5) - 1.0e-3;
-            vec3 r = p - cornerPoint[s];
-            bool covered = propagate != 0u && radius > 0.0 && dot(r, r) < radius * radius;
-            sign = sign == 0.0 && covered ? (cornerDistance[s] < 0.0 ? -1.0 : 1.0) : sign;
-        }
-        bool onGrid = live && all(lessThan(id, dims));
-        pendingMask |= onGrid && d > 0.0 && sign == 0.0 ? 1u << k : 0u;
-        signedDistance[k] = sign < 0.0 ? -d : d;
-    }
+    uint pendingMask = signBlock(origin, brick, live, q0, q1, z, best, signedDistance);
     // Stores after the loops above (llvmpipe runs them much faster that way). A sparse brick
     // stores its points past the grid too (the clamped ones' values); nobody reads them.
     for (int k = 0; k < kPoints; ++k) {

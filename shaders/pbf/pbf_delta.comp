@@ -79,41 +79,25 @@ bool converged(uint k) {
     return sum / float(iterations[k].particles) <= P.targetDensityError;
 }
 
-void main() {
-    uint k = iteration;
-    uint i = PBF_PARTICLE;
-    pbfLane = PBF_LANE;
-    if (stats.stopIteration < k)
-        return; // a guard: after the stop this dispatch launches no work group
+// Iteration k met the target: no update in it (pbf_velocity.comp reads x* from its input
+// buffer), and the later iterations' lambda and delta dispatches launch no group.
+void stopAt(uint k) {
+    if (gl_LocalInvocationIndex == 0u)
+        atomicMin(stats.stopIteration, k);
     if (SLUICE_GLOBAL_ID.x == 0u)
-        atomicAdd(stats.solveDispatches, 1u); // this dispatch ran (--bench counts them)
-    if (converged(k)) {
-        // No update in this iteration: pbf_velocity.comp reads x* from this iteration's input
-        // buffer. The later iterations' lambda and delta dispatches launch no group.
-        if (gl_LocalInvocationIndex == 0u)
-            atomicMin(stats.stopIteration, k);
-        if (SLUICE_GLOBAL_ID.x == 0u)
-            for (uint a = (k + 1u) * P.solveChunks; a < P.maxIterations * P.solveChunks; ++a)
-                args[a].groupsX = 0u;
-        return;
-    }
+        for (uint a = (k + 1u) * P.solveChunks; a < P.maxIterations * P.solveChunks; ++a)
+            args[a].groupsX = 0u;
+}
 
-    bool live = i < PBF_COUNT;
-#if PBF_LANES == 1
-    if (!live)
-        return; // one lane: no barriers below
-#endif
-    vec3 xi = live ? pred[i].xyz : vec3(0.0);
-    float li = live ? pred[i].w : 0.0;
+// This lane's share of dp_i / V (eq. 12 with s_corr, eq. 13). s_corr's (W / W(delta q))^n:
+// pow() is exp2(n log2 w) on llvmpipe, two polynomial approximations per neighbour. An integer
+// n in [1, 7] (the default is 4) is a product of w, w^2 and w^4 instead, the same to float
+// rounding. The test is outside the loop so the loop holds one form only.
+vec3 densityCorrection(uint i, vec3 xi, float li) {
     float scorrScale = -P.scorrK * P.lambdaRef;
     vec3 dp = vec3(0.0);
-    // s_corr's (W / W(delta q))^n: pow() is exp2(n log2 w) on llvmpipe, two polynomial
-    // approximations per neighbour. An integer n in [1, 7] (the default is 4) is a product
-    // of w, w^2 and w^4 instead, the same to float rounding. The test is outside the loop so
-    // the loop holds one form only.
     uint n = uint(P.scorrN);
-    bool integerN = float(n) == P.scorrN && n >= 1u && n <= 7u;
-    if (live && integerN) {
+    if (float(n) == P.scorrN && n >= 1u && n <= 7u) {
         bool odd = (n & 1u) != 0u, two = (n & 2u) != 0u, four = (n & 4u) != 0u;
         PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             float w = poly6(q2) * P.invWDeltaQ;
@@ -122,23 +106,18 @@ void main() {
             float scorr = scorrScale * wn;
             dp += (li + pj.w + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END
-    } else if (live) {
+    } else {
         PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pred, i, xi)
             float scorr = scorrScale * pow(poly6(q2) * P.invWDeltaQ, P.scorrN);
             dp += (li + pj.w + scorr) * spikyGrad(d, q2);
         PBF_NEIGHBOURS_END
     }
-    dp = pbfLaneSum(vec4(dp, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)
-    if (!live || pbfLane != 0u)
-        return;
-    // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
-    // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
-    // pbf_velocity.comp counts what still goes wrong.
-    vec3 x = xi + PBF_VOLUME * dp;
-    if (!allFinite(x))
-        x = xi;
-    // Each body's boundary volume pushes along its normal with the particle's own lambda
-    // (lambda_i times the gradient lambda summed); the body takes the reaction.
+    return dp;
+}
+
+// Each body's boundary volume pushes along its normal with the particle's own lambda (lambda_i
+// times the gradient lambda summed); the body takes the reaction.
+vec3 pushByBodies(vec3 xi, float li, vec3 x) {
     for (uint b = 0u; b < P.bodyCount; ++b) {
         float phi;
         vec3 normal;
@@ -150,27 +129,64 @@ void main() {
         x += push;
         addReaction(b, x, push);
     }
+    return x;
+}
+
+// A particle a body pushes into a wall is put back by the wall (from x to clamped): the body did
+// not move it that far. That part of its collision reaction moves to the held sums, of which the
+// body pass applies only what stops the body moving into the held particles (docs/bodies.md,
+// "Particles held against a wall"): a particle held between a body and the floor carries the
+// body as a grain of sand would, and no longer lifts it a little every iteration. The pressure
+// push keeps its whole reaction: the wall holding the particle is how the floor carries the
+// water's pressure.
+void holdAgainstWalls(vec3 x, vec3 clamped) {
+    if (pushedBy == kNoBody)
+        return;
+    vec3 undone = clamped - x;
+    vec3 back = sign(undone) * min(abs(undone), abs(pushSum));
+    back = mix(vec3(0.0), back, lessThan(pushSum * undone, vec3(0.0)));
+    if (any(notEqual(back, vec3(0.0)))) {
+        addSums(pushedBy, false, clamped, back);
+        addSums(pushedBy, true, clamped, -back);
+    }
+}
+
+void main() {
+    uint k = iteration;
+    uint i = PBF_PARTICLE;
+    pbfLane = PBF_LANE;
+    if (stats.stopIteration < k)
+        return; // a guard: after the stop this dispatch launches no work group
+    if (SLUICE_GLOBAL_ID.x == 0u)
+        atomicAdd(stats.solveDispatches, 1u); // this dispatch ran (--bench counts them)
+    if (converged(k)) {
+        stopAt(k);
+        return;
+    }
+    bool live = i < PBF_COUNT;
+#if PBF_LANES == 1
+    if (!live)
+        return; // one lane: no barriers below
+#endif
+    vec3 xi = live ? pred[i].xyz : vec3(0.0);
+    float li = live ? pred[i].w : 0.0;
+    vec3 dp = live ? densityCorrection(i, xi, li) : vec3(0.0);
+    dp = pbfLaneSum(vec4(dp, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)
+    if (!live || pbfLane != 0u)
+        return;
+    // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
+    // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
+    // pbf_velocity.comp counts what still goes wrong.
+    vec3 x = xi + PBF_VOLUME * dp;
+    if (!allFinite(x))
+        x = xi;
+    x = pushByBodies(xi, li, x);
     if (!allFinite(x))
         x = xi;
     x = collide(x, pos[i].xyz);
     if (!allFinite(x))
         x = xi;
     vec3 clamped = clampToDomain(x);
-    // A particle a body pushes into a wall is put back by the wall: the body did not move it
-    // that far. That part of its collision reaction moves to the held sums, of which the body
-    // pass applies only what stops the body moving into the held particles (docs/bodies.md,
-    // "Particles held against a wall"): a particle held between a body and the floor carries
-    // the body as a grain of sand would, and no longer lifts it a little every iteration. The
-    // pressure push above keeps its whole reaction: the wall holding the particle is how the
-    // floor carries the water's pressure.
-    vec3 undone = clamped - x;
-    if (pushedBy != kNoBody) {
-        vec3 back = sign(undone) * min(abs(undone), abs(pushSum));
-        back = mix(vec3(0.0), back, lessThan(pushSum * undone, vec3(0.0)));
-        if (any(notEqual(back, vec3(0.0)))) {
-            addSums(pushedBy, false, clamped, back);
-            addSums(pushedBy, true, clamped, -back);
-        }
-    }
+    holdAgainstWalls(x, clamped);
     predOut[i] = vec4(clamped, 0.0);
 }

@@ -6,7 +6,7 @@
 // SCENE's one collider is replaced by each asset in turn. The scene runs N steps (default 30)
 // with the dense asset; the particles' positions then are the points: where the solver's
 // collision pass samples the collider. Then, alternating dense and sparse R times (default 15),
-// the bench times (GPU timer queries) one pass of shaders/collider_probe.comp over those points,
+// the bench times (GPU timer queries) one pass of shaders/render/collider_probe.comp over those points,
 // which samples phi and its gradient exactly as collide() does (sampleCollider), and one
 // solver step of the scene from the same state (the whole step, lookups included). It prints
 // the median and range of each and the sparse / dense ratios.
@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "shared/Pbf.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/gpu/GpuTimer.h"

@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/asset/ColliderAsset.h"
 
 namespace sluice::testasset {
 

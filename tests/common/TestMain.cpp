@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace {
 struct AssertionFailure : std::runtime_error {

@@ -8,7 +8,7 @@
 
 #include "AssetTestUtil.h"
 #include "TempDir.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::test {
 namespace {

@@ -9,9 +9,9 @@
 #include "AllocationProbe.h"
 #include "AssetTestUtil.h"
 #include "TempDir.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/AtomicFile.h"
-#include "sluice/format/Half.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/asset/Half.h"
 
 namespace sluice::test {
 namespace {

@@ -7,8 +7,8 @@
 
 #include "AssetTestUtil.h"
 #include "TempDir.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/Half.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/asset/Half.h"
 
 namespace sluice::test {
 namespace {

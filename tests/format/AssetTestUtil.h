@@ -12,8 +12,8 @@
 
 #include <gtest/gtest.h>
 
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/Hash.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/Hash.h"
 
 namespace sluice {
 /// Lets GoogleTest print error codes by name.

@@ -12,7 +12,7 @@
 
 #include "AssetTestUtil.h"
 #include "TempDir.h"
-#include "sluice/format/AtomicFile.h"
+#include "sluice/format/support/AtomicFile.h"
 
 namespace sluice::test {
 namespace {

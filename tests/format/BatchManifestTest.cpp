@@ -7,7 +7,7 @@
 
 #include "AssetTestUtil.h" // PrintTo(ErrorCode)
 #include "TempDir.h"
-#include "sluice/format/BatchManifest.h"
+#include "sluice/format/scene/BatchManifest.h"
 
 namespace sluice::test {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sluice/format/Half.h"
+#include "sluice/format/asset/Half.h"
 
 namespace sluice::test {
 namespace {

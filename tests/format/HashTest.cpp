@@ -5,8 +5,8 @@
 
 #include "AssetTestUtil.h"
 #include "TempDir.h"
-#include "sluice/format/AtomicFile.h"
-#include "sluice/format/Hash.h"
+#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/support/Hash.h"
 
 namespace sluice::test {
 namespace {

@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 #include "AssetTestUtil.h" // PrintTo(ErrorCode)
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/scene/SceneIO.h"
 
 namespace sluice::test {
 namespace {

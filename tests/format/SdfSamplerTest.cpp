@@ -5,7 +5,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 namespace sluice::test {
 namespace {

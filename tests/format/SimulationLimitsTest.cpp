@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "sluice/format/SceneIO.h"
-#include "sluice/format/SimulationLimits.h"
+#include "sluice/format/scene/SceneIO.h"
+#include "sluice/format/scene/SimulationLimits.h"
 
 namespace sluice::format {
 namespace {

@@ -10,9 +10,9 @@
 
 #include "AssetTestUtil.h"
 #include "SparseTestUtil.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/NanoVdbCheck.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 namespace sluice::test {
 namespace {

@@ -10,7 +10,7 @@
 #include <nanovdb/NanoVDB.h>
 #include <nanovdb/util/Primitives.h>
 
-#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/asset/ColliderAsset.h"
 
 namespace sluice::test {
 

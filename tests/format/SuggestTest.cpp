@@ -1,7 +1,7 @@
 // closestMatch and didYouMean: the suggestions error messages make for mistyped words.
 #include <gtest/gtest.h>
 
-#include "sluice/format/Suggest.h"
+#include "sluice/format/support/Suggest.h"
 
 using namespace sluice::format;
 

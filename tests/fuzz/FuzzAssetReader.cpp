@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "FuzzSupport.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/Hash.h"
-#include "sluice/format/NanoVdbCheck.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/asset/SdfSampler.h"
+#include "sluice/format/support/Hash.h"
 
 namespace {
 
@@ -96,14 +96,9 @@ void decodeChecked(std::span<const std::byte> bytes) {
         fuzz::AllocationWatch watch;
         Result<ColliderAsset> r = decodeAsset(bytes, kName);
         watch.check(allocationLimit(bytes.size()), "decodeAsset");
-        if (r) {
-            accepted = std::move(*r);
-            ok = true;
-        } else {
-            SLUICE_FUZZ_CHECK(r.error().detail.rfind(kName, 0) == 0,
-                              "messages start with the file name");
-            SLUICE_FUZZ_CHECK(r.error().code != ErrorCode::Io, "no Io error from bytes in memory");
-        }
+        ok = fuzz::takeResult(r, accepted, kName);
+        SLUICE_FUZZ_CHECK(ok || r.error().code != ErrorCode::Io,
+                          "no Io error from bytes in memory");
     }
     if (ok)
         checkAccepted(accepted, bytes);

@@ -11,9 +11,9 @@
 #include <span>
 
 #include "FuzzSupport.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/NanoVdbCheck.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 namespace {
 

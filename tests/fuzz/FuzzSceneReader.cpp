@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "FuzzSupport.h"
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace {
@@ -136,13 +136,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // A JSON DOM holds ~16 bytes per value, and a value takes at least 2 bytes of text;
         // rapidjson's pool and stack grow in 64 KiB chunks and by doubling.
         watch.check(16 * size + (std::size_t(1) << 20), "parseScene");
-        if (r) {
-            accepted = std::move(*r);
-            ok = true;
-        } else {
-            SLUICE_FUZZ_CHECK(r.error().detail.rfind(kName, 0) == 0,
-                              "messages start with the file name");
-        }
+        ok = fuzz::takeResult(r, accepted, kName);
     }
     if (ok)
         checkAccepted(accepted);

@@ -6,7 +6,11 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "sluice/format/Sanitizers.h"
+#include <string_view>
+#include <utility>
+
+#include "sluice/format/support/Result.h"
+#include "sluice/format/support/Sanitizers.h"
 
 #if defined(SLUICE_ADDRESS_SANITIZER)
 // From <sanitizer/allocator_interface.h>, which clang ships and GCC does not (its libasan has
@@ -83,5 +87,16 @@ public:
         }
     }
 };
+
+/// What a reader returned for the input called `name`: a value goes into `accepted` (true); an
+/// error (false) must name the input first, as every reader's message does.
+template <typename T> bool takeResult(Result<T>& r, T& accepted, std::string_view name) {
+    if (r) {
+        accepted = std::move(*r);
+        return true;
+    }
+    SLUICE_FUZZ_CHECK(r.error().detail.rfind(name, 0) == 0, "messages start with the file name");
+    return false;
+}
 
 } // namespace sluice::fuzz

@@ -9,7 +9,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::ref {
 

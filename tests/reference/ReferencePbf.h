@@ -7,9 +7,9 @@
 #include <optional>
 #include <vector>
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Scene.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/scene/Scene.h"
+#include "sluice/format/asset/SdfSampler.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::ref {

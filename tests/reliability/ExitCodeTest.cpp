@@ -3,7 +3,7 @@
 // itself needs a driver that reports free memory.
 #include <gtest/gtest.h>
 
-#include "sluice/format/ExitCodes.h"
+#include "sluice/format/support/ExitCodes.h"
 
 namespace sluice {
 namespace {

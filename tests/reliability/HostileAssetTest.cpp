@@ -16,7 +16,7 @@
 #include "AllocationProbe.h"
 #include "AssetTestUtil.h"
 #include "ReliabilityTest.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::reliability {
 namespace {
@@ -104,8 +104,9 @@ TEST_P(HostileAsset, EveryOtherValueOfEveryHeaderByteIsRejectedWithItsFieldsErro
         EXPECT_GT(seen[code], 0) << errorCodeName(code);
 }
 
-TEST_P(HostileAsset, EveryOtherValueOfEveryMetadataByteFailsTheChecksum) {
-    const auto good = encodeOk(makeAsset({3, 4, 5}, GetParam()));
+// Calls f(i, v, bytes) with `good` changed in one metadata byte i to each value v it does not
+// hold.
+template <typename F> void forEveryOtherMetadataByte(const std::vector<std::byte>& good, F&& f) {
     const AssetHeader h = headerOf(good);
     for (std::size_t i = h.metaOffset; i < h.metaOffset + h.metaSize; ++i)
         for (int v = 0; v < 256; ++v) {
@@ -113,10 +114,17 @@ TEST_P(HostileAsset, EveryOtherValueOfEveryMetadataByteFailsTheChecksum) {
                 continue;
             auto bytes = good;
             bytes[i] = std::byte(v);
-            auto r = decodeAsset(bytes, "hostile.slc");
-            ASSERT_FALSE(r.ok()) << "metadata byte " << i << " = " << v;
-            EXPECT_EQ(r.error().code, ErrorCode::ChecksumMismatch) << r.error().message();
+            f(i, v, bytes);
         }
+}
+
+TEST_P(HostileAsset, EveryOtherValueOfEveryMetadataByteFailsTheChecksum) {
+    const auto good = encodeOk(makeAsset({3, 4, 5}, GetParam()));
+    forEveryOtherMetadataByte(good, [](std::size_t i, int v, std::vector<std::byte>& bytes) {
+        auto r = decodeAsset(bytes, "hostile.slc");
+        ASSERT_FALSE(r.ok()) << "metadata byte " << i << " = " << v;
+        EXPECT_EQ(r.error().code, ErrorCode::ChecksumMismatch) << r.error().message();
+    });
 }
 
 TEST_P(HostileAsset, EveryOtherValueOfEveryMetadataByteBehindAValidChecksumIsSafe) {
@@ -127,30 +135,24 @@ TEST_P(HostileAsset, EveryOtherValueOfEveryMetadataByteBehindAValidChecksumIsSaf
     const AssetHeader h = headerOf(good);
     std::map<ErrorCode, int> seen;
     int accepted = 0;
-    for (std::size_t i = h.metaOffset; i < h.metaOffset + h.metaSize; ++i)
-        for (int v = 0; v < 256; ++v) {
-            if (std::byte(v) == good[i])
-                continue;
-            auto bytes = good;
-            bytes[i] = std::byte(v);
-            reseal(bytes);
-            test::resetLargestAllocation();
-            auto r = decodeAsset(bytes, "forged.slc");
-            EXPECT_LT(test::largestAllocation(), justified(bytes.size()))
-                << "metadata byte " << i - h.metaOffset << " = " << v;
-            if (r.ok()) {
-                ++accepted;
-                // What is accepted is a consistent asset: the writer takes it back.
-                EXPECT_TRUE(encodeAsset(*r).ok()) << "metadata byte " << i - h.metaOffset;
-                continue;
-            }
-            const ErrorCode code = r.error().code;
-            EXPECT_TRUE(code == ErrorCode::BadMetadata || code == ErrorCode::NonFinite ||
-                        code == ErrorCode::SizeOverflow || code == ErrorCode::SizeMismatch)
-                << "metadata byte " << i - h.metaOffset << " = " << v << ": "
-                << r.error().message();
-            ++seen[code];
+    forEveryOtherMetadataByte(good, [&](std::size_t i, int v, std::vector<std::byte>& bytes) {
+        reseal(bytes);
+        test::resetLargestAllocation();
+        auto r = decodeAsset(bytes, "forged.slc");
+        EXPECT_LT(test::largestAllocation(), justified(bytes.size()))
+            << "metadata byte " << i - h.metaOffset << " = " << v;
+        if (r.ok()) {
+            ++accepted;
+            // What is accepted is a consistent asset: the writer takes it back.
+            EXPECT_TRUE(encodeAsset(*r).ok()) << "metadata byte " << i - h.metaOffset;
+            return;
         }
+        const ErrorCode code = r.error().code;
+        EXPECT_TRUE(code == ErrorCode::BadMetadata || code == ErrorCode::NonFinite ||
+                    code == ErrorCode::SizeOverflow || code == ErrorCode::SizeMismatch)
+            << "metadata byte " << i - h.metaOffset << " = " << v << ": " << r.error().message();
+        ++seen[code];
+    });
     std::printf("%zu metadata bytes x 255 values: %d accepted, %d BadMetadata, %d NonFinite, "
                 "%d SizeOverflow, %d SizeMismatch\n",
                 std::size_t(h.metaSize), accepted, seen[ErrorCode::BadMetadata],

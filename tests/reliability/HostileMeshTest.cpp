@@ -7,7 +7,7 @@
 
 #include "ProgramRun.h"
 #include "ReliabilityTest.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::reliability {
 namespace {

@@ -11,8 +11,8 @@
 
 #include "ProgramRun.h"
 #include "ReliabilityTest.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/gpu/Context.h"
 
 namespace sluice::reliability {

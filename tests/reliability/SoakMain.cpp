@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "sluice/format/SceneIO.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/scene/SceneIO.h"
+#include "sluice/format/asset/SdfSampler.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/sim/SceneSetup.h"
 #include "sluice/rt/sim/Simulation.h"

@@ -9,12 +9,15 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
+#include "ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {
+
+using test::maxPositionDifference;
 
 using gpu::test::GpuTest;
 
@@ -60,29 +63,6 @@ void addBox(BodyScene& b, glm::dvec3 lo, glm::dvec3 hi, glm::vec3 translation, g
     body.density = 500.0f;
     box.dynamic = body;
     b.scene.colliders.push_back(box);
-}
-
-std::unordered_map<std::uint32_t, ParticleState> byId(const std::vector<ParticleState>& ps) {
-    std::unordered_map<std::uint32_t, ParticleState> out;
-    for (const ParticleState& p : ps)
-        out[p.id] = p;
-    return out;
-}
-
-// Largest position difference between the GPU's particles and the reference's, by id [m]; every
-// id on one side must be on the other.
-double maxPositionDifference(const std::vector<ParticleState>& gpu,
-                             const std::vector<ParticleState>& cpu) {
-    EXPECT_EQ(gpu.size(), cpu.size());
-    const auto ref = byId(cpu);
-    double worst = 0.0;
-    for (const ParticleState& p : gpu) {
-        const auto it = ref.find(p.id);
-        EXPECT_NE(it, ref.end()) << "id " << p.id << " only on the GPU";
-        if (it != ref.end())
-            worst = std::max(worst, double(glm::length(p.position - it->second.position)));
-    }
-    return worst;
 }
 
 // The reference's colliders: the scene's, each body held at the pose and centre of mass the GPU
@@ -155,6 +135,14 @@ Parity runOneSubstep(const BodyScene& b, bool denseGrid, std::uint32_t lanes = 1
     return out;
 }
 
+// GPU and reference agree after the substep: particles within 1e-4 h, the bodies' forces and
+// torques within 1e-4 of their own magnitude.
+void expectParity(const Parity& p, const BodyScene& b) {
+    EXPECT_LT(p.position, 1e-4 * b.scene.simulation.kernelRadius);
+    EXPECT_LT(p.force, 1e-4);
+    EXPECT_LT(p.torque, 1e-4);
+}
+
 class BodyParity : public GpuTest {};
 
 TEST_F(BodyParity, ForcesAndTorquesMatchTheCpuReferenceAfterOneSubstep) {
@@ -166,10 +154,7 @@ TEST_F(BodyParity, ForcesAndTorquesMatchTheCpuReferenceAfterOneSubstep) {
            glm::vec3(15.0f, 25.0f, -10.0f), 1.0f, 0.2f);
     const Parity p = runOneSubstep(b, true);
     // Measured on llvmpipe: particles 1.9e-6 h, force 1.1e-5, torque 1.4e-5 relative.
-    const double h = b.scene.simulation.kernelRadius;
-    EXPECT_LT(p.position, 1e-4 * h);
-    EXPECT_LT(p.force, 1e-4);
-    EXPECT_LT(p.torque, 1e-4);
+    expectParity(p, b);
 }
 
 // The neighbour passes split over 4 invocations per particle (the layout a GPU picks for small
@@ -180,10 +165,7 @@ TEST_F(BodyParity, NeighbourLanesMatchTheCpuReferenceToo) {
     addBox(b, {-0.03, -0.025, -0.04}, {0.05, 0.035, 0.03}, glm::vec3(0.171f, 0.1553f, 0.143f),
            glm::vec3(15.0f, 25.0f, -10.0f), 1.0f, 0.2f);
     const Parity p = runOneSubstep(b, true, 4);
-    const double h = b.scene.simulation.kernelRadius;
-    EXPECT_LT(p.position, 1e-4 * h);
-    EXPECT_LT(p.force, 1e-4);
-    EXPECT_LT(p.torque, 1e-4);
+    expectParity(p, b);
 }
 
 TEST_F(BodyParity, TwoScaledBodiesOnTheHashGridMatchTheCpuReference) {
@@ -198,10 +180,7 @@ TEST_F(BodyParity, TwoScaledBodiesOnTheHashGridMatchTheCpuReference) {
            glm::vec3(0.0f, 40.0f, 5.0f), 1.0f, 0.1f);
     const Parity p = runOneSubstep(b, false);
     // Measured on llvmpipe: particles 2.1e-6 h, force 8.8e-6, torque 6.6e-6 relative.
-    const double h = b.scene.simulation.kernelRadius;
-    EXPECT_LT(p.position, 1e-4 * h);
-    EXPECT_LT(p.force, 1e-4);
-    EXPECT_LT(p.torque, 1e-4);
+    expectParity(p, b);
 }
 
 TEST_F(BodyParity, ABodyPressingWaterIntoAWallMatchesTheCpuReference) {
@@ -215,14 +194,11 @@ TEST_F(BodyParity, ABodyPressingWaterIntoAWallMatchesTheCpuReference) {
            glm::vec3(0.0f), 1.0f, 0.0f);
     b.scene.colliders.back().dynamic->linearVelocity = glm::vec3(-0.2f, 0.0f, 0.0f);
     const Parity p = runOneSubstep(b, true);
-    const double h = b.scene.simulation.kernelRadius;
     // Measured on llvmpipe: 18.1 N held, of which the box takes about a sixth (its 0.2 m/s
     // times 0.256 kg against the held impulse); parity 1.7e-6 h, force 7.5e-6, torque 8.6e-6.
     std::printf("held force on the reference: %.4f N\n", p.held);
     EXPECT_GT(p.held, 0.1) << "the wall must hold particles against the box";
-    EXPECT_LT(p.position, 1e-4 * h);
-    EXPECT_LT(p.force, 1e-4);
-    EXPECT_LT(p.torque, 1e-4);
+    expectParity(p, b);
 }
 
 } // namespace

@@ -79,15 +79,23 @@ TEST(SluicePlayChecks, StrictStopsBeforeTheFirstStepAndWritesNothing) {
     EXPECT_FALSE(fs::exists(dir / "ply"));
 }
 
+// A mistake case names its test, and prints, by its name.
+struct CaseName {
+    template <typename Info> std::string operator()(const Info& info) const {
+        return info.param.name;
+    }
+};
+
+struct SceneMistake;
+struct OptionMistake;
+void PrintTo(const SceneMistake& mistake, std::ostream* out);
+void PrintTo(const OptionMistake& mistake, std::ostream* out);
+
 struct SceneMistake {
     const char* name;
     const char* json;
     const char* expectInError;
 };
-
-void PrintTo(const SceneMistake& mistake, std::ostream* out) {
-    *out << mistake.name;
-}
 
 class SluicePlaySceneMistake : public ::testing::TestWithParam<SceneMistake> {};
 
@@ -117,7 +125,7 @@ INSTANTIATE_TEST_SUITE_P(
                      R"({"fluid": [{"box": {"min": [60, 0, 0], "max": [60.1, 0.1, 0.1]}}],
                          "colliders": [{"asset": "{assets}/sphere.slc", "scale": 100}]})",
                      "`sluice-bake bake --scale 0.01`"}),
-    [](const auto& paramInfo) { return std::string(paramInfo.param.name); });
+    CaseName{});
 
 struct OptionMistake {
     const char* name;
@@ -125,9 +133,8 @@ struct OptionMistake {
     const char* expectInError;
 };
 
-void PrintTo(const OptionMistake& mistake, std::ostream* out) {
-    *out << mistake.name;
-}
+void PrintTo(const SceneMistake& mistake, std::ostream* out) { *out << mistake.name; }
+void PrintTo(const OptionMistake& mistake, std::ostream* out) { *out << mistake.name; }
 
 class SluicePlayOptionMistake : public ::testing::TestWithParam<OptionMistake> {};
 
@@ -174,7 +181,7 @@ INSTANTIATE_TEST_SUITE_P(
         OptionMistake{"rasterSpheresWithoutPictures",
                       {"--headless", "--steps", "1", "--raster-spheres"},
                       "--raster-spheres does nothing in a --headless run without --frames"}),
-    [](const auto& paramInfo) { return std::string(paramInfo.param.name); });
+    CaseName{});
 
 TEST(SluicePlayChecks, ShippedSceneStartsWithoutWarningsAndPrintsColliderSizes) {
     const fs::path dir = tempDir("shipped-strict");

@@ -10,8 +10,9 @@
 
 #include "GpuTest.h"
 #include "ProgramRun.h"
+#include "ShippedScenes.h"
 #include "shared/Pbf.h"
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -33,7 +34,8 @@ void writeText(const fs::path& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;
 }
 
-class ShippedScene : public gpu::test::GpuTest, public ::testing::WithParamInterface<const char*> {};
+class ShippedScene : public gpu::test::GpuTest,
+                     public ::testing::WithParamInterface<const char*> {};
 
 // Every shipped scene, shortened: no particle ever inside a collider, none non-finite.
 TEST_P(ShippedScene, KeepsEveryParticleOutOfCollidersAndFinite) {
@@ -56,16 +58,7 @@ TEST_P(ShippedScene, KeepsEveryParticleOutOfCollidersAndFinite) {
     EXPECT_GT(sim->particleCount(), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Assets, ShippedScene,
-                         ::testing::Values("drop.json", "dam-break.json", "wave-sphere.json",
-                                           "funnel.json", "martin-moyce.json", "float.json",
-                                           "crates.json"),
-                         [](const auto& paramInfo) {
-                             std::string name = paramInfo.param;
-                             name = name.substr(0, name.find('.'));
-                             std::erase(name, '-');
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Assets, ShippedScene, test::shippedScenes(), test::ShippedSceneName{});
 
 TEST(SluicePlay, DeterministicRunsWriteIdenticalStatisticsAndPlyFiles) {
     const fs::path dir = tempDir("deterministic");
@@ -75,8 +68,8 @@ TEST(SluicePlay, DeterministicRunsWriteIdenticalStatisticsAndPlyFiles) {
         fs::create_directories(out);
         const auto result = play(out, {(kAssets / "martin-moyce.json").string(), "--headless",
                                        "--steps", "6", "--deterministic", "--stats-every", "1",
-                                       "--stats-json", (out / "stats.json").string(),
-                                       "--dump-ply", (out / "ply").string(), "--dump-every", "3"});
+                                       "--stats-json", (out / "stats.json").string(), "--dump-ply",
+                                       (out / "ply").string(), "--dump-every", "3"});
         ASSERT_EQ(result.code, 0) << shown(result);
         bytes[run][0] = testrun::readText(out / "stats.json");
         bytes[run][1] = testrun::readText(out / "ply" / "frame_000003.ply");
@@ -181,20 +174,33 @@ TEST_P(SluicePlayBadScene, FailsWithExitCodeTwoAndSaysWhereAndWhy) {
 INSTANTIATE_TEST_SUITE_P(
     Errors, SluicePlayBadScene,
     ::testing::Values(
-        BadScene{"unknownKey", R"({"simulation": {"spacng": 0.02}, "fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}]})",
-                 "simulation.spacng"},
-        BadScene{"wrongType", R"({"simulation": {"spacing": "fine"}, "fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}]})",
-                 "simulation.spacing"},
-        BadScene{"outOfRange", R"({"fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}], "colliders": [{"asset": "{assets}/sphere.slc", "friction": 1.5}]})",
-                 "colliders[0].friction"},
-        BadScene{"missingAsset", R"({"fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}], "colliders": [{"asset": "nowhere.slc"}]})",
-                 "nowhere.slc"},
-        BadScene{"corruptAsset", R"({"fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}], "colliders": [{"asset": "garbage.slc"}]})",
-                 "garbage.slc"},
-        BadScene{"syntax", R"({"fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}],)", "bad.json"},
+        BadScene{
+            "unknownKey",
+            R"({"simulation": {"spacng": 0.02}, "fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}]})",
+            "simulation.spacng"},
+        BadScene{
+            "wrongType",
+            R"({"simulation": {"spacing": "fine"}, "fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}]})",
+            "simulation.spacing"},
+        BadScene{
+            "outOfRange",
+            R"({"fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}], "colliders": [{"asset": "{assets}/sphere.slc", "friction": 1.5}]})",
+            "colliders[0].friction"},
+        BadScene{
+            "missingAsset",
+            R"({"fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}], "colliders": [{"asset": "nowhere.slc"}]})",
+            "nowhere.slc"},
+        BadScene{
+            "corruptAsset",
+            R"({"fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}], "colliders": [{"asset": "garbage.slc"}]})",
+            "garbage.slc"},
+        BadScene{"syntax", R"({"fluid": [{"box": {"min": [0,0,0], "max": [0.1,0.1,0.1]}}],)",
+                 "bad.json"},
         BadScene{"nothingToSimulate", R"({"simulation": {"spacing": 0.02}})", "fluid"},
-        BadScene{"capacityTooSmall", R"({"simulation": {"capacity": 10}, "fluid": [{"box": {"min": [0,0,0], "max": [0.2,0.2,0.2]}}]})",
-                 "capacity"}),
+        BadScene{
+            "capacityTooSmall",
+            R"({"simulation": {"capacity": 10}, "fluid": [{"box": {"min": [0,0,0], "max": [0.2,0.2,0.2]}}]})",
+            "capacity"}),
     [](const auto& paramInfo) { return std::string(paramInfo.param.name); });
 
 TEST(SluicePlay, MissingSceneFileAndBadArgumentsExitTwo) {
@@ -204,8 +210,7 @@ TEST(SluicePlay, MissingSceneFileAndBadArgumentsExitTwo) {
     EXPECT_NE(missing.err.find("absent.json"), std::string::npos) << missing.err;
     auto noSteps = play(dir, {(kAssets / "drop.json").string(), "--headless"});
     EXPECT_EQ(noSteps.code, 2) << shown(noSteps);
-    auto badSteps =
-        play(dir, {(kAssets / "drop.json").string(), "--headless", "--steps", "-3"});
+    auto badSteps = play(dir, {(kAssets / "drop.json").string(), "--headless", "--steps", "-3"});
     EXPECT_EQ(badSteps.code, 2) << shown(badSteps);
     auto badLanes = play(dir, {(kAssets / "drop.json").string(), "--headless", "--steps", "1",
                                "--neighbour-lanes", "3"});
@@ -217,10 +222,10 @@ TEST(SluicePlay, MissingSceneFileAndBadArgumentsExitTwo) {
 // what it ran with.
 TEST(SluicePlay, BenchReportsItsNeighbourLanesAndSphereDrawing) {
     const fs::path dir = tempDir("bench-lanes");
-    const auto result = play(dir, {(kAssets / "drop.json").string(), "--bench", "--warmup", "0",
-                                   "--steps", "1", "--neighbour-lanes", "4", "--bench-frames",
-                                   "1", "--size", "64x48", "--raster-spheres", "--bench-json",
-                                   (dir / "b.json").string()});
+    const auto result =
+        play(dir, {(kAssets / "drop.json").string(), "--bench", "--warmup", "0", "--steps", "1",
+                   "--neighbour-lanes", "4", "--bench-frames", "1", "--size", "64x48",
+                   "--raster-spheres", "--bench-json", (dir / "b.json").string()});
     ASSERT_EQ(result.code, 0) << shown(result);
     const auto bench = nlohmann::json::parse(testrun::readText(dir / "b.json"));
     EXPECT_EQ(bench["neighbourLanes"].get<std::uint32_t>(), 4u);

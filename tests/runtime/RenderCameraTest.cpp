@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/rt/render/OrbitCamera.h"
 #include "sluice/rt/render/SceneFraming.h"
 

@@ -202,31 +202,39 @@ TEST_F(RenderTest, ColliderIsVisibleExactlyWhereItsSphereProjects) {
     EXPECT_EQ(top.r >= top.b, albedo.r >= albedo.b);
 }
 
-TEST_F(RenderTest, ParticlesInFrontOfAColliderHideIt) {
-    // Between the eye and the sphere, with a particle on the line of sight through its centre.
-    Stage stage(sphereScene(-0.05f, 0.05f, 0.2f, 0.3f));
-    ASSERT_TRUE(stage.ok());
+// What the full frame shows at the pixel of the sphere's centre (0, 0.1, 0): the particles'
+// colour (as in the frame without colliders), the collider's (as without particles), or neither.
+struct CentrePixel {
+    bool particles = false;
+    bool collider = false;
+};
+
+CentrePixel centrePixel(Stage& stage) {
     const Image both = stage.draw();
     RenderSettings noColliders;
     noColliders.drawColliders = false;
     const Image particlesOnly = stage.draw(noColliders);
     const Image colliderOnly = stage.drawWithoutParticles();
     const glm::vec3 c = stage.camera.project({0.0f, 0.1f, 0.0f}, kSize);
-    EXPECT_FALSE(pixelDiffers(both, particlesOnly, std::uint32_t(c.x), std::uint32_t(c.y)));
-    EXPECT_TRUE(pixelDiffers(both, colliderOnly, std::uint32_t(c.x), std::uint32_t(c.y)));
+    const auto x = std::uint32_t(c.x), y = std::uint32_t(c.y);
+    return {!pixelDiffers(both, particlesOnly, x, y), !pixelDiffers(both, colliderOnly, x, y)};
+}
+
+TEST_F(RenderTest, ParticlesInFrontOfAColliderHideIt) {
+    // Between the eye and the sphere, with a particle on the line of sight through its centre.
+    Stage stage(sphereScene(-0.05f, 0.05f, 0.2f, 0.3f));
+    ASSERT_TRUE(stage.ok());
+    const CentrePixel shown = centrePixel(stage);
+    EXPECT_TRUE(shown.particles);
+    EXPECT_FALSE(shown.collider);
 }
 
 TEST_F(RenderTest, AColliderInFrontOfParticlesHidesThem) {
     Stage stage(sphereScene(-0.05f, 0.05f, -0.3f, -0.2f)); // behind the sphere
     ASSERT_TRUE(stage.ok());
-    const Image both = stage.draw();
-    RenderSettings noColliders;
-    noColliders.drawColliders = false;
-    const Image particlesOnly = stage.draw(noColliders);
-    const Image colliderOnly = stage.drawWithoutParticles();
-    const glm::vec3 c = stage.camera.project({0.0f, 0.1f, 0.0f}, kSize);
-    EXPECT_FALSE(pixelDiffers(both, colliderOnly, std::uint32_t(c.x), std::uint32_t(c.y)));
-    EXPECT_TRUE(pixelDiffers(both, particlesOnly, std::uint32_t(c.x), std::uint32_t(c.y)));
+    const CentrePixel shown = centrePixel(stage);
+    EXPECT_TRUE(shown.collider);
+    EXPECT_FALSE(shown.particles);
 }
 
 TEST_F(RenderTest, GlassWallsShowTheWaterInsideTheTank) {

@@ -12,7 +12,7 @@
 #include <stb_image.h>
 
 #include "ProgramRun.h"
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/Image.h"

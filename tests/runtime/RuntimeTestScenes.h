@@ -1,7 +1,7 @@
 // Small scenes and analytic collider assets for the runtime tests (CPU reference and GPU solver).
 //
 // Header-only. Every SimulationParams field is set explicitly, to the values readScene would
-// default them to from `spacing` (format/include/sluice/format/Scene.h), so the tests never
+// default them to from `spacing` (format/include/sluice/format/scene/Scene.h), so the tests never
 // depend on the scene reader.
 #pragma once
 
@@ -15,8 +15,8 @@
 #include <glm/vec3.hpp>
 
 #include "AnalyticAsset.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/scene/Scene.h"
 
 namespace sluice::testscene {
 

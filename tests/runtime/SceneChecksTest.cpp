@@ -7,8 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include "ShippedScenes.h"
 #include "play/SceneChecks.h"
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -62,16 +63,8 @@ TEST_P(ShippedSceneChecks, GiveNoWarnings) {
     EXPECT_TRUE(warnings.empty()) << all(warnings);
 }
 
-INSTANTIATE_TEST_SUITE_P(Assets, ShippedSceneChecks,
-                         ::testing::Values("drop.json", "dam-break.json", "wave-sphere.json",
-                                           "funnel.json", "martin-moyce.json", "float.json",
-                                           "crates.json"),
-                         [](const auto& paramInfo) {
-                             std::string name = paramInfo.param;
-                             name = name.substr(0, name.find('.'));
-                             std::erase(name, '-');
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Assets, ShippedSceneChecks, test::shippedScenes(),
+                         test::ShippedSceneName{});
 
 TEST(SceneChecks, ReportsABallOutsideTheDomainWithItsParticleCount) {
     const Checked c = check(R"({"fluid": [

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
+#include "ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "shared/Pbf.h"
@@ -17,6 +18,8 @@
 
 namespace sluice::rt {
 namespace {
+
+using test::maxPositionDifference;
 
 using gpu::test::GpuTest;
 
@@ -58,19 +61,6 @@ Played play(const format::Scene& scene, int steps) {
     run.iterations = sim->readStats().iterations;
     run.particles = sim->particleCount();
     return run;
-}
-
-// Largest position difference [m] between two particle sets, matched by id.
-double maxPositionDifference(const std::vector<ParticleState>& a,
-                             const std::vector<ParticleState>& b) {
-    EXPECT_EQ(a.size(), b.size());
-    std::unordered_map<std::uint32_t, glm::vec3> byId;
-    for (const ParticleState& p : b)
-        byId[p.id] = p.position;
-    double worst = 0.0;
-    for (const ParticleState& p : a)
-        worst = std::max(worst, double(glm::length(p.position - byId.at(p.id))));
-    return worst;
 }
 
 // After one step with the stop at K, the GPU holds the positions of K updates: the CPU

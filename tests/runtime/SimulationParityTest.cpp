@@ -6,12 +6,16 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
+#include "ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {
+
+using test::maxPositionDifference;
+using test::meanPositionDifference;
 
 using gpu::test::GpuTest;
 
@@ -51,39 +55,6 @@ ParityScene parityScene() {
     ball.linearVelocity = glm::vec3(0.0f, -0.3f, 0.0f);
     p.scene.colliders.push_back(ball);
     return p;
-}
-
-std::unordered_map<std::uint32_t, ParticleState> byId(const std::vector<ParticleState>& ps) {
-    std::unordered_map<std::uint32_t, ParticleState> out;
-    for (const ParticleState& p : ps)
-        out[p.id] = p;
-    return out;
-}
-
-// Largest position difference between the GPU and the reference [m].
-double maxPositionDifference(const std::vector<ParticleState>& gpu,
-                             const std::vector<ParticleState>& cpu) {
-    EXPECT_EQ(gpu.size(), cpu.size());
-    const auto ref = byId(cpu);
-    double worst = 0.0;
-    for (const ParticleState& p : gpu) {
-        auto it = ref.find(p.id);
-        EXPECT_NE(it, ref.end()) << "id " << p.id;
-        if (it == ref.end())
-            continue;
-        worst = std::max(worst, double(glm::length(p.position - it->second.position)));
-    }
-    return worst;
-}
-
-// Mean position difference [m].
-double meanPositionDifference(const std::vector<ParticleState>& a,
-                              const std::vector<ParticleState>& b) {
-    const auto ref = byId(b);
-    double sum = 0.0;
-    for (const ParticleState& p : a)
-        sum += glm::length(p.position - ref.at(p.id).position);
-    return a.empty() ? 0.0 : sum / double(a.size());
 }
 
 // Both neighbour grids: the domain box as above gives 5 x 50 x 7 cells, fewer than the hash

@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "sim/ColliderBands.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace fs = std::filesystem;

@@ -14,7 +14,7 @@
 #include "GpuTest.h"
 #include "SparseTestUtil.h"
 #include "shared/Pbf.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/SdfSampler.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/sim/ColliderRecord.h"

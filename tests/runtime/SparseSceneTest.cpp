@@ -13,9 +13,9 @@
 
 #include "GpuTest.h"
 #include "ProgramRun.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/SceneIO.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/scene/SceneIO.h"
+#include "sluice/format/asset/SdfSampler.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {

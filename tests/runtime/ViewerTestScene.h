@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "RuntimeTestScenes.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::rt::test {
 

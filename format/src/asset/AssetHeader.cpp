@@ -1,9 +1,9 @@
 // Packs and unpacks the fixed collider asset header (layout in AssetHeader.h).
-#include "sluice/format/AssetHeader.h"
+#include "sluice/format/asset/AssetHeader.h"
 
 #include <cstring>
 
-#include "Bytes.h"
+#include "asset/Bytes.h"
 
 namespace sluice::format {
 

@@ -1,5 +1,5 @@
 // Cereal (PortableBinary) encoding of ColliderMeta, with bounded reads for untrusted files.
-#include "AssetMeta.h"
+#include "asset/AssetMeta.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,8 @@
 #include <cereal/archives/portable_binary.hpp>
 #include <cereal/cereal.hpp>
 
-#include "sluice/format/Assert.h"
-#include "sluice/format/AssetHeader.h"
+#include "sluice/format/support/Assert.h"
+#include "sluice/format/asset/AssetHeader.h"
 
 namespace sluice::format::detail {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::format::detail {
 

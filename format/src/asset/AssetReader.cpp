@@ -4,13 +4,13 @@
 #include <cstring>
 #include <string>
 
-#include "AssetMeta.h"
-#include "Bytes.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/AtomicFile.h"
-#include "sluice/format/Half.h"
-#include "sluice/format/Hash.h"
-#include "sluice/format/NanoVdbCheck.h"
+#include "asset/AssetMeta.h"
+#include "asset/Bytes.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/asset/Half.h"
+#include "sluice/format/support/Hash.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
 
 namespace sluice::format {
 

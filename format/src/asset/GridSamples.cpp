@@ -1,9 +1,9 @@
 // The leaves of a sparse asset's NanoVDB tree, for code that must not include NanoVDB.
-#include "sluice/format/GridSamples.h"
+#include "sluice/format/asset/GridSamples.h"
 
 #include <nanovdb/NanoVDB.h>
 
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::format {
 

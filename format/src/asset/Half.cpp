@@ -1,5 +1,5 @@
 // fp16 conversion with round-to-nearest-even, done on the bit patterns.
-#include "sluice/format/Half.h"
+#include "sluice/format/asset/Half.h"
 
 #include <bit>
 

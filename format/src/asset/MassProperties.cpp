@@ -1,5 +1,5 @@
 // Volume, centre of mass and inertia of a collider's solid, integrated from its distance field.
-#include "sluice/format/MassProperties.h"
+#include "sluice/format/asset/MassProperties.h"
 
 #include <cmath>
 #include <numbers>

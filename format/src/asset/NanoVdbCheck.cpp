@@ -3,7 +3,7 @@
 // Offsets and sizes come from NanoVDB.h's own structs (offsetof/sizeof), so the layout checked
 // here is the one NanoVDB.h and PNanoVDB.h walk later. Every field is copied out with memcpy at
 // an offset already known to lie inside the buffer; nothing is dereferenced in place.
-#include "sluice/format/NanoVdbCheck.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
 
 #include <algorithm>
 #include <bit>
@@ -16,7 +16,7 @@
 
 #include <nanovdb/NanoVDB.h>
 
-#include "Bytes.h"
+#include "asset/Bytes.h"
 
 namespace sluice::format {
 

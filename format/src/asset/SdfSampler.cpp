@@ -1,5 +1,5 @@
 // Trilinear interpolation of the distance grid and its analytic gradient; rule for outside.
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 #include <nanovdb/NanoVDB.h>
 
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::format {
 

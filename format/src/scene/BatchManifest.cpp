@@ -1,12 +1,12 @@
 // Batch manifests: strict JSON, every field checked and named by its JSON path (Json.h's reads).
-#include "sluice/format/BatchManifest.h"
+#include "sluice/format/scene/BatchManifest.h"
 
 #include <fstream>
 #include <new>
 #include <set>
 
-#include "Json.h"
-#include "sluice/format/Suggest.h"
+#include "sluice/format/support/Suggest.h"
+#include "support/Json.h"
 
 namespace sluice::format {
 namespace {

@@ -1,5 +1,5 @@
 // Particle counts of fluid blocks and emitter discs by the lattice rules of docs/pbf.md.
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/scene/SceneIO.h"
 
 #include <algorithm>
 #include <cmath>

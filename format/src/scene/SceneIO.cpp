@@ -1,6 +1,6 @@
 // Scene files: JSON (read with cereal's rapidjson) to format::Scene, validated, defaults derived.
-#include "sluice/format/SceneIO.h"
-#include "sluice/format/SimulationLimits.h"
+#include "sluice/format/scene/SceneIO.h"
+#include "sluice/format/scene/SimulationLimits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,70 +11,23 @@
 
 #include <glm/geometric.hpp>
 
-#include "Json.h"
+#include "scene/SceneReading.h"
+#include "support/Json.h"
 
 namespace sluice::format {
 
 namespace {
 
+using namespace scene_detail;
 namespace fs = std::filesystem;
-namespace rj = detail::rj;
-using detail::formatFloat;
-using detail::formatNumber;
-using detail::JsonObject;
-using detail::readFloat;
 using detail::readNumber;
-using detail::readVec3;
-using detail::throwAt;
 
 constexpr detail::JsonFileKind kSceneKind{"the scene", "the scene file", "scene-file limit",
-                                         kMaxSceneFileBytes};
+                                          kMaxSceneFileBytes};
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kDefaultEmitterDuration = 10.0f; // [s] emitter stop when the file has none
 constexpr std::uint32_t kMaxDefaultSubsteps = 64;
 constexpr double kCflNumber = 0.4; // a particle moves at most 0.4 h per substep
-
-// Allowed interval of a number; compared in float, as the value is stored.
-struct Bounds {
-    float lo = -kInf;
-    float hi = kInf;
-    bool loOpen = false;
-    bool hiOpen = false;
-};
-
-Bounds closed(float lo, float hi) {
-    return {lo, hi, false, false};
-}
-Bounds atLeast(float lo) {
-    return {lo, kInf, false, false};
-}
-Bounds above(float lo) {
-    return {lo, kInf, true, false};
-}
-
-// "1.5 is out of range [0, 1]" or "-2 is out of range: must be > 0", plus an optional note.
-void checkRange(double value, const std::string& shown, const std::string& path,
-                const ParamRange& range) {
-    std::string problem = rangeProblem(value, shown, range);
-    if (!problem.empty())
-        throwAt(ErrorCode::InvalidArgument, path, std::move(problem));
-}
-
-float readFloatIn(const rj::Value& value, const std::string& path, const ParamRange& range) {
-    const float f = readFloat(value, path);
-    checkRange(f, formatNumber(value.GetDouble()), path, range);
-    return f;
-}
-
-float readFloatIn(const rj::Value& value, const std::string& path, Bounds b,
-                  const std::string& note = {}) {
-    return readFloatIn(value, path, ParamRange{b.lo, b.hi, b.loOpen, b.hiOpen, note});
-}
-
-std::string vecText(glm::vec3 v) {
-    return "[" + formatFloat(v.x) + ", " + formatFloat(v.y) + ", " + formatFloat(v.z) + "]";
-}
 
 // Reads {"min": [..], "max": [..]} with max > min on every axis.
 void readMinMax(const rj::Value& value, const std::string& path, glm::vec3& min, glm::vec3& max) {
@@ -101,8 +54,6 @@ private:
     void readSimulation(const rj::Value* value);
     FluidBlock readBlock(const rj::Value& value, const std::string& path);
     Emitter readEmitter(const rj::Value& value, const std::string& path);
-    SceneCollider readCollider(const rj::Value& value, const std::string& path);
-    DynamicBody readDynamic(const rj::Value& value, const std::string& path);
     void readCamera(const rj::Value& value, const std::string& path);
     void deriveCapacity();
     void deriveSubsteps();
@@ -158,8 +109,8 @@ void SceneParser::readSimulation(const rj::Value* value) {
         const rj::Value* v = o.find(key);
         if (v) {
             const ParamRange r = rangeOf(key);
-            out = std::uint32_t(detail::readInteger(*v, o.pathOf(key), std::int64_t(r.lo),
-                                                    std::int64_t(r.hi)));
+            out = std::uint32_t(
+                detail::readInteger(*v, o.pathOf(key), std::int64_t(r.lo), std::int64_t(r.hi)));
         }
         return v != nullptr;
     };
@@ -266,111 +217,6 @@ Emitter SceneParser::readEmitter(const rj::Value& value, const std::string& path
                     std::to_string(kMaxSceneParticles) + " particles (the limit) at spacing " +
                     formatFloat(s));
     return e;
-}
-
-SceneCollider SceneParser::readCollider(const rj::Value& value, const std::string& path) {
-    const JsonObject o(value, path,
-                       {"asset", "translation", "rotation", "scale", "friction", "motion",
-                        "dynamic"});
-    SceneCollider c;
-    c.asset = detail::readString(o.require("asset"), o.pathOf("asset"));
-    if (c.asset.empty() || c.asset.find('\0') != std::string::npos)
-        throwAt(ErrorCode::BadMetadata, o.pathOf("asset"),
-                "expected a file path, got an empty string or one with a NUL byte");
-    c.resolvedPath = (m_file.parent_path() / fs::path(c.asset)).lexically_normal().string();
-    if (const rj::Value* v = o.find("translation"))
-        c.translation = readVec3(*v, o.pathOf("translation"));
-    if (const rj::Value* v = o.find("rotation"))
-        c.rotationDegrees = readVec3(*v, o.pathOf("rotation"));
-    if (const rj::Value* v = o.find("scale"))
-        c.scale = readFloatIn(*v, o.pathOf("scale"), above(0.0f));
-    if (const rj::Value* v = o.find("friction"))
-        c.friction = readFloatIn(*v, o.pathOf("friction"), closed(0.0f, 1.0f));
-
-    if (const rj::Value* mv = o.find("motion")) {
-        const JsonObject m(*mv, o.pathOf("motion"),
-                           {"linearVelocity", "angularVelocity", "keyframes"});
-        if (const rj::Value* v = m.find("linearVelocity"))
-            c.linearVelocity = readVec3(*v, m.pathOf("linearVelocity"));
-        if (const rj::Value* v = m.find("angularVelocity"))
-            c.angularVelocityDegrees = readVec3(*v, m.pathOf("angularVelocity"));
-        if (const rj::Value* kv = m.find("keyframes")) {
-            if (m.has("linearVelocity") || m.has("angularVelocity"))
-                throwAt(ErrorCode::BadMetadata, m.path(),
-                        "has both \"keyframes\" and velocities; a collider moves by one or the "
-                        "other");
-            // The keys give the whole placement (docs/pbf.md), so a rest pose would be ignored.
-            for (const std::string_view key : {"translation", "rotation"})
-                if (o.has(key))
-                    throwAt(ErrorCode::BadMetadata, o.pathOf(key),
-                            "not allowed with motion.keyframes: the keys place the collider "
-                            "(give \"" +
-                                std::string(key) + "\" in each key)");
-            const std::string keysPath = m.pathOf("keyframes");
-            const rj::Value& keys = detail::requireArray(*kv, keysPath);
-            if (keys.Empty())
-                throwAt(ErrorCode::BadMetadata, keysPath, "needs at least 1 key, got none");
-            for (rj::SizeType i = 0; i < keys.Size(); ++i) {
-                const JsonObject k(keys[i], detail::joinIndex(keysPath, i),
-                                   {"time", "translation", "rotation"});
-                ColliderKey key;
-                key.time = readFloat(k.require("time"), k.pathOf("time"));
-                if (!c.keys.empty() && !(key.time > c.keys.back().time))
-                    throwAt(ErrorCode::InvalidArgument, k.pathOf("time"),
-                            formatNumber(k.require("time").GetDouble()) +
-                                " is not after the previous key's time " +
-                                formatFloat(c.keys.back().time) +
-                                " (times must strictly increase)");
-                key.translation = readVec3(k.require("translation"), k.pathOf("translation"));
-                if (const rj::Value* r = k.find("rotation"))
-                    key.rotationDegrees = readVec3(*r, k.pathOf("rotation"));
-                c.keys.push_back(key);
-            }
-        }
-    }
-
-    if (const rj::Value* dv = o.find("dynamic")) {
-        if (o.has("motion"))
-            throwAt(ErrorCode::BadMetadata, o.pathOf("dynamic"),
-                    "not allowed with \"motion\": a collider is moved by the fluid (dynamic) or "
-                    "by its motion (kinematic), not both");
-        c.dynamic = readDynamic(*dv, o.pathOf("dynamic"));
-    }
-
-    if (m_options.checkAssets) {
-        std::error_code ec;
-        const fs::file_status st = fs::status(c.resolvedPath, ec);
-        if (!fs::exists(st))
-            throwAt(ErrorCode::Io, o.pathOf("asset"),
-                    "collider asset not found: " + c.resolvedPath + " (bake it with sluice-bake)");
-        if (!fs::is_regular_file(st))
-            throwAt(ErrorCode::Io, o.pathOf("asset"),
-                    "collider asset is not a file: " + c.resolvedPath);
-    }
-    return c;
-}
-
-DynamicBody SceneParser::readDynamic(const rj::Value& value, const std::string& path) {
-    const JsonObject o(value, path,
-                       {"density", "mass", "linearVelocity", "angularVelocity", "friction",
-                        "restitution"});
-    DynamicBody d;
-    if (o.has("density") == o.has("mass"))
-        throwAt(ErrorCode::BadMetadata, path,
-                "needs exactly one of \"density\" [kg/m^3] and \"mass\" [kg]");
-    if (const rj::Value* v = o.find("density"))
-        d.density = readFloatIn(*v, o.pathOf("density"), above(0.0f));
-    if (const rj::Value* v = o.find("mass"))
-        d.mass = readFloatIn(*v, o.pathOf("mass"), above(0.0f));
-    if (const rj::Value* v = o.find("linearVelocity"))
-        d.linearVelocity = readVec3(*v, o.pathOf("linearVelocity"));
-    if (const rj::Value* v = o.find("angularVelocity"))
-        d.angularVelocityDegrees = readVec3(*v, o.pathOf("angularVelocity"));
-    if (const rj::Value* v = o.find("friction"))
-        d.friction = readFloatIn(*v, o.pathOf("friction"), closed(0.0f, 2.0f));
-    if (const rj::Value* v = o.find("restitution"))
-        d.restitution = readFloatIn(*v, o.pathOf("restitution"), closed(0.0f, 1.0f));
-    return d;
 }
 
 void SceneParser::readCamera(const rj::Value& value, const std::string& path) {
@@ -507,8 +353,8 @@ Scene SceneParser::parse(const rj::Value& root) {
                     std::to_string(colliders.Size()) + " colliders, more than the limit " +
                         std::to_string(kMaxSceneColliders));
         for (rj::SizeType i = 0; i < colliders.Size(); ++i)
-            m_scene.colliders.push_back(
-                readCollider(colliders[i], detail::joinIndex("colliders", i)));
+            m_scene.colliders.push_back(readCollider(
+                colliders[i], detail::joinIndex("colliders", i), m_file, m_options.checkAssets));
     }
     if (const rj::Value* v = o.find("camera"))
         readCamera(*v, "camera");

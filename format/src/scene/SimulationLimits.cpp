@@ -1,11 +1,11 @@
 // The simulation parameters' ranges (SimulationLimits.h): one table, one check.
-#include "sluice/format/SimulationLimits.h"
+#include "sluice/format/scene/SimulationLimits.h"
 
 #include <cmath>
 #include <limits>
 
-#include "sluice/format/Assert.h"
-#include "Json.h"
+#include "sluice/format/support/Assert.h"
+#include "support/Json.h"
 
 namespace sluice::format {
 namespace {
@@ -113,21 +113,20 @@ Result<void> checkSimulationParams(const SimulationParams& p) {
     }
     if (!std::isfinite(p.gravity.x) || !std::isfinite(p.gravity.y) || !std::isfinite(p.gravity.z))
         return fail(ErrorCode::NonFinite, "gravity is not finite");
-    const std::pair<std::string_view, std::uint32_t> counts[] = {
-        {"substeps", p.substeps},
-        {"minIterations", p.minIterations},
-        {"maxIterations", p.maxIterations},
-        {"capacity", p.capacity}};
+    const std::pair<std::string_view, std::uint32_t> counts[] = {{"substeps", p.substeps},
+                                                                 {"minIterations", p.minIterations},
+                                                                 {"maxIterations", p.maxIterations},
+                                                                 {"capacity", p.capacity}};
     for (const auto& [name, v] : counts) {
-        const std::string problem = rangeProblem(double(v), std::to_string(v),
-                                                 simulationParamRange(name, p.spacing, p.kernelRadius));
+        const std::string problem = rangeProblem(
+            double(v), std::to_string(v), simulationParamRange(name, p.spacing, p.kernelRadius));
         if (!problem.empty())
             return fail(ErrorCode::InvalidArgument, std::string(name) + ": " + problem);
     }
     if (p.maxIterations < p.minIterations)
-        return fail(ErrorCode::InvalidArgument,
-                    "maxIterations " + std::to_string(p.maxIterations) +
-                        " is less than minIterations " + std::to_string(p.minIterations));
+        return fail(ErrorCode::InvalidArgument, "maxIterations " + std::to_string(p.maxIterations) +
+                                                    " is less than minIterations " +
+                                                    std::to_string(p.minIterations));
     return {};
 }
 

@@ -1,5 +1,5 @@
 // Atomic replace-by-rename writes and size-bounded reads, on POSIX file descriptors.
-#include "sluice/format/AtomicFile.h"
+#include "sluice/format/support/AtomicFile.h"
 
 #include <atomic>
 #include <cerrno>

@@ -1,5 +1,5 @@
 // XXH3-64 over memory and over files, through libxxhash.
-#include "sluice/format/Hash.h"
+#include "sluice/format/support/Hash.h"
 
 #include <array>
 #include <cerrno>

@@ -1,6 +1,6 @@
 // Row flipping for images read back from OpenGL, and PNG files through stb_image_write (Debian's
 // libstb) encoded into memory, then written atomically.
-#include "sluice/format/Image.h"
+#include "sluice/format/support/Image.h"
 
 #include <algorithm>
 #include <span>
@@ -12,7 +12,7 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb_image_write.h>
 
-#include "sluice/format/AtomicFile.h"
+#include "sluice/format/support/AtomicFile.h"
 
 namespace sluice::format {
 

@@ -1,7 +1,7 @@
 // Strict, non-recursive JSON parsing that remembers where it was, and typed reads with paths.
-#include "Json.h"
+#include "support/Json.h"
 
-#include "sluice/format/Suggest.h"
+#include "sluice/format/support/Suggest.h"
 
 #include <algorithm>
 #include <charconv>

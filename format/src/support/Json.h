@@ -18,7 +18,7 @@
 #include <cereal/archives/json.hpp>
 #include <glm/vec3.hpp>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::format::detail {
 

@@ -1,5 +1,5 @@
 // Names of error codes, and the assert handler behind SLUICE_ASSERT.
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 #include <atomic>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // Edit distance and the closest known word, for "did you mean" in error messages.
-#include "sluice/format/Suggest.h"
+#include "sluice/format/support/Suggest.h"
 
 #include <algorithm>
 

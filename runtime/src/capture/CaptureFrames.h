@@ -11,7 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "capture/CaptureVideo.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/rt/render/Image.h"
 
 namespace sluice::rt {

@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 #include <sys/types.h>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/rt/render/Image.h"
 
 namespace sluice::rt {

@@ -14,7 +14,7 @@
 
 #include "play/SceneChecks.h"
 #include "shared/Pbf.h"
-#include "sluice/format/AtomicFile.h"
+#include "sluice/format/support/AtomicFile.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/play/PlayCli.h"
 #include "sluice/rt/sim/Simulation.h"

@@ -10,17 +10,17 @@
 
 #include <CLI/CLI.hpp>
 
-#include "play/Bench.h"
 #include "capture/CaptureFrames.h"
 #include "capture/CaptureVideo.h"
+#include "play/Bench.h"
 #include "play/PlayHeadless.h"
 #include "play/RunOutputs.h"
 #include "play/SceneChecks.h"
-#include "viewer/Viewer.h"
-#include "sluice/format/CliErrors.h"
-#include "sluice/format/SceneIO.h"
-#include "sluice/rt/sim/Simulation.h"
+#include "sluice/format/scene/SceneIO.h"
+#include "sluice/format/support/CliErrors.h"
 #include "sluice/rt/render/Renderer.h"
+#include "sluice/rt/sim/Simulation.h"
+#include "viewer/Viewer.h"
 
 namespace sluice::rt {
 namespace {
@@ -351,16 +351,13 @@ int play(const CLI::App& app, const PlayOptions& o, PlayMode mode) {
     return kExitInternal;
 }
 
-int run(int argc, char** argv) {
-    CLI::App app{"sluice-play: plays a Sluice fluid scene (Position Based Fluids on the GPU).",
-                 "sluice-play"};
-    app.set_version_flag("--version", std::string("sluice-play ") + SLUICE_VERSION);
-    app.footer(kExitCodeHelp);
-    PlayOptions o;
+// [steps] most steps (and step intervals) the options take: checked, never advertised.
+constexpr std::uint64_t kMaxSteps = std::uint64_t{1} << 40;
+
+// The scene, the run's length, its outputs and checks.
+void addRunOptions(CLI::App& app, PlayOptions& o) {
     app.add_option("scene", o.scene, "Scene file (.json)")->required();
     app.add_flag("--headless", o.headless, "Run without a window (EGL), printing statistics");
-    // [steps] most steps (and step intervals) the options take: checked, never advertised.
-    constexpr std::uint64_t kMaxSteps = std::uint64_t{1} << 40;
     app.add_option("--steps", o.steps, "Steps to run (each is the scene's timeStep)")
         ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_option("--stats-every", o.statsEvery,
@@ -376,12 +373,16 @@ int run(int argc, char** argv) {
                    "Invocations per particle in the solver's neighbour passes: 1, 2, 4, 8, 16 or "
                    "32 (default: 1 on a software renderer, on a GPU enough to fill it)")
         ->check(CLI::IsMember({1, 2, 4, 8, 16, 32}));
-    app.add_flag("--raster-spheres", o.rasterSpheres,
-                 "Rasterise every particle sphere (default: the ones of at most 8x8 pixels in a "
-                 "compute pass, the same pixels)");
     app.add_flag("--check", o.check,
                  "Exit 1 if a particle went non-finite or ended inside a collider");
     app.add_flag("--quiet", o.quiet, "Print nothing but errors");
+    app.add_flag("--strict", o.strict,
+                 "Treat every warning (scene checks, options that do nothing) as an error: "
+                 "exit 2 before the first step");
+}
+
+// --bench and what it measures.
+void addBenchOptions(CLI::App& app, PlayOptions& o) {
     app.add_flag("--bench", o.bench,
                  "Benchmark (headless): warm up, then the median step and pass times over --steps");
     app.add_option("--warmup", o.warmup, "Steps run before --bench measures (default 20)");
@@ -390,6 +391,10 @@ int run(int argc, char** argv) {
                    "With --bench: render N frames of the final state at --size (1920x1080), "
                    "waiting for each, and report every render pass's median GPU time")
         ->check(format::cli::wholeNumber(1, 100000));
+}
+
+// Pictures, video and the look of the frames, in a headless run and in the window.
+void addCaptureOptions(CLI::App& app, PlayOptions& o) {
     app.add_option("--frames", o.capture.framesDir,
                    "Write a PNG of every --every-th step into this folder (frame_STEP.png)");
     app.add_option("--every", o.capture.every, "Capture every K steps, from step 0 (default 1)")
@@ -408,21 +413,37 @@ int run(int argc, char** argv) {
     app.add_option("--colour", o.colour, "Particle colours: water, speed or density (error)");
     app.add_option("--surface", o.surface,
                    "Fluid drawn as spheres or as a screen-space fluid surface: spheres or fluid");
+    app.add_flag("--raster-spheres", o.rasterSpheres,
+                 "Rasterise every particle sphere (default: the ones of at most 8x8 pixels in a "
+                 "compute pass, the same pixels)");
+    app.add_option("--screenshot-at", o.capture.screenshotAt,
+                   "Write one PNG of step N (NAME-STEP.png), as the window's P key does");
+    app.add_option("--shots", o.capture.shotsDir,
+                   "Folder of screenshots: --screenshot-at and the window's P key (default: .)");
+}
+
+// The window only (and its screenshots with the panel).
+void addWindowOptions(CLI::App& app, PlayOptions& o) {
     app.add_option("--max-frames", o.maxFrames, "Window: close after N frames (tests, demos)");
     app.add_flag("--no-vsync", o.noVsync, "Window: do not wait for the display's refresh");
     app.add_flag("--no-panel", o.noPanel, "Window: start with the parameter panel hidden");
     app.add_option("--steps-per-frame", o.stepsPerFrame, "Window: steps per frame (default 1)")
         ->check(format::cli::wholeNumber(1, 1000));
-    app.add_option("--screenshot-at", o.capture.screenshotAt,
-                   "Write one PNG of step N (NAME-STEP.png), as the window's P key does");
-    app.add_option("--shots", o.capture.shotsDir,
-                   "Folder of screenshots: --screenshot-at and the window's P key (default: .)");
     app.add_flag("--screenshot-panel", o.screenshotPanel,
                  "Window: screenshots (P, --screenshot-at) include the panel, for bug reports; "
                  "the O key toggles it");
-    app.add_flag("--strict", o.strict,
-                 "Treat every warning (scene checks, options that do nothing) as an error: "
-                 "exit 2 before the first step");
+}
+
+int run(int argc, char** argv) {
+    CLI::App app{"sluice-play: plays a Sluice fluid scene (Position Based Fluids on the GPU).",
+                 "sluice-play"};
+    app.set_version_flag("--version", std::string("sluice-play ") + SLUICE_VERSION);
+    app.footer(kExitCodeHelp);
+    PlayOptions o;
+    addRunOptions(app, o);
+    addBenchOptions(app, o);
+    addCaptureOptions(app, o);
+    addWindowOptions(app, o);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

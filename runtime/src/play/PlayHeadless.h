@@ -9,8 +9,8 @@
 #include <glm/vec2.hpp>
 
 #include "capture/CaptureFrames.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/rt/render/Renderer.h"
 
 namespace sluice::rt {

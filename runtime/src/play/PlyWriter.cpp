@@ -6,7 +6,7 @@
 #include <cstring>
 #include <string>
 
-#include "sluice/format/AtomicFile.h"
+#include "sluice/format/support/AtomicFile.h"
 
 namespace sluice::rt {
 

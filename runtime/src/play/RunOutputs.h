@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::rt {
 

@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <limits>
 
-#include "sluice/format/GridSamples.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/GridSamples.h"
+#include "sluice/format/asset/SdfSampler.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {

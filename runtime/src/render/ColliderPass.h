@@ -8,9 +8,9 @@
 
 #include <glm/glm.hpp>
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/gpu/Texture3D.h"

@@ -6,7 +6,7 @@
 
 #include "GlObjects.h"
 #include "shared/Render.h"
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "sluice/rt/sim/Simulation.h"
 

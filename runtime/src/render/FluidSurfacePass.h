@@ -10,7 +10,7 @@
 
 #include "GlObjects.h"
 #include "SphereSplatPass.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Program.h"
 
 namespace sluice::rt {

@@ -2,7 +2,7 @@
 #include "sluice/rt/render/FrameReadback.h"
 
 #include "GlObjects.h"
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::rt {
 

@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "GlObjects.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
 

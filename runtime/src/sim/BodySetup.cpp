@@ -9,9 +9,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/matrix.hpp>
 
-#include "sluice/format/GridSamples.h"
-#include "sluice/format/MassProperties.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/GridSamples.h"
+#include "sluice/format/asset/MassProperties.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 namespace sluice::rt {
 

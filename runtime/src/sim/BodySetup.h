@@ -9,9 +9,9 @@
 #include <glm/vec4.hpp>
 
 #include "shared/Bodies.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {

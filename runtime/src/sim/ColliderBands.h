@@ -3,9 +3,9 @@
 
 #include <vector>
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
+#include "sluice/format/scene/Scene.h"
 
 namespace sluice::rt {
 

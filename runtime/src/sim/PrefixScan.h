@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/sim/GpuCommandCount.h"

@@ -7,7 +7,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice::rt {
 

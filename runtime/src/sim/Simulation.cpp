@@ -1,7 +1,7 @@
 // Simulation: creation from a scene and its colliders, live parameters, and the accessors
 // (the state is Simulation::Impl, SimulationImpl.h; the step is SimulationPasses.cpp).
 #include "sim/SimulationImpl.h"
-#include "sluice/format/SimulationLimits.h"
+#include "sluice/format/scene/SimulationLimits.h"
 
 namespace sluice::rt {
 namespace {

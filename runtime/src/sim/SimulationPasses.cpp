@@ -75,19 +75,22 @@ void Simulation::Impl::openEmptySubstep() const {
 // clears are ordered with the dispatches after them by GL itself.
 void Simulation::Impl::bindSharedBuffers() const {
     params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
-    statsBuf.bindStorage(shared::kBindStats);
-    colliderBuf.bindStorage(shared::kBindColliders);
-    sdfBuf.bindStorage(shared::kBindSdf);
-    cellCount.bindStorage(shared::kBindCellCount);
-    cellStart.bindStorage(shared::kBindCellStart);
-    hash.bindStorage(shared::kBindHash);
-    rank.bindStorage(shared::kBindRank);
-    sortedToOld.bindStorage(shared::kBindSortedToOld);
-    neighbourMask.bindStorage(shared::kBindNeighbourMask);
-    bodyBuf.bindStorage(shared::kBindBodies);
-    bodySums.bindStorage(shared::kBindBodySums);
-    bodySamples.bindStorage(shared::kBindBodySamples);
-    solveArgs.bindStorage(shared::kBindSolveArgs);
+    const std::pair<const gpu::Buffer*, GLuint> storage[] = {
+        {&statsBuf, shared::kBindStats},
+        {&colliderBuf, shared::kBindColliders},
+        {&sdfBuf, shared::kBindSdf},
+        {&cellCount, shared::kBindCellCount},
+        {&cellStart, shared::kBindCellStart},
+        {&hash, shared::kBindHash},
+        {&rank, shared::kBindRank},
+        {&sortedToOld, shared::kBindSortedToOld},
+        {&neighbourMask, shared::kBindNeighbourMask},
+        {&bodyBuf, shared::kBindBodies},
+        {&bodySums, shared::kBindBodySums},
+        {&bodySamples, shared::kBindBodySamples},
+        {&solveArgs, shared::kBindSolveArgs}};
+    for (const auto& [buffer, binding] : storage)
+        buffer->bindStorage(binding);
 }
 
 // Step 2: x* into pred[0], and each particle counted into its bucket; the solve's dispatch

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/asset/ColliderAsset.h"
 
 namespace sluice::rt {
 

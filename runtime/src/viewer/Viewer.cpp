@@ -1,7 +1,7 @@
 // The viewer window: GLFW set-up, input to camera, actions and the body drag, and the frame loop
 // (render, present with the panel, collect finished readbacks, step). Nothing in a frame waits
-// for the GPU but the dynamic bodies' poses: statistics, timers and captured frames all come back
-// through fences a few frames later.
+// for the GPU but the dynamic bodies' poses: statistics, timers and captured frames
+// (ViewerOutputs) all come back through fences a few frames later.
 #include "viewer/Viewer.h"
 
 #include <algorithm>
@@ -23,17 +23,18 @@
 #include <imgui.h>
 
 #include "capture/CaptureVideo.h"
-#include "viewer/ViewerBodies.h"
-#include "viewer/ViewerInput.h"
-#include "viewer/ViewerPanel.h"
-#include "viewer/ViewerPick.h"
-#include "viewer/ViewerSession.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/play/PlayCli.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
 #include "sluice/rt/render/FrameReadback.h"
 #include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/SceneFraming.h"
+#include "viewer/ViewerBodies.h"
+#include "viewer/ViewerInput.h"
+#include "viewer/ViewerOutputs.h"
+#include "viewer/ViewerPanel.h"
+#include "viewer/ViewerPick.h"
+#include "viewer/ViewerSession.h"
 
 namespace sluice::rt {
 namespace {
@@ -55,18 +56,6 @@ struct GlfwLibrary {
         gpu::keepDriverLoadedForLeakChecks(); // ASan builds: glfwTerminate would unload it
         glfwTerminate();
     }
-};
-
-// Frames per second [Hz] of a video that plays the simulation in real time.
-double realTimeFps(const format::Scene& scene, std::uint32_t stepsPerFrame) {
-    return 1.0 / (double(scene.simulation.timeStep) * double(std::max(stepsPerFrame, 1u)));
-}
-
-// Why a frame is read back (requests come back in order, so these queue beside them).
-struct ReadbackPurpose {
-    bool capture = false; // --frames / --video
-    bool screenshot = false;
-    bool record = false;
 };
 
 class ViewerApp final : public ViewerControl {
@@ -123,16 +112,7 @@ public:
 
     // Runs until the window closes or --max-frames; the exit code.
     int run() {
-        if (m_options.capture.frames()) {
-            auto capture = FrameCapture::start(m_options.capture, m_session->renderer().size(),
-                                               m_session->scene().simulation.timeStep);
-            if (!capture) {
-                std::cerr << "sluice-play: " << capture.error().message() << '\n';
-                return exitCodeFor(capture.error());
-            }
-            m_capture.emplace(std::move(*capture));
-        }
-        if (auto ok = createShotsFolder(m_options.capture); !ok) {
+        if (auto ok = m_outputs.start(*m_session); !ok) {
             std::cerr << "sluice-play: " << ok.error().message() << '\n';
             return exitCodeFor(ok.error());
         }
@@ -157,13 +137,13 @@ public:
             if (m_options.maxFrames > 0 && m_frames >= m_options.maxFrames)
                 break;
         }
-        finishOutputs();
+        m_outputs.finish(*m_session, m_ui);
         const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
         if (!m_options.quiet)
             std::cout << "sluice-play: " << m_frames << " frames, " << m_session->steps()
                       << " steps in " << seconds << " s (" << double(m_frames) / seconds
                       << " frames/s)\n";
-        return m_failed ? kExitBadInput : kExitOk;
+        return m_outputs.failed() ? kExitBadInput : kExitOk;
     }
 
     // ViewerControl: the GLFW callbacks call these too.
@@ -219,7 +199,7 @@ private:
                 m_ui.status = ok.error().message();
             Renderer& renderer = m_session->renderer();
             renderer.render(m_session->simulation(), m_camera, m_ui.render);
-            requestReadbacks();
+            m_outputs.requestReadbacks(*m_session, m_ui, m_actions.screenshot);
             if (m_frames % 8 == 0)
                 m_probe->record(m_session->simulation());
             if (auto stats = m_probe->poll())
@@ -232,10 +212,10 @@ private:
             glViewport(0, 0, width, height);
         }
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-        if (m_panelShotPending && width > 0 && height > 0)
-            requestWindowScreenshot(glm::uvec2(width, height));
+        if (m_outputs.panelShotPending() && width > 0 && height > 0)
+            m_outputs.requestWindowScreenshot(glm::uvec2(width, height), m_session->steps());
         glfwSwapBuffers(m_window);
-        writeReadbacks(false);
+        m_outputs.writeReadbacks(false, *m_session, m_ui);
 
         if (!m_ui.paused) {
             for (std::int32_t i = 0; i < m_ui.stepsPerFrame; ++i)
@@ -313,9 +293,7 @@ private:
     }
 
     void report(const Result<void>& result, const std::string& done) {
-        m_ui.status = result ? done : result.error().message();
-        if (!result)
-            std::cerr << "sluice-play: " << result.error().message() << '\n';
+        reportStatus(m_ui, result, done);
     }
 
     void handleActions() {
@@ -340,132 +318,7 @@ private:
             m_camera.frame(m_session->renderer().bounds(), float(size.x) / float(size.y));
         }
         if (a.toggleRecording)
-            toggleRecording();
-    }
-
-    void toggleRecording() {
-        if (m_recording) {
-            const std::string path = m_recording->path().string();
-            writeReadbacks(true);
-            report(m_recording->finish(), "saved " + path);
-            m_recording.reset();
-            m_ui.recording = false;
-            return;
-        }
-        char stamp[32];
-        const std::time_t now = std::time(nullptr);
-        std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::localtime(&now));
-        const std::string path = m_session->scene().name + "-" + stamp + ".mp4";
-        auto encoder =
-            VideoEncoder::start(path, m_session->renderer().size(),
-                                realTimeFps(m_session->scene(), std::uint32_t(m_ui.stepsPerFrame)));
-        if (!encoder) {
-            report(encoder.error(), "");
-            return;
-        }
-        m_recording.emplace(std::move(*encoder));
-        m_recordSize = m_session->renderer().size();
-        m_ui.recording = true;
-        m_ui.status = "recording " + path;
-    }
-
-    // Queues the readbacks this frame needs: capture steps, a screenshot, a recorded frame.
-    void requestReadbacks() {
-        const std::uint64_t step = m_session->steps();
-        ReadbackPurpose purpose;
-        if (m_capture && m_capture->wants(step) && step != m_lastCaptured) {
-            purpose.capture = true;
-            m_lastCaptured = step;
-        }
-        bool screenshot = m_actions.screenshot;
-        if (m_options.capture.screenshotAt == step && !m_shotAtTaken) {
-            screenshot = true;
-            m_shotAtTaken = true;
-        }
-        // A screenshot with the panel reads the window's back buffer once the panel is drawn.
-        purpose.screenshot = screenshot && !m_ui.screenshotPanel;
-        m_panelShotPending = screenshot && m_ui.screenshotPanel;
-        if (m_recording && step != m_lastRecorded) {
-            if (m_session->renderer().size() == m_recordSize) {
-                purpose.record = true;
-                m_lastRecorded = step;
-            } else {
-                report(m_recording->finish(), "the window changed size: recording stopped, saved " +
-                                                  m_recording->path().string());
-                m_recording.reset();
-                m_ui.recording = false;
-            }
-        }
-        if (!purpose.capture && !purpose.screenshot && !purpose.record)
-            return;
-        const Renderer& renderer = m_session->renderer();
-        m_readback.request(renderer.outputFramebuffer(), renderer.size(), step);
-        m_purposes.push_back(purpose);
-    }
-
-    // Queues a copy of the window's back buffer (scene, panel and help) as a screenshot.
-    void requestWindowScreenshot(glm::uvec2 size) {
-        m_readback.request(0, size, m_session->steps());
-        ReadbackPurpose purpose;
-        purpose.screenshot = true;
-        m_purposes.push_back(purpose);
-        m_panelShotPending = false;
-    }
-
-    // Writes the frames whose readback finished; `wait` for all of them.
-    void writeReadbacks(bool wait) {
-        for (ReadbackFrame& frame : m_readback.collect(wait)) {
-            const ReadbackPurpose purpose = m_purposes.front();
-            m_purposes.pop_front();
-            if (purpose.capture && m_capture) {
-                if (auto ok = m_capture->write(frame.tag, frame.image); !ok) {
-                    report(ok, "");
-                    m_capture.reset();
-                    m_failed = true;
-                }
-            }
-            if (purpose.screenshot)
-                screenshot(frame);
-            if (purpose.record && m_recording) {
-                if (auto ok = m_recording->write(frame.image); !ok) {
-                    report(ok, "");
-                    m_recording.reset();
-                    m_ui.recording = false;
-                }
-            }
-        }
-    }
-
-    void screenshot(const ReadbackFrame& frame) {
-        const std::filesystem::path path =
-            screenshotPath(m_options.capture.shotsDir, m_session->scene().name, frame.tag);
-        report(writePng(path, frame.image), "saved " + path.string());
-        if (!m_options.quiet && m_options.capture.screenshotAt == frame.tag)
-            std::cout << "sluice-play: screenshot " << path.string() << '\n';
-    }
-
-    void finishOutputs() {
-        writeReadbacks(true);
-        if (m_recording) {
-            report(m_recording->finish(), "saved " + m_recording->path().string());
-            if (!m_options.quiet)
-                std::cout << "sluice-play: " << m_ui.status << '\n';
-            m_recording.reset();
-        }
-        if (m_capture) {
-            if (auto ok = m_capture->finish(); !ok) {
-                report(ok, "");
-                m_failed = true;
-            } else if (!m_options.quiet) {
-                std::cout << "sluice-play: captured " << m_capture->framesWritten() << " frames";
-                if (!m_options.capture.framesDir.empty())
-                    std::cout << " into " << m_options.capture.framesDir;
-                if (!m_options.capture.video.empty())
-                    std::cout << " and " << m_options.capture.video;
-                std::cout << '\n';
-            }
-            m_capture.reset();
-        }
+            m_outputs.toggleRecording(*m_session, m_ui);
     }
 
     GLFWwindow* m_window;
@@ -478,13 +331,7 @@ private:
     std::optional<FluidStats> m_fluid;
     std::optional<double> m_renderGpuMs;
     RenderPassTimes m_renderPassMs{-1.0, -1.0, -1.0, -1.0};
-    FrameReadback m_readback{3};
-    std::deque<ReadbackPurpose> m_purposes;
-    std::optional<FrameCapture> m_capture;
-    std::optional<VideoEncoder> m_recording;
-    glm::uvec2 m_recordSize{0};
-    std::uint64_t m_lastCaptured = ~std::uint64_t{0};
-    std::uint64_t m_lastRecorded = ~std::uint64_t{0};
+    ViewerOutputs m_outputs{m_options};
     std::uint64_t m_frames = 0;
     double m_frameMs = 0.0;
     double m_stepsPerSecond = 0.0;
@@ -493,9 +340,6 @@ private:
     ViewerInput m_input;
     std::vector<BodyState> m_bodies; // read this frame; empty when not needed
     BodyReadout m_readout;
-    bool m_failed = false;
-    bool m_shotAtTaken = false;
-    bool m_panelShotPending = false; // this frame's screenshot waits for the panel
 };
 
 // ImGui's context and backends for one window (RAII).

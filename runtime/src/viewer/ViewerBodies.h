@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "sluice/format/Scene.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {

@@ -11,7 +11,7 @@
 
 #include "viewer/ViewerBodies.h"
 #include "viewer/ViewerPick.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
 #include "sluice/rt/render/OrbitCamera.h"

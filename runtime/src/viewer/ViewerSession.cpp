@@ -4,8 +4,8 @@
 
 #include <algorithm>
 
-#include "sluice/format/Assert.h"
-#include "sluice/format/SceneIO.h"
+#include "sluice/format/support/Assert.h"
+#include "sluice/format/scene/SceneIO.h"
 
 namespace sluice::rt {
 

@@ -11,9 +11,9 @@
 #include <glm/glm.hpp>
 
 #include "viewer/ViewerPick.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/Renderer.h"
 

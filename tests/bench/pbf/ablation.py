@@ -13,14 +13,12 @@ and prints per-pass medians, wall and CPU seconds. Results: docs/results/pbf_abl
     python3 tests/bench/pbf/ablation.py --build build/h-perf
 """
 
-import argparse
 import datetime
 import json
 import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, HERE)
 
 import sweep  # noqa: E402
@@ -34,19 +32,9 @@ VARIANTS = {
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--build", default="build/dev")
-    p.add_argument("--particles", type=int, default=10000)
-    p.add_argument("--warmup", type=int, default=10)
-    p.add_argument("--steps", type=int, default=10)
-    p.add_argument("--repeat", type=int, default=2, help="runs per variant, interleaved")
-    p.add_argument("--machine", default="llvmpipe")
-    p.add_argument("--out")
-    a = p.parse_args()
-    a.out = a.out or os.path.join(ROOT, "docs", "results", f"pbf_ablation_{a.machine}.json")
-    build = os.path.abspath(a.build)
-    play = os.path.join(build, "bin", "sluice-play")
-    assets = os.path.join(build, "assets")
+    a, play, assets = sweep.parse_bench_args(
+        __doc__, [("--particles", dict(type=int, default=10000))], warmup=10, steps=10, repeat=2,
+        repeat_help="runs per variant, interleaved", results_name="pbf_ablation")
     work = os.path.join(assets, "pbf-ablation")
     runs = []
     for rep in range(a.repeat):

@@ -11,7 +11,6 @@ pass itself, both from the same run. Results: docs/results/pbf_bodies_<machine>.
     python3 tests/bench/pbf/bodies.py --build build/dev --repeat 3
 """
 
-import argparse
 import datetime
 import json
 import math
@@ -20,7 +19,6 @@ import statistics
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, HERE)
 
 import sweep  # noqa: E402
@@ -52,20 +50,11 @@ def make_scene(bodies, spacing):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--build", default="build/dev")
-    p.add_argument("--bodies", default="0,1,16,64")
-    p.add_argument("--spacing", type=float, default=0.02)
-    p.add_argument("--warmup", type=int, default=30)
-    p.add_argument("--steps", type=int, default=10)
-    p.add_argument("--repeat", type=int, default=3, help="runs per body count, interleaved")
-    p.add_argument("--machine", default="llvmpipe")
-    p.add_argument("--out")
-    a = p.parse_args()
-    a.out = a.out or os.path.join(ROOT, "docs", "results", f"pbf_bodies_{a.machine}.json")
-    build = os.path.abspath(a.build)
-    play = os.path.join(build, "bin", "sluice-play")
-    assets = os.path.join(build, "assets")
+    a, play, assets = sweep.parse_bench_args(
+        __doc__, [("--bodies", dict(default="0,1,16,64")),
+                  ("--spacing", dict(type=float, default=0.02))],
+        warmup=30, steps=10, repeat=3, repeat_help="runs per body count, interleaved",
+        results_name="pbf_bodies")
     counts = [int(c) for c in a.bodies.split(",")]
     runs = []
     for rep in range(a.repeat):

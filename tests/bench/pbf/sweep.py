@@ -45,6 +45,27 @@ DEFAULT_SCHEDULE = [  # (up to this many particles, warmup, steps)
 ]
 
 
+def parse_bench_args(doc, specific, warmup, steps, repeat, repeat_help, results_name):
+    """Parses what the bench scripts beside this one take: --build, their own options
+    (`specific`: (flag, kwargs) pairs), --warmup, --steps, --repeat, --machine, --out (default
+    docs/results/<results_name>_<machine>.json). Returns the arguments and the build's
+    sluice-play and assets folder."""
+    p = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    p.add_argument("--build", default="build/dev")
+    for flag, kwargs in specific:
+        p.add_argument(flag, **kwargs)
+    p.add_argument("--warmup", type=int, default=warmup)
+    p.add_argument("--steps", type=int, default=steps)
+    p.add_argument("--repeat", type=int, default=repeat, help=repeat_help)
+    p.add_argument("--machine", default="llvmpipe")
+    p.add_argument("--out")
+    a = p.parse_args()
+    root = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."))
+    a.out = a.out or os.path.join(root, "docs", "results", f"{results_name}_{a.machine}.json")
+    build = os.path.abspath(a.build)
+    return a, os.path.join(build, "bin", "sluice-play"), os.path.join(build, "assets")
+
+
 def block_count(lo, hi, spacing):
     """Particles of a box block at `spacing` (docs/pbf.md "Initial state", in float32 as read)."""
     import struct

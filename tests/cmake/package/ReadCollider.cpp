@@ -1,8 +1,8 @@
 // Reads a collider asset through the installed format library: read_collider ASSET.slc.
 #include <cstdio>
 
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 int main(int argc, char** argv) {
     if (argc != 2) {

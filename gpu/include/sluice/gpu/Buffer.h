@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "sluice/format/Assert.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Assert.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Gl.h"
 
 namespace sluice::gpu {

@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Debug.h"
 
 namespace sluice::gpu {

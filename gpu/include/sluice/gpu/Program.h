@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Gl.h"
 
 namespace sluice::gpu {

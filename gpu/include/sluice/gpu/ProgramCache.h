@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Program.h"
 
 namespace sluice::gpu {

@@ -8,9 +8,9 @@
 #include <string_view>
 #include <vector>
 
-#include "sluice/format/AssetHeader.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/AssetHeader.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::format {
 

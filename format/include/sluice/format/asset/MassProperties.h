@@ -1,8 +1,8 @@
 // Mass properties of a collider's solid integrated from its distance field.
 #pragma once
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::format {
 

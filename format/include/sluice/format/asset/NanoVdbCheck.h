@@ -9,7 +9,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::format {
 

@@ -3,7 +3,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/asset/ColliderAsset.h"
 
 namespace sluice::format {
 

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::format {
 

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <string_view>
 
-#include "sluice/format/Result.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/support/Result.h"
+#include "sluice/format/scene/Scene.h"
 
 namespace sluice::format {
 

@@ -14,7 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "sluice/format/Suggest.h"
+#include "sluice/format/support/Suggest.h"
 
 namespace sluice::format::cli {
 

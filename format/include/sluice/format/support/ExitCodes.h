@@ -1,7 +1,7 @@
 // Process exit codes of sluice-bake and sluice-play, and the one mapping from an Error to them.
 #pragma once
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice {
 

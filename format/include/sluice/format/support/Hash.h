@@ -7,7 +7,7 @@
 #include <span>
 #include <string>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::format {
 

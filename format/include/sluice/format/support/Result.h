@@ -6,7 +6,7 @@
 #include <utility>
 #include <variant>
 
-#include "sluice/format/Assert.h"
+#include "sluice/format/support/Assert.h"
 
 namespace sluice {
 

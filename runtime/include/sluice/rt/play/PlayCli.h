@@ -1,8 +1,8 @@
 // The sluice-play command line: loads a scene and its colliders and plays it.
 #pragma once
 
-#include "sluice/format/ExitCodes.h" // the exit codes runPlay returns
-#include "sluice/format/Result.h"
+#include "sluice/format/support/ExitCodes.h" // the exit codes runPlay returns
+#include "sluice/format/support/Result.h"
 
 namespace sluice::rt {
 

@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {

@@ -7,7 +7,7 @@
 #include <optional>
 #include <vector>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
 

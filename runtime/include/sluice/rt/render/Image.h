@@ -1,7 +1,7 @@
 // The renderer's pictures: format::Image (8-bit RGB, top row first) and its PNG writer.
 #pragma once
 
-#include "sluice/format/Image.h"
+#include "sluice/format/support/Image.h"
 
 namespace sluice::rt {
 

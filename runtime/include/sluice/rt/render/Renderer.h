@@ -12,9 +12,9 @@
 
 #include <glm/glm.hpp>
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/gpu/Gl.h"
 #include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/OrbitCamera.h"

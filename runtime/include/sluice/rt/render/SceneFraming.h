@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/rt/render/OrbitCamera.h"
 
 namespace sluice::rt {

@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "shared/Pbf.h"
-#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/asset/ColliderAsset.h"
 
 namespace sluice::rt {
 

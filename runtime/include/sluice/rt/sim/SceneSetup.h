@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "sluice/format/Scene.h"
+#include "sluice/format/scene/Scene.h"
 
 namespace sluice::rt {
 

@@ -12,9 +12,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
-#include "sluice/format/Scene.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/rt/sim/GpuCommandCount.h"
 #include "sluice/rt/sim/SceneSetup.h"

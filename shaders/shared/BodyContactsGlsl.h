@@ -1,0 +1,313 @@
+// GLSL only: the rigid-body math and the contact tests of the body pass (pbf_bodies.comp,
+// docs/bodies.md): quaternions, inertia, a contact's correction (Mueller et al. 2020), the
+// pairs' shares, and the walls and static colliders point by point. Include it after the pass's
+// declarations it reads: the body records and colliders (PBF_WITH_BODIES, PBF_WITH_COLLIDERS,
+// shared/PbfGlsl.h), the contact points `samples`, the reaction sums `bodySums`, and the shared
+// poses of the sweep `sPosition` and `sOrientation`.
+#ifndef SLUICE_SHARED_BODY_CONTACTS_GLSL_H
+#define SLUICE_SHARED_BODY_CONTACTS_GLSL_H
+
+#ifndef __cplusplus
+
+vec4 quatMul(vec4 a, vec4 b) {
+    return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
+}
+
+vec3 rotate(vec4 q, vec3 v) {
+    vec3 t = 2.0 * cross(q.xyz, v);
+    return v + q.w * t + cross(q.xyz, t);
+}
+
+mat3 rotationOf(vec4 q) {
+    return mat3(rotate(q, vec3(1.0, 0.0, 0.0)), rotate(q, vec3(0.0, 1.0, 0.0)),
+                rotate(q, vec3(0.0, 0.0, 1.0)));
+}
+
+// World inverse inertia R I^-1 R^T of body o at orientation q.
+mat3 worldInvInertia(uint o, vec4 q) {
+    mat3 r = rotationOf(q);
+    return r * mat3(bodies[o].invInertia) * transpose(r);
+}
+
+// Component `axis` of body b's fixed-point sum that starts at word `sum` (shared/Bodies.h), a
+// 64-bit two's-complement integer, as a double.
+double sumAt(uint b, uint sum, uint axis) {
+    uint lo = bodySumWord(b, sum, axis);
+    uint hi = bodySums[lo + 1u];
+    double high = hi >= 0x80000000u ? double(hi) - 4294967296.0 : double(hi);
+    return high * 4294967296.0 + double(bodySums[lo]);
+}
+
+// Body b's vector sum that starts at word `sum`.
+vec3 sumOf(uint b, uint sum) {
+    return vec3(sumAt(b, sum, 0u), sumAt(b, sum, 1u), sumAt(b, sum, 2u));
+}
+
+// Body b's contact point s relative to its centre of mass, in the asset's axes at world scale.
+vec3 armOf(uint b, uint s) {
+    return bodies[b].scale * (samples[bodies[b].sampleOffset + s].xyz - bodies[b].centerLocal);
+}
+
+// How far world point w lies beyond the wall below and the wall above on axis a: the domain's
+// walls sit one particle radius beyond the box particles are kept in.
+vec2 wallDepths(int a, vec3 w) {
+    return vec2((P.domainMin[a] - PBF_RADIUS) - w[a], w[a] - (P.domainMax[a] + PBF_RADIUS));
+}
+
+// Generalised inverse mass of body o at arm r along direction n (Mueller et al. 2020, eq. 2).
+float inverseMassAt(uint o, mat3 invI, vec3 r, vec3 n) {
+    vec3 rn = cross(r, n);
+    return bodies[o].invMass + dot(rn, invI * rn);
+}
+
+// The correction `resolve` would make, without making it: the position step and the rotation
+// step (the quaternion increment's vector part, to be applied as q += (turn, 0) q / 2).
+void correction(uint b, vec3 x, vec4 q, vec3 arm, vec3 pStart, vec3 n, float depth, float share,
+                out vec3 dx, out vec3 turn) {
+    mat3 invI = worldInvInertia(b, q);
+    vec3 r = rotate(q, arm);
+    float dn = share * depth / inverseMassAt(b, invI, r, n);
+    vec3 p = dn * n;
+    vec3 slip = (x + r) - pStart;
+    slip -= dot(slip, n) * n;
+    float slipLength = length(slip);
+    if (slipLength > 0.0) {
+        vec3 t = slip / slipLength;
+        float dtan = min(share * slipLength / inverseMassAt(b, invI, r, t), bodies[b].friction * dn);
+        p -= dtan * t;
+    }
+    dx = p * bodies[b].invMass;
+    turn = invI * cross(r, p);
+}
+
+// One contact of body b resolved at once (Gauss-Seidel): its point at arm r (world) from the
+// centre is `depth` inside something whose surface normal there is n; `share` of the correction
+// is the body's. Pushes out along n and, within the Coulomb cone, removes the point's tangential
+// motion since the substep start (slip); position-level, so velocities follow from the pose.
+void resolve(uint b, inout vec3 x, inout vec4 q, vec3 arm, vec3 pStart, vec3 n, float depth,
+             float share) {
+    vec3 dx, turn;
+    correction(b, x, q, arm, pStart, n, depth, share, dx, turn);
+    x += dx;
+    q = normalize(q + 0.5 * quatMul(vec4(turn, 0.0), q));
+}
+
+// phi [m] and outward normal of body o, posed at (sPosition[o], sOrientation[o]), at world w.
+float bodyDistance(uint o, vec3 w, out vec3 normal) {
+    vec4 qo = sOrientation[o];
+    float s = bodies[o].scale;
+    vec3 local = rotate(vec4(-qo.xyz, qo.w), w - sPosition[o]) / s + bodies[o].centerLocal;
+    float phi;
+    vec3 grad;
+    sampleCollider(bodies[o].collider, local, phi, grad);
+    normal = rotate(qo, grad);
+    return s * phi;
+}
+
+// Whether a static collider can touch body b (centre x, bounding radius reach): false when the
+// centre lies inside the collider's grid box, where phi is the interpolated distance, and phi
+// there exceeds the reach. Outside the box phi may overestimate, so every point is tested.
+bool mayTouch(uint c, vec3 x, float reach) {
+    vec3 q = (colliders[c].worldToGrid * vec4(x, 1.0)).xyz;
+    if (any(lessThan(q, colliders[c].origin)) || any(greaterThan(q, colliders[c].boxMax)))
+        return true;
+    vec3 n;
+    return colliderDistance(c, x, n) <= reach;
+}
+
+// Lane `lane` of `lanes`'s share of body b's corrections against the other bodies in one
+// sweep: its points lane, lane + lanes, ... tested against the bodies whose bounding spheres
+// meet this one's, at their poses of this sweep's start. The corrections are summed, not
+// applied: the sweep averages them over all the body's points (sPairStep).
+void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, bool first,
+               out vec3 stepSum, out vec3 turnSum, out uint count, out float deepest,
+               out uint touching, out vec3 normalSum) {
+    stepSum = vec3(0.0);
+    turnSum = vec3(0.0);
+    normalSum = vec3(0.0);
+    count = 0u;
+    touching = 0u;
+    deepest = 0.0;
+    GpuBody body = bodies[b];
+    float reach = body.boundRadius;
+    uint bodyMask = 0u, bodyMaskHigh = 0u; // bit o: body o's sphere meets this one's
+    for (uint o = 0u; o < P.bodyCount; ++o) {
+        vec3 d = sPosition[o] - x;
+        float r = reach + bodies[o].boundRadius;
+        if (o != b && dot(d, d) < r * r) {
+            if (o < 32u)
+                bodyMask |= 1u << o;
+            else
+                bodyMaskHigh |= 1u << (o - 32u);
+        }
+    }
+    if (bodyMask == 0u && bodyMaskHigh == 0u)
+        return;
+    mat3 invI = worldInvInertia(b, q);
+    for (uint s = lane; s < body.sampleCount; s += lanes) {
+        vec3 arm = armOf(b, s);
+        vec3 pStart = x0 + rotate(q0, arm);
+        vec3 w = x + rotate(q, arm);
+        for (uint o = 0u; o < P.bodyCount; ++o) {
+            bool near = o < 32u ? (bodyMask & (1u << o)) != 0u
+                                : (bodyMaskHigh & (1u << (o - 32u))) != 0u;
+            if (!near)
+                continue;
+            vec3 toOther = w - sPosition[o];
+            if (dot(toOther, toOther) >= bodies[o].boundRadius * bodies[o].boundRadius)
+                continue;
+            vec3 n;
+            float phi = bodyDistance(o, w, n);
+            float len = length(n);
+            if (!(phi < 0.0) || !(len > 0.0))
+                continue;
+            n /= len;
+            // The pair splits the correction by their inverse masses at the point; the other
+            // body moves its share when it tests its own points against this one.
+            float mine = inverseMassAt(b, invI, w - x, n);
+            float theirs = inverseMassAt(o, worldInvInertia(o, sOrientation[o]), toOther, n);
+            if (first) {
+                deepest = max(deepest, -phi);
+                ++touching;
+            }
+            normalSum += n;
+            // Against another body the corrections of the sweep are averaged, not chained:
+            // each point would otherwise see the depth the previous one left and take its
+            // share of that again, and both bodies together would move the whole depth each.
+            vec3 dx, turn;
+            correction(b, x, q, arm, pStart, n, -phi, mine / (mine + theirs), dx, turn);
+            stepSum += dx;
+            turnSum += turn;
+            ++count;
+        }
+    }
+}
+
+// What body b's bounding sphere, centred at `xStart`, may touch in this sweep: the domain's
+// walls below and above on each axis, and the static colliders (bit c; beyond 32 always).
+struct Reach {
+    bvec3 wallLo;
+    bvec3 wallHi;
+    uint staticMask;
+};
+
+Reach reachOf(uint b, vec3 xStart) {
+    Reach r;
+    float reach = bodies[b].boundRadius;
+    r.wallLo = bvec3(false);
+    r.wallHi = bvec3(false);
+    if (P.hasDomain != 0u) {
+        r.wallLo = lessThan(xStart - reach, P.domainMin - PBF_RADIUS);
+        r.wallHi = greaterThan(xStart + reach, P.domainMax + PBF_RADIUS);
+    }
+    r.staticMask = 0u;
+    for (uint c = 0u; c < min(P.colliderCount, 32u); ++c)
+        if (colliders[c].body == kNoBody && mayTouch(c, xStart, reach))
+            r.staticMask |= 1u << c;
+    return r;
+}
+
+uvec2 packReach(Reach r) {
+    uvec3 lo = uvec3(r.wallLo), hi = uvec3(r.wallHi);
+    return uvec2(lo.x | lo.y << 1 | lo.z << 2 | hi.x << 3 | hi.y << 4 | hi.z << 5, r.staticMask);
+}
+
+Reach unpackReach(uvec2 bits) {
+    Reach r;
+    r.wallLo = notEqual(uvec3(bits.x) & uvec3(1u, 2u, 4u), uvec3(0u));
+    r.wallHi = notEqual(uvec3(bits.x) & uvec3(8u, 16u, 32u), uvec3(0u));
+    r.staticMask = bits.y;
+    return r;
+}
+
+bool reachesAnything(Reach r) {
+    return any(r.wallLo) || any(r.wallHi) || r.staticMask != 0u || P.colliderCount > 32u;
+}
+
+bool staticInReach(Reach r, uint c) {
+    return colliders[c].body == kNoBody && (c >= 32u || (r.staticMask & (1u << c)) != 0u);
+}
+
+// Whether body b's contact point at world w is within `margin` of a wall or a static collider
+// it may touch: the points the sequential pass below visits.
+bool nearWallOrStatic(Reach r, vec3 w, float margin) {
+    for (int a = 0; a < 3; ++a) {
+        vec2 beyond = wallDepths(a, w);
+        if ((r.wallLo[a] && beyond.x > -margin) || (r.wallHi[a] && beyond.y > -margin))
+            return true;
+    }
+    for (uint c = 0u; c < P.colliderCount; ++c) {
+        if (!staticInReach(r, c))
+            continue;
+        vec3 n;
+        if (colliderDistance(c, w, n) < margin)
+            return true;
+    }
+    return false;
+}
+
+// Body b's contact point s against the domain box and the static colliders, resolved at once
+// (Gauss-Seidel), so their friction acts on what the pairs left.
+void wallsAndStatics(uint b, Reach r, uint s, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q,
+                     bool first, inout float deepest, inout uint touching,
+                     inout vec3 normalSum) {
+    vec3 arm = armOf(b, s);
+    vec3 pStart = x0 + rotate(q0, arm);
+    for (int a = 0; a < 3; ++a) {
+        if (!r.wallLo[a] && !r.wallHi[a])
+            continue;
+        vec2 beyond = wallDepths(a, x + rotate(q, arm));
+        float below = beyond.x, above = beyond.y;
+        vec3 axis = vec3(0.0);
+        axis[a] = 1.0;
+        if (below > 0.0 || above > 0.0) {
+            float depth = max(below, above);
+            vec3 n = below > 0.0 ? axis : -axis;
+            if (first) {
+                deepest = max(deepest, depth);
+                ++touching;
+            }
+            normalSum += n;
+            resolve(b, x, q, arm, pStart, n, depth, 1.0);
+        }
+    }
+    for (uint c = 0u; c < P.colliderCount; ++c) {
+        if (!staticInReach(r, c))
+            continue;
+        vec3 w = x + rotate(q, arm);
+        vec3 n;
+        float phi = colliderDistance(c, w, n);
+        float len = length(n);
+        if (!(phi < 0.0) || !(len > 0.0))
+            continue;
+        if (first) {
+            deepest = max(deepest, -phi);
+            ++touching;
+        }
+        normalSum += n / len;
+        resolve(b, x, q, arm, pStart, n / len, -phi, 1.0);
+    }
+}
+
+// Collider record of body b at its new pose, with `motion` from its pose at the substep start.
+void writeCollider(GpuBody body, vec3 x0, vec4 q0) {
+    float s = body.scale;
+    mat3 r = rotationOf(body.orientation);
+    vec3 t = body.position - r * (s * body.centerLocal);
+    mat3 inv = transpose(r) / s;
+    mat4 toGrid = mat4(vec4(inv[0], 0.0), vec4(inv[1], 0.0), vec4(inv[2], 0.0),
+                       vec4(-(inv * t), 1.0));
+    mat3 r0 = rotationOf(q0);
+    vec3 t0 = x0 - r0 * (s * body.centerLocal);
+    mat4 before = mat4(vec4(s * r0[0], 0.0), vec4(s * r0[1], 0.0), vec4(s * r0[2], 0.0),
+                       vec4(t0, 1.0));
+    uint c = body.collider;
+    colliders[c].worldToGrid = toGrid;
+    colliders[c].rotation = mat4(r);
+    colliders[c].motion = before * toGrid;
+    colliders[c].scale = s;
+}
+
+#endif // !__cplusplus
+
+#endif // SLUICE_SHARED_BODY_CONTACTS_GLSL_H

@@ -1,0 +1,52 @@
+// Test support: two particle sets (the GPU's and the CPU reference's, or two runs) compared
+// particle by particle, matched by id.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "sluice/rt/sim/SceneSetup.h"
+
+namespace sluice::rt::test {
+
+/// The particles by id.
+inline std::unordered_map<std::uint32_t, ParticleState>
+byId(const std::vector<ParticleState>& particles) {
+    std::unordered_map<std::uint32_t, ParticleState> out;
+    for (const ParticleState& p : particles)
+        out[p.id] = p;
+    return out;
+}
+
+/// Largest position difference between `a` and `b` by id [m]; every id of `a` must be in `b`,
+/// and they must hold as many.
+inline double maxPositionDifference(const std::vector<ParticleState>& a,
+                                    const std::vector<ParticleState>& b) {
+    EXPECT_EQ(a.size(), b.size());
+    const auto ref = byId(b);
+    double worst = 0.0;
+    for (const ParticleState& p : a) {
+        const auto it = ref.find(p.id);
+        EXPECT_NE(it, ref.end()) << "id " << p.id << " only on one side";
+        if (it != ref.end())
+            worst = std::max(worst, double(glm::length(p.position - it->second.position)));
+    }
+    return worst;
+}
+
+/// Mean position difference between `a` and `b` by id [m].
+inline double meanPositionDifference(const std::vector<ParticleState>& a,
+                                     const std::vector<ParticleState>& b) {
+    const auto ref = byId(b);
+    double sum = 0.0;
+    for (const ParticleState& p : a)
+        sum += glm::length(p.position - ref.at(p.id).position);
+    return a.empty() ? 0.0 : sum / double(a.size());
+}
+
+} // namespace sluice::rt::test
