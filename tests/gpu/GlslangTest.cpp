@@ -17,7 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "ProgramRun.h"
-#include "TempDir.h"
+#include "support/TempDir.h"
 #include "sluice/bake/BakeShaders.h"
 #include "sluice/gpu/GpuShaders.h"
 #include "sluice/gpu/Program.h"

@@ -13,8 +13,8 @@
 
 #include <gtest/gtest.h>
 
-#include "AllocationProbe.h"
-#include "AssetTestUtil.h"
+#include "asset/AllocationProbe.h"
+#include "asset/AssetTestUtil.h"
 #include "ReliabilityTest.h"
 #include "sluice/format/asset/AssetIO.h"
 

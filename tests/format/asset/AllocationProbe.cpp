@@ -1,5 +1,5 @@
 // Replaces the global operator new/delete of the test binary to record request sizes.
-#include "AllocationProbe.h"
+#include "asset/AllocationProbe.h"
 
 #include <atomic>
 #include <cstdlib>

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "AssetTestUtil.h"
-#include "TempDir.h"
+#include "asset/AssetTestUtil.h"
+#include "support/TempDir.h"
 #include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::test {

@@ -6,9 +6,9 @@
 
 #include <gtest/gtest.h>
 
-#include "AllocationProbe.h"
-#include "AssetTestUtil.h"
-#include "TempDir.h"
+#include "asset/AllocationProbe.h"
+#include "asset/AssetTestUtil.h"
+#include "support/TempDir.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/support/AtomicFile.h"
 #include "sluice/format/asset/Half.h"

@@ -8,8 +8,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "AssetTestUtil.h"
-#include "SparseTestUtil.h"
+#include "asset/AssetTestUtil.h"
+#include "asset/SparseTestUtil.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/asset/NanoVdbCheck.h"
 #include "sluice/format/asset/SdfSampler.h"

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "AssetTestUtil.h" // PrintTo(ErrorCode)
-#include "TempDir.h"
+#include "asset/AssetTestUtil.h" // PrintTo(ErrorCode)
+#include "support/TempDir.h"
 #include "sluice/format/scene/BatchManifest.h"
 
 namespace sluice::test {

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "AssetTestUtil.h" // PrintTo(ErrorCode)
+#include "asset/AssetTestUtil.h" // PrintTo(ErrorCode)
 #include "sluice/format/scene/SceneIO.h"
 
 namespace sluice::test {

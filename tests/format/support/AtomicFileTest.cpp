@@ -10,8 +10,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "AssetTestUtil.h"
-#include "TempDir.h"
+#include "asset/AssetTestUtil.h"
+#include "support/TempDir.h"
 #include "sluice/format/support/AtomicFile.h"
 
 namespace sluice::test {

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "AssetTestUtil.h"
-#include "TempDir.h"
+#include "asset/AssetTestUtil.h"
+#include "support/TempDir.h"
 #include "sluice/format/support/AtomicFile.h"
 #include "sluice/format/support/Hash.h"
 

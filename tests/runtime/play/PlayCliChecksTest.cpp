@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ProgramRun.h"
-#include "RenderTestSupport.h"
+#include "render/RenderTestSupport.h"
 
 namespace sluice::rt {
 namespace {

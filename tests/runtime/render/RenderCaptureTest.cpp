@@ -12,7 +12,7 @@
 
 #include "capture/CaptureFrames.h"
 #include "capture/CaptureVideo.h"
-#include "RenderTestSupport.h"
+#include "render/RenderTestSupport.h"
 #include "sluice/rt/render/Image.h"
 
 namespace sluice::rt {

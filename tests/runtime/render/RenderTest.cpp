@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "RenderTestSupport.h"
+#include "render/RenderTestSupport.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
 #include "sluice/rt/render/FrameReadback.h"
 

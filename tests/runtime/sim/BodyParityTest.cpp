@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "ParticleCompare.h"
+#include "sim/ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "sluice/rt/sim/Simulation.h"

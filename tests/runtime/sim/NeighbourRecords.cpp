@@ -1,5 +1,5 @@
 // Test support: the neighbour mask decoded on the CPU (NeighbourRecords.h).
-#include "NeighbourRecords.h"
+#include "sim/NeighbourRecords.h"
 
 #include <algorithm>
 

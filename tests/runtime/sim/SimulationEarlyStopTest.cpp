@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "ParticleCompare.h"
+#include "sim/ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "shared/Pbf.h"

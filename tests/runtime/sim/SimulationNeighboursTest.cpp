@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "NeighbourRecords.h"
+#include "sim/NeighbourRecords.h"
 #include "RuntimeTestScenes.h"
 #include "shared/Pbf.h"
 #include "sluice/rt/sim/Simulation.h"

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "MartinMoyce.h"
+#include "sim/MartinMoyce.h"
 #include "RuntimeTestScenes.h"
 #include "sluice/rt/sim/Simulation.h"
 

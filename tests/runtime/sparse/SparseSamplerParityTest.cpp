@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "SparseTestUtil.h"
+#include "asset/SparseTestUtil.h"
 #include "shared/Pbf.h"
 #include "sluice/format/asset/SdfSampler.h"
 #include "sluice/gpu/Buffer.h"

@@ -7,10 +7,10 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "RenderTestSupport.h"
+#include "render/RenderTestSupport.h"
 #include "viewer/ViewerPick.h"
 #include "viewer/ViewerSession.h"
-#include "ViewerTestScene.h"
+#include "viewer/ViewerTestScene.h"
 
 namespace sluice::rt {
 namespace {

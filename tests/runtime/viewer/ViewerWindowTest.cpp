@@ -21,10 +21,10 @@
 #include <GLFW/glfw3.h>
 
 #include "capture/CaptureFrames.h"
-#include "RenderTestSupport.h"
+#include "render/RenderTestSupport.h"
 #include "viewer/Viewer.h"
 #include "viewer/ViewerPanel.h"
-#include "ViewerTestScene.h"
+#include "viewer/ViewerTestScene.h"
 
 extern char** environ;
 
