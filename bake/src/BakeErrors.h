@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "sluice/bake/import/MeshImport.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

@@ -13,8 +13,8 @@
 #include "CliRun.h"
 #include "TestMeshes.h"
 #include "sluice/bake/commands/Cli.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/Hash.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/Hash.h"
 
 namespace sluice::bake {
 namespace {

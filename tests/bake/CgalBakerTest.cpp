@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include "TestMeshes.h"
+#include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/bake/jobs/Progress.h"

@@ -14,7 +14,7 @@
 
 #include "TestMeshes.h"
 #include "sluice/bake/commands/Cli.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::bake {
 namespace {

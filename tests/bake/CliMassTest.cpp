@@ -10,7 +10,7 @@
 #include "CliRun.h"
 #include "TestMeshes.h"
 #include "sluice/bake/commands/Cli.h"
-#include "sluice/format/AssetHeader.h"
+#include "sluice/format/asset/AssetHeader.h"
 
 namespace sluice::bake {
 namespace {
@@ -19,7 +19,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace clirun;
 
-const fs::path kSphereObj = fs::path(SLUICE_SOURCE_DIR) / "assets" / "sphere.obj";
 const fs::path kVersion1_0Asset =
     fs::path(SLUICE_SOURCE_DIR) / "tests" / "format" / "data" / "asset-v1.0.slc";
 const fs::path kVersion1_1Asset =

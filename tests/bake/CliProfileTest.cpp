@@ -18,10 +18,10 @@
 #include <sys/wait.h>
 
 #include "TestMeshes.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/ExitCodes.h"
-#include "sluice/format/Hash.h"
-#include "sluice/format/Sanitizers.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/ExitCodes.h"
+#include "sluice/format/support/Hash.h"
+#include "sluice/format/support/Sanitizers.h"
 
 extern char** environ;
 

@@ -10,7 +10,7 @@
 #include "CliRun.h"
 #include "TestMeshes.h"
 #include "sluice/bake/commands/Cli.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::bake {
 namespace {
@@ -18,8 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace clirun;
-
-const fs::path kSphereObj = fs::path(SLUICE_SOURCE_DIR) / "assets" / "sphere.obj";
 
 /// Points of the grid bakeSphere makes: 16 voxels across the sphere, 3 of padding each side.
 constexpr int kSpherePoints = 23 * 23 * 23;

@@ -17,9 +17,10 @@
 
 #include "../gpu/GpuTest.h"
 #include "TestMeshes.h"
+#include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/gpu/GpuBaker.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace {
 

@@ -18,11 +18,13 @@
 #include "CliRun.h"
 #include "TestMeshes.h"
 #include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/cgal/CgalSparseBaker.h"
 #include "sluice/bake/gpu/GpuBaker.h"
+#include "sluice/bake/gpu/GpuSparseBaker.h"
 #include "sluice/bake/sparse/SparseBaker.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/GridSamples.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/asset/GridSamples.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 namespace {
 

@@ -14,22 +14,14 @@
 #include "TestMeshes.h"
 #include "sluice/bake/jobs/BakeJob.h"
 #include "sluice/bake/import/MeshImport.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/MassProperties.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/asset/MassProperties.h"
 
 namespace {
 
 using namespace sluice;
 using namespace sluice::bake;
 namespace fs = std::filesystem;
-
-double frobenius(const glm::dmat3& m) {
-    double sum = 0.0;
-    for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r)
-            sum += m[c][r] * m[c][r];
-    return std::sqrt(sum);
-}
 
 /// The bake the field test uses: CGAL (exact, CPU only), 64 voxels along the longest side.
 format::ColliderAsset bakeAt64(const ImportedMesh& mesh) {
@@ -57,7 +49,7 @@ void expectFieldAgrees(const ImportedMesh& mesh, const std::string& name) {
     const double comError =
         glm::length(field->centerOfMass - exact.centerOfMass) / asset.meta.voxelSize;
     const double inertiaError =
-        frobenius(field->inertia - exact.inertia) / frobenius(exact.inertia);
+        testmesh::frobenius(field->inertia - exact.inertia) / testmesh::frobenius(exact.inertia);
     std::printf("  %s (%ux%ux%u): field - mesh volume %+.3f %%, centre of mass %.3f voxels, "
                 "inertia %.3f %%\n",
                 name.c_str(), asset.meta.dims.x, asset.meta.dims.y, asset.meta.dims.z,

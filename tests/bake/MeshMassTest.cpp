@@ -17,15 +17,6 @@ namespace {
 using namespace sluice;
 using namespace sluice::bake;
 
-/// Frobenius norm of a 3x3 matrix.
-double frobenius(const glm::dmat3& m) {
-    double sum = 0.0;
-    for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r)
-            sum += m[c][r] * m[c][r];
-    return std::sqrt(sum);
-}
-
 /// Inertia about the centre of a solid box with sides `size`, unit density (diagonal).
 glm::dmat3 boxInertia(const glm::dvec3& size) {
     const double volume = size.x * size.y * size.z;
@@ -39,7 +30,7 @@ glm::dmat3 boxInertia(const glm::dvec3& size) {
 
 /// Expects every element of `actual` within `relative` * |expected|_F of `expected`.
 void expectMatrixNear(const glm::dmat3& actual, const glm::dmat3& expected, double relative) {
-    const double tolerance = relative * frobenius(expected);
+    const double tolerance = relative * testmesh::frobenius(expected);
     for (int c = 0; c < 3; ++c)
         for (int r = 0; r < 3; ++r)
             EXPECT_NEAR(actual[c][r], expected[c][r], tolerance) << "row " << r << " column " << c;
@@ -98,7 +89,7 @@ TEST(MeshMass, ARotatedAndTranslatedBoxHasItsInertiaTensorRotated) {
         EXPECT_NEAR(mass.centerOfMass[a], translation[a], 1e-12 * 50.0) << "axis " << a;
     // I' = R I R^T, with off-diagonal terms now.
     const glm::dmat3 expected = rotation * boxInertia(size) * glm::transpose(rotation);
-    ASSERT_GT(std::abs(expected[0][1]), 0.01 * frobenius(expected));
+    ASSERT_GT(std::abs(expected[0][1]), 0.01 * testmesh::frobenius(expected));
     expectMatrixNear(mass.inertia, expected, 1e-12);
     // Exactly symmetric, as the asset reader requires.
     for (int c = 0; c < 3; ++c)

@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "TestMeshes.h"
+#include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/import/MeshImport.h"
 

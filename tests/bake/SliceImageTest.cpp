@@ -9,6 +9,7 @@
 #include <iterator>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -60,25 +61,38 @@ bool isContour(const Rgb& c) {
     return std::max({c.r, c.g, c.b}) < 60;
 }
 
+/// Expects every contour pixel of the distance half within `tolerancePx` of the circle of
+/// `radiusVoxels` around the sphere's centre, and about as many of them as a thin digital circle
+/// has (4 * sqrt(2) * r, 8-connected). The circle's radius [px].
+double expectContourOnCircle(const bake::Image& image, const bake::SliceLayout& layout,
+                             double radiusVoxels, double tolerancePx) {
+    const double cx = kCentreIndex.x * layout.pixelsPerVoxel;
+    const double cy = layout.height - 1 - kCentreIndex.y * layout.pixelsPerVoxel;
+    const double radiusPx = radiusVoxels * layout.pixelsPerVoxel;
+    int contourPixels = 0;
+    for (int y = 0; y < layout.height; ++y) // the field, above the legend
+        for (int x = 0; x < layout.halfWidth; ++x)
+            if (isContour(pixel(image, x, y))) {
+                ++contourPixels;
+                EXPECT_NEAR(std::hypot(x - cx, y - cy), radiusPx, tolerancePx) << x << ", " << y;
+            }
+    EXPECT_GT(contourPixels, int(5.0 * radiusPx));
+    return radiusPx;
+}
+
 } // namespace
 
 TEST(SliceImage, ParsesAxisAndFraction) {
-    auto x = bake::parseSlice("x=0");
-    ASSERT_TRUE(x);
-    EXPECT_EQ(x->axis, Axis::X);
-    EXPECT_EQ(x->fraction, 0.0);
-    auto y = bake::parseSlice("y=0.5");
-    ASSERT_TRUE(y);
-    EXPECT_EQ(y->axis, Axis::Y);
-    EXPECT_EQ(y->fraction, 0.5);
-    auto z = bake::parseSlice("z=1");
-    ASSERT_TRUE(z);
-    EXPECT_EQ(z->axis, Axis::Z);
-    EXPECT_EQ(z->fraction, 1.0);
-    auto upper = bake::parseSlice("Z=0.25");
-    ASSERT_TRUE(upper);
-    EXPECT_EQ(upper->axis, Axis::Z);
-    EXPECT_EQ(upper->fraction, 0.25);
+    for (const auto& [text, axis, fraction] :
+         {std::tuple<const char*, Axis, double>{"x=0", Axis::X, 0.0},
+          {"y=0.5", Axis::Y, 0.5},
+          {"z=1", Axis::Z, 1.0},
+          {"Z=0.25", Axis::Z, 0.25}}) {
+        auto slice = bake::parseSlice(text);
+        ASSERT_TRUE(slice) << text;
+        EXPECT_EQ(slice->axis, axis) << text;
+        EXPECT_EQ(slice->fraction, fraction) << text;
+    }
 }
 
 TEST(SliceImage, RejectsMalformedSlices) {
@@ -145,18 +159,9 @@ TEST(SliceImage, SphereSliceShowsInsideOutsideAndTheZeroContour) {
 
     // Every contour pixel lies on the circle of 12 voxels (156 px), and the circle is drawn all
     // the way round.
+    const double radiusPx = expectContourOnCircle(image, layout, 12.0, 1.5);
     const double cx = kCentreIndex.x * layout.pixelsPerVoxel;
     const double cy = layout.height - 1 - kCentreIndex.y * layout.pixelsPerVoxel;
-    const double radiusPx = 12.0 * layout.pixelsPerVoxel;
-    int contourPixels = 0;
-    for (int y = 0; y < layout.height; ++y) // the field, above the legend
-        for (int x = 0; x < layout.halfWidth; ++x)
-            if (isContour(pixel(image, x, y))) {
-                ++contourPixels;
-                EXPECT_NEAR(std::hypot(x - cx, y - cy), radiusPx, 1.5) << x << ", " << y;
-            }
-    // A thin digital circle has about 4 * sqrt(2) * r pixels (8-connected).
-    EXPECT_GT(contourPixels, int(5.0 * radiusPx));
     for (int degree = 0; degree < 360; ++degree) {
         const double angle = degree * std::numbers::pi / 180.0;
         const int x = int(std::lround(cx + radiusPx * std::cos(angle)));
@@ -219,19 +224,9 @@ TEST(SliceImage, OffCentreSliceShowsTheSmallerCircle) {
     const bake::SliceSpec slice{Axis::Z, 23.2 / 32.0};
     const bake::SliceLayout layout = bake::sliceLayout(asset.meta, slice);
     const bake::Image image = bake::renderSlice(asset, slice);
-    const double cx = kCentreIndex.x * layout.pixelsPerVoxel;
-    const double cy = layout.height - 1 - kCentreIndex.y * layout.pixelsPerVoxel;
-    const double radiusPx = 9.6 * layout.pixelsPerVoxel;
-    int contourPixels = 0;
-    for (int y = 0; y < layout.height; ++y) // the field, above the legend
-        for (int x = 0; x < layout.halfWidth; ++x)
-            if (isContour(pixel(image, x, y))) {
-                ++contourPixels;
-                // Trilinear interpolation of the sphere SDF between planes 23 and 24 bends the
-                // zero set by well under a tenth of a voxel (1.3 px) at this radius.
-                EXPECT_NEAR(std::hypot(x - cx, y - cy), radiusPx, 1.5 + 1.3) << x << ", " << y;
-            }
-    EXPECT_GT(contourPixels, int(5.0 * radiusPx));
+    // Trilinear interpolation of the sphere SDF between planes 23 and 24 bends the zero set by
+    // well under a tenth of a voxel (1.3 px) at this radius.
+    expectContourOnCircle(image, layout, 9.6, 1.5 + 1.3);
     // Above the plane, the normal tilts towards +z: blue above the middle at the centre.
     EXPECT_GT(at(image, layout, kCentreIndex.x, kCentreIndex.y, true).b, 240);
 }

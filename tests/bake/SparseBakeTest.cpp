@@ -11,25 +11,23 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
+#include "interop/VdbHeaders.h"
+SLUICE_VDB_WARNINGS_OFF
 #include <nanovdb/NanoVDB.h>
-#include <openvdb/io/File.h>
-#include <openvdb/openvdb.h>
-#pragma GCC diagnostic pop
+SLUICE_VDB_WARNINGS_ON
 
 #include "CliRun.h"
 #include "TestMeshes.h"
+#include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/cgal/CgalSparseBaker.h"
 #include "sluice/bake/interop/NanoVdbIO.h"
 #include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/bake/validate/Validate.h"
 #include "sluice/bake/interop/VdbIO.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/NanoVdbCheck.h"
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 namespace fs = std::filesystem;
 using namespace sluice;

@@ -1,4 +1,5 @@
-// Analytic test meshes (box, spheres, torus, open meshes), their exact SDFs, and OBJ writing.
+// Analytic test meshes (box, spheres, torus, open meshes), their exact SDFs, OBJ writing, and the
+// geometry helpers the bake tests share.
 //
 // Header-only, shared by every bake test. All meshes are welded (shared vertices), oriented with
 // outward counter-clockwise triangles, and come with the analytic signed distance of the shape
@@ -23,13 +24,14 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "AnalyticAsset.h"
 #include "ProgramRun.h"
 #include "sluice/bake/import/MeshImport.h"
 #include "sluice/bake/import/TriangleSoup.h"
-#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/asset/ColliderAsset.h"
 
 namespace sluice::testmesh {
 
@@ -40,6 +42,15 @@ using bake::TriangleSoup;
 
 // ---------------------------------------------------------------------------------------------
 // Geometry helpers
+
+/// Frobenius norm of a 3x3 matrix: how the mass tests compare inertia tensors.
+inline double frobenius(const glm::dmat3& m) {
+    double sum = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            sum += m[c][r] * m[c][r];
+    return std::sqrt(sum);
+}
 
 /// Exact distance from p to triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5).
 inline double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
@@ -90,18 +101,8 @@ inline double signedVolume(const TriangleSoup& soup) {
 // ---------------------------------------------------------------------------------------------
 // Analytic signed distances (negative inside)
 
-/// Exact SDF of the axis-aligned box [lo, hi], corners and edges included.
-inline double boxSdf(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
-    const glm::dvec3 c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
-    const glm::dvec3 q = glm::abs(p - c) - h;
-    const double outside = glm::length(glm::max(q, glm::dvec3(0.0)));
-    const double inside = std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
-    return outside + inside;
-}
-
-inline double sphereSdf(const glm::dvec3& p, const glm::dvec3& center, double radius) {
-    return glm::length(p - center) - radius;
-}
+using testasset::boxSdf;
+using testasset::sphereSdf;
 
 /// Torus around the z axis through `center`: major radius R (to the tube centre), minor r.
 inline double torusSdf(const glm::dvec3& p, const glm::dvec3& center, double majorRadius,

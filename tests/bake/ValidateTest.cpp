@@ -7,9 +7,10 @@
 #include <gtest/gtest.h>
 
 #include "TestMeshes.h"
+#include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/validate/Validate.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::bake {
 namespace {

@@ -13,18 +13,10 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#include <openvdb/io/File.h>
-#include <openvdb/io/Stream.h>
-#include <openvdb/openvdb.h>
-#pragma GCC diagnostic pop
-
+#include "interop/VdbHeaders.h"
 #include "TestMeshes.h"
 #include "sluice/bake/interop/VdbIO.h"
-#include "sluice/format/Hash.h"
+#include "sluice/format/support/Hash.h"
 
 namespace fs = std::filesystem;
 using namespace sluice;

@@ -16,14 +16,10 @@
 #include <string>
 #include <vector>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
-#include <openvdb/openvdb.h>
+#include "interop/VdbHeaders.h"
+SLUICE_VDB_WARNINGS_OFF
 #include <openvdb/tools/MeshToVolume.h>
-#pragma GCC diagnostic pop
+SLUICE_VDB_WARNINGS_ON
 
 #include "sluice/bake/import/MeshImport.h"
 

@@ -2,6 +2,7 @@
 // reads assets (the interop, slice pictures, the runtime) without baking a mesh.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 
@@ -10,6 +11,20 @@
 #include "sluice/format/asset/ColliderAsset.h"
 
 namespace sluice::testasset {
+
+/// Exact SDF of the axis-aligned box [lo, hi], corners and edges included (negative inside).
+inline double boxSdf(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+    const glm::dvec3 c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
+    const glm::dvec3 q = glm::abs(p - c) - h;
+    const double outside = glm::length(glm::max(q, glm::dvec3(0.0)));
+    const double inside = std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
+    return outside + inside;
+}
+
+/// Exact SDF of a sphere (negative inside).
+inline double sphereSdf(const glm::dvec3& p, const glm::dvec3& center, double radius) {
+    return glm::length(p - center) - radius;
+}
 
 /// An asset of `dims` grid points from `origin` at `voxelSize` [world units] holding `sdf` at
 /// every point, with fixed provenance (source "analytic.obj", backend "analytic").

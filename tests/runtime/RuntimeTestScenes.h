@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -21,20 +22,8 @@
 namespace sluice::testscene {
 
 using testasset::assetFromSdf;
-
-/// Exact SDF of the axis-aligned box [lo, hi] (negative inside).
-inline double boxSdf(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
-    const glm::dvec3 c = 0.5 * (lo + hi), e = 0.5 * (hi - lo);
-    const glm::dvec3 q = glm::abs(p - c) - e;
-    const double outside = glm::length(glm::max(q, glm::dvec3(0.0)));
-    const double inside = std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
-    return outside + inside;
-}
-
-/// Exact SDF of a sphere (negative inside).
-inline double sphereSdf(const glm::dvec3& p, const glm::dvec3& center, double radius) {
-    return glm::length(p - center) - radius;
-}
+using testasset::boxSdf;
+using testasset::sphereSdf;
 
 /// A grid covering [lo - padding, hi + padding] at `voxelSize` [world units] (rounded up).
 inline format::ColliderAsset assetOverBox(glm::dvec3 lo, glm::dvec3 hi, double voxelSize,
@@ -84,6 +73,19 @@ inline format::SimulationParams defaultParams(float spacing, std::uint32_t subst
     p.gravity = glm::vec3(0.0f, -9.81f, 0.0f);
     p.capacity = capacity;
     return p;
+}
+
+/// The parity tests' static floor: the slab [-1, 1] x [-1, 0] x [-1, 1] in asset units (at voxel
+/// 0.02), rotated 30 degrees about y and scaled by 0.5, so its top stays at y = 0; friction 0.3.
+/// Appends the asset and its scene collider ("floor.slc").
+inline void addTiltedFloor(format::Scene& scene, std::vector<format::ColliderAsset>& assets) {
+    assets.push_back(boxColliderAsset({-1.0, -1.0, -1.0}, {1.0, 0.0, 1.0}, 0.02));
+    format::SceneCollider floor;
+    floor.asset = "floor.slc";
+    floor.rotationDegrees = glm::vec3(0.0f, 30.0f, 0.0f);
+    floor.scale = 0.5f;
+    floor.friction = 0.3f;
+    scene.colliders.push_back(floor);
 }
 
 /// A valid scene: a box block of counts.x * counts.y * counts.z particles filling

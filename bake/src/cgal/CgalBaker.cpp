@@ -1,11 +1,14 @@
 // Baking a collider asset on the CPU with the CGAL reference, with full provenance.
+#include "sluice/bake/cgal/CgalBaker.h"
+
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "BakeErrors.h"
+#include "cgal/CgalBakeStart.h"
 #include "import/MeshMass.h"
-#include "sluice/bake/cgal/CgalReference.h"
 
 namespace sluice::bake {
 
@@ -16,16 +19,14 @@ constexpr std::uint64_t kPointsPerBatch = std::uint64_t(1) << 20;
 
 Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSettings& settings,
                                           Progress* progress) {
-    Result<GridSpec> grid = gridFor(mesh.soup.bounds(), settings.grid);
-    if (!grid)
-        return grid.error();
-    Result<CgalReference> reference =
-        CgalReference::build(mesh.soup, mesh.diagnostics, settings.sign);
-    if (!reference)
-        return reference.error();
+    Result<CgalBakeStart> start =
+        startCgalBake(mesh, gridFor(mesh.soup.bounds(), settings.grid), settings.sign);
+    if (!start)
+        return start.error();
+    const CgalReference& reference = start->reference;
 
     format::ColliderAsset asset;
-    asset.meta = bakeProvenance(mesh, *grid, settings, "cgal", reference->signMethod());
+    asset.meta = bakeProvenance(mesh, start->grid, settings, "cgal", reference.signMethod());
     format::ColliderMeta& meta = asset.meta;
 
     // Whole z-slices per batch; x runs fastest, as in the asset, so neighbouring points follow
@@ -42,13 +43,23 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
             for (std::uint32_t j = 0; j < meta.dims.y; ++j)
                 for (std::uint32_t i = 0; i < meta.dims.x; ++i)
                     points.push_back(asset.pointPosition(i, j, k));
-        const std::vector<double> phi = reference->signedDistances(points, progress);
+        const std::vector<double> phi = reference.signedDistances(points, progress);
         std::transform(phi.begin(), phi.end(), asset.distances.begin() + std::ptrdiff_t(k0 * slice),
                        [](double v) { return float(v); });
     }
     return asset;
 }
 } // namespace
+
+Result<CgalBakeStart> startCgalBake(const ImportedMesh& mesh, Result<GridSpec> grid,
+                                    SignMode sign) {
+    if (!grid)
+        return grid.error();
+    Result<CgalReference> reference = CgalReference::build(mesh.soup, mesh.diagnostics, sign);
+    if (!reference)
+        return reference.error();
+    return CgalBakeStart{*grid, std::move(*reference)};
+}
 
 format::ColliderMeta bakeProvenance(const ImportedMesh& mesh, const GridSpec& grid,
                                     const BakeSettings& settings, const char* backend,

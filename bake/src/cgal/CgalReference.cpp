@@ -123,6 +123,79 @@ std::string buildParityMesh(const TriangleSoup& soup, Mesh& mesh) {
         return "the polygon mesh made from the triangles is not closed";
     return {};
 }
+
+/// The boundary chain of a soup (boundaryChain): edges with their net multiplicity.
+using Boundary = std::vector<std::pair<std::pair<std::uint64_t, std::uint64_t>, int>>;
+
+/// The soup's triangles with three distinct corners that are not collinear. Degenerate
+/// triangles have no closest-point or solid-angle meaning (CGAL asserts on them); leaving them
+/// out changes neither the distance nor the winding number anywhere off them.
+std::vector<glm::uvec3> nonDegenerateTriangles(const TriangleSoup& soup) {
+    std::vector<glm::uvec3> kept;
+    kept.reserve(soup.triangles.size());
+    for (const glm::uvec3& t : soup.triangles) {
+        const Point a = toPoint(soup.positions[t.x]), b = toPoint(soup.positions[t.y]),
+                    c = toPoint(soup.positions[t.z]);
+        if (t.x != t.y && t.y != t.z && t.z != t.x && !CGAL::collinear(a, b, c))
+            kept.push_back(t);
+    }
+    return kept;
+}
+
+/// Turns a closed soup (an empty `boundary`) wound inward, which would give w = -1 inside,
+/// outward; its volume is origin-independent because it is a cycle. Open soups keep their
+/// winding as given.
+void orientOutward(const TriangleSoup& soup, const Boundary& boundary, const glm::dvec3& center,
+                   std::vector<glm::uvec3>& kept) {
+    if (!boundary.empty())
+        return;
+    double volume = 0.0;
+    for (const glm::uvec3& t : kept)
+        volume += glm::dot(soup.positions[t.x] - center,
+                           glm::cross(soup.positions[t.y] - center, soup.positions[t.z] - center));
+    if (volume < 0.0)
+        for (glm::uvec3& t : kept)
+            std::swap(t.y, t.z);
+}
+
+/// The cone K from one apex over the boundary chain, which closes the soup into a cycle.
+struct Cone {
+    std::vector<Triangle> triangles;
+    WindingSoup winding;
+};
+
+/// The cone from `apex`: net copies of each boundary edge lo -> hi are cancelled by net copies
+/// of (hi, lo, apex). None when the apex is collinear with a boundary edge.
+std::optional<Cone> coneFrom(const TriangleSoup& soup, const Boundary& boundary,
+                             const glm::dvec3& apex) {
+    Cone cone;
+    for (const auto& [edge, net] : boundary) {
+        const glm::dvec3 lo = soup.positions[edge.first];
+        const glm::dvec3 hi = soup.positions[edge.second];
+        const glm::dvec3 first = net > 0 ? hi : lo, second = net > 0 ? lo : hi;
+        if (CGAL::collinear(toPoint(first), toPoint(second), toPoint(apex)))
+            return std::nullopt;
+        for (int k = 0; k < std::abs(net); ++k) {
+            cone.triangles.emplace_back(toPoint(first), toPoint(second), toPoint(apex));
+            cone.winding.add(first, second, apex);
+        }
+    }
+    return cone;
+}
+
+/// The cone from the first of a few off-centre apexes that makes one (none when every apex is
+/// collinear with a boundary edge). Scaled by the longest side, so a flat soup gets its apex
+/// off its plane.
+std::optional<Cone> closingCone(const TriangleSoup& soup, const Boundary& boundary,
+                                const glm::dvec3& center, double longest) {
+    static const glm::dvec3 kApexOffsets[] = {{0.1234567, 0.0765432, 0.0312345},
+                                              {-0.0917265, 0.1471013, -0.0551237},
+                                              {0.0418233, -0.1127481, 0.1371139}};
+    for (const glm::dvec3& offset : kApexOffsets)
+        if (std::optional<Cone> cone = coneFrom(soup, boundary, center + offset * longest))
+            return cone;
+    return std::nullopt;
+}
 } // namespace
 
 struct CgalReference::Impl {
@@ -139,6 +212,48 @@ struct CgalReference::Impl {
     Mesh mesh; ///< for parity only
     std::unique_ptr<SideOf> side;
     std::string fallbackReason;
+
+    /// The AABB tree and the brute-force winding sum over `kept`, winding order kept.
+    void addTriangles(const TriangleSoup& soup, const std::vector<glm::uvec3>& kept) {
+        triangles.reserve(kept.size());
+        for (const glm::uvec3& t : kept) {
+            triangles.emplace_back(toPoint(soup.positions[t.x]), toPoint(soup.positions[t.y]),
+                                   toPoint(soup.positions[t.z]));
+            winding.add(soup.positions[t.x], soup.positions[t.y], soup.positions[t.z]);
+        }
+        tree.rebuild(triangles.begin(), triangles.end());
+        tree.accelerate_distance_queries(); // build both now: queries run on many threads
+    }
+
+    /// The cone K that closes the soup into a cycle, for the crossing-count shortcut. It pays
+    /// off while it is much smaller than the soup (a soup of loose triangles is all boundary).
+    void closeWithCone(const TriangleSoup& soup, const Boundary& boundary, std::size_t kept,
+                       double longest) {
+        if (boundary.size() * 2 > kept)
+            return;
+        if (std::optional<Cone> closing = closingCone(soup, boundary, center, longest)) {
+            cone = std::move(closing->triangles);
+            coneWinding = std::move(closing->winding);
+            exactCycle = true;
+        }
+        if (!cone.empty())
+            coneTree.rebuild(cone.begin(), cone.end());
+    }
+
+    /// For parity, the closed Surface_mesh and its side test; the winding number, with the
+    /// reason, when none can be made of the soup.
+    void prepareParity(const TriangleSoup& soup) {
+        if (method != format::SignMethod::Parity)
+            return;
+        fallbackReason = buildParityMesh(soup, mesh);
+        if (!fallbackReason.empty()) {
+            method = format::SignMethod::Winding;
+            return;
+        }
+        side = std::make_unique<SideOf>(mesh);
+        // Its AABB tree is built lazily on the first query: do that here, not in threads.
+        (void)(*side)(toPoint(center));
+    }
 
     double unsignedDistance(const Point& p) const { return std::sqrt(tree.squared_distance(p)); }
     /// The same distance, the search started from `hint` (a point of M, updated to p's closest
@@ -289,97 +404,21 @@ Result<CgalReference> CgalReference::build(const TriangleSoup& soup,
         return method.error();
     auto impl = std::make_unique<Impl>();
     impl->method = *method;
-
-    // Degenerate triangles have no closest-point or solid-angle meaning (CGAL asserts on them);
-    // leaving them out changes neither the distance nor the winding number anywhere off them.
-    std::vector<glm::uvec3> kept;
-    kept.reserve(soup.triangles.size());
-    for (const glm::uvec3& t : soup.triangles) {
-        const Point a = toPoint(soup.positions[t.x]), b = toPoint(soup.positions[t.y]),
-                    c = toPoint(soup.positions[t.z]);
-        if (t.x != t.y && t.y != t.z && t.z != t.x && !CGAL::collinear(a, b, c))
-            kept.push_back(t);
-    }
+    std::vector<glm::uvec3> kept = nonDegenerateTriangles(soup);
     if (kept.empty())
         return fail(ErrorCode::EmptyMesh, "the mesh has no triangle of non-zero area");
 
     // The boundary chain: each edge's uses in one direction minus uses in the other.
-    const auto boundary = boundaryChain(kept);
-
-    // A closed soup wound inward would give w = -1 inside; turn it outward (its volume is
-    // origin-independent because it is a cycle). Open soups keep their winding as given.
+    const Boundary boundary = boundaryChain(kept);
     const Box box = soup.bounds();
     impl->center = 0.5 * (box.lo + box.hi);
-    if (boundary.empty()) {
-        double volume = 0.0;
-        for (const glm::uvec3& t : kept)
-            volume += glm::dot(
-                soup.positions[t.x] - impl->center,
-                glm::cross(soup.positions[t.y] - impl->center, soup.positions[t.z] - impl->center));
-        if (volume < 0.0)
-            for (glm::uvec3& t : kept)
-                std::swap(t.y, t.z);
-    }
-
-    impl->triangles.reserve(kept.size());
-    for (const glm::uvec3& t : kept) {
-        impl->triangles.emplace_back(toPoint(soup.positions[t.x]), toPoint(soup.positions[t.y]),
-                                     toPoint(soup.positions[t.z]));
-        impl->winding.add(soup.positions[t.x], soup.positions[t.y], soup.positions[t.z]);
-    }
-    impl->tree.rebuild(impl->triangles.begin(), impl->triangles.end());
-    impl->tree.accelerate_distance_queries(); // build both now: queries run on many threads
-
+    orientOutward(soup, boundary, impl->center, kept);
+    impl->addTriangles(soup, kept);
     const glm::dvec3 extent = box.hi - box.lo;
-    const double longest = std::max(extent.x, std::max(extent.y, extent.z));
     impl->farDistance = 2.0 * glm::length(extent) + 1.0;
-    // The cone pays off while it is much smaller than the soup (a soup of loose triangles is all
-    // boundary). Its apex must not be collinear with a boundary edge; try a few off-centre ones.
-    if (boundary.size() * 2 <= kept.size()) {
-        static const glm::dvec3 kApexOffsets[] = {{0.1234567, 0.0765432, 0.0312345},
-                                                  {-0.0917265, 0.1471013, -0.0551237},
-                                                  {0.0418233, -0.1127481, 0.1371139}};
-        for (const glm::dvec3& offset : kApexOffsets) {
-            // Scaled by the longest side, so a flat soup gets its apex off its plane.
-            const glm::dvec3 apex = impl->center + offset * longest;
-            std::vector<Triangle> cone;
-            WindingSoup coneWinding;
-            bool degenerate = false;
-            for (const auto& [edge, net] : boundary) {
-                const glm::dvec3 lo = soup.positions[edge.first];
-                const glm::dvec3 hi = soup.positions[edge.second];
-                // net copies of lo -> hi are cancelled by net copies of (hi, lo, apex).
-                const glm::dvec3 first = net > 0 ? hi : lo, second = net > 0 ? lo : hi;
-                if (CGAL::collinear(toPoint(first), toPoint(second), toPoint(apex))) {
-                    degenerate = true;
-                    break;
-                }
-                for (int k = 0; k < std::abs(net); ++k) {
-                    cone.emplace_back(toPoint(first), toPoint(second), toPoint(apex));
-                    coneWinding.add(first, second, apex);
-                }
-            }
-            if (!degenerate) {
-                impl->cone = std::move(cone);
-                impl->coneWinding = std::move(coneWinding);
-                impl->exactCycle = true;
-                break;
-            }
-        }
-        if (!impl->cone.empty())
-            impl->coneTree.rebuild(impl->cone.begin(), impl->cone.end());
-    }
-
-    if (impl->method == format::SignMethod::Parity) {
-        impl->fallbackReason = buildParityMesh(soup, impl->mesh);
-        if (impl->fallbackReason.empty()) {
-            impl->side = std::make_unique<SideOf>(impl->mesh);
-            // Its AABB tree is built lazily on the first query: do that here, not in threads.
-            (void)(*impl->side)(toPoint(impl->center));
-        } else {
-            impl->method = format::SignMethod::Winding;
-        }
-    }
+    impl->closeWithCone(soup, boundary, kept.size(),
+                        std::max(extent.x, std::max(extent.y, extent.z)));
+    impl->prepareParity(soup);
     return CgalReference(std::move(impl));
 }
 

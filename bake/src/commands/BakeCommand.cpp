@@ -3,19 +3,21 @@
 #include <ctime>
 #include <future>
 #include <iostream>
-#include <memory>
 #include <optional>
 
 #include "commands/CliSupport.h"
 #include "jobs/PhaseReport.h"
-#include "sluice/bake/jobs/BakeJob.h"
+#include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalReference.h"
+#include "sluice/bake/cgal/CgalSparseBaker.h"
 #include "sluice/bake/commands/Cli.h"
 #include "sluice/bake/gpu/GpuBaker.h"
+#include "sluice/bake/gpu/GpuSparseBaker.h"
 #include "sluice/bake/Grid.h"
+#include "sluice/bake/jobs/BakeJob.h"
 #include "sluice/bake/sparse/SparseBaker.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/AtomicFile.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/AtomicFile.h"
 #include "sluice/gpu/Context.h"
 
 namespace sluice::bake::cli {
@@ -26,19 +28,9 @@ namespace {
 /// exact field; the asset records the one that ran.
 enum class Backend { Auto, Gpu, Cgal };
 
-Result<Backend> parseBackend(const std::string& text) {
-    if (text == "auto")
-        return Backend::Auto;
-    if (text == "cgal")
-        return Backend::Cgal;
-    if (text == "gpu")
-        return Backend::Gpu;
-    return fail(ErrorCode::InvalidArgument,
-                "--backend " + text + ": unknown backend (available: auto, gpu, cgal)");
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+/// The backend named `text`, one bakeSettingsFor accepted ("auto", "gpu" or "cgal").
+Backend backendNamed(const std::string& text) {
+    return text == "gpu" ? Backend::Gpu : text == "cgal" ? Backend::Cgal : Backend::Auto;
 }
 
 constexpr std::string_view kCmd = "bake";
@@ -84,9 +76,6 @@ struct BakeJob {
 /// Every argument is checked, and OUT's folder created, before the mesh is read, so mistakes
 /// fail fast. An OUT not ending in .slc is written anyway, with a warning.
 int checkArguments(const BakeArgs& args, BakeJob& job) {
-    Result<Backend> backend = parseBackend(args.backend);
-    if (!backend)
-        return reportBadInput(kCmd, backend.error().detail);
     BakeRequest request;
     request.backend = args.backend;
     request.resolution = args.resolution;
@@ -95,6 +84,7 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
     request.sign = args.sign;
     request.storage = args.storage;
     request.scale = args.scale;
+    // bakeSettingsFor checks the backend first: an unknown one is refused here.
     Result<BakeSettings> settings = bakeSettingsFor(request);
     if (!settings)
         return reportBadInput(kCmd, settings.error().detail);
@@ -105,7 +95,7 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
     if (!hasExtension(args.output, ".slc"))
         std::cerr << "sluice-bake bake: warning: '" << args.output
                   << "' does not end in .slc; it will hold a collider asset all the same\n";
-    job.backend = *backend;
+    job.backend = backendNamed(args.backend);
     job.settings = *settings;
     job.phases.lap("argument checks");
     return kExitOk;
@@ -418,6 +408,63 @@ void printSummary(const BakeArgs& args, const BakeJob& job) {
         std::cout << describePhases(job.phases);
 }
 
+/// The options of `bake`, bound to `args`.
+void addBakeOptions(CLI::App& app, BakeArgs& args) {
+    app.add_option("MESH", args.mesh, "input mesh file")->required();
+    app.add_option("-o,--output", args.output, "output asset file (.slc)")
+        ->required()
+        ->type_name("OUT");
+    app.add_option("--backend", args.backend,
+                   "where distances are computed: auto (gpu where an OpenGL 4.5 context opens, "
+                   "otherwise cgal), gpu (OpenGL 4.5 compute, headless; exit 3 without a "
+                   "context) or cgal (the exact CPU reference, all cores). All give the same "
+                   "exact field")
+        ->capture_default_str();
+    CLI::Option* resolution =
+        app.add_option("--resolution", args.resolution,
+                       "[voxels] along the longest side of the mesh box, 1..4096")
+            ->check(wholeNumber(1, 4096))
+            ->capture_default_str();
+    CLI::Option* voxelSize = app.add_option("--voxel-size", args.voxelSize,
+                                            "[world units] grid spacing, instead of --resolution")
+                                 ->check(finiteNumber(false));
+    resolution->excludes(voxelSize);
+    voxelSize->excludes(resolution);
+    app.add_option("--padding", args.padding, "[voxels] margin on every side of the mesh box")
+        ->check(finiteNumber(true))
+        ->capture_default_str();
+    app.add_option("--sign", args.sign,
+                   "inside/outside method: auto (parity if closed and not self-intersecting, "
+                   "else winding), parity, winding. On the GPU, parity is the winding number of "
+                   "the consistently oriented closed mesh rounded, odd meaning inside (equal to "
+                   "ray parity on a closed surface)")
+        ->capture_default_str();
+    app.add_option("--scale", args.scale, "uniform scale applied to the mesh at import")
+        ->check(finiteNumber(false))
+        ->capture_default_str();
+    app.add_option("--storage", args.storage, "sample type in the file: f32 or f16")
+        ->capture_default_str();
+    CLI::Option* sparse =
+        app.add_flag("--sparse", args.sparse,
+                     "write a sparse collider: a NanoVDB narrow band of exact distances with "
+                     "signed tiles elsewhere; no dense point limit (resolution up to 4096)");
+    app.add_option("--band", args.band,
+                   "[voxels] --sparse: half-width of the band of exact distances, 1..64")
+        ->needs(sparse)
+        ->check(finiteNumber(false))
+        ->capture_default_str();
+    app.add_flag("-q,--quiet", args.quiet, "no progress bar and no summary");
+    app.add_flag("--json", args.json, "print the summary as JSON");
+    app.add_flag("--profile", args.profile,
+                 "print the whole process's time phase by phase, from process start to the "
+                 "written file (wall and CPU seconds); gpu backend: also the GPU time of the "
+                 "passes, from timer queries");
+    app.add_flag("!--no-program-cache", args.programCache,
+                 "gpu backend: compile every GPU program instead of loading the driver binaries "
+                 "cached in $XDG_CACHE_HOME/sluice (or ~/.cache/sluice) by earlier runs; "
+                 "SLUICE_PROGRAM_CACHE=0 in the environment does the same");
+}
+
 } // namespace
 
 int runBake(const BakeArgs& args) {
@@ -440,64 +487,11 @@ int runBake(const BakeArgs& args) {
 }
 
 Command addBakeCommand(CLI::App& parent) {
-    auto args = std::make_shared<BakeArgs>();
-    CLI::App* app = parent.add_subcommand(
-        "bake", "Bake a mesh (any format assimp reads, or a level-set .vdb) into a collider "
-                "asset (.slc). OUT is written only after a successful bake, atomically.");
-    app->add_option("MESH", args->mesh, "input mesh file")->required();
-    app->add_option("-o,--output", args->output, "output asset file (.slc)")
-        ->required()
-        ->type_name("OUT");
-    app->add_option("--backend", args->backend,
-                    "where distances are computed: auto (gpu where an OpenGL 4.5 context opens, "
-                    "otherwise cgal), gpu (OpenGL 4.5 compute, headless; exit 3 without a "
-                    "context) or cgal (the exact CPU reference, all cores). All give the same "
-                    "exact field")
-        ->capture_default_str();
-    CLI::Option* resolution =
-        app->add_option("--resolution", args->resolution,
-                        "[voxels] along the longest side of the mesh box, 1..4096")
-            ->check(wholeNumber(1, 4096))
-            ->capture_default_str();
-    CLI::Option* voxelSize = app->add_option("--voxel-size", args->voxelSize,
-                                             "[world units] grid spacing, instead of --resolution")
-                                 ->check(finiteNumber(false));
-    resolution->excludes(voxelSize);
-    voxelSize->excludes(resolution);
-    app->add_option("--padding", args->padding, "[voxels] margin on every side of the mesh box")
-        ->check(finiteNumber(true))
-        ->capture_default_str();
-    app->add_option("--sign", args->sign,
-                    "inside/outside method: auto (parity if closed and not self-intersecting, "
-                    "else winding), parity, winding. On the GPU, parity is the winding number of "
-                    "the consistently oriented closed mesh rounded, odd meaning inside (equal to "
-                    "ray parity on a closed surface)")
-        ->capture_default_str();
-    app->add_option("--scale", args->scale, "uniform scale applied to the mesh at import")
-        ->check(finiteNumber(false))
-        ->capture_default_str();
-    app->add_option("--storage", args->storage, "sample type in the file: f32 or f16")
-        ->capture_default_str();
-    CLI::Option* sparse =
-        app->add_flag("--sparse", args->sparse,
-                      "write a sparse collider: a NanoVDB narrow band of exact distances with "
-                      "signed tiles elsewhere; no dense point limit (resolution up to 4096)");
-    app->add_option("--band", args->band,
-                    "[voxels] --sparse: half-width of the band of exact distances, 1..64")
-        ->needs(sparse)
-        ->check(finiteNumber(false))
-        ->capture_default_str();
-    app->add_flag("-q,--quiet", args->quiet, "no progress bar and no summary");
-    app->add_flag("--json", args->json, "print the summary as JSON");
-    app->add_flag("--profile", args->profile,
-                  "print the whole process's time phase by phase, from process start to the "
-                  "written file (wall and CPU seconds); gpu backend: also the GPU time of the "
-                  "passes, from timer queries");
-    app->add_flag("!--no-program-cache", args->programCache,
-                  "gpu backend: compile every GPU program instead of loading the driver binaries "
-                  "cached in $XDG_CACHE_HOME/sluice (or ~/.cache/sluice) by earlier runs; "
-                  "SLUICE_PROGRAM_CACHE=0 in the environment does the same");
-    return {app, [args] { return runBake(*args); }};
+    return addSubcommand(
+        parent, "bake",
+        "Bake a mesh (any format assimp reads, or a level-set .vdb) into a collider "
+        "asset (.slc). OUT is written only after a successful bake, atomically.",
+        addBakeOptions, runBake);
 }
 
 } // namespace sluice::bake::cli

@@ -23,7 +23,6 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
-#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -36,10 +35,11 @@
 
 #include "commands/CliSupport.h"
 #include "sluice/bake/jobs/BatchJob.h"
+#include "sluice/bake/jobs/PhaseLog.h"
 #include "sluice/bake/commands/Cli.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/AtomicFile.h"
-#include "sluice/format/BatchManifest.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/scene/BatchManifest.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -181,8 +181,7 @@ int bakeInChild(const BakeArgs& args) {
 Outcome process(const Entry& entry, bool force, bool inChild, std::mutex& gpuTurn) {
     const auto start = std::chrono::steady_clock::now();
     auto finish = [&](Outcome outcome) {
-        outcome.seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        outcome.seconds = secondsSince(start);
         return outcome;
     };
     Outcome outcome;
@@ -322,37 +321,37 @@ int runBatch(const BatchArgs& args) {
         if (Result<void> written = writeDepfile(args.depfile, args.manifest, *entries); !written)
             return reportFileError(cmd, "cannot write", args.depfile, written.error());
     if (!args.quiet)
-        printSummary(
-            *entries, outcomes,
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        printSummary(*entries, outcomes, secondsSince(start));
     return result;
+}
+
+/// The options of `batch`, bound to `args`.
+void addBatchOptions(CLI::App& app, BatchArgs& args) {
+    app.add_option("MANIFEST", args.manifest, "manifest file (.json)")->required();
+    app.add_option("--depfile", args.depfile,
+                   "write a Makefile-syntax depfile (output: mesh manifest) for build systems");
+    app.add_option("-j,--jobs", args.jobs,
+                   "bake up to N entries at once, each in a child process (GPU entries take "
+                   "turns on the GPU)")
+        ->check(wholeNumber(1, 256))
+        ->capture_default_str();
+    app.add_flag("--force", args.force, "bake every entry, fresh or not");
+    app.add_flag("-q,--quiet", args.quiet, "print nothing but errors");
 }
 
 } // namespace
 
 Command addBatchCommand(CLI::App& parent) {
-    auto args = std::make_shared<BatchArgs>();
-    CLI::App* app = parent.add_subcommand(
-        "batch", "Bake every collider a JSON manifest lists ({\"colliders\": [{\"mesh\", "
-                 "\"output\", and optionally \"resolution\", \"voxelSize\", \"padding\", "
-                 "\"sign\", \"storage\", \"scale\", \"backend\", \"sparse\", \"band\"}]}, paths "
-                 "relative to the "
-                 "manifest, output folders created), skipping outputs that are fresh: they record "
-                 "the hash of the "
-                 "mesh's current bytes, the same settings and this tool version. Prints a "
-                 "summary table; exits with the first failed entry's code, and a failed entry's "
-                 "previous output is left untouched.");
-    app->add_option("MANIFEST", args->manifest, "manifest file (.json)")->required();
-    app->add_option("--depfile", args->depfile,
-                    "write a Makefile-syntax depfile (output: mesh manifest) for build systems");
-    app->add_option("-j,--jobs", args->jobs,
-                    "bake up to N entries at once, each in a child process (GPU entries take "
-                    "turns on the GPU)")
-        ->check(wholeNumber(1, 256))
-        ->capture_default_str();
-    app->add_flag("--force", args->force, "bake every entry, fresh or not");
-    app->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
-    return {app, [args] { return runBatch(*args); }};
+    return addSubcommand(
+        parent, "batch",
+        "Bake every collider a JSON manifest lists ({\"colliders\": [{\"mesh\", "
+        "\"output\", and optionally \"resolution\", \"voxelSize\", \"padding\", "
+        "\"sign\", \"storage\", \"scale\", \"backend\", \"sparse\", \"band\"}]}, paths "
+        "relative to the manifest, output folders created), skipping outputs that are fresh: "
+        "they record the hash of the mesh's current bytes, the same settings and this tool "
+        "version. Prints a summary table; exits with the first failed entry's code, and a failed "
+        "entry's previous output is left untouched.",
+        addBatchOptions, runBatch);
 }
 
 } // namespace sluice::bake::cli

@@ -12,7 +12,7 @@
 #include "sluice/bake/commands/Cli.h"
 #include "sluice/bake/interop/NanoVdbIO.h"
 #include "sluice/bake/interop/VdbIO.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::bake::cli {
 

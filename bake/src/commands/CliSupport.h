@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -13,11 +14,11 @@
 
 #include "sluice/bake/import/MeshImport.h"
 #include "sluice/bake/validate/Validate.h"
-#include "sluice/format/CliErrors.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/ExitCodes.h"
-#include "sluice/format/Result.h"
-#include "sluice/format/Suggest.h"
+#include "sluice/format/support/CliErrors.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/ExitCodes.h"
+#include "sluice/format/support/Result.h"
+#include "sluice/format/support/Suggest.h"
 
 namespace sluice::bake::cli {
 
@@ -46,6 +47,18 @@ struct BakeArgs {
     bool sparse = false; ///< a narrow-band NanoVDB asset instead of a dense grid
     double band = 3.0;   ///< [voxels] sparse: half-width of the band of exact values
 };
+
+/// Registers subcommand `name` of `parent` with a fresh Args that lives as long as the Command:
+/// `addOptions` binds the subcommand's options to it, and the Command runs `run` on it once
+/// parsing succeeded.
+template <class Args>
+Command addSubcommand(CLI::App& parent, const std::string& name, const std::string& description,
+                      void (*addOptions)(CLI::App& app, Args& args), int (*run)(const Args& args)) {
+    auto args = std::make_shared<Args>();
+    CLI::App* app = parent.add_subcommand(name, description);
+    addOptions(*app, *args);
+    return {app, [args, run] { return run(*args); }};
+}
 
 /// Runs one bake (BakeCommand.cpp) and returns its exit code; prints as `bake` does.
 int runBake(const BakeArgs& args);

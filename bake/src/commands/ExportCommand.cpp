@@ -1,12 +1,11 @@
 // `sluice-bake export`: a collider asset out as an OpenVDB float level set or a NanoVDB grid.
 #include <iostream>
-#include <memory>
 
 #include "commands/CliSupport.h"
 #include "sluice/bake/commands/Cli.h"
 #include "sluice/bake/interop/NanoVdbIO.h"
 #include "sluice/bake/interop/VdbIO.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -43,18 +42,22 @@ int runExport(const ExportArgs& args) {
     return kExitOk;
 }
 
+/// The options of `export`, bound to `args`.
+void addExportOptions(CLI::App& app, ExportArgs& args) {
+    app.add_option("ASSET", args.asset, "collider asset (.slc)")->required();
+    app.add_option("OUT", args.output, "output file (.vdb or .nvdb)")->required();
+    app.add_flag("-q,--quiet", args.quiet, "no summary");
+}
+
 } // namespace
 
 Command addExportCommand(CLI::App& parent) {
-    auto args = std::make_shared<ExportArgs>();
-    CLI::App* app = parent.add_subcommand(
-        "export", "Write an asset as an OpenVDB float level set (.vdb; every grid point an "
-                  "active voxel, or the band of a sparse asset) or a sparse asset's NanoVDB grid "
-                  "(.nvdb), atomically.");
-    app->add_option("ASSET", args->asset, "collider asset (.slc)")->required();
-    app->add_option("OUT", args->output, "output file (.vdb or .nvdb)")->required();
-    app->add_flag("-q,--quiet", args->quiet, "no summary");
-    return {app, [args] { return runExport(*args); }};
+    return addSubcommand(
+        parent, "export",
+        "Write an asset as an OpenVDB float level set (.vdb; every grid point an "
+        "active voxel, or the band of a sparse asset) or a sparse asset's NanoVDB grid "
+        "(.nvdb), atomically.",
+        addExportOptions, runExport);
 }
 
 } // namespace sluice::bake::cli

@@ -1,6 +1,5 @@
 // `sluice-bake gl-info`: which headless OpenGL 4.5 context this machine gives, and its limits.
 #include <iostream>
-#include <memory>
 
 #include "commands/CliSupport.h"
 #include "sluice/bake/commands/Cli.h"
@@ -77,23 +76,27 @@ int runGlInfo(const GlInfoArgs& args) {
     return kExitOk;
 }
 
+/// The options of `gl-info`, bound to `args`.
+void addGlInfoOptions(CLI::App& app, GlInfoArgs& args) {
+    app.add_flag("--json", args.json, "print as JSON");
+    app.add_option("--platform", args.platform,
+                   "EGL platform: auto, device or surfaceless (default: SLUICE_EGL_PLATFORM, "
+                   "else auto)");
+    app.add_option("--device", args.device,
+                   "EGL device index on the device platform (default: SLUICE_EGL_DEVICE, else "
+                   "every device, GPUs first)");
+    app.add_flag("--self-test", args.selfTest,
+                 "also run a compute shader and compare it with the CPU");
+}
+
 } // namespace
 
 Command addGlInfoCommand(CLI::App& parent) {
-    auto args = std::make_shared<GlInfoArgs>();
-    CLI::App* app = parent.add_subcommand(
-        "gl-info", "Create the headless OpenGL 4.5 context (EGL) and print what it runs on and "
-                   "its compute limits. Exit 3 if there is none.");
-    app->add_flag("--json", args->json, "print as JSON");
-    app->add_option("--platform", args->platform,
-                    "EGL platform: auto, device or surfaceless (default: SLUICE_EGL_PLATFORM, "
-                    "else auto)");
-    app->add_option("--device", args->device,
-                    "EGL device index on the device platform (default: SLUICE_EGL_DEVICE, else "
-                    "every device, GPUs first)");
-    app->add_flag("--self-test", args->selfTest,
-                  "also run a compute shader and compare it with the CPU");
-    return {app, [args] { return runGlInfo(*args); }};
+    return addSubcommand(
+        parent, "gl-info",
+        "Create the headless OpenGL 4.5 context (EGL) and print what it runs on and "
+        "its compute limits. Exit 3 if there is none.",
+        addGlInfoOptions, runGlInfo);
 }
 
 } // namespace sluice::bake::cli

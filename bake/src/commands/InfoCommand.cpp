@@ -3,16 +3,15 @@
 #include <array>
 #include <fstream>
 #include <iostream>
-#include <memory>
 #include <optional>
 
 #include "commands/CliSupport.h"
 #include "sluice/bake/commands/Cli.h"
 #include "sluice/bake/interop/NanoVdbIO.h"
 #include "sluice/bake/validate/SliceImage.h"
-#include "sluice/format/AssetHeader.h"
-#include "sluice/format/Hash.h"
-#include "sluice/format/NanoVdbCheck.h"
+#include "sluice/format/asset/AssetHeader.h"
+#include "sluice/format/support/Hash.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -230,22 +229,26 @@ int runInfo(const InfoArgs& args) {
     return kExitOk;
 }
 
+/// The options of `info`, bound to `args`.
+void addInfoOptions(CLI::App& app, InfoArgs& args) {
+    app.add_option("ASSET", args.asset, "collider asset (.slc), .vdb or .nvdb file")->required();
+    app.add_flag("--json", args.json, "print as JSON");
+    CLI::Option* slice = app.add_option(
+        "--slice", args.slice, "slice to draw: x|y|z=FRACTION of the grid extent, e.g. z=0.5");
+    CLI::Option* png = app.add_option("--png", args.png, "PNG file for the --slice picture");
+    slice->needs(png);
+    png->needs(slice);
+}
+
 } // namespace
 
 Command addInfoCommand(CLI::App& parent) {
-    auto args = std::make_shared<InfoArgs>();
-    CLI::App* app = parent.add_subcommand(
-        "info", "Print an asset's header and metadata: grid, provenance, mesh diagnostics, "
-                "mass properties, validation figures, and a sparse asset's NanoVDB tree. Also "
-                "reads .vdb grids and .nvdb grids (the tree only).");
-    app->add_option("ASSET", args->asset, "collider asset (.slc), .vdb or .nvdb file")->required();
-    app->add_flag("--json", args->json, "print as JSON");
-    CLI::Option* slice = app->add_option(
-        "--slice", args->slice, "slice to draw: x|y|z=FRACTION of the grid extent, e.g. z=0.5");
-    CLI::Option* png = app->add_option("--png", args->png, "PNG file for the --slice picture");
-    slice->needs(png);
-    png->needs(slice);
-    return {app, [args] { return runInfo(*args); }};
+    return addSubcommand(
+        parent, "info",
+        "Print an asset's header and metadata: grid, provenance, mesh diagnostics, "
+        "mass properties, validation figures, and a sparse asset's NanoVDB tree. Also "
+        "reads .vdb grids and .nvdb grids (the tree only).",
+        addInfoOptions, runInfo);
 }
 
 } // namespace sluice::bake::cli

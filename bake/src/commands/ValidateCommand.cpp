@@ -1,12 +1,10 @@
 // `sluice-bake validate`: an asset against the exact CGAL reference of its mesh, with limits.
-#include <cmath>
 #include <iostream>
-#include <memory>
 
 #include "commands/CliSupport.h"
 #include "sluice/bake/commands/Cli.h"
 #include "sluice/bake/jobs/ValidateJob.h"
-#include "sluice/format/AssetIO.h"
+#include "sluice/format/asset/AssetIO.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -29,12 +27,59 @@ struct ValidateArgs {
     bool quiet = false;
 };
 
+/// The request the arguments make (validateAsset's).
+ValidateRequest requestFor(const ValidateArgs& args) {
+    ValidateRequest request;
+    request.sign = args.sign;
+    request.samples = args.samples;
+    request.seed = args.seed;
+    if (args.maxErrorGiven)
+        request.maxError = args.maxError;
+    request.maxSignErrorsPercent = args.maxSignErrors;
+    // A .vdb grid records no bake, so its sign method is unknown: auto.
+    request.levelSetSource = hasExtension(args.asset, ".vdb");
+    return request;
+}
+
+/// The report for people: the reference, what was compared, each figure against its limit.
+void printReport(const ValidateArgs& args, const format::ColliderAsset& asset,
+                 const ImportedMesh& mesh, const ValidateOutcome& outcome, bool written) {
+    const ValidationReport& report = outcome.report;
+    const format::ValidationFigures& f = report.figures;
+    const bool errorOk = f.maxError <= outcome.maxError;
+    const bool signOk = report.signMismatchPercent <= args.maxSignErrors;
+    auto verdict = [](bool ok) { return ok ? "ok" : "OVER"; };
+    std::cout << "validate " << args.asset << " against " << args.mesh << '\n'
+              << "  reference  CGAL, " << signMethodName(report.referenceSign) << " sign, ";
+    if (asset.sparse())
+        std::cout << "sparse: " << report.bandPoints << " band voxels (error, sign) and "
+                  << report.tilePoints << " other grid points (sign)\n";
+    else
+        std::cout << (report.sampled ? "stratified sample of " : "every grid point: ")
+                  << f.pointsChecked << " of " << asset.pointCount() << " points\n";
+    std::cout << "  distance   max " << num(f.maxError, 3) << "  mean " << num(f.meanError, 3)
+              << "  rms " << num(f.rmsError, 3) << " voxels   limit " << num(outcome.maxError, 3)
+              << "  " << verdict(errorOk) << '\n'
+              << "  sign       " << plural(f.signMismatches, "mismatch", "mismatches") << " of "
+              << report.signComparedPoints << " compared points ("
+              << num(report.signMismatchPercent, 3) << " %)   limit " << num(args.maxSignErrors, 3)
+              << " %  " << verdict(signOk) << '\n'
+              << "  eikonal    |grad phi| median " << num(f.eikonalMedian, 4) << "  p99 "
+              << num(f.eikonalP99, 4) << "  outside [0.5, 1.5] "
+              << num(100.0 * f.eikonalOutsideShare, 3) << " %\n";
+    if (!asset.meta.sourceHash.empty() && asset.meta.sourceHash != mesh.sourceHash)
+        std::cout << "  note       the mesh file's hash differs from the asset's source ("
+                  << asset.meta.sourceFile << ")\n";
+    if (written)
+        std::cout << "  wrote the figures into " << args.asset << '\n';
+    std::cout << "  result     " << (outcome.withinLimits ? "PASS" : "FAIL") << '\n';
+}
+
 int runValidate(const ValidateArgs& args) {
     constexpr std::string_view cmd = "validate";
-    const std::string signText = args.sign;
-    if (!signText.empty())
-        if (Result<SignMode> sign = parseSignMode(signText); !sign)
-            return reportBadInput(cmd, "--sign " + signText + ": " + sign.error().detail);
+    if (!args.sign.empty())
+        if (Result<SignMode> sign = parseSignMode(args.sign); !sign)
+            return reportBadInput(cmd, "--sign " + args.sign + ": " + sign.error().detail);
     if (args.write && hasExtension(args.asset, ".vdb"))
         return reportBadInput(cmd,
                               "--write needs a collider asset (.slc), not '" + args.asset + "'");
@@ -46,113 +91,69 @@ int runValidate(const ValidateArgs& args) {
     if (!mesh)
         return reportFileError(cmd, "cannot read mesh", args.mesh, mesh.error());
 
-    ValidateOptions options;
-    options.samplePoints = args.samples;
-    options.seed = args.seed;
-    // A .vdb grid records no bake, so its sign method is unknown: auto.
-    const bool vdb = hasExtension(args.asset, ".vdb");
-    const std::string signUsed = !signText.empty() ? signText
-                                 : vdb             ? std::string("auto")
-                                                   : defaultValidateSign(asset->meta);
-    options.sign = parseSignMode(signUsed).value();
-
-    const std::uint64_t gridPoints = asset->pointCount();
-    const std::uint64_t toCheck = gridPoints > options.maxFullPoints
-                                      ? std::min(gridPoints, options.samplePoints)
-                                      : gridPoints;
-    Result<ValidationReport> report = [&] {
-        Progress progress("validating", toCheck, !args.quiet && !args.json);
-        return validate(*asset, *mesh, options, &progress);
+    const ValidateRequest request = requestFor(args);
+    Result<ValidateOutcome> outcome = [&] {
+        Progress progress("validating", validatePointCount(*asset, request),
+                          !args.quiet && !args.json);
+        return validateAsset(*asset, *mesh, request, &progress);
     }();
-    if (!report)
+    if (!outcome)
         return reportError(cmd, "cannot validate '" + args.asset + "' against '" + args.mesh + "'",
-                           report.error());
-
-    const format::ValidationFigures& f = report->figures;
-    const double maxError = args.maxErrorGiven ? args.maxError : defaultMaxError(*asset);
-    const bool errorOk = f.maxError <= maxError;
-    const bool signOk = report->signMismatchPercent <= args.maxSignErrors;
-    const bool hashKnown = !asset->meta.sourceHash.empty();
-    const bool hashMatches = asset->meta.sourceHash == mesh->sourceHash;
+                           outcome.error());
 
     bool written = false;
     if (args.write) {
-        asset->meta.validation = f;
+        asset->meta.validation = outcome->report.figures;
         if (Result<void> ok = format::writeAsset(args.asset, *asset); !ok)
             return reportFileError(cmd, "cannot update", args.asset, ok.error());
         written = true;
     }
-
-    if (args.json) {
-        const ValidateRequest request{.maxSignErrorsPercent = args.maxSignErrors};
-        const ValidateOutcome outcome{*report, maxError, errorOk && signOk};
-        std::cout << validateReportJson(outcome, *asset, *mesh, args.asset, args.mesh, request,
+    if (args.json)
+        std::cout << validateReportJson(*outcome, *asset, *mesh, args.asset, args.mesh, request,
                                         written)
                   << '\n';
-    } else {
-        auto verdict = [](bool ok) { return ok ? "ok" : "OVER"; };
-        std::cout << "validate " << args.asset << " against " << args.mesh << '\n'
-                  << "  reference  CGAL, " << signMethodName(report->referenceSign) << " sign, ";
-        if (asset->sparse())
-            std::cout << "sparse: " << report->bandPoints << " band voxels (error, sign) and "
-                      << report->tilePoints << " other grid points (sign)\n";
-        else
-            std::cout << (report->sampled ? "stratified sample of " : "every grid point: ")
-                      << f.pointsChecked << " of " << gridPoints << " points\n";
-        std::cout << "  distance   max " << num(f.maxError, 3) << "  mean " << num(f.meanError, 3)
-                  << "  rms " << num(f.rmsError, 3) << " voxels   limit " << num(maxError, 3)
-                  << "  " << verdict(errorOk) << '\n'
-                  << "  sign       " << plural(f.signMismatches, "mismatch", "mismatches") << " of "
-                  << report->signComparedPoints << " compared points ("
-                  << num(report->signMismatchPercent, 3) << " %)   limit "
-                  << num(args.maxSignErrors, 3) << " %  " << verdict(signOk) << '\n'
-                  << "  eikonal    |grad phi| median " << num(f.eikonalMedian, 4) << "  p99 "
-                  << num(f.eikonalP99, 4) << "  outside [0.5, 1.5] "
-                  << num(100.0 * f.eikonalOutsideShare, 3) << " %\n";
-        if (hashKnown && !hashMatches)
-            std::cout << "  note       the mesh file's hash differs from the asset's source ("
-                      << asset->meta.sourceFile << ")\n";
-        if (written)
-            std::cout << "  wrote the figures into " << args.asset << '\n';
-        std::cout << "  result     " << (errorOk && signOk ? "PASS" : "FAIL") << '\n';
-    }
-    return errorOk && signOk ? kExitOk : kExitCheckFailed;
+    else
+        printReport(args, *asset, *mesh, *outcome, written);
+    return outcome->withinLimits ? kExitOk : kExitCheckFailed;
+}
+
+/// The options of `validate`, bound to `args`.
+void addValidateOptions(CLI::App& app, ValidateArgs& args) {
+    app.add_option("ASSET", args.asset, "collider asset (.slc, or a .vdb grid)")->required();
+    app.add_option("MESH", args.mesh, "the mesh the asset was baked from")->required();
+    app.add_flag("--json", args.json, "print the report as JSON");
+    app.add_option_function<double>(
+           "--max-error", [&args](double e) { args.maxError = e, args.maxErrorGiven = true; },
+           "[voxels] largest allowed |phi - phi_ref|; default 1e-3, plus the recorded "
+           "quantization error for f16 assets")
+        ->check(finiteNumber(true));
+    app.add_option("--max-sign-errors", args.maxSignErrors,
+                   "[%] largest allowed share of sign mismatches (points within 1e-4 voxel of "
+                   "the surface are not counted)")
+        ->check(numberIn(0.0, 100.0))
+        ->capture_default_str();
+    app.add_option("--sign", args.sign,
+                   "reference sign method: auto, parity, winding (default: what the asset "
+                   "records)");
+    app.add_option("--samples", args.samples,
+                   "sample size for grids over 2M points (stratified: half within 2 voxels of "
+                   "the surface)")
+        ->check(wholeNumber(1, std::int64_t(1) << 28))
+        ->capture_default_str();
+    app.add_option("--seed", args.seed, "sampling seed (same seed, same report)")
+        ->capture_default_str();
+    app.add_flag("--write", args.write,
+                 "store the figures in the asset's metadata (rewritten atomically)");
+    app.add_flag("-q,--quiet", args.quiet, "no progress bar");
 }
 
 } // namespace
 
 Command addValidateCommand(CLI::App& parent) {
-    auto args = std::make_shared<ValidateArgs>();
-    CLI::App* app = parent.add_subcommand(
-        "validate", "Check an asset against the exact CGAL reference of MESH (imported at the "
-                    "scale the asset records). Exit 0 within the limits, 1 over them.");
-    app->add_option("ASSET", args->asset, "collider asset (.slc, or a .vdb grid)")->required();
-    app->add_option("MESH", args->mesh, "the mesh the asset was baked from")->required();
-    app->add_flag("--json", args->json, "print the report as JSON");
-    app->add_option_function<double>(
-           "--max-error", [args](double e) { args->maxError = e, args->maxErrorGiven = true; },
-           "[voxels] largest allowed |phi - phi_ref|; default 1e-3, plus the recorded "
-           "quantization error for f16 assets")
-        ->check(finiteNumber(true));
-    app->add_option("--max-sign-errors", args->maxSignErrors,
-                    "[%] largest allowed share of sign mismatches (points within 1e-4 voxel of "
-                    "the surface are not counted)")
-        ->check(numberIn(0.0, 100.0))
-        ->capture_default_str();
-    app->add_option("--sign", args->sign,
-                    "reference sign method: auto, parity, winding (default: what the asset "
-                    "records)");
-    app->add_option("--samples", args->samples,
-                    "sample size for grids over 2M points (stratified: half within 2 voxels of "
-                    "the surface)")
-        ->check(wholeNumber(1, std::int64_t(1) << 28))
-        ->capture_default_str();
-    app->add_option("--seed", args->seed, "sampling seed (same seed, same report)")
-        ->capture_default_str();
-    app->add_flag("--write", args->write,
-                  "store the figures in the asset's metadata (rewritten atomically)");
-    app->add_flag("-q,--quiet", args->quiet, "no progress bar");
-    return {app, [args] { return runValidate(*args); }};
+    return addSubcommand(parent, "validate",
+                         "Check an asset against the exact CGAL reference of MESH (imported at the "
+                         "scale the asset records). Exit 0 within the limits, 1 over them.",
+                         addValidateOptions, runValidate);
 }
 
 } // namespace sluice::bake::cli

@@ -53,33 +53,8 @@ void signPendingPoints(BakePasses& passes, const BakePrograms& programs, const S
     passes.stats.pendingPoints += header.points;
 }
 
-} // namespace
-
-std::string mib(std::uint64_t bytes) {
-    return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
-}
-
-BufferTexture::BufferTexture(const gpu::Buffer& buffer, GLenum format) {
-    glCreateTextures(GL_TEXTURE_BUFFER, 1, &m_id);
-    glTextureBuffer(m_id, format, buffer.id());
-}
-
-BufferTexture::~BufferTexture() {
-    if (m_id != 0)
-        glDeleteTextures(1, &m_id);
-}
-
-Result<void> createStorage(std::span<const StorageAlloc> allocs) {
-    for (const StorageAlloc& a : allocs) {
-        Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
-        if (!buffer)
-            return buffer.error();
-        *a.buffer = std::move(*buffer);
-        a.buffer->bindStorage(GLuint(a.binding));
-    }
-    return {};
-}
-
+/// The soup's triangles in grid-relative voxel coordinates: the float (i, j, k) is grid point
+/// (i, j, k) exactly.
 std::vector<BvhInputTriangle> voxelTriangles(const GpuSoup& soup, const GridSpec& grid) {
     std::vector<BvhInputTriangle> input;
     input.reserve(soup.triangles.size());
@@ -90,6 +65,14 @@ std::vector<BvhInputTriangle> voxelTriangles(const GpuSoup& soup, const GridSpec
     return input;
 }
 
+/// The soup prepared for the GPU (GpuSoup.h) and its triangles in grid-relative voxels.
+struct VoxelSoup {
+    GpuSoup soup;
+    std::vector<BvhInputTriangle> triangles;
+};
+
+/// Prepares the soup and lays it over the grid; laps "gpu: prepare the soup". Errors of
+/// prepareGpuSoup.
 Result<VoxelSoup> prepareVoxelSoup(const ImportedMesh& mesh, const GridSpec& grid, SignMode sign,
                                    PhaseLog* phases) {
     Result<GpuSoup> soup = prepareGpuSoup(mesh.soup, mesh.diagnostics, sign);
@@ -100,43 +83,20 @@ Result<VoxelSoup> prepareVoxelSoup(const ImportedMesh& mesh, const GridSpec& gri
     return VoxelSoup{std::move(*soup), std::move(triangles)};
 }
 
+/// Builds the BVH over `triangles` and records its figures in `stats` (bvhSeconds from
+/// `start`, the soup's preparation included); laps "gpu: BVH build".
 Bvh buildBakeBvh(std::span<const BvhInputTriangle> triangles, GpuBakeStats& stats,
                  std::chrono::steady_clock::time_point start, PhaseLog* phases) {
     Bvh bvh = buildBvh(triangles);
     stats.triangles = bvh.triangleCount;
     stats.nodes = bvh.nodeCount;
     stats.depth = bvh.depth;
-    stats.bvhSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats.bvhSeconds = secondsSince(start);
     lap(phases, "gpu: BVH build");
     return bvh;
 }
 
-std::uint64_t bvhNodeBytes(std::uint64_t triangles) {
-    // buildBvh makes fewer than two nodes per triangle, 2 texels each.
-    return 4 * triangles * sizeof(glm::uvec4);
-}
-
-std::uint64_t bvhTriangleBytes(std::uint64_t triangles) {
-    return 3 * triangles * sizeof(glm::vec4);
-}
-
-Result<void> checkBvhFits(const std::string& sourceFile, std::uint64_t triangles,
-                          const GpuBakeOptions& options) {
-    GLint maxTexels = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-    const std::uint64_t maxTextureBytes =
-        std::min(std::uint64_t(maxTexels) * sizeof(glm::vec4),
-                 options.maxBufferBytes > 0 ? options.maxBufferBytes : ~std::uint64_t(0));
-    if (triangles >= kBvhMaxTriangles ||
-        std::max(bvhTriangleBytes(triangles), bvhNodeBytes(triangles)) > maxTextureBytes)
-        return fail(ErrorCode::SizeOverflow,
-                    sourceFile + ": " + std::to_string(triangles) +
-                        " triangles need GPU buffers over this GPU's largest buffer texture (" +
-                        mib(maxTextureBytes) + "); simplify the mesh or use --backend cgal");
-    return {};
-}
-
+/// The BVH and its triangles as buffer textures bound to their units (shared/SdfBake.h).
 Result<GpuBvh> uploadBvh(const Bvh& bvh) {
     GpuBvh out;
     struct Upload {
@@ -163,6 +123,7 @@ Result<GpuBvh> uploadBvh(const Bvh& bvh) {
     return out;
 }
 
+/// The programs of the bake for one layout, compiled from the embedded sources.
 Result<BakePrograms> compilePrograms(gpu::ProgramCache* cache, BakeLayout layout) {
     std::vector<gpu::ShaderDefine> base;
     if (layout == BakeLayout::Sparse)
@@ -198,6 +159,8 @@ Result<BakePrograms> compilePrograms(gpu::ProgramCache* cache, BakeLayout layout
     return p;
 }
 
+/// The uniforms that stay the same for the whole bake. `propagate`: the fine pass may take the
+/// sign of a coarse point whose empty ball holds a grid point.
 void setBakeUniforms(const BakePrograms& p, const Bvh& bvh, glm::uvec3 dims, bool propagate,
                      format::SignMethod method, const GpuBakeOptions& options) {
     for (const gpu::Program* program :
@@ -218,6 +181,89 @@ void setBakeUniforms(const BakePrograms& p, const Bvh& bvh, glm::uvec3 dims, boo
         program->set("verifyBand", float(options.verifyBand));
         program->set("parity", std::uint32_t(method == format::SignMethod::Parity ? 1 : 0));
     }
+}
+
+} // namespace
+
+std::string mib(std::uint64_t bytes) {
+    return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
+}
+
+BufferTexture::BufferTexture(const gpu::Buffer& buffer, GLenum format) {
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &m_id);
+    glTextureBuffer(m_id, format, buffer.id());
+}
+
+BufferTexture::~BufferTexture() {
+    if (m_id != 0)
+        glDeleteTextures(1, &m_id);
+}
+
+Result<void> createStorage(std::span<const StorageAlloc> allocs) {
+    for (const StorageAlloc& a : allocs) {
+        Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
+        if (!buffer)
+            return buffer.error();
+        *a.buffer = std::move(*buffer);
+        a.buffer->bindStorage(GLuint(a.binding));
+    }
+    return {};
+}
+
+std::uint64_t bvhNodeBytes(std::uint64_t triangles) {
+    // buildBvh makes fewer than two nodes per triangle, 2 texels each.
+    return 4 * triangles * sizeof(glm::uvec4);
+}
+
+std::uint64_t bvhTriangleBytes(std::uint64_t triangles) {
+    return 3 * triangles * sizeof(glm::vec4);
+}
+
+Result<void> checkBvhFits(const std::string& sourceFile, std::uint64_t triangles,
+                          const GpuBakeOptions& options) {
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    const std::uint64_t maxTextureBytes =
+        std::min(std::uint64_t(maxTexels) * sizeof(glm::vec4),
+                 options.maxBufferBytes > 0 ? options.maxBufferBytes : ~std::uint64_t(0));
+    if (triangles >= kBvhMaxTriangles ||
+        std::max(bvhTriangleBytes(triangles), bvhNodeBytes(triangles)) > maxTextureBytes)
+        return fail(ErrorCode::SizeOverflow,
+                    sourceFile + ": " + std::to_string(triangles) +
+                        " triangles need GPU buffers over this GPU's largest buffer texture (" +
+                        mib(maxTextureBytes) + "); simplify the mesh or use --backend cgal");
+    return {};
+}
+
+Result<BakeSetup> setUpBake(const ImportedMesh& mesh, const GridSpec& grid, SignMode sign,
+                            std::initializer_list<BakeLayout> layouts,
+                            const std::function<Result<void>(std::uint64_t triangles)>& fits,
+                            const GpuBakeOptions& options, GpuBakeStats& stats) {
+    const auto start = std::chrono::steady_clock::now();
+    Result<VoxelSoup> prepared = prepareVoxelSoup(mesh, grid, sign, options.phases);
+    if (!prepared)
+        return prepared.error();
+    if (Result<void> fit = fits(prepared->triangles.size()); !fit)
+        return fit.error();
+    BakeSetup setup;
+    setup.soup = std::move(prepared->soup);
+    setup.bvh = buildBakeBvh(prepared->triangles, stats, start, options.phases);
+    // The winding number is an integer off a closed surface (a cycle), so a point's sign is that
+    // of any point whose empty ball holds it; an open soup's is not, so every point is pending.
+    const bool propagate = setup.soup.cycle;
+    for (const BakeLayout layout : layouts) {
+        Result<BakePrograms> programs = compilePrograms(options.programCache, layout);
+        if (!programs)
+            return programs.error();
+        setBakeUniforms(*programs, setup.bvh, grid.dims, propagate, setup.soup.method, options);
+        setup.programs.push_back(std::move(*programs));
+    }
+    lap(options.phases, "gpu: compile and link programs");
+    Result<GpuBvh> gpuBvh = uploadBvh(setup.bvh);
+    if (!gpuBvh)
+        return gpuBvh.error();
+    setup.gpuBvh = std::move(*gpuBvh);
+    return setup;
 }
 
 void BakePasses::distance(const gpu::Program& program, glm::uvec3 groups) {
@@ -289,9 +335,7 @@ void runSlabs(BakePasses& passes, const BakePrograms& programs, const SignLists&
         signPendingPoints(passes, programs, lists);
         if (progress && plan.pointsOf)
             progress->add(plan.pointsOf(z0, z1));
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - slabStart).count();
-        slabLayers = nextSlabLayers(z1 - z0, seconds, plan.maxLayers);
+        slabLayers = nextSlabLayers(z1 - z0, secondsSince(slabStart), plan.maxLayers);
     }
 }
 

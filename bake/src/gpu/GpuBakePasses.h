@@ -1,11 +1,12 @@
-// What the dense and the sparse GPU bakes share: the BVH on the GPU, the programs of a point
-// layout (shaders/shared/SdfBakeGlsl.h), the slabs of the fine pass and the sign lists between
-// them. GpuBaker.cpp describes the passes; GpuSparseBaker.cpp runs them over brick lists.
+// What the dense and the sparse GPU bakes share: their opening (the soup, the BVH on the GPU,
+// the programs of a point layout, shaders/shared/SdfBakeGlsl.h), the slabs of the fine pass and
+// the sign lists between them. GpuBaker.cpp describes the passes; GpuSparseBaker.cpp runs them
+// over brick lists.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <optional>
 #include <span>
 #include <string>
@@ -53,24 +54,6 @@ struct StorageAlloc {
 /// Creates each buffer and binds it to its binding; the first failure's error.
 Result<void> createStorage(std::span<const StorageAlloc> allocs);
 
-/// The soup's triangles in grid-relative voxel coordinates: the float (i, j, k) is grid point
-/// (i, j, k) exactly.
-std::vector<BvhInputTriangle> voxelTriangles(const GpuSoup& soup, const GridSpec& grid);
-
-/// The soup prepared for the GPU (GpuSoup.h) and its triangles in grid-relative voxels; laps
-/// "gpu: prepare the soup". Errors of prepareGpuSoup.
-struct VoxelSoup {
-    GpuSoup soup;
-    std::vector<BvhInputTriangle> triangles;
-};
-Result<VoxelSoup> prepareVoxelSoup(const ImportedMesh& mesh, const GridSpec& grid, SignMode sign,
-                                   PhaseLog* phases);
-
-/// Builds the BVH over `triangles` and records its figures in `stats` (bvhSeconds from
-/// `start`, the soup's preparation included); laps "gpu: BVH build".
-Bvh buildBakeBvh(std::span<const BvhInputTriangle> triangles, GpuBakeStats& stats,
-                 std::chrono::steady_clock::time_point start, PhaseLog* phases);
-
 /// [bytes] The BVH's two node textures (an upper bound: fewer than two nodes per triangle) and
 /// the triangle texture.
 std::uint64_t bvhNodeBytes(std::uint64_t triangles);
@@ -90,7 +73,6 @@ struct GpuBvh {
         return distanceNodes.size() + windingNodes.size() + triangles.size();
     }
 };
-Result<GpuBvh> uploadBvh(const Bvh& bvh);
 
 /// Which points the bake's programs compute (shaders/shared/SdfBakeGlsl.h).
 enum class BakeLayout {
@@ -108,12 +90,26 @@ struct BakePrograms {
     gpu::Program sign;       ///< sdf_sign.comp over the pending list
     gpu::Program exactSign;  ///< sdf_sign.comp with SDF_SIGN_EXACT, over the verify list
 };
-Result<BakePrograms> compilePrograms(gpu::ProgramCache* cache, BakeLayout layout);
 
-/// The uniforms that stay the same for the whole bake. `propagate`: the fine pass may take the
-/// sign of a coarse point whose empty ball holds a grid point.
-void setBakeUniforms(const BakePrograms& programs, const Bvh& bvh, glm::uvec3 dims, bool propagate,
-                     format::SignMethod method, const GpuBakeOptions& options);
+/// What both GPU bakes build before their own buffers: the soup prepared for the GPU, the BVH on
+/// the CPU and on the GPU, and the programs of the layouts the bake runs.
+struct BakeSetup {
+    GpuSoup soup;
+    Bvh bvh;
+    std::vector<BakePrograms> programs; ///< one per layout, in the order asked for
+    GpuBvh gpuBvh;
+};
+
+/// The opening of a GPU bake: prepares the soup (prepareGpuSoup, then its triangles in
+/// grid-relative voxels; lap "gpu: prepare the soup"), hands its triangle count to `fits` before
+/// anything big is built, builds the BVH (its figures in `stats`, bvhSeconds from the start; lap
+/// "gpu: BVH build"), compiles the programs of `layouts` with the uniforms that stay the same for
+/// the whole bake (lap "gpu: compile and link programs") and uploads the BVH as buffer textures
+/// bound to their units. The first error of those steps.
+Result<BakeSetup> setUpBake(const ImportedMesh& mesh, const GridSpec& grid, SignMode sign,
+                            std::initializer_list<BakeLayout> layouts,
+                            const std::function<Result<void>(std::uint64_t triangles)>& fits,
+                            const GpuBakeOptions& options, GpuBakeStats& stats);
 
 /// What the passes of one bake share: the dispatch limits, the timers (profile only) and the
 /// statistics they add to.

@@ -4,7 +4,7 @@
 // grid-relative voxel coordinates, where grid point (i, j, k) is the float (i, j, k) and every
 // coordinate is no larger than the grid.
 //
-// Passes (shaders/sdf_*.comp):
+// Passes (shaders/bake/sdf_*.comp):
 //   1. coarse distance: the nearest triangle of every 4th grid point along each axis;
 //   2. coarse sign: their fast winding number (closed soups only);
 //   3. fine distance, in z-slabs: exact distances, each invocation a block of 2 x 2 x 4 points
@@ -17,7 +17,6 @@
 #include "sluice/bake/gpu/GpuBaker.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <optional>
@@ -182,48 +181,33 @@ Result<format::ColliderAsset> bakeChecked(const ImportedMesh& mesh, const BakeSe
     Result<GridSpec> grid = gridFor(mesh.soup.bounds(), settings.grid);
     if (!grid)
         return grid.error();
-    const auto cpuStart = std::chrono::steady_clock::now();
-    const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
-    Result<VoxelSoup> prepared = prepareVoxelSoup(mesh, *grid, settings.sign, options.phases);
-    if (!prepared)
-        return prepared.error();
-    const GpuSoup* soup = &prepared->soup;
-    const std::vector<BvhInputTriangle>& input = prepared->triangles;
-
-    // Check sizes before building anything big.
     const glm::uvec3 dims = grid->dims;
-    const BakeSizes sizes = bakeSizes(dims, input.size());
-    if (Result<void> fits = checkSizes(sizes, mesh, dims, input.size(), context, options); !fits)
-        return fits.error();
-
-    const Bvh bvh = buildBakeBvh(input, stats, cpuStart, options.phases);
-
-    Result<BakePrograms> programs = compilePrograms(options.programCache, BakeLayout::Dense);
-    if (!programs)
-        return programs.error();
-    lap("gpu: compile and link programs");
-    Result<GpuBvh> gpuBvh = uploadBvh(bvh);
-    if (!gpuBvh)
-        return gpuBvh.error();
+    const auto fits = [&](std::uint64_t triangles) {
+        return checkSizes(bakeSizes(dims, triangles), mesh, dims, triangles, context, options);
+    };
+    Result<BakeSetup> setup =
+        setUpBake(mesh, *grid, settings.sign, {BakeLayout::Dense}, fits, options, stats);
+    if (!setup)
+        return setup.error();
+    const BakeSizes sizes = bakeSizes(dims, setup->soup.triangles.size());
     Result<GridBuffers> buffers = createGridBuffers(sizes);
     if (!buffers)
         return buffers.error();
-    stats.gpuBytes = gpuBvh->bytes() + buffers->bytes();
-    lap("gpu: upload");
+    stats.gpuBytes = setup->gpuBvh.bytes() + buffers->bytes();
+    lap(options.phases, "gpu: upload");
 
-    // The winding number is an integer off a closed surface (a cycle), so a point's sign is that
-    // of any point whose empty ball holds it; an open soup's is not, so every point is pending.
-    const bool propagate = soup->cycle;
-    setBakeUniforms(*programs, bvh, dims, propagate, soup->method, options);
-    BakePasses passes = makePasses(stats, options, bvh.triangleCount);
-    runCoarsePasses(passes, *programs, sizes.coarseDims, propagate);
-    runGridSlabs(passes, *programs, *buffers, sizes, dims, progress);
-    lap("gpu: passes");
+    // A closed soup's points may take the sign of a coarse point's empty ball (setUpBake).
+    const bool propagate = setup->soup.cycle;
+    const BakePrograms& programs = setup->programs.front();
+    BakePasses passes = makePasses(stats, options, setup->bvh.triangleCount);
+    runCoarsePasses(passes, programs, sizes.coarseDims, propagate);
+    runGridSlabs(passes, programs, *buffers, sizes, dims, progress);
+    lap(options.phases, "gpu: passes");
     const std::vector<float> voxels = buffers->phi.download<float>();
     passes.readTimes();
-    lap("gpu: readback");
-    format::ColliderAsset asset = makeAsset(mesh, *grid, settings, soup->method, voxels);
-    lap("gpu: asset (world units, provenance, mass properties)");
+    lap(options.phases, "gpu: readback");
+    format::ColliderAsset asset = makeAsset(mesh, *grid, settings, setup->soup.method, voxels);
+    lap(options.phases, "gpu: asset (world units, provenance, mass properties)");
     return asset;
 }
 } // namespace

@@ -9,7 +9,7 @@
 
 #include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/import/MeshImport.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

@@ -11,6 +11,8 @@
 //      passes after each, as the dense bake runs them; then the batch is read back, turned into
 //      world units and added to the builder.
 // Work and GPU memory grow with the band: the buffers are sized for one batch, whatever the grid.
+#include "sluice/bake/gpu/GpuSparseBaker.h"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -21,22 +23,19 @@
 #include <vector>
 
 #include "gpu/GpuBakePasses.h"
-#include "sluice/bake/gpu/GpuBaker.h"
-#include "sluice/bake/sparse/SparseBaker.h"
-#include "sluice/format/NanoVdbCheck.h"
+#include "sparse/SparseBricks.h"
 
 namespace sluice::bake {
 
 namespace {
 
-constexpr std::uint32_t kBrickPoints = kBrickSize * kBrickSize * kBrickSize;
 static_assert(kBrickSize == std::uint32_t(shared::kBakeBrickSize), "a brick is one NanoVDB leaf");
 /// Query points per dispatch of the culling.
 constexpr std::uint32_t kQueriesPerBatch = std::uint32_t(1) << 18;
 /// Bricks per work group of the fine pass, and fine-pass work groups of the first slab (2^18
 /// points, as the dense bake's).
 constexpr std::uint32_t kBricksPerGroup =
-    shared::kBakeLocalSize * 4 * shared::kBakeBlockDepth / kBrickPoints;
+    shared::kBakeLocalSize * 4 * shared::kBakeBlockDepth / kBrickVoxels;
 constexpr std::uint32_t kFirstSlabGroups = 256;
 /// Coarse points per brick, and invocations of the sparse coarse pass per brick.
 constexpr std::uint32_t kBrickCoarsePoints =
@@ -48,17 +47,13 @@ constexpr double kQueryMarginVoxels = 0.01;
 constexpr std::uint32_t kMaxGpuSparseAxis = 16384;
 constexpr double kQueryMarginRelative = 1e-5;
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 /// Where the fine pass leaves point i (0..511) of a brick: block slot i / 16 (Morton order of
 /// the brick's 4 x 4 x 2 blocks), point i % 16 of the block; as the index of that point in the
 /// brick, x fastest.
-std::array<std::uint16_t, kBrickPoints> brickPointOrder() {
-    std::array<std::uint16_t, kBrickPoints> order{};
+std::array<std::uint16_t, kBrickVoxels> brickPointOrder() {
+    std::array<std::uint16_t, kBrickVoxels> order{};
     const std::uint32_t blockPoints = 4 * shared::kBakeBlockDepth;
-    for (std::uint32_t i = 0; i < kBrickPoints; ++i) {
+    for (std::uint32_t i = 0; i < kBrickVoxels; ++i) {
         const std::uint32_t m = i / blockPoints, k = i % blockPoints;
         const glm::uvec3 block((m & 1) | ((m >> 2) & 2), ((m >> 1) & 1) | ((m >> 3) & 2),
                                ((m >> 2) & 1) | ((m >> 4) & 2));
@@ -118,12 +113,12 @@ Result<SparseBuffers> createSparseBuffers(const ImportedMesh& mesh, gpu::Context
                                           const GpuBakeOptions& options,
                                           std::uint32_t bricksPerBatch) {
     const std::uint64_t blocks =
-        std::uint64_t(bricksPerBatch) * kBrickPoints / (4 * shared::kBakeBlockDepth);
+        std::uint64_t(bricksPerBatch) * kBrickVoxels / (4 * shared::kBakeBlockDepth);
     SparseBuffers b;
     const StorageAlloc allocs[] = {
         {&b.list, std::uint64_t(std::max(bricksPerBatch, kQueriesPerBatch)) * sizeof(glm::uvec4),
          "sparse bake bricks / query points", shared::kBakeBrickBinding},
-        {&b.phi, std::uint64_t(bricksPerBatch) * kBrickPoints * sizeof(float),
+        {&b.phi, std::uint64_t(bricksPerBatch) * kBrickVoxels * sizeof(float),
          "sparse bake distances", shared::kBakeDistanceBinding},
         {&b.coarse,
          std::uint64_t(std::max(bricksPerBatch * kBrickCoarsePoints, kQueriesPerBatch)) *
@@ -230,17 +225,17 @@ struct SparseGpu {
         plan.alongX = true;
         plan.pointsOf = [n](std::uint32_t g0, std::uint32_t g1) {
             return std::uint64_t(std::min(n, g1 * kBricksPerGroup) - g0 * kBricksPerGroup) *
-                   kBrickPoints;
+                   kBrickVoxels;
         };
         runSlabs(passes, bricks, {buffers.pending, buffers.verify}, plan, progress);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         const std::vector<float> slots =
-            buffers.phi.download<float>(0, std::size_t(n) * kBrickPoints);
-        static const std::array<std::uint16_t, kBrickPoints> order = brickPointOrder();
+            buffers.phi.download<float>(0, std::size_t(n) * kBrickVoxels);
+        static const std::array<std::uint16_t, kBrickVoxels> order = brickPointOrder();
         phi.resize(slots.size());
         for (std::size_t b = 0; b < n; ++b)
-            for (std::uint32_t i = 0; i < kBrickPoints; ++i)
-                phi[b * kBrickPoints + order[i]] = slots[b * kBrickPoints + i];
+            for (std::uint32_t i = 0; i < kBrickVoxels; ++i)
+                phi[b * kBrickVoxels + order[i]] = slots[b * kBrickVoxels + i];
     }
 };
 
@@ -253,6 +248,68 @@ std::uint64_t pointsInDomain(const glm::ivec3& corner, const glm::uvec3& dims) {
     return points;
 }
 
+/// SizeOverflow when the grid is longer than the GPU bake's float coordinates hold exactly
+/// enough (kMaxGpuSparseAxis).
+Result<void> checkSparseAxis(const GridSpec& grid, const ImportedMesh& mesh) {
+    const std::uint32_t longest = std::max({grid.dims.x, grid.dims.y, grid.dims.z});
+    if (longest > kMaxGpuSparseAxis)
+        return fail(ErrorCode::SizeOverflow,
+                    mesh.sourceFile + ": a sparse grid " + std::to_string(longest) +
+                        " points long is over the GPU bake's " + std::to_string(kMaxGpuSparseAxis) +
+                        " (float coordinates); use a coarser voxel size or --backend cgal");
+    return {};
+}
+
+/// The band bricks and uniform blocks, culled with the GPU's understated distances.
+SparsePlan planOnGpu(SparseGpu& sparseGpu, double band, SparseBakeStats& stats, PhaseLog* phases) {
+    const auto start = std::chrono::steady_clock::now();
+    const SparsePlan plan =
+        planSparse(sparseGpu.grid, band, [&](std::span<const glm::dvec3> p, std::span<double> d) {
+            sparseGpu.query(p, d, false);
+        });
+    recordPlan(plan, secondsSince(start), stats);
+    lap(phases, "gpu: culling (band bricks)");
+    return plan;
+}
+
+/// [world units] The signed distance at each uniform block's centre: no surface within the
+/// block, so its centre's sign is its own. Adds the time to stats.distanceSeconds.
+std::vector<double> signBlocks(SparseGpu& sparseGpu, const SparsePlan& plan, SparseBakeStats& stats,
+                               PhaseLog* phases) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<glm::dvec3> centres = blockCentres(sparseGpu.grid, plan);
+    std::vector<double> blockPhi(centres.size());
+    sparseGpu.query(centres, blockPhi, true);
+    stats.distanceSeconds += secondsSince(start);
+    lap(phases, "gpu: uniform blocks' signs");
+    return blockPhi;
+}
+
+/// The band bricks, a batch at a time: the passes, then the values in world units into
+/// `builder`. Adds the GPU's time to stats.distanceSeconds, the builder's to buildSeconds.
+void addBandBricks(SparseGpu& sparseGpu, SparseGridBuilder& builder, const SparsePlan& plan,
+                   bool propagate, Progress& bar, SparseBakeStats& stats) {
+    std::vector<float> phi;
+    std::vector<float> values;
+    const std::size_t batch = sparseGpu.bricksPerBatch;
+    for (std::size_t b0 = 0; b0 < plan.bricks.size(); b0 += batch) {
+        auto start = std::chrono::steady_clock::now();
+        const std::span<const glm::ivec3> corners =
+            std::span(plan.bricks).subspan(b0, std::min(batch, plan.bricks.size() - b0));
+        sparseGpu.bakeBricks(corners, propagate, phi, &bar);
+        stats.distanceSeconds += secondsSince(start);
+        start = std::chrono::steady_clock::now();
+        // Voxels to world units in double, so the only float rounding is the GPU's and the last.
+        values.resize(phi.size());
+        std::transform(phi.begin(), phi.end(), values.begin(),
+                       [&](float v) { return float(double(v) * sparseGpu.grid.voxelSize); });
+        for (const glm::ivec3& corner : corners)
+            stats.voxelsComputed += pointsInDomain(corner, sparseGpu.grid.dims);
+        builder.addBricks(corners, values);
+        stats.buildSeconds += secondsSince(start);
+    }
+}
+
 Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
                                                 const BakeSettings& settings,
                                                 const SparseSettings& sparse, gpu::Context& context,
@@ -261,105 +318,43 @@ Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
     Result<GridSpec> grid = sparseGridFor(mesh.soup.bounds(), settings.grid, sparse.band);
     if (!grid)
         return grid.error();
-    if (const std::uint32_t longest = std::max({grid->dims.x, grid->dims.y, grid->dims.z});
-        longest > kMaxGpuSparseAxis)
-        return fail(ErrorCode::SizeOverflow,
-                    mesh.sourceFile + ": a sparse grid " + std::to_string(longest) +
-                        " points long is over the GPU bake's " + std::to_string(kMaxGpuSparseAxis) +
-                        " (float coordinates); use a coarser voxel size or --backend cgal");
-    const auto cpuStart = std::chrono::steady_clock::now();
-    const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
-    Result<VoxelSoup> prepared = prepareVoxelSoup(mesh, *grid, settings.sign, options.phases);
-    if (!prepared)
-        return prepared.error();
-    const GpuSoup* soup = &prepared->soup;
-    const std::vector<BvhInputTriangle>& input = prepared->triangles;
-    if (Result<void> fits = checkBvhFits(mesh.sourceFile, input.size(), options); !fits)
-        return fits.error();
-    const Bvh bvh = buildBakeBvh(input, stats, cpuStart, options.phases);
-
-    Result<BakePrograms> points = compilePrograms(options.programCache, BakeLayout::Points);
-    if (!points)
-        return points.error();
-    Result<BakePrograms> bricks = compilePrograms(options.programCache, BakeLayout::Sparse);
-    if (!bricks)
-        return bricks.error();
-    lap("gpu: compile and link programs");
-    Result<GpuBvh> gpuBvh = uploadBvh(bvh);
-    if (!gpuBvh)
-        return gpuBvh.error();
+    if (Result<void> axis = checkSparseAxis(*grid, mesh); !axis)
+        return axis.error();
+    const auto fits = [&](std::uint64_t triangles) {
+        return checkBvhFits(mesh.sourceFile, triangles, options);
+    };
+    Result<BakeSetup> setup = setUpBake(
+        mesh, *grid, settings.sign, {BakeLayout::Points, BakeLayout::Sparse}, fits, options, stats);
+    if (!setup)
+        return setup.error();
     const std::uint32_t bricksPerBatch =
         std::clamp<std::uint32_t>(options.sparseBricksPerBatch, kBricksPerGroup, 1u << 16);
     Result<SparseBuffers> buffers = createSparseBuffers(mesh, context, options, bricksPerBatch);
     if (!buffers)
         return buffers.error();
-    stats.gpuBytes = gpuBvh->bytes() + buffers->bytes();
-    lap("gpu: upload");
+    stats.gpuBytes = setup->gpuBvh.bytes() + buffers->bytes();
+    lap(options.phases, "gpu: upload");
 
-    // As in the dense bake: a closed soup's winding number is an integer off the surface, so a
-    // point takes the sign of any coarse point whose empty ball holds it.
-    const bool propagate = soup->cycle;
-    setBakeUniforms(*points, bvh, grid->dims, propagate, soup->method, options);
-    setBakeUniforms(*bricks, bvh, grid->dims, propagate, soup->method, options);
-    BakePasses passes = makePasses(stats, options, bvh.triangleCount);
-    SparseGpu sparseGpu{*grid, *points, *bricks, *buffers, passes, bricksPerBatch};
-
-    auto start = std::chrono::steady_clock::now();
-    const SparsePlan plan =
-        planSparse(*grid, sparse.band, [&](std::span<const glm::dvec3> p, std::span<double> d) {
-            sparseGpu.query(p, d, false);
-        });
-    sparseStats.planSeconds = secondsSince(start);
-    sparseStats.bricks = plan.bricks.size();
-    sparseStats.uniformBlocks = plan.blocks.size();
-    sparseStats.distanceQueries = plan.distanceQueries;
-    lap("gpu: culling (band bricks)");
-
-    // One signed sample per uniform block: no surface within it, so its centre's sign is its own.
-    start = std::chrono::steady_clock::now();
-    std::vector<glm::dvec3> centres(plan.blocks.size());
-    for (std::size_t n = 0; n < plan.blocks.size(); ++n)
-        centres[n] =
-            grid->origin +
-            (glm::dvec3(plan.blocks[n]) + 0.5 * double(plan.blockEdge[n] - 1)) * grid->voxelSize;
-    std::vector<double> blockPhi(centres.size());
-    sparseGpu.query(centres, blockPhi, true);
-    double gpuSeconds = secondsSince(start);
-    lap("gpu: uniform blocks' signs");
-
+    BakePasses passes = makePasses(stats, options, setup->bvh.triangleCount);
+    BakePrograms& points = setup->programs[0]; // SDF_POINTS
+    BakePrograms& bricks = setup->programs[1]; // SDF_SPARSE
+    SparseGpu sparseGpu{*grid, points, bricks, *buffers, passes, bricksPerBatch};
+    const SparsePlan plan = planOnGpu(sparseGpu, sparse.band, sparseStats, options.phases);
+    const std::vector<double> blockPhi = signBlocks(sparseGpu, plan, sparseStats, options.phases);
     Progress bar("baking " + mesh.sourceFile + " on the GPU (sparse band)",
-                 std::uint64_t(plan.bricks.size()) * kBrickPoints, showProgress);
+                 std::uint64_t(plan.bricks.size()) * kBrickVoxels, showProgress);
     SparseGridBuilder builder(*grid, sparse.band);
-    double buildSeconds = 0.0;
-    std::vector<float> phi;
-    std::vector<float> values;
-    for (std::size_t b0 = 0; b0 < plan.bricks.size(); b0 += bricksPerBatch) {
-        start = std::chrono::steady_clock::now();
-        const std::span<const glm::ivec3> corners =
-            std::span(plan.bricks)
-                .subspan(b0, std::min<std::size_t>(bricksPerBatch, plan.bricks.size() - b0));
-        sparseGpu.bakeBricks(corners, propagate, phi, &bar);
-        gpuSeconds += secondsSince(start);
-        start = std::chrono::steady_clock::now();
-        // Voxels to world units in double, so the only float rounding is the GPU's and the last.
-        values.resize(phi.size());
-        std::transform(phi.begin(), phi.end(), values.begin(),
-                       [&](float v) { return float(double(v) * grid->voxelSize); });
-        for (const glm::ivec3& corner : corners)
-            sparseStats.voxelsComputed += pointsInDomain(corner, grid->dims);
-        builder.addBricks(corners, values);
-        buildSeconds += secondsSince(start);
-    }
+    // As in the dense bake, a closed soup's points may take the sign of a coarse point's ball.
+    addBandBricks(sparseGpu, builder, plan, setup->soup.cycle, bar, sparseStats);
     bar.finish();
     passes.readTimes();
-    sparseStats.distanceSeconds = gpuSeconds;
-    lap("gpu: band bricks (passes, readback, leaves)");
+    lap(options.phases, "gpu: band bricks (passes, readback, leaves)");
 
-    sparseStats.buildSeconds = buildSeconds;
     Result<format::ColliderAsset> asset = finishSparseAsset(
         builder, plan, blockPhi,
-        sparseProvenance(mesh, *grid, settings, "gpu", soup->method, sparse.band), sparseStats);
-    lap("gpu: NanoVDB grid and asset (provenance, mass properties)");
+        sparseProvenance(mesh, *grid, settings, "gpu", setup->soup.method, sparse.band),
+        sparseStats);
+    lap(options.phases, "gpu: NanoVDB grid and asset (provenance, mass properties)");
     return asset;
 }
 

@@ -17,7 +17,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "sluice/format/Sanitizers.h"
+#include "sluice/bake/jobs/PhaseLog.h"
+#include "sluice/format/support/Sanitizers.h"
 
 namespace sluice::bake {
 
@@ -141,8 +142,7 @@ bool writeAll(int fd, const char* data, std::size_t size) {
     } catch (...) {
         message = serialize(Error{ErrorCode::MeshImport, "import failed (unknown exception)"});
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = secondsSince(start);
     const bool sent = writeAll(fd, reinterpret_cast<const char*>(&seconds), sizeof seconds) &&
                       writeAll(fd, message.data(), message.size());
     ::close(fd);
@@ -176,6 +176,79 @@ void stopLog4cplusThreadPool() {
     });
 }
 
+/// What the child wrote before it closed its end of the pipe or ran out of time.
+struct ChildAnswer {
+    std::vector<char> bytes;
+    bool timedOut = false;
+};
+
+/// Reads the child's answer while it runs (it may write more than a pipe buffer holds), until
+/// it closes the pipe or `deadline` passes.
+ChildAnswer drainPipe(int fd, std::chrono::steady_clock::time_point deadline) {
+    ChildAnswer answer;
+    char buffer[1 << 16];
+    for (;;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
+        if (left.count() <= 0) {
+            answer.timedOut = true;
+            break;
+        }
+        pollfd pfd{fd, POLLIN, 0};
+        const int ready =
+            ::poll(&pfd, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
+        if (ready < 0 && errno == EINTR)
+            continue;
+        if (ready <= 0)
+            continue;
+        const ssize_t n = ::read(fd, buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break; // EOF: the child closed its end (finished or died)
+        answer.bytes.insert(answer.bytes.end(), buffer, buffer + n);
+    }
+    return answer;
+}
+
+/// Waits for the child (killed first when it ran out of time) and returns its exit status;
+/// `report`, if set, gets its wall time (the answer's first 8 bytes, taken off) and CPU time.
+int reapChild(pid_t pid, ChildAnswer& answer, IsolationReport* report) {
+    if (answer.timedOut)
+        ::kill(pid, SIGKILL);
+    int status = 0;
+    rusage usage{};
+    while (::wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
+    }
+    double childSeconds = 0.0;
+    std::vector<char>& bytes = answer.bytes;
+    if (bytes.size() >= sizeof childSeconds) {
+        std::memcpy(&childSeconds, bytes.data(), sizeof childSeconds);
+        bytes.erase(bytes.begin(), bytes.begin() + sizeof childSeconds);
+    }
+    if (report) {
+        report->wallSeconds = childSeconds;
+        report->cpuSeconds = double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                             1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+    }
+    return status;
+}
+
+/// The import's result from the child's answer and exit status, or why there is none.
+Result<TriangleSoup> childResult(const std::string& what, const IsolationLimits& limits,
+                                 const ChildAnswer& answer, int status) {
+    if (answer.timedOut)
+        return fail(ErrorCode::MeshImport,
+                    what + ": the importer did not finish within " +
+                        std::to_string(limits.timeout.count() / 1000.0) +
+                        " s and was stopped; the file is probably malformed");
+    Result<TriangleSoup> result = Error{ErrorCode::MeshImport, {}};
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && deserialize(answer.bytes, result))
+        return result;
+    return fail(ErrorCode::MeshImport, what + ": the importer " + describeDeath(status) +
+                                           " while reading it; the file is probably malformed");
+}
+
 } // namespace
 
 void prepareForFork() {
@@ -184,8 +257,7 @@ void prepareForFork() {
 
 Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits& limits,
                                  const std::function<Result<TriangleSoup>()>& work,
-                                 const std::function<void()>& meanwhile,
-                                 IsolationReport* report) {
+                                 const std::function<void()>& meanwhile, IsolationReport* report) {
     stopLog4cplusThreadPool();
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0)
@@ -208,60 +280,10 @@ Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits&
     // The child may fill the pipe and wait for the drain below meanwhile; that is all it costs.
     if (meanwhile)
         meanwhile();
-
-    // Drain the pipe while the child runs (it may write more than a pipe buffer holds).
-    std::vector<char> bytes;
-    bool timedOut = false;
-    char buffer[1 << 16];
-    for (;;) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-            deadline - std::chrono::steady_clock::now());
-        if (left.count() <= 0) {
-            timedOut = true;
-            break;
-        }
-        pollfd pfd{fds[0], POLLIN, 0};
-        const int ready =
-            ::poll(&pfd, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
-        if (ready < 0 && errno == EINTR)
-            continue;
-        if (ready <= 0)
-            continue;
-        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            break; // EOF: the child closed its end (finished or died)
-        bytes.insert(bytes.end(), buffer, buffer + n);
-    }
+    ChildAnswer answer = drainPipe(fds[0], deadline);
     ::close(fds[0]);
-    if (timedOut)
-        ::kill(pid, SIGKILL);
-    int status = 0;
-    rusage usage{};
-    while (::wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
-    }
-    double childSeconds = 0.0;
-    if (bytes.size() >= sizeof childSeconds) {
-        std::memcpy(&childSeconds, bytes.data(), sizeof childSeconds);
-        bytes.erase(bytes.begin(), bytes.begin() + sizeof childSeconds);
-    }
-    if (report) {
-        report->wallSeconds = childSeconds;
-        report->cpuSeconds = double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-                             1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-    }
-
-    if (timedOut)
-        return fail(ErrorCode::MeshImport,
-                    what + ": the importer did not finish within " +
-                        std::to_string(limits.timeout.count() / 1000.0) +
-                        " s and was stopped; the file is probably malformed");
-    Result<TriangleSoup> result = Error{ErrorCode::MeshImport, {}};
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && deserialize(bytes, result))
-        return result;
-    return fail(ErrorCode::MeshImport, what + ": the importer " + describeDeath(status) +
-                                           " while reading it; the file is probably malformed");
+    const int status = reapChild(pid, answer, report);
+    return childResult(what, limits, answer, status);
 }
 
 } // namespace sluice::bake

@@ -6,9 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
-#include <fstream>
 #include <mutex>
-#include <sstream>
 #include <string>
 #include <system_error>
 #include <unordered_map>
@@ -22,8 +20,9 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
-#include "sluice/format/Hash.h"
+#include "sluice/format/support/Hash.h"
 
+#include "import/OffCheck.h"
 #include "import/PlyCheck.h"
 
 namespace sluice::bake {
@@ -172,111 +171,6 @@ bool mayBeReadAsPly(const std::string& ext) {
     return ext == ".ply" || !Assimp::Importer().IsExtensionSupported(ext);
 }
 
-/// Checks an OFF file against its header before assimp reads it.
-///
-/// First the declared counts: assimp allocates for them before reading (a 12-line OFF file
-/// asking for 353 billion vertices takes all memory), so they must fit in the file, each
-/// vertex needing at least 6 bytes ("0 0 0\n") and each face 8 ("3 0 1 2\n"). Then the body:
-/// the vertex lines (three numbers each, and whatever colour or normal follows) and every face
-/// line, whose corner count must be followed on the same line by that many vertex indices, each
-/// below the vertex count. Debian's assimp 5.2.5 reads a face's corners past the end of its
-/// buffer when the file does not hold them (a SEGV; found by tests/fuzz, and contained by the
-/// isolated import, but a user deserves the line number). Files with the header's counts on
-/// the first line and '#' comments are read as assimp does; binary OFF is left to assimp.
-Result<void> checkOffFile(const std::filesystem::path& path, std::uintmax_t fileBytes,
-                          const std::string& shown) {
-    std::ifstream in(path, std::ios::binary);
-    std::string line;
-    std::size_t lineNumber = 0;
-    // The next line that is not blank and not a comment, without its comment.
-    auto nextLine = [&](std::string& out) {
-        while (std::getline(in, line)) {
-            ++lineNumber;
-            const std::size_t hash = line.find('#');
-            if (hash != std::string::npos)
-                line.resize(hash);
-            if (line.find_first_not_of(" \t\r\f\v") != std::string::npos) {
-                out = line;
-                return true;
-            }
-        }
-        return false;
-    };
-    std::string text;
-    if (!nextLine(text))
-        return {};
-    std::istringstream first(text);
-    std::string magic;
-    first >> magic;
-    if (magic.size() < 3 || magic.compare(magic.size() - 3, 3, "OFF") != 0 ||
-        magic.find("BINARY") != std::string::npos)
-        return {}; // not OFF text: assimp says what it is
-    // The counts follow the magic on its line, or stand on the next one.
-    double vertexCount = 0, faceCount = 0;
-    std::istringstream nextCounts;
-    std::istream* counts = &first;
-    bool vertexCountRead = bool(first >> vertexCount);
-    if (!vertexCountRead) {
-        if (!nextLine(text))
-            return fail(ErrorCode::MeshImport, shown + ": the OFF header has no counts");
-        nextCounts.str(text);
-        counts = &nextCounts;
-        vertexCountRead = bool(nextCounts >> vertexCount);
-    }
-    const bool faceCountRead = vertexCountRead && bool(*counts >> faceCount);
-    // The size test comes first, and judges a vertex count without a face count after it (found
-    // by tests/fuzz: "4000000000# big" still makes assimp reserve for the vertices).
-    if (vertexCountRead) {
-        const double faces = faceCountRead ? faceCount : 0.0;
-        if (vertexCount * 6 + faces * 8 > double(fileBytes))
-            return fail(ErrorCode::MeshImport,
-                        shown + ": " +
-                            detail::declaresMoreThanTheFileHolds(vertexCount, faces, fileBytes));
-    }
-    if (!faceCountRead)
-        return fail(ErrorCode::MeshImport, shown + ": line " + std::to_string(lineNumber) +
-                                               ": the OFF counts cannot be read");
-    if (!(vertexCount >= 0 && faceCount >= 0 && vertexCount < 4.3e9 && faceCount < 4.3e9))
-        return fail(ErrorCode::MeshImport, shown + ": the OFF counts are out of range");
-    const auto vertices = std::uint64_t(vertexCount), faces = std::uint64_t(faceCount);
-    for (std::uint64_t v = 0; v < vertices; ++v) {
-        if (!nextLine(text))
-            return fail(ErrorCode::MeshImport,
-                        shown + ": the file ends after " + std::to_string(v) + " of its " +
-                            std::to_string(vertices) + " vertices");
-        std::istringstream numbers(text);
-        double x, y, z;
-        if (!(numbers >> x >> y >> z))
-            return fail(ErrorCode::MeshImport, shown + ": line " + std::to_string(lineNumber) +
-                                                   ": a vertex needs three numbers");
-    }
-    for (std::uint64_t f = 0; f < faces; ++f) {
-        if (!nextLine(text))
-            return fail(ErrorCode::MeshImport,
-                        shown + ": the file ends after " + std::to_string(f) + " of its " +
-                            std::to_string(faces) + " faces");
-        std::istringstream numbers(text);
-        long long corners = -1;
-        if (!(numbers >> corners) || corners < 1)
-            return fail(ErrorCode::MeshImport, shown + ": line " + std::to_string(lineNumber) +
-                                                   ": a face must start with its corner count");
-        for (long long c = 0; c < corners; ++c) {
-            long long index = -1;
-            if (!(numbers >> index))
-                return fail(ErrorCode::MeshImport,
-                            shown + ": line " + std::to_string(lineNumber) + ": the face has " +
-                                std::to_string(c) + " of its " + std::to_string(corners) +
-                                " vertex indices");
-            if (index < 0 || std::uint64_t(index) >= vertices)
-                return fail(ErrorCode::MeshImport,
-                            shown + ": line " + std::to_string(lineNumber) + ": vertex index " +
-                                std::to_string(index) + " is not below the vertex count " +
-                                std::to_string(vertices));
-        }
-    }
-    return {};
-}
-
 /// Whether any mesh has a face of three or more corners, looking only through pointers that
 /// are set (the scene is not validated yet).
 bool hasSurfaceFaces(const aiScene& scene) {
@@ -291,15 +185,13 @@ bool hasSurfaceFaces(const aiScene& scene) {
     return false;
 }
 
-Result<ImportedMesh> importChecked(const std::filesystem::path& path,
-                                   const ImportOptions& options) {
-    const std::string fileName = path.filename().string();
-    const std::string shown = path.string();
-    const auto lap = [&](std::string_view name) { bake::lap(options.phases, name); };
-    if (!std::isfinite(options.scale) || !(options.scale > 0.0))
+/// Refuses a scale that is not finite and positive, and a path that is not a regular file of
+/// 1 byte to 4 GiB; the file's size [bytes].
+Result<std::uintmax_t> checkMeshFile(const std::filesystem::path& path, double scale,
+                                     const std::string& shown) {
+    if (!std::isfinite(scale) || !(scale > 0.0))
         return fail(ErrorCode::InvalidArgument,
-                    "import scale must be finite and > 0, got " + std::to_string(options.scale));
-
+                    "import scale must be finite and > 0, got " + std::to_string(scale));
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
     if (ec || !std::filesystem::exists(status))
@@ -313,73 +205,108 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
         return fail(ErrorCode::EmptyMesh, shown + ": the file is empty");
     if (bytes > kMaxFileBytes)
         return fail(ErrorCode::SizeOverflow, shown + ": the file is larger than 4 GiB");
+    return bytes;
+}
 
-    lap("import: file checks");
+/// The pre-flight checks of what assimp trusts in OFF and PLY files. checkPlyFile reads the
+/// magic itself, and passes a file without it.
+Result<void> preflightChecks(const std::filesystem::path& path, std::uintmax_t bytes,
+                             const std::string& shown) {
+    const std::string extension = detail::lowered(path.extension().string());
+    if (extension == ".off")
+        if (Result<void> r = detail::checkOffFile(path, bytes, shown); !r)
+            return r;
+    if (mayBeReadAsPly(extension))
+        if (Result<void> r = detail::checkPlyFile(path, shown); !r)
+            return r;
+    return {};
+}
+
+/// The file's scene as `importer` reads it: refused when it has no surface, validated, then
+/// triangulated.
+Result<const aiScene*> readScene(Assimp::Importer& importer, const std::filesystem::path& path,
+                                 const std::string& shown) {
+    // Read without post-processing first: a point cloud or a file of lines is not corrupt,
+    // it just has nothing to bake, and we say so before assimp's validation calls a mesh
+    // without faces invalid.
+    const aiScene* scene = importer.ReadFile(path.string(), 0);
+    if (!scene) {
+        const std::string why = importer.GetErrorString();
+        return fail(ErrorCode::MeshImport,
+                    shown + ": assimp cannot read it" + (why.empty() ? "" : " (" + why + ")"));
+    }
+    if (!hasSurfaceFaces(*scene))
+        return fail(ErrorCode::EmptyMesh,
+                    shown + ": no triangles (only points or lines, or no geometry at all)");
+    // Validation must come before anything else touches the scene: Debian's assimp is
+    // built with its internal asserts on, and its steps abort() on out-of-range indices.
+    scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure);
+    if (!scene) {
+        const std::string why = importer.GetErrorString();
+        return fail(ErrorCode::MeshImport, shown + ": assimp read an invalid scene" +
+                                               (why.empty() ? "" : " (" + why + ")"));
+    }
+    // Polygons become triangles; points and lines stay 1- and 2-index faces and are
+    // skipped. No PreTransformVertices: we walk the node tree ourselves (instancing too).
+    scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
+    if (!scene)
+        return fail(ErrorCode::MeshImport, shown + ": assimp cannot triangulate its polygons");
+    return scene;
+}
+
+/// Everything assimp touches: the pre-flight checks (in the child too when isolated: they read
+/// the whole file, and the parent has other work meanwhile), the scene, and its welded soup.
+Result<TriangleSoup> readSoup(const std::filesystem::path& path, std::uintmax_t bytes,
+                              const std::string& shown, double scale) {
+    if (Result<void> r = preflightChecks(path, bytes, shown); !r)
+        return r.error();
+    silenceAssimp();
+    Assimp::Importer importer;
+    Result<const aiScene*> scene = readScene(importer, path, shown);
+    if (!scene)
+        return scene.error();
+    SoupBuilder builder(**scene, scale);
+    if (Result<void> r = builder.addScene(shown); !r)
+        return r.error();
+    return builder.take();
+}
+
+/// readSoup in an isolated child process when options.isolate (its time an overlapped phase),
+/// else here; options.whileImporting runs meanwhile either way.
+Result<TriangleSoup> readSoupAsAsked(const std::filesystem::path& path, std::uintmax_t bytes,
+                                     const std::string& shown, const ImportOptions& options) {
+    const auto read = [&] { return readSoup(path, bytes, shown, options.scale); };
+    if (!options.isolate) {
+        if (options.whileImporting)
+            options.whileImporting();
+        return read();
+    }
+    IsolationReport child;
+    Result<TriangleSoup> soup =
+        runIsolated(shown, options.limits, read, options.whileImporting, &child);
+    if (options.phases)
+        options.phases->addOverlapped("import: isolated child process (OFF/PLY checks, assimp)",
+                                      child.wallSeconds, child.cpuSeconds);
+    return soup;
+}
+
+Result<ImportedMesh> importChecked(const std::filesystem::path& path,
+                                   const ImportOptions& options) {
+    const std::string shown = path.string();
+    Result<std::uintmax_t> bytes = checkMeshFile(path, options.scale, shown);
+    if (!bytes)
+        return bytes.error();
+    lap(options.phases, "import: file checks");
     Result<std::string> hash = format::hashFileHex(path);
     if (!hash)
         return hash.error();
-    lap("import: file hash");
+    lap(options.phases, "import: file hash");
 
-    const auto readSoup = [&]() -> Result<TriangleSoup> {
-        // Pre-flight checks of what assimp trusts in OFF and PLY files, in the child too: they
-        // read the whole file, and the parent has other work meanwhile. checkPlyFile reads the
-        // magic itself, and passes a file without it.
-        const std::string extension = detail::lowered(path.extension().string());
-        if (extension == ".off")
-            if (Result<void> r = checkOffFile(path, bytes, shown); !r)
-                return r.error();
-        if (mayBeReadAsPly(extension))
-            if (Result<void> r = detail::checkPlyFile(path, shown); !r)
-                return r.error();
-        silenceAssimp();
-        Assimp::Importer importer;
-        // Read without post-processing first: a point cloud or a file of lines is not corrupt,
-        // it just has nothing to bake, and we say so before assimp's validation calls a mesh
-        // without faces invalid.
-        const aiScene* scene = importer.ReadFile(path.string(), 0);
-        if (!scene) {
-            const std::string why = importer.GetErrorString();
-            return fail(ErrorCode::MeshImport,
-                        shown + ": assimp cannot read it" + (why.empty() ? "" : " (" + why + ")"));
-        }
-        if (!hasSurfaceFaces(*scene))
-            return fail(ErrorCode::EmptyMesh,
-                        shown + ": no triangles (only points or lines, or no geometry at all)");
-        // Validation must come before anything else touches the scene: Debian's assimp is
-        // built with its internal asserts on, and its steps abort() on out-of-range indices.
-        scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure);
-        if (!scene) {
-            const std::string why = importer.GetErrorString();
-            return fail(ErrorCode::MeshImport, shown + ": assimp read an invalid scene" +
-                                                   (why.empty() ? "" : " (" + why + ")"));
-        }
-        // Polygons become triangles; points and lines stay 1- and 2-index faces and are
-        // skipped. No PreTransformVertices: we walk the node tree ourselves (instancing too).
-        scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
-        if (!scene)
-            return fail(ErrorCode::MeshImport, shown + ": assimp cannot triangulate its polygons");
-
-        SoupBuilder builder(*scene, options.scale);
-        if (Result<void> r = builder.addScene(shown); !r)
-            return r.error();
-        return builder.take();
-    };
-    // Everything assimp touches runs in the child when isolated; the rest runs here.
-    IsolationReport child;
-    Result<TriangleSoup> soup = Error{ErrorCode::MeshImport, {}};
-    if (options.isolate) {
-        soup = runIsolated(shown, options.limits, readSoup, options.whileImporting, &child);
-    } else {
-        if (options.whileImporting)
-            options.whileImporting();
-        soup = readSoup();
-    }
-    if (options.isolate && options.phases)
-        options.phases->addOverlapped("import: isolated child process (OFF/PLY checks, assimp)",
-                                      child.wallSeconds, child.cpuSeconds);
+    Result<TriangleSoup> soup = readSoupAsAsked(path, *bytes, shown, options);
     if (!soup)
         return soup.error();
-    lap(options.isolate ? "import: wait for the isolated child" : "import: checks and assimp");
+    lap(options.phases,
+        options.isolate ? "import: wait for the isolated child" : "import: checks and assimp");
     ImportedMesh mesh;
     mesh.soup = std::move(*soup);
     if (mesh.soup.triangles.empty())
@@ -387,10 +314,11 @@ Result<ImportedMesh> importChecked(const std::filesystem::path& path,
                     shown + ": no triangles (only points or lines, or no geometry at all)");
     mesh.diagnostics =
         options.selfIntersectionTest ? diagnose(mesh.soup) : diagnoseTopology(mesh.soup);
-    mesh.sourceFile = fileName;
+    mesh.sourceFile = path.filename().string();
     mesh.sourceHash = std::move(*hash);
-    lap(options.selfIntersectionTest ? "mesh diagnostics"
-                                     : "mesh diagnostics: topology (self-intersection test later)");
+    lap(options.phases, options.selfIntersectionTest
+                            ? "mesh diagnostics"
+                            : "mesh diagnostics: topology (self-intersection test later)");
     return mesh;
 }
 

@@ -4,7 +4,7 @@
 #include <optional>
 
 #include "sluice/bake/import/TriangleSoup.h"
-#include "sluice/format/ColliderAsset.h"
+#include "sluice/format/asset/ColliderAsset.h"
 
 namespace sluice::bake {
 

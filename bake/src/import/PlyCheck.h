@@ -35,7 +35,7 @@
 #include <string>
 #include <string_view>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake::detail {
 

@@ -4,15 +4,11 @@
 
 #include "interop/VdbHeaders.h"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
+SLUICE_VDB_WARNINGS_OFF
 #ifndef __clang__ // GCC only: clang has no such group and warns about the name
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 #include <nanovdb/util/IO.h>
 #include <nanovdb/util/NanoToOpenVDB.h>
 #include <nanovdb/util/OpenToNanoVDB.h>
-#pragma GCC diagnostic pop
+SLUICE_VDB_WARNINGS_ON

@@ -9,7 +9,7 @@
 #include "interop/NanoVdbHeaders.h"
 #include "interop/VdbMesh.h"
 
-#include "sluice/format/AtomicFile.h"
+#include "sluice/format/support/AtomicFile.h"
 
 namespace fs = std::filesystem;
 
@@ -17,9 +17,7 @@ namespace sluice::bake {
 
 namespace {
 
-std::string quoted(const fs::path& path) {
-    return "'" + path.string() + "'";
-}
+using detail::quoted;
 
 nanovdb::GridHandle<nanovdb::HostBuffer> handleOf(const format::GridBytes& grid) {
     auto buffer = nanovdb::HostBuffer::create(grid.size());
@@ -121,7 +119,7 @@ Result<ImportedMesh> importNvdbLevelSet(const fs::path& path, double scale) {
     auto grid = readNvdbGrid(path);
     if (!grid)
         return grid.error();
-    openvdb::initialize();
+    initOpenVdb();
     openvdb::FloatGrid::Ptr vdb;
     try {
         const auto* nano = reinterpret_cast<const nanovdb::NanoGrid<float>*>(grid->data());

@@ -20,7 +20,7 @@
 #include <fstream>
 #include <string>
 
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake::detail {
 

@@ -13,11 +13,9 @@
 #include <ios>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <new>
 #include <string>
 #include <system_error>
-#include <unordered_map>
 #include <vector>
 
 #include <fcntl.h>
@@ -30,13 +28,14 @@
 #include "interop/VdbHeaders.h"
 #include "interop/VdbMesh.h"
 #include "sluice/bake/Grid.h"
-#include "sluice/format/Hash.h"
+#include "sluice/format/support/Hash.h"
 
 namespace fs = std::filesystem;
 
 namespace sluice::bake {
 namespace {
 
+using detail::quoted;
 using FloatLeaf = openvdb::FloatTree::LeafNodeType;
 
 constexpr const char* kGridName = "sdf";
@@ -50,15 +49,6 @@ constexpr const char* kMetaExporter = "sluice_exported_by";
 
 // Archive::readHeader compares the first 8 bytes, OPENVDB_MAGIC as a little-endian int64.
 constexpr std::array<unsigned char, 8> kVdbMagic{0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0};
-
-void initOpenVdb() {
-    static std::once_flag once;
-    std::call_once(once, [] { openvdb::initialize(); });
-}
-
-std::string quoted(const fs::path& path) {
-    return "'" + path.string() + "'";
-}
 
 Result<void> checkExportable(const format::ColliderAsset& asset) {
     const format::ColliderMeta& meta = asset.meta;
@@ -296,62 +286,6 @@ format::SignMethod signMethodFromName(const std::string& name) {
     return format::SignMethod::Level;
 }
 
-// Welds identical positions and keeps only the points the triangles use.
-TriangleSoup weldSoup(const std::vector<openvdb::Vec3s>& points,
-                      const std::vector<openvdb::Vec3I>& triangles,
-                      const std::vector<openvdb::Vec4I>& quads, double scale) {
-    struct KeyHash {
-        std::size_t operator()(const openvdb::Vec3s& p) const {
-            // + 0.0f turns -0 into +0, which compares equal and so must hash equal.
-            const std::array<float, 3> value{p.x() + 0.0f, p.y() + 0.0f, p.z() + 0.0f};
-            std::array<std::uint32_t, 3> bits;
-            std::memcpy(bits.data(), value.data(), sizeof bits);
-            return (std::size_t(bits[0]) * 0x9E3779B97F4A7C15ull ^ bits[1]) *
-                       0xC2B2AE3D27D4EB4Full ^
-                   bits[2];
-        }
-    };
-    std::unordered_map<openvdb::Vec3s, std::uint32_t, KeyHash> byPosition;
-    std::vector<std::uint32_t> remap(points.size(), std::numeric_limits<std::uint32_t>::max());
-    TriangleSoup soup;
-    auto vertex = [&](openvdb::Index source) {
-        std::uint32_t& slot = remap[source];
-        if (slot != std::numeric_limits<std::uint32_t>::max())
-            return slot;
-        auto [it, inserted] =
-            byPosition.try_emplace(points[source], std::uint32_t(soup.positions.size()));
-        if (inserted) {
-            const openvdb::Vec3s& p = points[source];
-            soup.positions.emplace_back(double(p.x()) * scale, double(p.y()) * scale,
-                                        double(p.z()) * scale);
-        }
-        slot = it->second;
-        return slot;
-    };
-    soup.triangles.reserve(triangles.size() + 2 * quads.size());
-    for (const openvdb::Vec3I& t : triangles)
-        soup.triangles.emplace_back(vertex(t[0]), vertex(t[1]), vertex(t[2]));
-    for (const openvdb::Vec4I& q : quads) {
-        const std::uint32_t a = vertex(q[0]), b = vertex(q[1]), c = vertex(q[2]), d = vertex(q[3]);
-        soup.triangles.emplace_back(a, b, c);
-        soup.triangles.emplace_back(a, c, d);
-    }
-    return soup;
-}
-
-// Six times the signed volume enclosed by the soup (divergence theorem).
-double signedVolume6(const TriangleSoup& soup) {
-    double sum = 0.0;
-    for (const glm::uvec3& t : soup.triangles) {
-        const glm::dvec3& a = soup.positions[t.x];
-        const glm::dvec3& b = soup.positions[t.y];
-        const glm::dvec3& c = soup.positions[t.z];
-        sum += a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) +
-               a.z * (b.x * c.y - b.y * c.x);
-    }
-    return sum;
-}
-
 } // namespace
 
 Result<void> exportVdb(const format::ColliderAsset& asset, const fs::path& path) {
@@ -388,49 +322,6 @@ Result<ImportedMesh> importVdbLevelSet(const fs::path& path, double scale) {
     if (!loaded)
         return loaded.error();
     return detail::meshLevelSet(**loaded, path, scale);
-}
-
-Result<ImportedMesh> detail::meshLevelSet(const openvdb::FloatGrid& grid, const fs::path& path,
-                                          double scale) {
-    if (!std::isfinite(scale) || scale <= 0.0)
-        return fail(ErrorCode::InvalidArgument, "scale must be finite and > 0");
-    if (grid.activeVoxelCount() == 0)
-        return fail(ErrorCode::EmptyMesh,
-                    quoted(path) + ": grid '" + grid.getName() + "' has no active voxels");
-
-    std::vector<openvdb::Vec3s> points;
-    std::vector<openvdb::Vec3I> triangles;
-    std::vector<openvdb::Vec4I> quads;
-    try {
-        // Isovalue 0, adaptivity 0: the full-resolution zero isosurface, in world space.
-        openvdb::tools::volumeToMesh(grid, points, triangles, quads, 0.0, 0.0);
-    } catch (const std::exception& e) {
-        return fail(ErrorCode::MeshImport,
-                    "cannot extract the zero isosurface of " + quoted(path) + ": " + e.what());
-    }
-    for (const openvdb::Vec3s& p : points)
-        if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
-            return fail(ErrorCode::NonFinite,
-                        quoted(path) + ": the zero isosurface has non-finite points");
-
-    ImportedMesh mesh;
-    mesh.soup = weldSoup(points, triangles, quads, scale);
-    if (mesh.soup.triangles.empty())
-        return fail(ErrorCode::EmptyMesh, quoted(path) + ": grid '" + grid.getName() +
-                                              "' has no zero crossing, so no surface to bake");
-    // Outward-facing triangles, so the winding number is +1 inside; volumeToMesh's winding
-    // depends on the sign convention of the input grid.
-    if (signedVolume6(mesh.soup) < 0.0)
-        for (glm::uvec3& t : mesh.soup.triangles)
-            std::swap(t.y, t.z);
-
-    mesh.diagnostics = diagnose(mesh.soup);
-    mesh.sourceFile = path.filename().string();
-    auto hash = format::hashFileHex(path);
-    if (!hash)
-        return hash.error();
-    mesh.sourceHash = *hash;
-    return mesh;
 }
 
 Result<format::ColliderAsset> readVdbDense(const fs::path& path) {

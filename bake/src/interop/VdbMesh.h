@@ -2,13 +2,19 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "interop/VdbHeaders.h"
 #include "sluice/bake/import/MeshImport.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake::detail {
+
+/// "'path'": how the .vdb and .nvdb messages name a file.
+inline std::string quoted(const std::filesystem::path& path) {
+    return "'" + path.string() + "'";
+}
 
 /// The zero isosurface of `grid` as a welded, outward-oriented soup scaled by `scale`, with
 /// diagnostics and the hash of `path` (the file it came from). Errors as importVdbLevelSet.

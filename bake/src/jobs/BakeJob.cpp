@@ -6,10 +6,13 @@
 #include <optional>
 
 #include "commands/CliSupport.h"
+#include "sluice/bake/cgal/CgalBaker.h"
+#include "sluice/bake/cgal/CgalSparseBaker.h"
+#include "sluice/bake/gpu/GpuSparseBaker.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/bake/sparse/SparseBaker.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/Hash.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/Hash.h"
 #include "sluice/gpu/Context.h"
 
 namespace sluice::bake {

@@ -4,10 +4,11 @@
 #include <chrono>
 
 #include "commands/CliSupport.h"
+#include "sluice/bake/jobs/PhaseLog.h"
 #include "sluice/bake/sparse/SparseBaker.h"
-#include "sluice/format/AssetIO.h"
-#include "sluice/format/AtomicFile.h"
-#include "sluice/format/Hash.h"
+#include "sluice/format/asset/AssetIO.h"
+#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/support/Hash.h"
 
 namespace sluice::bake {
 namespace {
@@ -89,8 +90,7 @@ Result<BatchEntryResult> bakeBatchEntry(const BatchEntry& entry, bool force, Pro
         result.points = asset.pointCount();
         if (asset.meta.validation.known)
             result.maxError = asset.meta.validation.maxError;
-        result.seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        result.seconds = secondsSince(start);
         return result;
     };
     if (!force)

@@ -39,6 +39,10 @@ double processStartSinceBoot() {
 
 } // namespace
 
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 double processCpuSeconds() {
     rusage self{}, children{};
     ::getrusage(RUSAGE_SELF, &self);

@@ -6,6 +6,8 @@
 
 #include <unistd.h>
 
+#include "sluice/bake/jobs/PhaseLog.h"
+
 namespace sluice::bake {
 
 namespace {
@@ -13,10 +15,6 @@ using Clock = std::chrono::steady_clock;
 constexpr auto kQuietPeriod = std::chrono::seconds(1);         // draw nothing before this
 constexpr auto kRedrawPeriod = std::chrono::milliseconds(100); // terminal redraw rate
 constexpr int kBarWidth = 30;
-
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 } // namespace
 
 Progress::Progress(std::string label, std::uint64_t total, bool enabled)

@@ -1,13 +1,15 @@
-// Sparse bakes: band bricks found by culling, exact distances only there, NanoVDB out.
+// Sparse bakes: band bricks found by culling, exact distances only there, NanoVDB out. What
+// both backends share (bakeSparseCgal in cgal/CgalSparseBaker.cpp, bakeSparseGpu in
+// gpu/GpuSparseBaker.cpp); the exact values are theirs.
 //
-// The steps, as bakeSparseCgal runs them:
+// The steps of a sparse bake:
 //   1. sparseGridFor: the domain, as a dense bake's grid with padding >= band + 1 voxels.
 //   2. planSparse: blocks of power-of-two edge, from one covering the domain down to 8^3 bricks.
 //      A block whose centre is farther from the surface than its half-diagonal plus the band
 //      holds no band voxel (triangle inequality) and keeps one sign: it is uniform. The rest
 //      split; what is left at edge 8 are the band bricks.
-//   3. Exact signed distances at every brick voxel, in batches (the reference's sign method),
-//      and one signed sample at each uniform block's centre.
+//   3. The backend's exact signed distances at every brick voxel, in batches, and one signed
+//      sample at each uniform block's centre.
 //   4. SparseGridBuilder: OpenVDB leaves from the bricks, inside blocks filled as inactive
 //      tiles of -band (OpenVDB picks the largest tiles that fit), then openToNanoVDB.
 #include "sluice/bake/sparse/SparseBaker.h"
@@ -17,17 +19,16 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
-#include <mutex>
 #include <new>
 #include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "BakeErrors.h"
 #include "interop/NanoVdbHeaders.h"
-
-#include "sluice/format/NanoVdbCheck.h"
+#include "sluice/bake/jobs/PhaseLog.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
+#include "sparse/SparseBricks.h"
 
 namespace sluice::bake {
 
@@ -35,18 +36,6 @@ namespace {
 
 using FloatLeaf = openvdb::FloatTree::LeafNodeType;
 static_assert(FloatLeaf::DIM == kBrickSize, "a brick is one OpenVDB / NanoVDB leaf");
-constexpr std::uint32_t kBrickVoxels = kBrickSize * kBrickSize * kBrickSize;
-/// Bricks per batch of exact distances: 2^20 voxels, 24 MB of positions.
-constexpr std::size_t kBricksPerBatch = 2048;
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-void initOpenVdb() {
-    static std::once_flag once;
-    std::call_once(once, [] { openvdb::initialize(); });
-}
 
 /// A NanoVDB buffer type (what GridHandle and openToNanoVDB need of one) over GridBytes, so the
 /// converted grid is moved into the asset instead of copied: one grid in memory, not two.
@@ -65,10 +54,6 @@ struct GridBytesBuffer {
     bool empty() const { return bytes->empty(); }
     void clear() { bytes = std::make_shared<format::GridBytes>(); }
 };
-
-bool insideDomain(const glm::ivec3& p, const glm::uvec3& dims) {
-    return p.x < std::int32_t(dims.x) && p.y < std::int32_t(dims.y) && p.z < std::int32_t(dims.z);
-}
 
 } // namespace
 
@@ -156,8 +141,7 @@ void SparseGridBuilder::addBricks(std::span<const glm::ivec3> corners,
             const glm::ivec3 lo = corners[b];
             auto leaf = std::make_unique<FloatLeaf>(openvdb::Coord(lo.x, lo.y, lo.z), bg, false);
             for (std::uint32_t v = 0; v < kBrickVoxels; ++v) {
-                const glm::ivec3 p = lo + glm::ivec3(v % kBrickSize, (v / kBrickSize) % kBrickSize,
-                                                     v / (kBrickSize * kBrickSize));
+                const glm::ivec3 p = lo + brickVoxel(v);
                 if (!insideDomain(p, dims))
                     continue;
                 const float d = values[b * kBrickVoxels + v];
@@ -220,86 +204,6 @@ format::ColliderMeta sparseProvenance(const ImportedMesh& mesh, const GridSpec& 
     return meta;
 }
 
-namespace {
-
-Result<format::ColliderAsset> bakeSparseChecked(const ImportedMesh& mesh,
-                                                const BakeSettings& settings,
-                                                const SparseSettings& sparse, bool showProgress,
-                                                SparseBakeStats& stats) {
-    Result<GridSpec> grid = sparseGridFor(mesh.soup.bounds(), settings.grid, sparse.band);
-    if (!grid)
-        return grid.error();
-    Result<CgalReference> reference =
-        CgalReference::build(mesh.soup, mesh.diagnostics, settings.sign);
-    if (!reference)
-        return reference.error();
-
-    auto start = std::chrono::steady_clock::now();
-    const SparsePlan plan =
-        planSparse(*grid, sparse.band, [&](std::span<const glm::dvec3> p, std::span<double> d) {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, p.size(), 64),
-                              [&](const tbb::blocked_range<std::size_t>& r) {
-                                  for (std::size_t n = r.begin(); n != r.end(); ++n)
-                                      d[n] = reference->unsignedDistance(p[n]);
-                              });
-        });
-    stats.planSeconds = secondsSince(start);
-    stats.bricks = plan.bricks.size();
-    stats.uniformBlocks = plan.blocks.size();
-    stats.distanceQueries = plan.distanceQueries;
-    Progress bar("baking " + mesh.sourceFile + " (sparse band)",
-                 std::uint64_t(plan.bricks.size()) * kBrickVoxels, showProgress);
-    Progress* progress = &bar;
-
-    start = std::chrono::steady_clock::now();
-    double buildSeconds = 0.0;
-    SparseGridBuilder builder(*grid, sparse.band);
-    std::vector<glm::dvec3> points;
-    std::vector<std::uint32_t> slots; // brick voxel each point fills
-    std::vector<float> values;
-    for (std::size_t b0 = 0; b0 < plan.bricks.size(); b0 += kBricksPerBatch) {
-        const std::size_t b1 = std::min(plan.bricks.size(), b0 + kBricksPerBatch);
-        points.clear();
-        slots.clear();
-        for (std::size_t b = b0; b < b1; ++b)
-            for (std::uint32_t v = 0; v < kBrickVoxels; ++v) {
-                const glm::ivec3 p =
-                    plan.bricks[b] + glm::ivec3(v % kBrickSize, (v / kBrickSize) % kBrickSize,
-                                                v / (kBrickSize * kBrickSize));
-                if (!insideDomain(p, grid->dims))
-                    continue;
-                points.push_back(grid->origin + glm::dvec3(p) * grid->voxelSize);
-                slots.push_back(std::uint32_t((b - b0) * kBrickVoxels + v));
-            }
-        const std::vector<double> phi = reference->signedDistances(points, progress);
-        values.assign((b1 - b0) * kBrickVoxels, 0.0f);
-        for (std::size_t n = 0; n < phi.size(); ++n)
-            values[slots[n]] = float(phi[n]);
-        stats.voxelsComputed += points.size();
-        const auto buildStart = std::chrono::steady_clock::now();
-        builder.addBricks(std::span(plan.bricks).subspan(b0, b1 - b0), values);
-        buildSeconds += secondsSince(buildStart);
-    }
-
-    // One sample per uniform block: no surface within it, so its centre's sign is its sign.
-    points.clear();
-    for (std::size_t n = 0; n < plan.blocks.size(); ++n)
-        points.push_back(grid->origin +
-                         (glm::dvec3(plan.blocks[n]) + 0.5 * double(plan.blockEdge[n] - 1)) *
-                             grid->voxelSize);
-    const std::vector<double> blockPhi = reference->signedDistances(points);
-    stats.distanceSeconds = secondsSince(start) - buildSeconds;
-    bar.finish();
-
-    stats.buildSeconds = buildSeconds;
-    return finishSparseAsset(
-        builder, plan, blockPhi,
-        sparseProvenance(mesh, *grid, settings, "cgal", reference->signMethod(), sparse.band),
-        stats);
-}
-
-} // namespace
-
 Result<format::ColliderAsset> finishSparseAsset(SparseGridBuilder& builder, const SparsePlan& plan,
                                                 std::span<const double> blockPhi,
                                                 format::ColliderMeta meta, SparseBakeStats& stats) {
@@ -322,13 +226,20 @@ Result<format::ColliderAsset> finishSparseAsset(SparseGridBuilder& builder, cons
     return asset;
 }
 
-Result<format::ColliderAsset> bakeSparseCgal(const ImportedMesh& mesh, const BakeSettings& settings,
-                                             const SparseSettings& sparse, bool showProgress,
-                                             SparseBakeStats* stats) {
-    SparseBakeStats local;
-    return withCgalErrors(mesh, [&] {
-        return bakeSparseChecked(mesh, settings, sparse, showProgress, stats ? *stats : local);
-    });
+std::vector<glm::dvec3> blockCentres(const GridSpec& grid, const SparsePlan& plan) {
+    std::vector<glm::dvec3> centres(plan.blocks.size());
+    for (std::size_t n = 0; n < plan.blocks.size(); ++n)
+        centres[n] =
+            grid.origin +
+            (glm::dvec3(plan.blocks[n]) + 0.5 * double(plan.blockEdge[n] - 1)) * grid.voxelSize;
+    return centres;
+}
+
+void recordPlan(const SparsePlan& plan, double seconds, SparseBakeStats& stats) {
+    stats.planSeconds = seconds;
+    stats.bricks = plan.bricks.size();
+    stats.uniformBlocks = plan.blocks.size();
+    stats.distanceQueries = plan.distanceQueries;
 }
 
 } // namespace sluice::bake

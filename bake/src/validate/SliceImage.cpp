@@ -19,7 +19,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "sluice/format/SdfSampler.h"
+#include "sluice/format/asset/SdfSampler.h"
 
 namespace sluice::bake {
 namespace {
@@ -185,6 +185,107 @@ void drawLegend(Image& image, const SliceLayout& layout, const SliceSpec& slice,
     drawText(image, gradientLeft, line2, "BLUE INSIDE, RED OUTSIDE", int(image.width));
 }
 
+/// phi and its gradient at every pixel of one half of a slice picture, row after row.
+struct SliceSamples {
+    std::vector<float> phi;       ///< [world units]
+    std::vector<glm::dvec3> grad; ///< [1]
+};
+
+/// Samples phi and its gradient at every pixel first: the colour ranges need the whole slice.
+SliceSamples sampleSlice(const format::ColliderAsset& asset, const SliceSpec& slice,
+                         const SliceLayout& layout) {
+    const format::ColliderMeta& meta = asset.meta;
+    const format::SdfSampler sampler(asset);
+    const int u = int(layout.uAxis), v = int(layout.vAxis), w = int(slice.axis);
+    const double h = meta.voxelSize; // central-difference step [world units]
+    const std::size_t pixels = std::size_t(layout.halfWidth) * std::size_t(layout.height);
+    SliceSamples samples{std::vector<float>(pixels), std::vector<glm::dvec3>(pixels)};
+    tbb::parallel_for(tbb::blocked_range<int>(0, layout.height), [&](const auto& rows) {
+        for (int py = rows.begin(); py != rows.end(); ++py)
+            for (int px = 0; px < layout.halfWidth; ++px) {
+                glm::dvec3 index(0.0);
+                index[u] = px / layout.pixelsPerVoxel;
+                index[v] = (layout.height - 1 - py) / layout.pixelsPerVoxel;
+                index[w] = layout.planeIndex;
+                const glm::dvec3 p = meta.origin + index * meta.voxelSize;
+                const std::size_t at =
+                    std::size_t(py) * std::size_t(layout.halfWidth) + std::size_t(px);
+                samples.phi[at] = sampler.value(p);
+                // A one-voxel central difference of the trilinear field is the trilinear
+                // interpolant of the grid's central differences: smooth across cell faces,
+                // unlike the analytic gradient of the interpolant.
+                glm::dvec3 g;
+                for (int a = 0; a < 3; ++a) {
+                    glm::dvec3 e(0.0);
+                    e[a] = h;
+                    g[a] = (double(sampler.value(p + e)) - double(sampler.value(p - e))) / (2 * h);
+                }
+                samples.grad[at] = g;
+            }
+    });
+    return samples;
+}
+
+/// [world units] The ends of the colour map and the spacing of the iso-lines.
+struct ColourRanges {
+    double inside = 0.0;  ///< the distance of the deepest blue
+    double outside = 0.0; ///< the distance of the deepest red
+    double spacing = 0.0; ///< between iso-lines
+};
+
+/// The ranges of the slice's distances: inside and outside are normalized separately, so both
+/// ends of the map are used.
+ColourRanges colourRanges(const std::vector<float>& phi, double voxelSize) {
+    ColourRanges ranges{1e-3 * voxelSize, 1e-3 * voxelSize, 0.0};
+    for (float d : phi) {
+        if (d < 0)
+            ranges.inside = std::max(ranges.inside, -double(d));
+        else
+            ranges.outside = std::max(ranges.outside, double(d));
+    }
+    ranges.spacing =
+        isoSpacingVoxels(std::max(ranges.inside, ranges.outside) / voxelSize) * voxelSize;
+    return ranges;
+}
+
+/// The colour of the distance half at a pixel of distance `d` and gradient `g`: the colour map
+/// with iso-lines and the zero contour.
+glm::dvec3 distancePixel(double d, const glm::dvec3& g, int u, int v, const ColourRanges& ranges,
+                         double worldPerPixel) {
+    glm::dvec3 c = distanceColour(d, ranges.inside, ranges.outside);
+    // Lines drawn by their distance in pixels, |phi - level| / |grad phi in plane|, so they
+    // keep their width however steep the field is. [world units / px]
+    const double slope = std::max(std::hypot(g[u], g[v]), 0.05) * worldPerPixel;
+    const double level = std::round(d / ranges.spacing) * ranges.spacing;
+    if (level != 0.0)
+        c *= 1.0 - 0.22 * lineCoverage(std::abs(d - level) / slope);
+    return glm::mix(c, kContour, lineCoverage(std::abs(d) / slope));
+}
+
+/// Paints both halves above the legend: the distance on the left, the gap, and the normalized
+/// gradient, (x, y, z) -> (r, g, b) as in Smeton 2020, on the right.
+void paintHalves(Image& image, const SliceLayout& layout, const SliceSamples& samples,
+                 const ColourRanges& ranges, double voxelSize) {
+    const int u = int(layout.uAxis), v = int(layout.vAxis);
+    const double worldPerPixel = voxelSize / layout.pixelsPerVoxel;
+    tbb::parallel_for(tbb::blocked_range<int>(0, layout.height), [&](const auto& rows) {
+        for (int py = rows.begin(); py != rows.end(); ++py) {
+            for (int px = 0; px < layout.halfWidth; ++px) {
+                const std::size_t at =
+                    std::size_t(py) * std::size_t(layout.halfWidth) + std::size_t(px);
+                const glm::dvec3& g = samples.grad[at];
+                putPixel(image, px, py,
+                         distancePixel(samples.phi[at], g, u, v, ranges, worldPerPixel));
+                const double length = glm::length(g);
+                const glm::dvec3 n = length > 1e-12 ? g / length : glm::dvec3(0.0);
+                putPixel(image, layout.halfWidth + layout.gap + px, py, 0.5 + 0.5 * n);
+            }
+            for (int px = 0; px < layout.gap; ++px)
+                putPixel(image, layout.halfWidth + px, py, kGapColour);
+        }
+    });
+}
+
 } // namespace
 
 Result<SliceSpec> parseSlice(const std::string& text) {
@@ -254,86 +355,15 @@ SliceLayout sliceLayout(const format::ColliderMeta& meta, const SliceSpec& slice
 }
 
 Image renderSlice(const format::ColliderAsset& asset, const SliceSpec& slice) {
-    const format::ColliderMeta& meta = asset.meta;
-    const SliceLayout layout = sliceLayout(meta, slice);
-    const format::SdfSampler sampler(asset);
-    const int u = int(layout.uAxis), v = int(layout.vAxis), w = int(slice.axis);
-    const double h = meta.voxelSize; // central-difference step [world units]
-
-    // Sample phi and its gradient at every pixel first: the colour ranges need the whole slice.
-    const std::size_t pixels = std::size_t(layout.halfWidth) * std::size_t(layout.height);
-    std::vector<float> phi(pixels);
-    std::vector<glm::dvec3> grad(pixels);
-    tbb::parallel_for(tbb::blocked_range<int>(0, layout.height), [&](const auto& rows) {
-        for (int py = rows.begin(); py != rows.end(); ++py)
-            for (int px = 0; px < layout.halfWidth; ++px) {
-                glm::dvec3 index(0.0);
-                index[u] = px / layout.pixelsPerVoxel;
-                index[v] = (layout.height - 1 - py) / layout.pixelsPerVoxel;
-                index[w] = layout.planeIndex;
-                const glm::dvec3 p = meta.origin + index * meta.voxelSize;
-                const std::size_t at =
-                    std::size_t(py) * std::size_t(layout.halfWidth) + std::size_t(px);
-                phi[at] = sampler.value(p);
-                // A one-voxel central difference of the trilinear field is the trilinear
-                // interpolant of the grid's central differences: smooth across cell faces,
-                // unlike the analytic gradient of the interpolant.
-                glm::dvec3 g;
-                for (int a = 0; a < 3; ++a) {
-                    glm::dvec3 e(0.0);
-                    e[a] = h;
-                    g[a] = (double(sampler.value(p + e)) - double(sampler.value(p - e))) / (2 * h);
-                }
-                grad[at] = g;
-            }
-    });
-
-    // Inside and outside are normalized separately, so both ends of the map are used.
-    double rangeInside = 1e-3 * meta.voxelSize, rangeOutside = 1e-3 * meta.voxelSize;
-    for (float d : phi) {
-        if (d < 0)
-            rangeInside = std::max(rangeInside, -double(d));
-        else
-            rangeOutside = std::max(rangeOutside, double(d));
-    }
-    const double spacing =
-        isoSpacingVoxels(std::max(rangeInside, rangeOutside) / meta.voxelSize) * meta.voxelSize;
-    const double worldPerPixel = meta.voxelSize / layout.pixelsPerVoxel;
-
+    const SliceLayout layout = sliceLayout(asset.meta, slice);
+    const SliceSamples samples = sampleSlice(asset, slice, layout);
+    const ColourRanges ranges = colourRanges(samples.phi, asset.meta.voxelSize);
     Image image;
     image.width = std::uint32_t(2 * layout.halfWidth + layout.gap);
     image.height = std::uint32_t(layout.height + layout.legendHeight);
     image.rgb.assign(std::size_t(image.width) * std::size_t(image.height) * 3, 0);
-    tbb::parallel_for(tbb::blocked_range<int>(0, layout.height), [&](const auto& rows) {
-        for (int py = rows.begin(); py != rows.end(); ++py) {
-            for (int px = 0; px < layout.halfWidth; ++px) {
-                const std::size_t at =
-                    std::size_t(py) * std::size_t(layout.halfWidth) + std::size_t(px);
-                const double d = phi[at];
-                const glm::dvec3& g = grad[at];
-
-                // Left: the distance.
-                glm::dvec3 c = distanceColour(d, rangeInside, rangeOutside);
-                // Lines drawn by their distance in pixels, |phi - level| / |grad phi in plane|,
-                // so they keep their width however steep the field is.
-                const double slope =
-                    std::max(std::hypot(g[u], g[v]), 0.05) * worldPerPixel; // [world units/px]
-                const double level = std::round(d / spacing) * spacing;
-                if (level != 0.0)
-                    c *= 1.0 - 0.22 * lineCoverage(std::abs(d - level) / slope);
-                c = glm::mix(c, kContour, lineCoverage(std::abs(d) / slope));
-                putPixel(image, px, py, c);
-
-                // Right: the normalized gradient, (x, y, z) -> (r, g, b), as in Smeton 2020.
-                const double length = glm::length(g);
-                const glm::dvec3 n = length > 1e-12 ? g / length : glm::dvec3(0.0);
-                putPixel(image, layout.halfWidth + layout.gap + px, py, 0.5 + 0.5 * n);
-            }
-            for (int px = 0; px < layout.gap; ++px)
-                putPixel(image, layout.halfWidth + px, py, kGapColour);
-        }
-    });
-    drawLegend(image, layout, slice, rangeInside, rangeOutside);
+    paintHalves(image, layout, samples, ranges, asset.meta.voxelSize);
+    drawLegend(image, layout, slice, ranges.inside, ranges.outside);
     return image;
 }
 

@@ -15,6 +15,7 @@
 
 #include <nanovdb/NanoVDB.h>
 
+#include "validate/PointComparison.h"
 #include "validate/SparseValidate.h"
 
 namespace sluice::bake::detail {
@@ -116,8 +117,7 @@ Result<ValidationReport> validateSparse(const format::ColliderAsset& asset,
     format::ValidationFigures& figures = report.figures;
     const double surface = options.surfaceBand * h;
     std::vector<glm::dvec3> points;
-    std::uint64_t mismatches = 0, compared = 0;
-    double sum = 0.0, sumSquare = 0.0;
+    PointComparison c;
     for (const std::vector<Sample>* stratum : {&band, &tiles}) {
         points.clear();
         for (const Sample& s : *stratum)
@@ -126,27 +126,20 @@ Result<ValidationReport> validateSparse(const format::ColliderAsset& asset,
         const std::vector<double> exact = reference.signedDistances(points, progress);
         for (std::size_t n = 0; n < exact.size(); ++n) {
             const float phi = (*stratum)[n].phi;
-            if (stratum == &band) {
-                const double error = std::abs(double(phi) - exact[n]) / h;
-                sum += error;
-                sumSquare += error * error;
-                figures.maxError = std::max(figures.maxError, std::isnan(error) ? INFINITY : error);
-            }
-            if (std::abs(exact[n]) >= surface) {
-                ++compared;
-                if (std::signbit(phi) != (exact[n] < 0.0))
-                    ++mismatches;
-            }
+            if (stratum == &band)
+                c.addError(phi, exact[n], h, figures.maxError);
+            c.addSign(phi, exact[n], surface);
         }
         figures.pointsChecked += exact.size();
     }
     if (!band.empty()) {
-        figures.meanError = sum / double(band.size());
-        figures.rmsError = std::sqrt(sumSquare / double(band.size()));
+        figures.meanError = c.sum / double(band.size());
+        figures.rmsError = std::sqrt(c.sumSquare / double(band.size()));
     }
-    figures.signMismatches = mismatches;
-    report.signComparedPoints = compared;
-    report.signMismatchPercent = compared ? 100.0 * double(mismatches) / double(compared) : 0.0;
+    figures.signMismatches = c.mismatches;
+    report.signComparedPoints = c.compared;
+    report.signMismatchPercent =
+        c.compared ? 100.0 * double(c.mismatches) / double(c.compared) : 0.0;
     report.bandPoints = band.size();
     report.tilePoints = tiles.size();
     eikonal(tree, band, h, figures);

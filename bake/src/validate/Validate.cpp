@@ -1,6 +1,7 @@
 // bake::validate: compares a collider asset with the exact CGAL reference, point by point.
 #include "sluice/bake/validate/Validate.h"
 
+#include "validate/PointComparison.h"
 #include "validate/SparseValidate.h"
 
 #include <algorithm>
@@ -177,6 +178,69 @@ void eikonalStatistics(const format::ColliderAsset& asset, format::ValidationFig
     figures.eikonalP99 = norms[p99];
 }
 
+/// [world units] The positions of the grid points of linear `indices` (x fastest).
+std::vector<glm::dvec3> pointsAt(const format::ColliderAsset& asset,
+                                 const std::vector<std::uint64_t>& indices) {
+    std::vector<glm::dvec3> points(indices.size());
+    const glm::uvec3 dims = asset.meta.dims;
+    for (std::size_t n = 0; n < indices.size(); ++n) {
+        const std::uint64_t idx = indices[n];
+        const std::uint32_t i = std::uint32_t(idx % dims.x);
+        const std::uint32_t j = std::uint32_t((idx / dims.x) % dims.y);
+        const std::uint32_t k = std::uint32_t(idx / (std::uint64_t(dims.x) * dims.y));
+        points[n] = asset.pointPosition(i, j, k);
+    }
+    return points;
+}
+
+/// The error and sign figures of the strata against the reference, into `report`.
+///
+/// Sums per stratum in index order (deterministic), then weights each stratum by its share of
+/// the grid: the stratified estimates of mean, RMS and mismatch percentage are unbiased for the
+/// whole grid even though the sample over-represents the surface. Max and the counts are over
+/// the points actually checked. A stratum left empty (a share of 0 or 1) drops out, and the
+/// weights are renormalized.
+void compareStrata(const format::ColliderAsset& asset, const std::vector<Stratum>& strata,
+                   const CgalReference& reference, const ValidateOptions& options,
+                   Progress* progress, ValidationReport& report) {
+    const double h = asset.meta.voxelSize;
+    const double band = options.surfaceBand * h;
+    format::ValidationFigures& figures = report.figures;
+    double mean = 0.0, meanSquare = 0.0, mismatchShare = 0.0;
+    double weightTaken = 0.0, weightCompared = 0.0;
+    const double gridPoints = double(asset.pointCount());
+    for (const Stratum& stratum : strata) {
+        if (stratum.indices.empty())
+            continue;
+        const std::vector<double> exact =
+            reference.signedDistances(pointsAt(asset, stratum.indices), progress);
+        detail::PointComparison c;
+        for (std::size_t n = 0; n < exact.size(); ++n) {
+            const float phi = asset.distances[stratum.indices[n]];
+            c.addError(phi, exact[n], h, figures.maxError);
+            c.addSign(phi, exact[n], band);
+        }
+        const double weight = double(stratum.population) / gridPoints;
+        const double taken = double(exact.size());
+        mean += weight * c.sum / taken;
+        meanSquare += weight * c.sumSquare / taken;
+        weightTaken += weight;
+        if (c.compared > 0) {
+            mismatchShare += weight * double(c.mismatches) / double(c.compared);
+            weightCompared += weight;
+        }
+        figures.pointsChecked += exact.size();
+        figures.signMismatches += c.mismatches;
+        report.signComparedPoints += c.compared;
+    }
+    if (weightTaken > 0.0) {
+        figures.meanError = mean / weightTaken;
+        figures.rmsError = std::sqrt(meanSquare / weightTaken);
+    }
+    if (weightCompared > 0.0)
+        report.signMismatchPercent = 100.0 * mismatchShare / weightCompared;
+}
+
 } // namespace
 
 Result<ValidationReport> validate(const format::ColliderAsset& asset, const ImportedMesh& mesh,
@@ -193,72 +257,10 @@ Result<ValidationReport> validate(const format::ColliderAsset& asset, const Impo
 
     ValidationReport report;
     report.referenceSign = reference->signMethod();
-    std::vector<Stratum> strata = choosePoints(asset, options, report.sampled);
-
-    const double h = asset.meta.voxelSize;
-    const double band = options.surfaceBand * h;
-    format::ValidationFigures& figures = report.figures;
-
-    // Sum per stratum in index order (deterministic), then weight each stratum by its share of
-    // the grid: the stratified estimates of mean, RMS and mismatch percentage are unbiased for
-    // the whole grid even though the sample over-represents the surface. Max and the counts are
-    // over the points actually checked.
-    // A stratum left empty (a share of 0 or 1) drops out, and the weights are renormalized.
-    double mean = 0.0, meanSquare = 0.0, mismatchShare = 0.0;
-    double weightTaken = 0.0, weightCompared = 0.0;
-    const double gridPoints = double(asset.pointCount());
-    std::vector<glm::dvec3> points;
-    for (const Stratum& stratum : strata) {
-        if (stratum.indices.empty())
-            continue;
-        points.resize(stratum.indices.size());
-        const glm::uvec3 dims = asset.meta.dims;
-        for (std::size_t n = 0; n < stratum.indices.size(); ++n) {
-            const std::uint64_t idx = stratum.indices[n];
-            const std::uint32_t i = std::uint32_t(idx % dims.x);
-            const std::uint32_t j = std::uint32_t((idx / dims.x) % dims.y);
-            const std::uint32_t k = std::uint32_t(idx / (std::uint64_t(dims.x) * dims.y));
-            points[n] = asset.pointPosition(i, j, k);
-        }
-        const std::vector<double> exact = reference->signedDistances(points, progress);
-
-        double sum = 0.0, sumSquare = 0.0;
-        std::uint64_t compared = 0, mismatches = 0;
-        for (std::size_t n = 0; n < exact.size(); ++n) {
-            const float phi = asset.distances[stratum.indices[n]];
-            const double error = std::abs(double(phi) - exact[n]) / h;
-            sum += error;
-            sumSquare += error * error;
-            figures.maxError = std::max(figures.maxError, std::isnan(error) ? INFINITY : error);
-            if (std::abs(exact[n]) >= band) {
-                ++compared;
-                // signbit, so a tiny negative distance rounded to -0 by fp16 still counts inside.
-                if (std::signbit(phi) != (exact[n] < 0.0))
-                    ++mismatches;
-            }
-        }
-        const double weight = double(stratum.population) / gridPoints;
-        const double taken = double(exact.size());
-        mean += weight * sum / taken;
-        meanSquare += weight * sumSquare / taken;
-        weightTaken += weight;
-        if (compared > 0) {
-            mismatchShare += weight * double(mismatches) / double(compared);
-            weightCompared += weight;
-        }
-        figures.pointsChecked += exact.size();
-        figures.signMismatches += mismatches;
-        report.signComparedPoints += compared;
-    }
-    if (weightTaken > 0.0) {
-        figures.meanError = mean / weightTaken;
-        figures.rmsError = std::sqrt(meanSquare / weightTaken);
-    }
-    if (weightCompared > 0.0)
-        report.signMismatchPercent = 100.0 * mismatchShare / weightCompared;
-
-    eikonalStatistics(asset, figures);
-    figures.known = true;
+    const std::vector<Stratum> strata = choosePoints(asset, options, report.sampled);
+    compareStrata(asset, strata, *reference, options, progress, report);
+    eikonalStatistics(asset, report.figures);
+    report.figures.known = true;
     return report;
 }
 

@@ -6,7 +6,7 @@
 #include <glm/vec3.hpp>
 
 #include "sluice/bake/import/TriangleSoup.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

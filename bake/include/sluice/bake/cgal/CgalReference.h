@@ -11,8 +11,8 @@
 #include "sluice/bake/Grid.h"
 #include "sluice/bake/import/MeshImport.h"
 #include "sluice/bake/jobs/Progress.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 
@@ -79,10 +79,5 @@ struct BakeSettings {
 format::ColliderMeta bakeProvenance(const ImportedMesh& mesh, const GridSpec& grid,
                                     const BakeSettings& settings, const char* backend,
                                     format::SignMethod signUsed);
-
-/// Bakes the mesh on the CPU with CGAL into a collider asset with full provenance (backend
-/// "cgal"). Errors from gridFor and CgalReference::build.
-Result<format::ColliderAsset> bakeCgal(const ImportedMesh& mesh, const BakeSettings& settings,
-                                       Progress* progress = nullptr);
 
 } // namespace sluice::bake

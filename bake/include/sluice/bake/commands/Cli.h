@@ -1,7 +1,7 @@
 // The sluice-bake command line (CLI11): bake, validate, info, export, gl-info.
 #pragma once
 
-#include "sluice/format/ExitCodes.h" // the exit codes runCli returns
+#include "sluice/format/support/ExitCodes.h" // the exit codes runCli returns
 
 namespace sluice::bake {
 

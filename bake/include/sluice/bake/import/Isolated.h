@@ -7,7 +7,7 @@
 #include <string>
 
 #include "sluice/bake/import/TriangleSoup.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

@@ -8,8 +8,8 @@
 #include "sluice/bake/import/Isolated.h"
 #include "sluice/bake/jobs/PhaseLog.h"
 #include "sluice/bake/import/TriangleSoup.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

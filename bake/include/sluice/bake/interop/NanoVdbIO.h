@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "sluice/bake/import/MeshImport.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/NanoVdbCheck.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

@@ -4,8 +4,8 @@
 #include <filesystem>
 
 #include "sluice/bake/import/MeshImport.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

@@ -14,8 +14,8 @@
 #include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/bake/import/MeshImport.h"
 #include "sluice/bake/jobs/Progress.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

@@ -9,8 +9,8 @@
 
 #include "sluice/bake/jobs/BakeJob.h"
 #include "sluice/bake/jobs/Progress.h"
-#include "sluice/format/BatchManifest.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/scene/BatchManifest.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

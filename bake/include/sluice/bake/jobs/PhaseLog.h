@@ -20,6 +20,9 @@ struct Phase {
     bool overlapped = false;
 };
 
+/// [s] wall time from `start` to now (steady clock).
+double secondsSince(std::chrono::steady_clock::time_point start);
+
 /// [s] CPU time of this process (every thread) and of its waited-for children so far.
 double processCpuSeconds();
 

@@ -8,8 +8,8 @@
 #include "sluice/bake/import/MeshImport.h"
 #include "sluice/bake/jobs/Progress.h"
 #include "sluice/bake/validate/Validate.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

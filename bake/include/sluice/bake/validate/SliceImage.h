@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Image.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Image.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "sluice/bake/cgal/CgalReference.h"
-#include "sluice/format/ColliderAsset.h"
-#include "sluice/format/Result.h"
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::bake {
 
