@@ -10,13 +10,13 @@
 #include <iterator>
 #include <map>
 
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
+
+#include "Spawn.h"
 
 extern char** environ;
 
@@ -39,22 +39,12 @@ double seconds(const timeval& t) {
 Run spawnAndWait(const std::vector<std::string>& args, const std::string& stdoutPath,
                  const std::string& stderrPath) {
     Run run;
-    std::vector<char*> argv;
-    for (const std::string& arg : args)
-        argv.push_back(const_cast<char*>(arg.c_str()));
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, stdoutPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
-    posix_spawn_file_actions_addopen(&actions, 2, stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
     const auto start = std::chrono::steady_clock::now();
     pid_t pid = 0;
-    const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
+    const int spawned = testrun::spawnToFiles(pid, args, stdoutPath, stderrPath, environ);
     if (spawned != 0) {
-        std::fprintf(stderr, "bake_bench: cannot start %s: %s\n", argv[0], std::strerror(spawned));
+        std::fprintf(stderr, "bake_bench: cannot start %s: %s\n", args[0].c_str(),
+                     std::strerror(spawned));
         return run;
     }
     int status = 0;
@@ -173,8 +163,9 @@ int runWholeProcess(const WholeProcessOptions& options) {
                 const bool isGpu = (k == 0) == (r % 2 == 0);
                 Run run = spawnAndWait(bakeArgs(isGpu ? "gpu" : "cgal", resolution), out, err);
                 if (run.code != 0) {
-                    std::fprintf(stderr, "bake_bench: sluice-bake --backend %s failed (exit %d); "
-                                         "see %s\n",
+                    std::fprintf(stderr,
+                                 "bake_bench: sluice-bake --backend %s failed (exit %d); "
+                                 "see %s\n",
                                  isGpu ? "gpu" : "cgal", run.code, err.c_str());
                     return 4;
                 }

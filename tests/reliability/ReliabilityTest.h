@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "Spawn.h"
 
 extern char** environ;
 
@@ -56,16 +56,6 @@ public:
     /// Starts `argv[0]` with `argv`, plus `env` entries ("NAME=value") in front of ours.
     Spawned(const std::vector<std::string>& argv, const fs::path& outFile, const fs::path& errFile,
             const std::vector<std::string>& env = {}) {
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_addopen(&actions, 1, outFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                         0644);
-        posix_spawn_file_actions_addopen(&actions, 2, errFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                         0644);
-        std::vector<char*> args;
-        for (const std::string& a : argv)
-            args.push_back(const_cast<char*>(a.c_str()));
-        args.push_back(nullptr);
         std::vector<std::string> envText = env;
         for (char** e = environ; *e; ++e)
             envText.emplace_back(*e);
@@ -73,9 +63,9 @@ public:
         for (const std::string& e : envText)
             envp.push_back(const_cast<char*>(e.c_str()));
         envp.push_back(nullptr);
-        if (posix_spawn(&m_pid, args[0], &actions, nullptr, args.data(), envp.data()) != 0)
+        if (testrun::spawnToFiles(m_pid, argv, outFile.string(), errFile.string(), envp.data()) !=
+            0)
             m_pid = -1;
-        posix_spawn_file_actions_destroy(&actions);
     }
     Spawned(const Spawned&) = delete;
     Spawned& operator=(const Spawned&) = delete;

@@ -10,8 +10,10 @@
 
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
+#include "VecExpect.h"
 
 using namespace sluice;
+using sluice::test::expectVecNear;
 
 namespace {
 
@@ -46,12 +48,6 @@ ref::ReferenceCollider floorCollider(float friction = 0.0f) {
 void place(ref::ReferencePbf& sim, std::size_t i, glm::vec3 x, glm::vec3 v) {
     sim.mutableParticles()[i].position = x;
     sim.mutableParticles()[i].velocity = v;
-}
-
-void expectVecNear(glm::vec3 a, glm::vec3 b, float tol) {
-    EXPECT_NEAR(a.x, b.x, tol);
-    EXPECT_NEAR(a.y, b.y, tol);
-    EXPECT_NEAR(a.z, b.z, tol);
 }
 
 } // namespace

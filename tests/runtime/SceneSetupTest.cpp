@@ -9,9 +9,11 @@
 #include <glm/geometric.hpp>
 
 #include "RuntimeTestScenes.h"
+#include "VecExpect.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 using namespace sluice;
+using sluice::test::expectVecNear;
 
 namespace {
 
@@ -26,12 +28,6 @@ glm::dvec3 spikyGrad(const glm::dvec3& x, double h) {
     if (q <= 0.0 || q >= h)
         return glm::dvec3(0.0);
     return -45.0 / (kPi * std::pow(h, 6)) * (h - q) * (h - q) * x / q;
-}
-
-void expectVecNear(glm::vec3 a, glm::vec3 b, float tol) {
-    EXPECT_NEAR(a.x, b.x, tol);
-    EXPECT_NEAR(a.y, b.y, tol);
-    EXPECT_NEAR(a.z, b.z, tol);
 }
 
 } // namespace

@@ -13,7 +13,6 @@ and prints per-pass medians, wall and CPU seconds. Results: docs/results/pbf_abl
     python3 tests/bench/pbf/ablation.py --build build/h-perf
 """
 
-import datetime
 import json
 import os
 import sys
@@ -62,15 +61,11 @@ def main():
                   f"it {bench['meanIterations']:.2f}  cpu/step {rec['cpuSecondsPerStep']:.3f} s  "
                   f"load {extra['loadBefore'][0]:.1f}", flush=True)
     doc = {"what": "sluice-play --bench knob ablations (tests/bench/pbf/ablation.py)",
-           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+           "date": sweep.utc_now(),
            "machineName": a.machine, "machine": sweep.machine_info(),
            "particles": a.particles, "runs": runs}
     doc["machine"]["renderer"] = runs[0]["bench"]["renderer"] if runs else None
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    with open(a.out, "w") as f:
-        json.dump(doc, f, indent=2)
-        f.write("\n")
-    print(f"wrote {a.out}")
+    sweep.write_results(a.out, doc)
     return 0
 
 

@@ -11,7 +11,6 @@ pass itself, both from the same run. Results: docs/results/pbf_bodies_<machine>.
     python3 tests/bench/pbf/bodies.py --build build/dev --repeat 3
 """
 
-import datetime
 import json
 import math
 import os
@@ -91,14 +90,10 @@ def main():
         summary.append(row)
         print(json.dumps(row))
     doc = {"what": "sluice-play --bench with dynamic bodies (tests/bench/pbf/bodies.py)",
-           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+           "date": sweep.utc_now(),
            "machineName": a.machine, "machine": sweep.machine_info(),
            "warmup": a.warmup, "steps": a.steps, "runs": runs, "summary": summary}
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    with open(a.out, "w") as f:
-        json.dump(doc, f, indent=2)
-        f.write("\n")
-    print(f"wrote {a.out}")
+    sweep.write_results(a.out, doc)
     return 0
 
 

@@ -137,6 +137,21 @@ def hash_table_size(capacity):
     return max(1024, 1 << max(0, (2 * capacity - 1).bit_length()))
 
 
+def utc_now():
+    """The time now, UTC, to the second (the "date" of every results file)."""
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def write_results(path, doc):
+    """Writes `doc` as indented JSON to `path` (folders created), whole or not at all."""
+    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+    with open(path + ".tmp", "w") as f:
+        json.dump(doc, f, indent=2)
+        f.write("\n")
+    os.replace(path + ".tmp", path)
+    print(f"wrote {path}")
+
+
 def machine_info():
     model = "unknown CPU"
     try:
@@ -286,7 +301,7 @@ def sweep(args):
     machine["renderer"] = renderer
     doc = {
         "what": "sluice-play --bench particle-count sweep (tests/bench/pbf/sweep.py)",
-        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "date": utc_now(),
         "machineName": args.machine,
         "machine": machine,
         "note": args.note,
@@ -294,11 +309,8 @@ def sweep(args):
         "wallMinutes": total / 60.0,
         "runs": runs,
     }
-    os.makedirs(os.path.dirname(args.out), exist_ok=True)
-    with open(args.out, "w") as f:
-        json.dump(doc, f, indent=2)
-        f.write("\n")
-    print(f"wrote {args.out} ({total / 60:.1f} min)")
+    write_results(args.out, doc)
+    print(f"({total / 60:.1f} min)")
     return doc
 
 

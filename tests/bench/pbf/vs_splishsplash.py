@@ -44,7 +44,6 @@ libGLdispatch.so.0, which avoids it (--no-preload turns that off).
 """
 
 import argparse
-import datetime
 import json
 import math
 import os
@@ -610,7 +609,7 @@ def main():
 def write_results(args, rows, summaries):
     doc = {
         "what": "Sluice PBF vs SPlisHSPlasH PBF, dam break (tests/bench/pbf/vs_splishsplash.py)",
-        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "date": sweep.utc_now(),
         "machineName": args.machine,
         "machine": machine_simd(),
         "settings": {k: v for k, v in vars(args).items() if k not in ("worker",)},
@@ -619,11 +618,7 @@ def write_results(args, rows, summaries):
         "summary": summaries,
         "rows": rows,
     }
-    os.makedirs(os.path.dirname(args.out), exist_ok=True)
-    with open(args.out + ".tmp", "w") as f:
-        json.dump(doc, f, indent=2)
-        f.write("\n")
-    os.replace(args.out + ".tmp", args.out)
+    sweep.write_results(args.out, doc)
 
 
 if __name__ == "__main__":

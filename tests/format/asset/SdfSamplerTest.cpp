@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "AnalyticAsset.h"
 #include "sluice/format/asset/SdfSampler.h"
 
 namespace sluice::test {
@@ -14,16 +15,7 @@ using namespace sluice::format;
 
 ColliderAsset gridOf(glm::uvec3 dims, glm::dvec3 origin, double h,
                      double (*phi)(const glm::dvec3&)) {
-    ColliderAsset a;
-    a.meta.dims = dims;
-    a.meta.origin = origin;
-    a.meta.voxelSize = h;
-    a.distances.resize(a.pointCount());
-    for (std::uint32_t k = 0; k < dims.z; ++k)
-        for (std::uint32_t j = 0; j < dims.y; ++j)
-            for (std::uint32_t i = 0; i < dims.x; ++i)
-                a.distances[a.index(i, j, k)] = float(phi(a.pointPosition(i, j, k)));
-    return a;
+    return testasset::assetFromSdf(dims, origin, h, phi);
 }
 
 const glm::dvec3 kSlope{0.3, -0.5, 0.8};

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "VecExpect.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/rt/render/OrbitCamera.h"
 #include "sluice/rt/render/SceneFraming.h"
@@ -13,9 +14,7 @@ namespace {
 constexpr float kTol = 1e-4f;
 
 void expectNear(glm::vec3 a, glm::vec3 b, float tol = kTol) {
-    EXPECT_NEAR(a.x, b.x, tol);
-    EXPECT_NEAR(a.y, b.y, tol);
-    EXPECT_NEAR(a.z, b.z, tol);
+    test::expectVecNear(a, b, tol);
 }
 
 TEST(OrbitCamera, LookAtPutsTheEyeWhereItWasAsked) {

@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "sim/ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
+#include "sim/ParticleCompare.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -36,14 +36,8 @@ BodyScene tankWithFloor() {
     BodyScene b;
     b.scene = testscene::smallScene({16, 8, 16}, kSpacing, 1);
     b.scene.simulation.targetDensityError = 0.0f;
-    // The slab [-1, 1] x [-1, 0] x [-1, 1] scaled by 0.5: its top is the tank's floor, y = 0.
-    b.assets.push_back(testscene::boxColliderAsset({-1.0, -1.0, -1.0}, {1.0, 0.0, 1.0}, 0.02));
-    format::SceneCollider floor;
-    floor.asset = "floor.slc";
-    floor.rotationDegrees = glm::vec3(0.0f, 30.0f, 0.0f);
-    floor.scale = 0.5f;
-    floor.friction = 0.3f;
-    b.scene.colliders.push_back(floor);
+    // Its top is the tank's floor, y = 0.
+    testscene::addTiltedFloor(b.scene, b.assets);
     return b;
 }
 

@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "sim/ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
+#include "sim/ParticleCompare.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -38,15 +38,8 @@ ParityScene parityScene() {
     p.scene.domainMax = glm::vec3(0.10f, 1.0f, 0.13f);
     p.scene.blocks[0].min = glm::vec3(-0.10f, 0.0f, -0.13f);
     p.scene.blocks[0].max = glm::vec3(0.10f, 0.32f, 0.13f);
-    // Floor: the slab [-1, 1] x [-1, 0] x [-1, 1] in asset units, rotated 30 degrees about y and
-    // scaled by 0.5, so its top stays at y = 0, one particle radius under the bottom layer.
-    p.assets.push_back(testscene::boxColliderAsset({-1.0, -1.0, -1.0}, {1.0, 0.0, 1.0}, 0.02));
-    format::SceneCollider floor;
-    floor.asset = "floor.slc";
-    floor.rotationDegrees = glm::vec3(0.0f, 30.0f, 0.0f);
-    floor.scale = 0.5f;
-    floor.friction = 0.3f;
-    p.scene.colliders.push_back(floor);
+    // Floor: its top at y = 0, one particle radius under the bottom layer.
+    testscene::addTiltedFloor(p.scene, p.assets);
     // A ball of radius 0.1 m 5 mm above the water, moving down into it at 0.3 m/s.
     p.assets.push_back(testscene::sphereColliderAsset({0.0, 0.0, 0.0}, 0.1, 0.01));
     format::SceneCollider ball;
