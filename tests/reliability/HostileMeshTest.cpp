@@ -63,7 +63,7 @@ TEST(HostileMesh, EveryFileInAssimpsInvalidFolderExitsTwoAndWritesNothing) {
             continue; // describes the folder
         if (name == "malformed2.obj") {
             // Its only flaw is a material that does not exist, which geometry import does not
-            // use: five faces of a cube, a valid open mesh (tests/bake/MeshImportTest.cpp).
+            // use: five faces of a cube, a valid open mesh (tests/bake/import/MeshImportTest.cpp).
             const fs::path output = dir / "malformed2.slc";
             const RunResult run =
                 bake(dir, {entry.path().string(), "-o", output.string(), "--resolution", "8"});
