@@ -63,13 +63,12 @@ void checkOnce(std::span<const std::byte> bytes) {
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const auto bytes = std::as_bytes(std::span(data, size));
-    checkOnce(bytes);
-    if (size >= kGridSizeOffset + 8) {
-        GridBytes sized(bytes.begin(), bytes.end());
-        const std::uint64_t n = size;
-        std::memcpy(sized.data() + kGridSizeOffset, &n, 8); // little-endian hosts
-        checkOnce(sized);
-    }
-    return 0;
+    // The repaired copy states its own size, so the check goes on to the tree.
+    return fuzz::checkAsIsAndRepaired(data, size, checkOnce, [](std::vector<std::byte>& b) {
+        if (b.size() < kGridSizeOffset + 8)
+            return false;
+        const std::uint64_t n = b.size();
+        std::memcpy(b.data() + kGridSizeOffset, &n, 8); // little-endian hosts
+        return true;
+    });
 }

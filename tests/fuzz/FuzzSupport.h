@@ -3,11 +3,13 @@
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-
+#include <span>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "sluice/format/support/Result.h"
 #include "sluice/format/support/Sanitizers.h"
@@ -97,6 +99,19 @@ template <typename T> bool takeResult(Result<T>& r, T& accepted, std::string_vie
     }
     SLUICE_FUZZ_CHECK(r.error().detail.rfind(name, 0) == 0, "messages start with the file name");
     return false;
+}
+
+/// One fuzz input, checked twice: the bytes as they are, then a copy that `repair` fixes in the
+/// one field that stops the reader at its first check (a checksum, a size), so that the checks
+/// behind it see fuzzed data too. `repair` returns false where the input is too short for it.
+template <typename Check, typename Repair>
+int checkAsIsAndRepaired(const std::uint8_t* data, std::size_t size, Check check, Repair repair) {
+    const auto bytes = std::as_bytes(std::span(data, size));
+    check(bytes);
+    std::vector<std::byte> repaired(bytes.begin(), bytes.end());
+    if (repair(repaired))
+        check(std::span<const std::byte>(repaired));
+    return 0;
 }
 
 } // namespace sluice::fuzz
