@@ -23,6 +23,7 @@ layout(local_size_x = SLUICE_BODY_GROUP_SIZE) in;
 
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 layout(std430, binding = kBindBodySamples) readonly buffer BodySamples { vec4 samples[]; };
+layout(std430, binding = kBindStats) buffer Stats { PbfStats stats; };
 
 // The mouse spring of the viewer (Simulation::setDrag): body dragBody (kNoBody: none) is pulled
 // at its point dragAnchor [asset units] towards dragTarget [m] by a critically damped spring of
@@ -263,6 +264,19 @@ void wallAndStaticContacts(uint b, bool lead, bool first, inout BodyStep s) {
 // Velocities from the pose change (position-based), then restitution along the mean contact
 // normal for impacts faster than what gravity adds in one substep; the body's record and its
 // collider's for the next substep.
+// A body's new state is unusable: not finite, or its centre of mass outside the domain box
+// (the walls hold its contact points, so only a body the solver lost gets there).
+bool bodyFault(vec3 x, vec4 q, vec3 v, vec3 w) {
+    bool finite = !any(isnan(x)) && !any(isinf(x)) && !any(isnan(q)) && !any(isinf(q)) &&
+                  !any(isnan(v)) && !any(isinf(v)) && !any(isnan(w)) && !any(isinf(w));
+    if (!finite)
+        return true;
+    if (P.hasDomain == 0u)
+        return false;
+    vec3 lo = P.domainMin - vec3(P.radius), hi = P.domainMax + vec3(P.radius);
+    return any(lessThan(x, lo)) || any(greaterThan(x, hi));
+}
+
 void finish(uint b, BodyStep s) {
     vec3 vNew = (s.x - s.x0) * P.invDt;
     vec4 dq = quatMul(s.q, vec4(-s.q0.xyz, s.q0.w));
@@ -273,6 +287,14 @@ void finish(uint b, BodyStep s) {
         float approach = dot(s.v, n);
         if (-approach > 2.0 * length(P.gravity) * P.dt)
             vNew += n * (-bodies[b].restitution * approach - dot(vNew, n));
+    }
+    if (bodyFault(s.x, s.q, vNew, wNew)) {
+        // Put back where the substep found it, at rest, and counted (--check fails on it), as
+        // a particle that goes non-finite is.
+        s.x = s.x0;
+        s.q = s.q0;
+        vNew = wNew = vec3(0.0);
+        atomicAdd(stats.bodyFaults, 1u);
     }
     GpuBody body = bodies[b];
     body.position = s.x;

@@ -164,6 +164,8 @@ struct PbfStats {
     uint maxNeighbours;    ///< most neighbours one particle had (this step)
     uint iterationSum;     ///< solver iterations summed over the substeps (this step)
     uint solveDispatches;  ///< lambda and delta dispatches that launched work groups (this step)
+    uint bodyFaults;       ///< bodies put back because their state went non-finite or their
+                           ///< centre left the domain box (since the start, not reset per step)
     // Followed in the buffer by PbfIterationStats iterations[maxIterations].
 };
 
@@ -247,7 +249,8 @@ SLUICE_PBF_AT(PbfStats, maxCandidates, 20);
 SLUICE_PBF_AT(PbfStats, maxNeighbours, 24);
 SLUICE_PBF_AT(PbfStats, iterationSum, 28);
 SLUICE_PBF_AT(PbfStats, solveDispatches, 32);
-static_assert(sizeof(sluice::shared::PbfStats) == 36, "std430 size of PbfStats");
+SLUICE_PBF_AT(PbfStats, bodyFaults, 36);
+static_assert(sizeof(sluice::shared::PbfStats) == 40, "std430 size of PbfStats");
 static_assert(sizeof(sluice::shared::PbfDispatchArgs) == 12, "std430 size of PbfDispatchArgs");
 #undef SLUICE_PBF_AT
 #endif

@@ -1,6 +1,7 @@
 // Runtime faults through sluice-play (and the GPU bake's memory limit through sluice-bake):
 // hostile parameters, corrupt colliders, a capacity too small for the emitters, too many
-// particles for the GPU, particles that go non-finite, and no OpenGL 4.5 context.
+// particles for the GPU, particles and bodies that go non-finite or are lost, and no OpenGL
+// 4.5 context.
 #include <cmath>
 #include <ostream>
 #include <string>
@@ -281,6 +282,47 @@ TEST(RuntimeFault, ParticlesThatGoNonFiniteAreReportedWithTheirStepAndCheckFails
     checked.push_back("--check");
     run = play(dir, checked);
     EXPECT_EQ(run.code, 1) << shown(run);
+}
+
+TEST(RuntimeFault, ABodyTheSolverLosesIsPutBackCountedAndFailsCheck) {
+    // A crate of 1e-30 kg/m^3 in a shallow pool: the first push of the water throws it far
+    // outside the domain (2.5e30 m before bodies were checked). It is put back at rest each
+    // time and counted; the density warns before the run, and --check turns the loss into 1.
+    const fs::path dir = freshDir("lost-body");
+    const std::string crate = (kAssets / "crate.slc").string();
+    writeText(dir / "scene.json",
+              R"({"fluid": [{"box": {"min": [0, 0, 0], "max": [0.3, 0.06, 0.3]}}],
+                  "colliders": [{"asset": ")" +
+                  crate + R"(", "translation": [0.15, 0.1, 0.15],
+                                 "dynamic": {"density": 1e-30}}],
+                  "domain": {"min": [0, 0, 0], "max": [0.3, 0.4, 0.3]}})");
+    const std::vector<std::string> args = {
+        (dir / "scene.json").string(), "--headless", "--quiet", "--steps", "8", "--stats-json",
+        (dir / "stats.json").string(), "--check"};
+    RunResult run = play(dir, args);
+    EXPECT_EQ(run.code, 1) << shown(run);
+    EXPECT_NE(run.err.find("[body-density]"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("a dynamic body went non-finite or its centre left the domain box"),
+              std::string::npos)
+        << run.err;
+    EXPECT_NE(run.err.find("or a body was lost"), std::string::npos) << run.err;
+    const auto stats = nlohmann::json::parse(readBytes(dir / "stats.json"));
+    const auto& last = stats["steps"].back();
+    EXPECT_GT(last["bodyFaults"].get<std::uint64_t>(), 0u) << last;
+    const auto& position = last["bodies"][0]["position"];
+    for (int a = 0; a < 3; ++a) {
+        const double x = position[a].get<double>();
+        EXPECT_TRUE(std::isfinite(x) && x >= 0.0 && x <= 0.4) << "axis " << a << ": " << x;
+    }
+
+    // --strict refuses the density before anything runs.
+    std::vector<std::string> strict = args;
+    strict.push_back("--strict");
+    fs::remove(dir / "stats.json");
+    run = play(dir, strict);
+    EXPECT_EQ(run.code, 2) << shown(run);
+    EXPECT_NE(run.err.find("nothing was run"), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(dir / "stats.json"));
 }
 
 // --- No OpenGL 4.5 --------------------------------------------------------------------------

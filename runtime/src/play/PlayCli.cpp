@@ -27,7 +27,7 @@ namespace {
 
 constexpr const char* kExitCodeHelp = R"(Exit codes:
   0  success
-  1  --check: a particle went non-finite or ended inside a collider
+  1  --check: a particle went non-finite or ended inside a collider, or a body was lost
   2  bad input: scene file, collider asset or command-line value; no ffmpeg for --video
   3  no OpenGL 4.5 core context with compute shaders; no display for the window
   4  internal error

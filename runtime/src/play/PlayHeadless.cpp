@@ -14,8 +14,8 @@
 #include "capture/CaptureHeadless.h"
 #include "play/SceneChecks.h"
 #include "play/StatsReport.h"
-#include "sluice/format/support/Suggest.h"
 #include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/support/Suggest.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/play/PlayCli.h"
 #include "sluice/rt/play/PlyWriter.h"
@@ -39,7 +39,9 @@ struct HeadlessRun {
     std::optional<HeadlessCapture> capture;
     std::uint64_t statsEvery = 1;                   ///< a statistics row every this many steps
     nlohmann::json steps = nlohmann::json::array(); ///< the recorded statistics
-    bool dirty = false;            ///< a particle went non-finite or ended inside a collider
+    bool dirty = false;            ///< a particle went non-finite or ended inside a collider,
+                                   ///< or a body was put back (StepStats::bodyFaults)
+    std::uint32_t bodyFaults = 0;  ///< StepStats::bodyFaults reported so far
     bool capacityReported = false; ///< the full-capacity message was printed
     double wallSeconds = 0.0;      ///< the steps' wall time, capture included [s]
     PassTimes passTimes{};         ///< GPU time per pass after the last step [ms]
@@ -107,9 +109,9 @@ Result<void> writeStepOutputs(HeadlessRun& run, std::uint64_t step) {
         if (!bodies.empty()) {
             const std::string text =
                 bodyTransformsJson(run.scene, step, run.sim.time(), bodies).dump(2) + "\n";
-            if (auto ok = format::writeFileAtomic(
-                    std::filesystem::path(o.plyDir) / bodiesName(step),
-                    std::as_bytes(std::span(text.data(), text.size())));
+            if (auto ok =
+                    format::writeFileAtomic(std::filesystem::path(o.plyDir) / bodiesName(step),
+                                            std::as_bytes(std::span(text.data(), text.size())));
                 !ok)
                 return ok;
         }
@@ -139,6 +141,15 @@ void recordStats(HeadlessRun& run, std::uint64_t step) {
     }
     if (stats.insideColliders > 0)
         run.dirty = true;
+    if (stats.bodyFaults > 0 && run.bodyFaults == 0)
+        std::cerr << "sluice-play: step " << stats.step
+                  << ": a dynamic body went non-finite or its centre left the domain box, and "
+                     "was put back at rest (a body the solver lost: check its density or "
+                     "mass); \"bodyFaults\" in the statistics counts every time\n";
+    if (stats.bodyFaults > run.bodyFaults) {
+        run.bodyFaults = stats.bodyFaults;
+        run.dirty = true;
+    }
 }
 
 /// Says once that the emitters ran out of capacity (a cheap CPU-side flag).
@@ -236,7 +247,7 @@ int playHeadless(const HeadlessOptions& o, const format::Scene& scene,
             return reportFailure(ok.error());
     if (o.check && run->dirty) {
         std::cerr << "sluice-play: --check: particles went non-finite or ended inside a "
-                     "collider (see the table)\n";
+                     "collider, or a body was lost (see the messages above and the table)\n";
         return kExitCheckFailed;
     }
     return kExitOk;

@@ -24,7 +24,8 @@ struct HeadlessOptions {
     std::uint64_t dumpEvery = 1;  ///< a PLY file every K steps
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes
-    bool check = false; ///< exit 1 when a particle went non-finite or ended inside a collider
+    bool check = false; ///< exit 1 when a particle went non-finite or ended inside a collider,
+                        ///< or a body was put back (StepStats::bodyFaults)
     bool quiet = false;
     CaptureOptions capture;          ///< --frames, --video, --screenshot-at
     glm::uvec2 imageSize{1280, 720}; ///< capture size [pixels]

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "sim/BodySetup.h"
 #include "sluice/format/asset/GridSamples.h"
 #include "sluice/format/asset/SdfSampler.h"
 #include "sluice/rt/sim/SceneSetup.h"
@@ -28,6 +29,12 @@ std::string number(double value) {
 
 std::string vec(const glm::dvec3& v) {
     return "(" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + ")";
+}
+
+/// "scene.json: colliders[2] (crate.slc): " for a collider's messages.
+std::string colliderWhere(const format::Scene& scene, std::size_t c) {
+    return scene.path + ": colliders[" + std::to_string(c) + "] (" + scene.colliders[c].asset +
+           "): ";
 }
 
 /// A group of starting particles with the JSON path and the time they appear.
@@ -124,8 +131,7 @@ void checkColliderScale(const format::Scene& scene,
     for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
         const glm::dvec3 size = colliderWorldSize(scene.colliders[c], colliders[c]);
         const double side = std::max({size.x, size.y, size.z});
-        const std::string where = scene.path + ": colliders[" + std::to_string(c) + "] (" +
-                                  scene.colliders[c].asset + "): ";
+        const std::string where = colliderWhere(scene, c);
         const std::string measured = number(size.x) + " x " + number(size.y) + " x " +
                                      number(size.z) + " m, " + number(side / s) +
                                      " times the particle spacing (" + number(s) + " m)";
@@ -141,6 +147,63 @@ void checkColliderScale(const format::Scene& scene,
                                        ": particles are larger than the collider. Re-bake "
                                        "it with a larger `sluice-bake bake --scale` or "
                                        "set a larger \"scale\" on the collider in the scene"});
+    }
+}
+
+void checkBodyDensity(const format::Scene& scene,
+                      const std::vector<format::ColliderAsset>& colliders,
+                      std::vector<PlayWarning>& out) {
+    for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
+        if (!scene.colliders[c].dynamic)
+            continue;
+        // A body without a volume or with an unusable mass is an error the solver reports.
+        auto density = bodyDensity(scene, c, colliders[c]);
+        if (!density || (*density >= kBodyDensityMin && *density <= kBodyDensityMax))
+            continue;
+        const bool fromMass = scene.colliders[c].dynamic->mass.has_value();
+        out.push_back(
+            {"body-density", colliderWhere(scene, c) + "a dynamic body of " + number(*density) +
+                                 " kg/m^3" + (fromMass ? " (its mass over its volume)" : "") +
+                                 ", outside " + number(kBodyDensityMin) + " to " +
+                                 number(kBodyDensityMax) +
+                                 " kg/m^3, the range of real materials (air-filled foam to the "
+                                 "densest metals): the solver may lose it. Is the \"density\" in "
+                                 "kg/m^3 and the \"mass\" in kg?"});
+    }
+}
+
+void checkBodyDomain(const format::Scene& scene,
+                     const std::vector<format::ColliderAsset>& colliders,
+                     std::vector<PlayWarning>& out) {
+    if (!scene.domainMin || !scene.domainMax)
+        return;
+    const glm::vec3 lo = *scene.domainMin;
+    const glm::vec3 hi = *scene.domainMax;
+    for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
+        if (!scene.colliders[c].dynamic)
+            continue;
+        const format::ColliderAsset& asset = colliders[c];
+        const ColliderPose pose = colliderPose(scene.colliders[c], 0.0f);
+        std::size_t inside = 0;
+        std::size_t outside = 0;
+        format::forEachStoredSample(asset, [&](glm::uvec3 ijk, float phi) {
+            if (phi > 0.0f)
+                return;
+            const glm::vec3 p = pose.toWorld(glm::vec3(asset.pointPosition(ijk.x, ijk.y, ijk.z)));
+            ++inside;
+            if (glm::any(glm::lessThan(p, lo)) || glm::any(glm::greaterThan(p, hi)))
+                ++outside;
+        });
+        if (outside == 0)
+            continue;
+        out.push_back({"body-outside-domain",
+                       colliderWhere(scene, c) + "the dynamic body starts " +
+                           (outside == inside ? std::string("outside") : "partly outside") +
+                           " the domain box " + vec(*scene.domainMin) + " to " +
+                           vec(*scene.domainMax) + " (" + std::to_string(outside) + " of its " +
+                           std::to_string(inside) +
+                           " inside grid points); the walls would throw it in on the first "
+                           "step. Move it inside \"domain\" or enlarge the domain"});
     }
 }
 
@@ -178,6 +241,8 @@ std::vector<PlayWarning> checkScene(const format::Scene& scene,
     checkDomain(scene, groups, out);
     checkColliderOverlap(scene, colliders, groups, out);
     checkColliderScale(scene, colliders, out);
+    checkBodyDensity(scene, colliders, out);
+    checkBodyDomain(scene, colliders, out);
     return out;
 }
 

@@ -15,7 +15,8 @@ namespace sluice::rt {
 /// One thing about a run that is probably a mistake but not an error (--strict makes it one).
 struct PlayWarning {
     std::string kind; ///< short stable name: "outside-domain", "fluid-in-collider",
-                      ///< "collider-scale", "screenshot-after-end", "unused-option"
+                      ///< "collider-scale", "body-density", "body-outside-domain",
+                      ///< "screenshot-after-end", "unused-option"
     std::string text; ///< the whole message: where (scene file and JSON path), what, what to do
 };
 
@@ -27,6 +28,11 @@ inline constexpr double kColliderMaxSpacings = 1000.0;
 /// particles larger than the collider pass it as a point (a mesh in metres scaled as if it were
 /// in centimetres).
 inline constexpr double kColliderMinSpacings = 1.0;
+
+/// Dynamic bodies denser or lighter than real materials are reported (body-density) [kg/m^3]:
+/// a density typed in g/cm^3, or a mass in grams, gives a body the solver may lose.
+inline constexpr double kBodyDensityMin = 10.0;
+inline constexpr double kBodyDensityMax = 25000.0;
 
 /// World size of a collider as the scene places it [m]: the box of the asset's grid points
 /// inside the surface (phi <= 0) widened by one voxel, times the collider's scale. Where no
@@ -40,7 +46,11 @@ glm::dvec3 colliderWorldSize(const format::SceneCollider& collider,
 ///  - fluid-in-collider: particles of a block, or of an emitter's first disc, start inside or
 ///    within a particle radius of a collider placed at its start-time pose;
 ///  - collider-scale: a collider's largest side is more than kColliderMaxSpacings or less than
-///    kColliderMinSpacings particle spacings.
+///    kColliderMinSpacings particle spacings;
+///  - body-density: a dynamic body's density (given, or its mass over its volume) is outside
+///    kBodyDensityMin to kBodyDensityMax;
+///  - body-outside-domain: a dynamic body's inside grid points at its start pose are partly or
+///    all outside the domain box.
 /// Each text starts with the scene file and the JSON path ("scene.json: fluid[0]: ...").
 std::vector<PlayWarning> checkScene(const format::Scene& scene,
                                     const std::vector<format::ColliderAsset>& colliders);

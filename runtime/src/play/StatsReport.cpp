@@ -42,6 +42,7 @@ nlohmann::json statsJson(const StepStats& s) {
         {"maxCandidates", s.maxCandidates},
         {"maxNeighbours", s.maxNeighbours},
         {"capacityReached", s.capacityReached},
+        {"bodyFaults", s.bodyFaults},
     };
 }
 

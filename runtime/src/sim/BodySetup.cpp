@@ -48,8 +48,8 @@ Result<format::MassProperties> massOf(const format::Scene& scene, std::size_t c,
 // A dynamic collider's mass, inertia and volume in the world, from the asset's mass properties
 // scaled by the placement and the density (or the density that gives the scene's mass).
 struct BodyMass {
-    double mass = 0.0;       // [kg]
-    double volume = 0.0;     // [m^3]
+    double mass = 0.0;           // [kg]
+    double volume = 0.0;         // [m^3]
     glm::dvec3 centerLocal{0.0}; // centre of mass in the asset frame [asset units]
     glm::mat3 invInertia{0.0f};  // body-local inverse inertia [1/(kg m^2)]
     bool fromMesh = false;
@@ -91,6 +91,14 @@ Result<BodyMass> bodyMass(const format::Scene& scene, std::size_t c,
 }
 
 } // namespace
+
+Result<double> bodyDensity(const format::Scene& scene, std::size_t c,
+                           const format::ColliderAsset& asset) {
+    auto mass = bodyMass(scene, c, asset);
+    if (!mass)
+        return mass.error();
+    return mass->mass / mass->volume;
+}
 
 Result<void> checkBodies(const format::Scene& scene,
                          const std::vector<format::ColliderAsset>& assets) {

@@ -38,6 +38,11 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
 Result<void> checkBodies(const format::Scene& scene,
                          const std::vector<format::ColliderAsset>& assets);
 
+/// Density of the dynamic collider `c` [kg/m^3]: the scene's, or its mass over the volume
+/// the body's mass properties give at the collider's scale. Errors as checkBodies'.
+Result<double> bodyDensity(const format::Scene& scene, std::size_t c,
+                           const format::ColliderAsset& asset);
+
 /// Points on the zero level set of `asset`, about `gap` apart [asset units], in grid order:
 /// grid points near the surface moved onto it along the gradient, one per gap-sized cell. At
 /// most kMaxBodySamples (the gap grows until they fit).

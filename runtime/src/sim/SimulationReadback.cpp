@@ -23,6 +23,7 @@ StepStats Simulation::readStats() {
     out.maxCandidates = header.maxCandidates;
     out.maxNeighbours = header.maxNeighbours;
     out.solveDispatches = header.solveDispatches;
+    out.bodyFaults = header.bodyFaults;
     out.meanIterations =
         double(header.iterationSum) / double(std::max(1u, s.scene.simulation.substeps));
     const std::uint32_t stop = header.stopIteration;

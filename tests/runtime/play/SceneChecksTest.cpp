@@ -181,6 +181,57 @@ TEST(SceneChecks, MeasuresAColliderAsPlacedInTheWorld) {
     EXPECT_NE(lines[0].find(" m (scale 0.4)"), std::string::npos) << lines[0];
 }
 
+/// A scene of a small pool with crate.slc (0.12 m) as a dynamic body: `dynamic` its "dynamic"
+/// object, `at` its translation.
+std::string bodyScene(const std::string& dynamic, const std::string& at = "[0.5, 0.3, 0.5]") {
+    return R"({"fluid": [{"box": {"min": [0, 0, 0], "max": [1, 0.1, 1]}}],
+        "colliders": [{"asset": "crate.slc", "translation": )" +
+           at + R"(, "dynamic": )" + dynamic + R"(}],
+        "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}})";
+}
+
+TEST(SceneChecks, ReportsBodiesLighterOrDenserThanRealMaterials) {
+    EXPECT_TRUE(check(bodyScene(R"({"density": 500})")).warnings.empty());
+    EXPECT_TRUE(check(bodyScene(R"({"density": 10})")).warnings.empty());
+    EXPECT_TRUE(check(bodyScene(R"({"density": 25000})")).warnings.empty());
+    for (const char* dynamic : {R"({"density": 1e-30})", R"({"density": 9})",
+                                R"({"density": 30000})", R"({"mass": 0.001})"}) {
+        const Checked c = check(bodyScene(dynamic));
+        const auto density = ofKind(c.warnings, "body-density");
+        ASSERT_EQ(density.size(), 1u) << dynamic << "\n" << all(c.warnings);
+        EXPECT_EQ(c.warnings.size(), 1u) << all(c.warnings);
+        EXPECT_NE(density[0].text.find("checks.json: colliders[0] (crate.slc): "),
+                  std::string::npos)
+            << density[0].text;
+        EXPECT_NE(density[0].text.find("kg/m^3"), std::string::npos) << density[0].text;
+    }
+    // A mass of 1 g over the crate's 0.12^3 m^3: 0.579 kg/m^3, said to come from the mass.
+    const auto grams = check(bodyScene(R"({"mass": 0.001})")).warnings;
+    ASSERT_EQ(grams.size(), 1u);
+    EXPECT_NE(grams[0].text.find("a dynamic body of 0.579 kg/m^3 (its mass over its volume)"),
+              std::string::npos)
+        << grams[0].text;
+}
+
+TEST(SceneChecks, ReportsABodyStartingOutsideOrAcrossTheDomain) {
+    EXPECT_TRUE(check(bodyScene(R"({"density": 500})", "[0.5, 0.3, 0.5]")).warnings.empty());
+    // Near a wall from inside is not across it: its surface is 0.01 m from x = 0.
+    EXPECT_TRUE(check(bodyScene(R"({"density": 500})", "[0.07, 0.3, 0.5]")).warnings.empty());
+    const Checked across = check(bodyScene(R"({"density": 500})", "[0.98, 0.3, 0.5]"));
+    const auto partly = ofKind(across.warnings, "body-outside-domain");
+    ASSERT_EQ(partly.size(), 1u) << all(across.warnings);
+    EXPECT_NE(partly[0].text.find("colliders[0] (crate.slc): the dynamic body starts partly "
+                                  "outside the domain box (0, 0, 0) to (1, 1, 1)"),
+              std::string::npos)
+        << partly[0].text;
+    const Checked away = check(bodyScene(R"({"density": 500})", "[3, 0.3, 0.5]"));
+    const auto outside = ofKind(away.warnings, "body-outside-domain");
+    ASSERT_EQ(outside.size(), 1u) << all(away.warnings);
+    EXPECT_NE(outside[0].text.find("the dynamic body starts outside the domain box"),
+              std::string::npos)
+        << outside[0].text;
+}
+
 TEST(SceneChecks, WarningLinesEndWithTheirKind) {
     EXPECT_EQ(warningLine({"outside-domain", "a.json: fluid[0]: text"}),
               "sluice-play: warning: a.json: fluid[0]: text [outside-domain]");

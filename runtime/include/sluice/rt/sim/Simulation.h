@@ -84,6 +84,10 @@ struct StepStats {
     /// early stop launch none).
     std::uint32_t solveDispatches = 0;
     bool capacityReached = false;    ///< an emitter could not add particles this step
+    /// Dynamic bodies put back to their pose at the start of a substep, at rest, because their
+    /// state went non-finite or their centre of mass left the domain box: a count since the
+    /// simulation started (a body the solver lost; `--check` fails on it).
+    std::uint32_t bodyFaults = 0;
 };
 
 /// One dynamic body as the GPU holds it after a step (docs/bodies.md).
