@@ -7,13 +7,13 @@
 
 #include "commands/CliSupport.h"
 #include "jobs/PhaseReport.h"
+#include "sluice/bake/Grid.h"
 #include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/cgal/CgalSparseBaker.h"
 #include "sluice/bake/commands/Cli.h"
 #include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/bake/gpu/GpuSparseBaker.h"
-#include "sluice/bake/Grid.h"
 #include "sluice/bake/jobs/BakeJob.h"
 #include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/asset/AssetIO.h"
@@ -59,6 +59,7 @@ struct BakeJob {
     /// While it runs, mesh->diagnostics.selfIntersecting is false, not yet known.
     std::future<SelfIntersectionTest> selfIntersection;
     Box meshBox;              ///< [world units] the scaled mesh's bounding box
+    double band = 0.0;        ///< [voxels] sparse: --band, or the one --for-spacing picked
     std::uint64_t points = 0; ///< [grid points] of the grid to bake
     std::optional<Result<gpu::Context>> contextResult; ///< opened during the import
     std::optional<gpu::Context> context;
@@ -167,7 +168,15 @@ int importAndPlan(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot read mesh", args.mesh, mesh.error());
     job.importSeconds = secondsSince(start);
     job.meshBox = mesh->soup.bounds();
-    Result<GridSpec> grid = args.sparse ? sparseGridFor(job.meshBox, job.settings.grid, args.band)
+    job.band = args.band;
+    if (args.sparse && args.forSpacing > 0.0) {
+        auto band =
+            bandForSpacing(job.meshBox, job.settings.grid, args.forSpacing, args.forKernelRadius);
+        if (!band)
+            return reportFileError(kCmd, "cannot bake", args.mesh, band.error());
+        job.band = *band;
+    }
+    Result<GridSpec> grid = args.sparse ? sparseGridFor(job.meshBox, job.settings.grid, job.band)
                                         : gridFor(job.meshBox, job.settings.grid);
     if (!grid)
         return reportFileError(kCmd, "cannot bake", args.mesh, grid.error());
@@ -212,7 +221,7 @@ Result<format::ColliderAsset> bakeOnGpu(const BakeArgs& args, BakeJob& job, int&
         const GpuBakeOptions options{
             .profile = args.profile, .programCache = &*job.programCache, .phases = &job.phases};
         if (args.sparse)
-            return bakeSparseGpu(*job.mesh, job.settings, {.band = args.band}, *job.context,
+            return bakeSparseGpu(*job.mesh, job.settings, {.band = job.band}, *job.context,
                                  !args.quiet, options, &job.gpuStats, &job.sparseStats);
         Progress progress("baking " + job.mesh->sourceFile + " on the GPU", job.points,
                           !args.quiet);
@@ -249,7 +258,7 @@ int bakeField(const BakeArgs& args, BakeJob& job) {
             return code;
     } else if (args.sparse) {
         asset.emplace(
-            bakeSparseCgal(mesh, job.settings, {.band = args.band}, !args.quiet, &job.sparseStats));
+            bakeSparseCgal(mesh, job.settings, {.band = job.band}, !args.quiet, &job.sparseStats));
     } else {
         Progress progress("baking " + mesh.sourceFile, job.points, !args.quiet);
         asset.emplace(bakeCgal(mesh, job.settings, &progress));
@@ -347,10 +356,14 @@ void printJson(const BakeArgs& args, const BakeJob& job) {
         out["profile"] = phasesJson(job.phases);
     if (job.backend == Backend::Gpu) {
         const GpuBakeStats& gpu = job.gpuStats;
-        out["gpu"] = {{"renderer", job.renderer},     {"triangles", gpu.triangles},
-                      {"bvhNodes", gpu.nodes},        {"bvhDepth", gpu.depth},
-                      {"bvhSeconds", gpu.bvhSeconds}, {"dispatches", gpu.dispatches},
-                      {"gpuBytes", gpu.gpuBytes},     {"windingPoints", gpu.pendingPoints},
+        out["gpu"] = {{"renderer", job.renderer},
+                      {"triangles", gpu.triangles},
+                      {"bvhNodes", gpu.nodes},
+                      {"bvhDepth", gpu.depth},
+                      {"bvhSeconds", gpu.bvhSeconds},
+                      {"dispatches", gpu.dispatches},
+                      {"gpuBytes", gpu.gpuBytes},
+                      {"windingPoints", gpu.pendingPoints},
                       {"exactWindingPoints", gpu.verifiedPoints}};
         out["gpu"]["programCache"] = programCacheJson(*job.programCache);
         if (args.profile) {
@@ -406,63 +419,6 @@ void printSummary(const BakeArgs& args, const BakeJob& job) {
     }
     if (args.profile)
         std::cout << describePhases(job.phases);
-}
-
-/// The options of `bake`, bound to `args`.
-void addBakeOptions(CLI::App& app, BakeArgs& args) {
-    app.add_option("MESH", args.mesh, "input mesh file")->required();
-    app.add_option("-o,--output", args.output, "output asset file (.slc)")
-        ->required()
-        ->type_name("OUT");
-    app.add_option("--backend", args.backend,
-                   "where distances are computed: auto (gpu where an OpenGL 4.5 context opens, "
-                   "otherwise cgal), gpu (OpenGL 4.5 compute, headless; exit 3 without a "
-                   "context) or cgal (the exact CPU reference, all cores). All give the same "
-                   "exact field")
-        ->capture_default_str();
-    CLI::Option* resolution =
-        app.add_option("--resolution", args.resolution,
-                       "[voxels] along the longest side of the mesh box, 1..4096")
-            ->check(wholeNumber(1, 4096))
-            ->capture_default_str();
-    CLI::Option* voxelSize = app.add_option("--voxel-size", args.voxelSize,
-                                            "[world units] grid spacing, instead of --resolution")
-                                 ->check(finiteNumber(false));
-    resolution->excludes(voxelSize);
-    voxelSize->excludes(resolution);
-    app.add_option("--padding", args.padding, "[voxels] margin on every side of the mesh box")
-        ->check(finiteNumber(true))
-        ->capture_default_str();
-    app.add_option("--sign", args.sign,
-                   "inside/outside method: auto (parity if closed and not self-intersecting, "
-                   "else winding), parity, winding. On the GPU, parity is the winding number of "
-                   "the consistently oriented closed mesh rounded, odd meaning inside (equal to "
-                   "ray parity on a closed surface)")
-        ->capture_default_str();
-    app.add_option("--scale", args.scale, "uniform scale applied to the mesh at import")
-        ->check(finiteNumber(false))
-        ->capture_default_str();
-    app.add_option("--storage", args.storage, "sample type in the file: f32 or f16")
-        ->capture_default_str();
-    CLI::Option* sparse =
-        app.add_flag("--sparse", args.sparse,
-                     "write a sparse collider: a NanoVDB narrow band of exact distances with "
-                     "signed tiles elsewhere; no dense point limit (resolution up to 4096)");
-    app.add_option("--band", args.band,
-                   "[voxels] --sparse: half-width of the band of exact distances, 1..64")
-        ->needs(sparse)
-        ->check(finiteNumber(false))
-        ->capture_default_str();
-    app.add_flag("-q,--quiet", args.quiet, "no progress bar and no summary");
-    app.add_flag("--json", args.json, "print the summary as JSON");
-    app.add_flag("--profile", args.profile,
-                 "print the whole process's time phase by phase, from process start to the "
-                 "written file (wall and CPU seconds); gpu backend: also the GPU time of the "
-                 "passes, from timer queries");
-    app.add_flag("!--no-program-cache", args.programCache,
-                 "gpu backend: compile every GPU program instead of loading the driver binaries "
-                 "cached in $XDG_CACHE_HOME/sluice (or ~/.cache/sluice) by earlier runs; "
-                 "SLUICE_PROGRAM_CACHE=0 in the environment does the same");
 }
 
 } // namespace

@@ -46,7 +46,12 @@ struct BakeArgs {
     bool programCache = true; ///< cache compiled GPU programs between runs (gpu::ProgramCache)
     bool sparse = false; ///< a narrow-band NanoVDB asset instead of a dense grid
     double band = 3.0;   ///< [voxels] sparse: half-width of the band of exact values
+    double forSpacing = 0.0;      ///< [world units] sparse: pick the band for this spacing (0: no)
+    double forKernelRadius = 0.0; ///< [world units] with forSpacing: the kernel (0: default)
 };
+
+/// Binds the options of `bake` to `args` (BakeOptions.cpp).
+void addBakeOptions(CLI::App& app, BakeArgs& args);
 
 /// Registers subcommand `name` of `parent` with a fresh Args that lives as long as the Command:
 /// `addOptions` binds the subcommand's options to it, and the Command runs `run` on it once

@@ -1,6 +1,7 @@
 // `sluice-bake info`: an asset's header, provenance and figures, and optionally a slice picture.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -10,8 +11,9 @@
 #include "sluice/bake/interop/NanoVdbIO.h"
 #include "sluice/bake/validate/SliceImage.h"
 #include "sluice/format/asset/AssetHeader.h"
-#include "sluice/format/support/Hash.h"
 #include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/scene/SolverReach.h"
+#include "sluice/format/support/Hash.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -61,6 +63,22 @@ void printTree(const format::NanoVdbTreeStats& t, double bandWidth) {
               << " active voxels (band " << num(bandWidth) << " voxels), " << t.bytes << " bytes\n";
 }
 
+/// What a band of `band` voxels of `voxel` [world units] holds exact, and the particle spacings
+/// it serves in sluice-play (format/scene/SolverReach.h), at scale 1 and the default kernel.
+void printBandServes(double band, double voxel) {
+    std::cout << "  band serves   exact to " << num(std::max(band - std::sqrt(3.0), 0.0) * voxel)
+              << " world units from the surface with trilinear reads: particle spacing up to "
+              << num(format::largestSpacingForBand(band, voxel, false)) << " as a static collider, "
+              << num(format::largestSpacingForBand(band, voxel, true))
+              << " as a dynamic body (kernel radius 2 x spacing, scale 1; `bake --sparse "
+                 "--for-spacing S` picks the band for S)\n";
+}
+
+nlohmann::ordered_json bandServesJson(double band, double voxel) {
+    return {{"staticSpacing", format::largestSpacingForBand(band, voxel, false)},
+            {"dynamicSpacing", format::largestSpacingForBand(band, voxel, true)}};
+}
+
 nlohmann::ordered_json treeJson(const format::NanoVdbTreeStats& t) {
     return {{"upperNodes", t.upperNodes},   {"lowerNodes", t.lowerNodes},
             {"leafNodes", t.leafNodes},     {"rootTiles", t.rootTiles},
@@ -90,8 +108,10 @@ void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vd
               << "  storage       " << storageName(m.storage) << ", quantization error "
               << num(m.quantizationError, 3) << " world units\n"
               << "  layout        " << layoutName(m.layout) << '\n';
-    if (asset.sparse())
+    if (asset.sparse()) {
         printTree(*format::checkNanoVdbGrid(asset.grid, args.asset), m.bandWidth);
+        printBandServes(m.bandWidth, m.voxelSize);
+    }
     const format::BakeParams& b = m.bake;
     std::cout << "  source        " << m.sourceFile << "  (xxh3 " << m.sourceHash << ")\n"
               << "  tool          " << (m.toolVersion.empty() ? "not recorded" : m.toolVersion)
@@ -152,6 +172,7 @@ int runInfoNvdb(const InfoArgs& args) {
         out["voxelSize"] = {t.voxelSize.x, t.voxelSize.y, t.voxelSize.z};
         out["translation"] = {t.translation.x, t.translation.y, t.translation.z};
         out["tree"] = treeJson(t);
+        out["bandServes"] = bandServesJson(t.background / t.voxelSize.x, t.voxelSize.x);
         std::cout << out.dump(2) << '\n';
         return kExitOk;
     }
@@ -161,6 +182,7 @@ int runInfoNvdb(const InfoArgs& args) {
               << num(t.translation.z) << ") world units\n"
               << "  background    " << num(t.background) << " world units\n";
     printTree(t, t.background / t.voxelSize.x);
+    printBandServes(t.background / t.voxelSize.x, t.voxelSize.x);
     return kExitOk;
 }
 
@@ -218,6 +240,8 @@ int runInfo(const InfoArgs& args) {
             out[key] = value;
         out["distanceRange"] = {minPhi, maxPhi};
         out["tree"] = tree ? treeJson(*tree) : nlohmann::ordered_json(nullptr);
+        out["bandServes"] = tree ? bandServesJson(asset->meta.bandWidth, asset->meta.voxelSize)
+                                 : nlohmann::ordered_json(nullptr);
         if (slice)
             out["slicePng"] = args.png;
         std::cout << out.dump(2) << '\n';

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <new>
@@ -28,6 +29,8 @@
 #include "interop/NanoVdbHeaders.h"
 #include "sluice/bake/jobs/PhaseLog.h"
 #include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/scene/SimulationLimits.h"
+#include "sluice/format/scene/SolverReach.h"
 #include "sparse/SparseBricks.h"
 
 namespace sluice::bake {
@@ -55,10 +58,47 @@ struct GridBytesBuffer {
     void clear() { bytes = std::make_shared<format::GridBytes>(); }
 };
 
+/// "0.02": a length or a count with a few significant digits, for messages.
+std::string shortNumber(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
+
 } // namespace
 
 double sparsePadding(double padding, double band) {
     return std::max(padding, std::ceil(band) + 1.0);
+}
+
+Result<double> bandForSpacing(const Box& bounds, const GridOptions& options, double spacing,
+                              double kernelRadius) {
+    if (!std::isfinite(spacing) || !(spacing > 0.0))
+        return fail(ErrorCode::InvalidArgument,
+                    "--for-spacing must be a particle spacing > 0, got " + std::to_string(spacing));
+    // In single precision, as a scene holds them, so the range's ends are the scene reader's.
+    const double h =
+        double(float(kernelRadius > 0.0 ? kernelRadius : format::kDefaultKernelSpacings * spacing));
+    const format::ParamRange range =
+        format::simulationParamRange("kernelRadius", float(spacing), float(h));
+    if (const std::string problem = format::rangeProblem(h, shortNumber(h), range);
+        !problem.empty())
+        return fail(ErrorCode::InvalidArgument, "--for-kernel-radius: " + problem);
+    GridOptions probe = options;
+    probe.maxPoints = kMaxSparseGridPoints;
+    auto grid = gridFor(bounds, probe); // the voxel size; the padding does not change it
+    if (!grid)
+        return grid.error();
+    const double reach = format::colliderReach(spacing, h, true);
+    const double band =
+        std::max(1.0, std::ceil(format::requiredBandVoxels(reach, grid->voxelSize)));
+    if (band > 64.0)
+        return fail(ErrorCode::InvalidArgument,
+                    "a particle spacing of " + shortNumber(spacing) + " needs a band of " +
+                        shortNumber(band) + " voxels of " + shortNumber(grid->voxelSize) +
+                        ", over the 64 a sparse bake allows; bake with a coarser --resolution or "
+                        "--voxel-size, or bake dense");
+    return band;
 }
 
 Result<GridSpec> sparseGridFor(const Box& bounds, GridOptions options, double band) {

@@ -1,6 +1,7 @@
 // Scene files: JSON (read with cereal's rapidjson) to format::Scene, validated, defaults derived.
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/scene/SimulationLimits.h"
+#include "sluice/format/scene/SolverReach.h"
 
 #include <algorithm>
 #include <cmath>
@@ -117,7 +118,7 @@ void SceneParser::readSimulation(const rj::Value* value) {
 
     floatIn("spacing", p.spacing);
     const float s = p.spacing;
-    p.kernelRadius = 2.0f * s; // the default, unless given
+    p.kernelRadius = float(kDefaultKernelSpacings) * s; // the default, unless given
     floatIn("kernelRadius", p.kernelRadius);
     const float h = p.kernelRadius;
     floatIn("restDensity", p.restDensity);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "sluice/format/scene/SolverReach.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
@@ -17,10 +18,6 @@ std::string num(double v) {
 }
 } // namespace
 
-double requiredBandVoxels(double reach, double voxel) {
-    return reach / voxel + std::sqrt(3.0);
-}
-
 Result<void> checkColliderBands(const format::Scene& scene,
                                 const std::vector<format::ColliderAsset>& assets) {
     const PbfConstants k = deriveConstants(scene.simulation);
@@ -30,20 +27,19 @@ Result<void> checkColliderBands(const format::Scene& scene,
             continue;
         const format::SceneCollider& collider = scene.colliders[c];
         const bool dynamic = collider.dynamic.has_value();
-        const double reach = dynamic ? double(k.h) + double(k.bodyOffset) : double(k.radius);
+        const double reach = format::colliderReach(scene.simulation.spacing, k.h, dynamic);
         const double voxel = asset.meta.voxelSize * double(collider.scale);
-        const double needed = requiredBandVoxels(reach, voxel);
+        const double needed = format::requiredBandVoxels(reach, voxel);
         if (asset.meta.bandWidth >= needed)
             continue;
         const std::string path =
             collider.resolvedPath.empty() ? collider.asset : collider.resolvedPath;
         return fail(ErrorCode::InvalidArgument,
                     scene.path + ": colliders[" + std::to_string(c) + "]: " + path +
-                        " is sparse with a band of " + num(asset.meta.bandWidth) +
-                        " voxels, but " + (dynamic ? "a dynamic body" : "a collider") +
-                        " here reads distances up to " + num(reach) +
-                        " m, which needs " + num(needed) +
-                        " voxels of " + num(voxel) +
+                        " is sparse with a band of " + num(asset.meta.bandWidth) + " voxels, but " +
+                        (dynamic ? "a dynamic body" : "a collider") +
+                        " here reads distances up to " + num(reach) + " m, which needs " +
+                        num(needed) + " voxels of " + num(voxel) +
                         " m; re-bake it with `sluice-bake bake --sparse --band " +
                         std::to_string(int(std::ceil(needed))) + "` or bake it dense");
     }

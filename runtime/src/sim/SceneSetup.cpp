@@ -7,6 +7,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "sluice/format/scene/SolverReach.h"
 #include "sluice/format/support/Assert.h"
 
 namespace sluice::rt {
@@ -94,7 +95,7 @@ PbfConstants deriveConstants(const format::SimulationParams& params) {
     c.spikyGrad = float(-45.0 / (kPi * std::pow(h, 6)));
     c.dt = float(double(params.timeStep) / double(params.substeps));
     c.boundaryScale = share > 0.0 ? float(behind / wSum / share) : 1.0f;
-    c.bodyOffset = float(0.15 * s);
+    c.bodyOffset = float(format::kBodySurfaceOffsetSpacings * s);
     return c;
 }
 

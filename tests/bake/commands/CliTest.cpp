@@ -237,27 +237,6 @@ TEST(Cli, ValidateWriteStoresTheFiguresInTheAsset) {
     EXPECT_NE(runBake(dir, {"info", asset.string()}).out.find("validation    "), std::string::npos);
 }
 
-/// A bad-input run: exit 2, the file named on stderr, OUT never created or changed.
-void expectRejected(const fs::path& dir, const std::vector<std::string>& args,
-                    const std::string& named, const fs::path& output) {
-    const bool existed = fs::exists(output);
-    const std::string before = existed ? readText(output) : std::string();
-    const RunResult run = runBake(dir, args);
-    EXPECT_EQ(run.code, kExitBadInput) << shown(run);
-    EXPECT_NE(run.err.find(named), std::string::npos) << "stderr does not name " << named << "\n"
-                                                      << run.err;
-    EXPECT_EQ(fs::exists(output), existed);
-    if (existed) {
-        EXPECT_TRUE(readText(output) == before) << output << " changed";
-    }
-    // Nothing else (no temporary file) is left beside the output either.
-    if (fs::is_directory(output.parent_path())) {
-        for (const fs::directory_entry& entry : fs::directory_iterator(output.parent_path()))
-            EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
-                << entry.path();
-    }
-}
-
 TEST(Cli, BadMeshesExitTwoNamingTheFileAndWriteNothing) {
     const fs::path dir = testmesh::tempDir("cli-bad-mesh");
     const fs::path empty = dir / "empty.obj";

@@ -9,6 +9,7 @@
 #include "sim/ColliderBands.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/scene/SceneIO.h"
+#include "sluice/format/scene/SolverReach.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace fs = std::filesystem;
@@ -58,7 +59,7 @@ TEST(SparseCollider, ASceneNamingOneLoadsItAsSparse) {
 
 TEST(SparseCollider, ABandNarrowerThanTheParticleRadiusNeedsIsRefusedWithTheBandToUse) {
     // r = 0.05 m: distances up to r + sqrt(3) voxels, 2.7 voxels of 0.05 m, past the band of 2.
-    EXPECT_NEAR(rt::requiredBandVoxels(0.05, 0.05), 1.0 + std::sqrt(3.0), 1e-12);
+    EXPECT_NEAR(format::requiredBandVoxels(0.05, 0.05), 1.0 + std::sqrt(3.0), 1e-12);
     const format::Scene scene = sceneWithSparseSphere("narrow", 0.1);
     auto colliders = rt::loadSceneColliders(scene);
     ASSERT_FALSE(colliders.ok());

@@ -35,6 +35,15 @@ double sparsePadding(double padding, double band);
 /// (so the band fits inside the domain) and no dense point limit (kMaxSparseGridPoints instead).
 Result<GridSpec> sparseGridFor(const Box& bounds, GridOptions options, double band);
 
+/// The band [whole voxels] a sparse collider baked over `bounds` with `options` needs where a
+/// scene of particle spacing `spacing` [world units] and kernel radius `kernelRadius` (0: the
+/// default, format::kDefaultKernelSpacings spacings) places it at scale 1, as a static collider
+/// or a dynamic body: format::requiredBandVoxels of the dynamic format::colliderReach, rounded
+/// up, at least 1. InvalidArgument for a spacing that is not > 0, a kernel radius outside the
+/// scene's range, or a band over 64 voxels (a finer spacing, or a coarser grid, then).
+Result<double> bandForSpacing(const Box& bounds, const GridOptions& options, double spacing,
+                              double kernelRadius);
+
 /// Which parts of the domain need exact distances: bricks of kBrickSize^3 voxels (index-space
 /// lower corners, multiples of kBrickSize) that may hold a voxel within the band, and blocks of
 /// power-of-two edge with no surface near them (uniform sign, one sample at their centre).
