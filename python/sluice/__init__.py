@@ -187,14 +187,17 @@ def _as_mesh(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], scale: Optional[float
 def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int] = None,
          voxel_size: Optional[float] = None, padding: float = 3.0, backend: str = "auto",
          sign: str = "auto", storage: str = "f32", scale: Optional[float] = None,
-         sparse: bool = False, band: float = 3.0, progress: bool = True) -> Collider:
+         sparse: bool = False, band: float = 3.0, for_spacing: Optional[float] = None,
+         for_kernel_radius: Optional[float] = None, progress: bool = True) -> Collider:
     """Bakes a mesh into a collider, as ``sluice-bake bake`` does (same grid, field, provenance
     and, once saved, bytes).
 
     ``mesh`` is a Mesh (baked at the scale it was read at), a path (read at ``scale``, default
     1) or a ``(vertices, triangles)`` pair (scaled by ``scale``); the asset records the scale. Give ``resolution`` [voxels along the longest side, default 64] or
     ``voxel_size`` [world units]. ``sparse=True`` bakes a narrow band of ``band`` voxels into a
-    NanoVDB grid (``sluice-bake bake --sparse --band``), on either backend. The GIL is released
+    NanoVDB grid (``sluice-bake bake --sparse --band``), on either backend; ``for_spacing``
+    [world units] picks the band a scene of that particle spacing needs instead (``--for-spacing``,
+    with ``for_kernel_radius`` for a scene's own kernel radius). The GIL is released
     while it runs; a progress bar shows for
     bakes over a second (tqdm where installed); Ctrl-C stops it (KeyboardInterrupt).
     """
@@ -212,6 +215,16 @@ def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int]
     request.scale = m.scale
     request.sparse = bool(sparse)
     request.band = float(band)
+    if for_spacing is not None:
+        if not sparse:
+            raise InvalidArgument("for_spacing picks a sparse band: add sparse=True "
+                                  "[InvalidArgument]", "InvalidArgument")
+        request.for_spacing = float(for_spacing)
+    if for_kernel_radius is not None:
+        if for_spacing is None:
+            raise InvalidArgument("for_kernel_radius goes with for_spacing [InvalidArgument]",
+                                  "InvalidArgument")
+        request.for_kernel_radius = float(for_kernel_radius)
     bar, callback, close = progress_hooks("baking " + m.source_file, progress)
     try:
         return Collider(_sluice.bake_mesh(m._m, request, bar, callback))

@@ -14,7 +14,7 @@ from concurrent.futures import Executor, ProcessPoolExecutor
 from typing import Any, Dict, Iterable, List, Optional, Union
 
 _OPTION_KEYS = ("resolution", "voxelSize", "padding", "sign", "storage", "scale", "backend",
-                "sparse", "band")
+                "sparse", "band", "forSpacing", "forKernelRadius")
 
 
 def _entries(manifest_or_entries: Union[str, "os.PathLike[str]", Iterable[Dict[str, Any]]]
@@ -51,6 +51,8 @@ def bake_entry(entry: Dict[str, Any], force: bool = False) -> Dict[str, Any]:
     request.backend = str(entry.get("backend", "auto"))
     request.sparse = bool(entry.get("sparse", False))
     request.band = float(entry.get("band", 3.0))
+    request.for_spacing = float(entry.get("forSpacing", 0.0))
+    request.for_kernel_radius = float(entry.get("forKernelRadius", 0.0))
     try:
         result = _sluice.bake_batch_entry(entry["mesh"], entry["output"], entry["label"], request,
                                           force, False, None)

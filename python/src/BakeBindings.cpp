@@ -12,14 +12,14 @@
 #include <nanobind/stl/tuple.h>
 
 #include "Errors.h"
+#include "sluice/bake/interop/VdbIO.h"
 #include "sluice/bake/jobs/BakeJob.h"
 #include "sluice/bake/jobs/BatchJob.h"
-#include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/bake/jobs/ValidateJob.h"
-#include "sluice/bake/interop/VdbIO.h"
+#include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/asset/AssetIO.h"
-#include "sluice/format/support/AtomicFile.h"
 #include "sluice/format/asset/SdfSampler.h"
+#include "sluice/format/support/AtomicFile.h"
 
 namespace sluice::py {
 namespace {
@@ -82,10 +82,13 @@ Collider bakeMesh(const Mesh& mesh, const bake::BakeRequest& request, bool bar,
     if (!settings)
         raise(Family::Argument, settings.error());
     const bake::Box bounds = mesh.mesh.soup.bounds();
-    Result<bake::GridSpec> grid = request.sparse
-                                      ? bake::sparseGridFor(bounds, settings->grid, request.band)
-                                      : bake::gridFor(bounds, settings->grid);
     const std::string shown = mesh.path.empty() ? mesh.mesh.sourceFile : mesh.path;
+    const Result<double> band = bake::requestBand(request, bounds, settings->grid);
+    if (!band)
+        raise(Family::Argument, band.error());
+    Result<bake::GridSpec> grid = request.sparse
+                                      ? bake::sparseGridFor(bounds, settings->grid, *band)
+                                      : bake::gridFor(bounds, settings->grid);
     if (!grid)
         raise(Family::Bake, grid.error(), "cannot bake", shown);
     bake::Progress progress("baking " + mesh.mesh.sourceFile, grid->pointCount(), bar);
@@ -197,6 +200,8 @@ nb::dict entryDict(const bake::BatchEntry& e) {
     d["backend"] = e.request.backend;
     d["sparse"] = e.request.sparse;
     d["band"] = e.request.band;
+    d["forSpacing"] = e.request.forSpacing;
+    d["forKernelRadius"] = e.request.forKernelRadius;
     return d;
 }
 
@@ -244,7 +249,9 @@ void bindBake(nb::module_& m) {
         .def_rw("storage", &bake::BakeRequest::storage)
         .def_rw("scale", &bake::BakeRequest::scale)
         .def_rw("sparse", &bake::BakeRequest::sparse)
-        .def_rw("band", &bake::BakeRequest::band);
+        .def_rw("band", &bake::BakeRequest::band)
+        .def_rw("for_spacing", &bake::BakeRequest::forSpacing)
+        .def_rw("for_kernel_radius", &bake::BakeRequest::forKernelRadius);
 
     nb::class_<bake::ValidateRequest>(m, "ValidateRequest",
                                       "The options of one validation (as `sluice-bake validate`).")

@@ -54,6 +54,25 @@ def test_sparse_bakes_match_the_cli(sphere_obj: Path, tmp_path: Path, backend: s
         sluice.bake(sphere_obj, resolution=24, sparse=True, band=0.5)
 
 
+def test_a_band_for_a_spacing_matches_the_cli(sphere_obj: Path, tmp_path: Path) -> None:
+    cli_out = tmp_path / "cli.slc"
+    run_tool("sluice-bake", "bake", sphere_obj, "-o", cli_out, "--resolution", "24", "--sparse",
+             "--for-spacing", "0.02", "--backend", "cgal", "--quiet")
+    collider = sluice.bake(sphere_obj, resolution=24, backend="cgal", sparse=True,
+                           for_spacing=0.02)
+    collider.save(tmp_path / "py.slc")
+    assert (tmp_path / "py.slc").read_bytes() == cli_out.read_bytes()
+    # 0.5 m over 24 voxels: (2 + 0.15) x 2 cm / 20.8 mm + sqrt(3) = 3.80, so 4 voxels.
+    assert collider.metadata["bandWidth"] == 4.0
+    with pytest.raises(sluice.InvalidArgument):
+        sluice.bake(sphere_obj, resolution=24, for_spacing=0.02)  # not sparse
+    with pytest.raises(sluice.InvalidArgument):
+        sluice.bake(sphere_obj, resolution=24, sparse=True, for_spacing=0.02,
+                    for_kernel_radius=0.2)  # 10 spacings
+    with pytest.raises(sluice.InvalidArgument):
+        sluice.bake(sphere_obj, resolution=24, sparse=True, for_kernel_radius=0.04)
+
+
 def test_voxel_size_and_padding_match_the_cli(tetra: Path, tmp_path: Path) -> None:
     run_tool("sluice-bake", "bake", tetra, "-o", tmp_path / "cli.slc", "--voxel-size", "0.05",
              "--padding", "2", "--sign", "winding", "--backend", "cgal", "--quiet")

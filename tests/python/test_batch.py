@@ -104,6 +104,12 @@ def test_entries_can_be_given_as_dicts(tmp_path: Path) -> None:
     assert sparse[0]["status"] == "baked", sparse[0]
     meta = sluice.read_asset(tmp_path / "s.slc").metadata
     assert (meta["layout"], meta["bandWidth"]) == ("sparse", 2.0)
+    # A band for a particle spacing: 1 m over 8 voxels, 2.15 x 0.1 m / 0.125 m + sqrt(3) = 3.45.
+    spaced = sluice.bake_many(
+        [{"mesh": mesh, "output": tmp_path / "f.slc", "resolution": 8, "backend": "cgal",
+          "sparse": True, "forSpacing": 0.1}], executor=ProcessPoolExecutor(max_workers=1))
+    assert spaced[0]["status"] == "baked", spaced[0]
+    assert sluice.read_asset(tmp_path / "f.slc").metadata["bandWidth"] == 4.0
     with pytest.raises(sluice.InvalidArgument):
         sluice.bake_many([{"mesh": "x.obj"}])
     with pytest.raises(sluice.FileError):

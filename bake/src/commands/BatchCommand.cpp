@@ -34,12 +34,12 @@
 #include <unistd.h>
 
 #include "commands/CliSupport.h"
+#include "sluice/bake/commands/Cli.h"
 #include "sluice/bake/jobs/BatchJob.h"
 #include "sluice/bake/jobs/PhaseLog.h"
-#include "sluice/bake/commands/Cli.h"
 #include "sluice/format/asset/AssetIO.h"
-#include "sluice/format/support/AtomicFile.h"
 #include "sluice/format/scene/BatchManifest.h"
+#include "sluice/format/support/AtomicFile.h"
 
 namespace sluice::bake::cli {
 namespace {
@@ -90,6 +90,8 @@ Entry entryFor(const format::BatchEntry& manifestEntry) {
     args.backend = request.backend;
     args.sparse = request.sparse;
     args.band = request.band;
+    args.forSpacing = request.forSpacing;
+    args.forKernelRadius = request.forKernelRadius;
     args.quiet = true;
     return entry;
 }
@@ -143,8 +145,12 @@ int bakeInChild(const BakeArgs& args) {
                  {"--backend", args.backend, "--sign", args.sign, "--storage", args.storage});
     words.insert(words.end(),
                  {"--padding", exactNumber(args.padding), "--scale", exactNumber(args.scale)});
-    if (args.sparse)
+    if (args.sparse && args.forSpacing > 0.0)
+        words.insert(words.end(), {"--sparse", "--for-spacing", exactNumber(args.forSpacing)});
+    else if (args.sparse)
         words.insert(words.end(), {"--sparse", "--band", exactNumber(args.band)});
+    if (args.forKernelRadius > 0.0)
+        words.insert(words.end(), {"--for-kernel-radius", exactNumber(args.forKernelRadius)});
     if (args.voxelSize > 0.0)
         words.insert(words.end(), {"--voxel-size", exactNumber(args.voxelSize)});
     else
@@ -346,7 +352,8 @@ Command addBatchCommand(CLI::App& parent) {
         parent, "batch",
         "Bake every collider a JSON manifest lists ({\"colliders\": [{\"mesh\", "
         "\"output\", and optionally \"resolution\", \"voxelSize\", \"padding\", "
-        "\"sign\", \"storage\", \"scale\", \"backend\", \"sparse\", \"band\"}]}, paths "
+        "\"sign\", \"storage\", \"scale\", \"backend\", \"sparse\", \"band\", "
+        "\"forSpacing\", \"forKernelRadius\"}]}, paths "
         "relative to the manifest, output folders created), skipping outputs that are fresh: "
         "they record the hash of the mesh's current bytes, the same settings and this tool "
         "version. Prints a summary table; exits with the first failed entry's code, and a failed "

@@ -6,10 +6,10 @@
 #include <optional>
 
 #include "commands/CliSupport.h"
+#include "sluice/bake/Grid.h"
 #include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalSparseBaker.h"
 #include "sluice/bake/gpu/GpuSparseBaker.h"
-#include "sluice/bake/Grid.h"
 #include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/support/Hash.h"
@@ -110,6 +110,12 @@ Result<ImportedMesh> meshFromArrays(std::span<const glm::dvec3> positions,
     return mesh;
 }
 
+Result<double> requestBand(const BakeRequest& request, const Box& bounds, const GridOptions& grid) {
+    if (request.forSpacing > 0.0)
+        return bandForSpacing(bounds, grid, request.forSpacing, request.forKernelRadius);
+    return request.band;
+}
+
 Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& request,
                              Progress* progress) {
     Result<BakeSettings> settings = bakeSettingsFor(request);
@@ -118,8 +124,13 @@ Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& reques
     if (request.sparse && settings->storage != format::Storage::F32)
         return fail(ErrorCode::InvalidArgument, "sparse assets store f32 values");
     // As `bake`: the grid is checked before a context opens.
+    const Result<double> band = request.sparse
+                                    ? requestBand(request, mesh.soup.bounds(), settings->grid)
+                                    : Result<double>(request.band);
+    if (!band)
+        return band.error();
     Result<GridSpec> grid = request.sparse
-                                ? sparseGridFor(mesh.soup.bounds(), settings->grid, request.band)
+                                ? sparseGridFor(mesh.soup.bounds(), settings->grid, *band)
                                 : gridFor(mesh.soup.bounds(), settings->grid);
     if (!grid)
         return grid.error();
@@ -137,7 +148,7 @@ Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& reques
         }
     }
     std::optional<Result<format::ColliderAsset>> asset;
-    const SparseSettings sparse{.band = request.band};
+    const SparseSettings sparse{.band = *band};
     if (gpu) {
         outcome.backend = "gpu";
         outcome.renderer = (*context)->info().renderer;

@@ -39,6 +39,8 @@ BatchEntry batchEntryFor(const format::BatchEntry& collider) {
     r.scale = collider.scale;
     r.sparse = collider.sparse;
     r.band = collider.band;
+    r.forSpacing = collider.forSpacing;
+    r.forKernelRadius = collider.forKernelRadius;
     return entry;
 }
 
@@ -65,7 +67,13 @@ std::optional<format::ColliderAsset> freshBatchOutput(const BatchEntry& entry) {
     const BakeRequest& r = entry.request;
     const format::ColliderMeta& meta = asset->meta;
     const bool byVoxelSize = r.voxelSize > 0.0;
-    const double padding = r.sparse ? sparsePadding(r.padding, r.band) : r.padding;
+    // A band picked for a spacing depends on the voxel size: the asset's, if it is the one asked.
+    const Result<double> band = r.forSpacing > 0.0
+                                    ? bandForVoxel(meta.voxelSize, r.forSpacing, r.forKernelRadius)
+                                    : Result<double>(r.band);
+    if (!band)
+        return std::nullopt;
+    const double padding = r.sparse ? sparsePadding(r.padding, *band) : r.padding;
     const bool same =
         meta.sourceHash == *hash && meta.sourceFile == fs::path(entry.mesh).filename().string() &&
         meta.toolVersion == cli::toolVersion() &&
@@ -76,7 +84,7 @@ std::optional<format::ColliderAsset> freshBatchOutput(const BatchEntry& entry) {
         (!byVoxelSize || meta.voxelSize == r.voxelSize) && meta.bake.padding == padding &&
         meta.bake.signMode == r.sign && meta.bake.scale == r.scale &&
         format::storageName(meta.storage) == r.storage && asset->sparse() == r.sparse &&
-        (!r.sparse || meta.bandWidth == r.band);
+        (!r.sparse || meta.bandWidth == *band);
     if (!same)
         return std::nullopt;
     return std::move(*asset);

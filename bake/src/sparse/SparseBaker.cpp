@@ -71,8 +71,7 @@ double sparsePadding(double padding, double band) {
     return std::max(padding, std::ceil(band) + 1.0);
 }
 
-Result<double> bandForSpacing(const Box& bounds, const GridOptions& options, double spacing,
-                              double kernelRadius) {
+Result<double> bandForVoxel(double voxel, double spacing, double kernelRadius) {
     if (!std::isfinite(spacing) || !(spacing > 0.0))
         return fail(ErrorCode::InvalidArgument,
                     "--for-spacing must be a particle spacing > 0, got " + std::to_string(spacing));
@@ -84,21 +83,25 @@ Result<double> bandForSpacing(const Box& bounds, const GridOptions& options, dou
     if (const std::string problem = format::rangeProblem(h, shortNumber(h), range);
         !problem.empty())
         return fail(ErrorCode::InvalidArgument, "--for-kernel-radius: " + problem);
+    const double reach = format::colliderReach(spacing, h, true);
+    const double band = std::max(1.0, std::ceil(format::requiredBandVoxels(reach, voxel)));
+    if (band > 64.0)
+        return fail(ErrorCode::InvalidArgument,
+                    "a particle spacing of " + shortNumber(spacing) + " needs a band of " +
+                        shortNumber(band) + " voxels of " + shortNumber(voxel) +
+                        ", over the 64 a sparse bake allows; bake with a coarser --resolution or "
+                        "--voxel-size, or bake dense");
+    return band;
+}
+
+Result<double> bandForSpacing(const Box& bounds, const GridOptions& options, double spacing,
+                              double kernelRadius) {
     GridOptions probe = options;
     probe.maxPoints = kMaxSparseGridPoints;
     auto grid = gridFor(bounds, probe); // the voxel size; the padding does not change it
     if (!grid)
         return grid.error();
-    const double reach = format::colliderReach(spacing, h, true);
-    const double band =
-        std::max(1.0, std::ceil(format::requiredBandVoxels(reach, grid->voxelSize)));
-    if (band > 64.0)
-        return fail(ErrorCode::InvalidArgument,
-                    "a particle spacing of " + shortNumber(spacing) + " needs a band of " +
-                        shortNumber(band) + " voxels of " + shortNumber(grid->voxelSize) +
-                        ", over the 64 a sparse bake allows; bake with a coarser --resolution or "
-                        "--voxel-size, or bake dense");
-    return band;
+    return bandForVoxel(grid->voxelSize, spacing, kernelRadius);
 }
 
 Result<GridSpec> sparseGridFor(const Box& bounds, GridOptions options, double band) {

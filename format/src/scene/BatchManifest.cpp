@@ -63,7 +63,8 @@ std::string pathString(const rj::Value& value, const std::string& path) {
 BatchEntry readEntry(const rj::Value& value, const std::string& path, const fs::path& folder) {
     const detail::JsonObject object(value, path,
                                     {"mesh", "output", "resolution", "voxelSize", "padding", "sign",
-                                     "storage", "scale", "backend", "sparse", "band"});
+                                     "storage", "scale", "backend", "sparse", "band", "forSpacing",
+                                     "forKernelRadius"});
     BatchEntry entry;
     entry.mesh = pathString(object.require("mesh"), object.pathOf("mesh"));
     entry.output = pathString(object.require("output"), object.pathOf("output"));
@@ -104,6 +105,20 @@ BatchEntry readEntry(const rj::Value& value, const std::string& path, const fs::
         if (entry.band < 1.0 || entry.band > 64.0)
             throwAt(ErrorCode::InvalidArgument, object.pathOf("band"),
                     detail::formatNumber(entry.band) + " is out of range: expected 1 to 64 voxels");
+    }
+    if (const rj::Value* v = object.find("forSpacing")) {
+        if (!entry.sparse)
+            throwAt(ErrorCode::InvalidArgument, object.pathOf("forSpacing"),
+                    "a band is for sparse assets: add \"sparse\": true");
+        if (object.has("band"))
+            throwAt(ErrorCode::InvalidArgument, path, "give \"band\" or \"forSpacing\", not both");
+        entry.forSpacing = positiveNumber(*v, object.pathOf("forSpacing"), false);
+    }
+    if (const rj::Value* v = object.find("forKernelRadius")) {
+        if (!object.has("forSpacing"))
+            throwAt(ErrorCode::InvalidArgument, object.pathOf("forKernelRadius"),
+                    "a kernel radius goes with \"forSpacing\"");
+        entry.forKernelRadius = positiveNumber(*v, object.pathOf("forKernelRadius"), false);
     }
     // As `bake --sparse` refuses it: a sparse asset stores f32.
     if (entry.sparse && entry.storage == "f16")

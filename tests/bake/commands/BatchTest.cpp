@@ -13,6 +13,7 @@
 #include "CliRun.h"
 #include "TestMeshes.h"
 #include "sluice/bake/commands/Cli.h"
+#include "sluice/bake/sparse/SparseBaker.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/support/Hash.h"
 
@@ -119,6 +120,35 @@ TEST(Batch, ASecondRunWithNothingChangedBakesNothing) {
     ASSERT_EQ(row.size(), 5u) << run.out;
     EXPECT_EQ(row[3], std::to_string(asset->pointCount()));
     EXPECT_EQ(row[4], "-") << "no validation figures yet";
+}
+
+TEST(Batch, ABandForASpacingIsBakedKeptFreshAndFollowsTheSpacing) {
+    const BatchFolder f("batch-for-spacing");
+    json sparse = BatchFolder::entry("a.obj", "a.slc", 16);
+    sparse["sparse"] = true;
+    sparse["forSpacing"] = 0.05;
+    f.writeManifest(json::array({sparse}));
+    RunResult run = f.batch({"--jobs", "2"}); // the child gets --sparse --for-spacing
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    Result<format::ColliderAsset> a = format::readAsset(f.dir / "a.slc");
+    ASSERT_TRUE(a.ok()) << a.error().message();
+    const double voxel = a->meta.voxelSize;
+    auto bandFor = [&](double spacing) { return *bandForVoxel(voxel, spacing, 0.0); };
+    EXPECT_EQ(a->meta.bandWidth, bandFor(0.05));
+    run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "a.slc"), "fresh") << run.out;
+
+    // Another spacing that needs another band bakes again.
+    sparse["forSpacing"] = 0.1;
+    ASSERT_NE(bandFor(0.1), bandFor(0.05));
+    f.writeManifest(json::array({sparse}));
+    run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "a.slc"), "baked") << run.out;
+    a = format::readAsset(f.dir / "a.slc");
+    ASSERT_TRUE(a.ok());
+    EXPECT_EQ(a->meta.bandWidth, bandFor(0.1));
 }
 
 TEST(Batch, SparseEntriesBakeSparseStayFreshAndRebakeWhenTheBandChanges) {

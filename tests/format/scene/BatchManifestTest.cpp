@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "asset/AssetTestUtil.h" // PrintTo(ErrorCode)
-#include "support/TempDir.h"
 #include "sluice/format/scene/BatchManifest.h"
+#include "support/TempDir.h"
 
 namespace sluice::test {
 namespace {
@@ -153,6 +153,34 @@ TEST(BatchManifest, ReadsSparseEntriesAndRejectsWhatBakeSparseRejects) {
         ASSERT_TRUE(entry.ok()) << entry.error().message();
         EXPECT_TRUE(entry->colliders[1].sparse);
     }
+}
+
+TEST(BatchManifest, ReadsABandForASpacingAndRejectsWhatBakeRejects) {
+    auto manifest = format::parseBatchManifest(
+        R"({"colliders": [{"mesh": "a.obj", "output": "a.slc", "sparse": true, "forSpacing": 0.02},
+                          {"mesh": "b.obj", "output": "b.slc", "sparse": true,
+                           "forSpacing": 0.01, "forKernelRadius": 0.03}]})",
+        "jobs/colliders.json");
+    ASSERT_TRUE(manifest.ok()) << manifest.error().message();
+    EXPECT_EQ(manifest->colliders[0].forSpacing, 0.02);
+    EXPECT_EQ(manifest->colliders[0].forKernelRadius, 0.0) << "the default kernel";
+    EXPECT_EQ(manifest->colliders[1].forSpacing, 0.01);
+    EXPECT_EQ(manifest->colliders[1].forKernelRadius, 0.03);
+
+    EXPECT_EQ(errorOf(secondEntryWith(R"("forSpacing": 0.02)")),
+              "jobs/colliders.json: colliders[1].forSpacing: a band is for sparse assets: add "
+              "\"sparse\": true");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("sparse": true, "band": 4, "forSpacing": 0.02)")),
+              "jobs/colliders.json: colliders[1]: give \"band\" or \"forSpacing\", not both");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("sparse": true, "forKernelRadius": 0.04)")),
+              "jobs/colliders.json: colliders[1].forKernelRadius: a kernel radius goes with "
+              "\"forSpacing\"");
+    EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "forSpacing": 0)")),
+              ErrorCode::InvalidArgument);
+    EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "forSpacing": -1)")),
+              ErrorCode::InvalidArgument);
+    EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "forSpacing": "2cm")")),
+              ErrorCode::BadMetadata);
 }
 
 TEST(BatchManifest, RejectsTwoEntriesWritingTheSameOutput) {

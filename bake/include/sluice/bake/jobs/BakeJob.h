@@ -10,6 +10,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "sluice/bake/Grid.h"
 #include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/bake/import/MeshImport.h"
@@ -30,7 +31,15 @@ struct BakeRequest {
     double scale = 1.0;            ///< recorded in the asset; the mesh is already scaled
     bool sparse = false;           ///< a narrow-band NanoVDB asset (CGAL backend)
     double band = 3.0;             ///< [voxels] sparse: the band's half-width, 1..64
+    /// [world units] sparse: when > 0, the band is the one a scene of this particle spacing
+    /// needs (bandForSpacing), instead of `band`.
+    double forSpacing = 0.0;
+    double forKernelRadius = 0.0; ///< [world units] with forSpacing: the kernel (0: default)
 };
+
+/// The band [voxels] a sparse `request` bakes with over `bounds` on `grid`: `band`, or with
+/// forSpacing the one bandForSpacing picks. Errors: bandForSpacing's.
+Result<double> requestBand(const BakeRequest& request, const Box& bounds, const GridOptions& grid);
 
 /// A finished bake: the asset (provenance filled in, quantizationError still 0 until encoded)
 /// and how it was made.

@@ -44,6 +44,9 @@ Result<GridSpec> sparseGridFor(const Box& bounds, GridOptions options, double ba
 Result<double> bandForSpacing(const Box& bounds, const GridOptions& options, double spacing,
                               double kernelRadius);
 
+/// bandForSpacing on a grid of voxels of `voxel` [world units] (an asset's, or gridFor's).
+Result<double> bandForVoxel(double voxel, double spacing, double kernelRadius);
+
 /// Which parts of the domain need exact distances: bricks of kBrickSize^3 voxels (index-space
 /// lower corners, multiples of kBrickSize) that may hold a voxel within the band, and blocks of
 /// power-of-two edge with no surface near them (uniform sign, one sample at their centre).

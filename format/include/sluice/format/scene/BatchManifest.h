@@ -34,6 +34,8 @@ struct BatchEntry {
     std::string backend = "auto";     ///< "auto" | "gpu" | "cgal"
     bool sparse = false;              ///< a narrow-band NanoVDB asset (`bake --sparse`)
     double band = 3.0;                ///< [voxels] sparse: the band's half-width, 1..64
+    double forSpacing = 0.0;          ///< [world units] sparse: the band for this spacing (0: band)
+    double forKernelRadius = 0.0;     ///< [world units] with forSpacing: the kernel (0: default)
 };
 
 /// A manifest: { "colliders": [ { "mesh": ..., "output": ..., optional fields }, ... ] }.
@@ -48,7 +50,8 @@ struct BatchManifest {
 /// kMaxBatchManifestBytes), BadMetadata (not JSON, an unknown key (the closest known key is
 /// suggested), a duplicate key, a wrong type, a missing "mesh" or "output"), NonFinite (NaN or
 /// infinity), InvalidArgument (a value out of range, an unknown sign, storage or backend, both
-/// resolution and voxelSize, "band" without "sparse": true, "sparse" with f16 storage or the
+/// resolution and voxelSize, "band" or "forSpacing" without "sparse": true, both "band" and
+/// "forSpacing", "forKernelRadius" without "forSpacing", "sparse" with f16 storage or the
 /// gpu backend, or two entries writing the same output).
 Result<BatchManifest> readBatchManifest(const std::filesystem::path& file);
 
