@@ -267,8 +267,8 @@ void wallAndStaticContacts(uint b, bool lead, bool first, inout BodyStep s) {
 // A body's new state is unusable: not finite, or its centre of mass outside the domain box
 // (the walls hold its contact points, so only a body the solver lost gets there).
 bool bodyFault(vec3 x, vec4 q, vec3 v, vec3 w) {
-    bool finite = !any(isnan(x)) && !any(isinf(x)) && !any(isnan(q)) && !any(isinf(q)) &&
-                  !any(isnan(v)) && !any(isinf(v)) && !any(isnan(w)) && !any(isinf(w));
+    bool finite = allFinite(x) && allFinite(q.xyz) && allFinite(vec3(q.w)) && allFinite(v) &&
+                  allFinite(w);
     if (!finite)
         return true;
     if (P.hasDomain == 0u)

@@ -58,6 +58,7 @@ struct BakeJob {
     std::optional<ImportedMesh> mesh;
     /// While it runs, mesh->diagnostics.selfIntersecting is false, not yet known.
     std::future<SelfIntersectionTest> selfIntersection;
+    BakeRequest request;      ///< the arguments as the library takes them
     Box meshBox;              ///< [world units] the scaled mesh's bounding box
     double band = 0.0;        ///< [voxels] sparse: --band, or the one --for-spacing picked
     std::uint64_t points = 0; ///< [grid points] of the grid to bake
@@ -85,6 +86,10 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
     request.sign = args.sign;
     request.storage = args.storage;
     request.scale = args.scale;
+    request.sparse = args.sparse;
+    request.band = args.band;
+    request.forSpacing = args.forSpacing;
+    request.forKernelRadius = args.forKernelRadius;
     // bakeSettingsFor checks the backend first: an unknown one is refused here.
     Result<BakeSettings> settings = bakeSettingsFor(request);
     if (!settings)
@@ -98,6 +103,7 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
                   << "' does not end in .slc; it will hold a collider asset all the same\n";
     job.backend = backendNamed(args.backend);
     job.settings = *settings;
+    job.request = request;
     job.phases.lap("argument checks");
     return kExitOk;
 }
@@ -168,14 +174,10 @@ int importAndPlan(const BakeArgs& args, BakeJob& job) {
         return reportFileError(kCmd, "cannot read mesh", args.mesh, mesh.error());
     job.importSeconds = secondsSince(start);
     job.meshBox = mesh->soup.bounds();
-    job.band = args.band;
-    if (args.sparse && args.forSpacing > 0.0) {
-        auto band =
-            bandForSpacing(job.meshBox, job.settings.grid, args.forSpacing, args.forKernelRadius);
-        if (!band)
-            return reportFileError(kCmd, "cannot bake", args.mesh, band.error());
-        job.band = *band;
-    }
+    const Result<double> band = requestBand(job.request, job.meshBox, job.settings.grid);
+    if (!band)
+        return reportFileError(kCmd, "cannot bake", args.mesh, band.error());
+    job.band = *band;
     Result<GridSpec> grid = args.sparse ? sparseGridFor(job.meshBox, job.settings.grid, job.band)
                                         : gridFor(job.meshBox, job.settings.grid);
     if (!grid)

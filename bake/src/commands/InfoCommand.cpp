@@ -1,7 +1,6 @@
 // `sluice-bake info`: an asset's header, provenance and figures, and optionally a slice picture.
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -66,7 +65,7 @@ void printTree(const format::NanoVdbTreeStats& t, double bandWidth) {
 /// What a band of `band` voxels of `voxel` [world units] holds exact, and the particle spacings
 /// it serves in sluice-play (format/scene/SolverReach.h), at scale 1 and the default kernel.
 void printBandServes(double band, double voxel) {
-    std::cout << "  band serves   exact to " << num(std::max(band - std::sqrt(3.0), 0.0) * voxel)
+    std::cout << "  band serves   exact to " << num(format::exactReach(band, voxel))
               << " world units from the surface with trilinear reads: particle spacing up to "
               << num(format::largestSpacingForBand(band, voxel, false)) << " as a static collider, "
               << num(format::largestSpacingForBand(band, voxel, true))

@@ -111,7 +111,7 @@ Result<ImportedMesh> meshFromArrays(std::span<const glm::dvec3> positions,
 }
 
 Result<double> requestBand(const BakeRequest& request, const Box& bounds, const GridOptions& grid) {
-    if (request.forSpacing > 0.0)
+    if (request.sparse && request.forSpacing > 0.0)
         return bandForSpacing(bounds, grid, request.forSpacing, request.forKernelRadius);
     return request.band;
 }
@@ -124,9 +124,7 @@ Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& reques
     if (request.sparse && settings->storage != format::Storage::F32)
         return fail(ErrorCode::InvalidArgument, "sparse assets store f32 values");
     // As `bake`: the grid is checked before a context opens.
-    const Result<double> band = request.sparse
-                                    ? requestBand(request, mesh.soup.bounds(), settings->grid)
-                                    : Result<double>(request.band);
+    const Result<double> band = requestBand(request, mesh.soup.bounds(), settings->grid);
     if (!band)
         return band.error();
     Result<GridSpec> grid = request.sparse

@@ -37,8 +37,8 @@ struct BakeRequest {
     double forKernelRadius = 0.0; ///< [world units] with forSpacing: the kernel (0: default)
 };
 
-/// The band [voxels] a sparse `request` bakes with over `bounds` on `grid`: `band`, or with
-/// forSpacing the one bandForSpacing picks. Errors: bandForSpacing's.
+/// The band [voxels] `request` bakes with over `bounds` on `grid`: `band`, or for a sparse
+/// request with forSpacing the one bandForSpacing picks. Errors: bandForSpacing's.
 Result<double> requestBand(const BakeRequest& request, const Box& bounds, const GridOptions& grid);
 
 /// A finished bake: the asset (provenance filled in, quantizationError still 0 until encoded)

@@ -28,10 +28,16 @@ inline double requiredBandVoxels(double reach, double voxel) {
     return reach / voxel + std::sqrt(3.0);
 }
 
+/// How far from the surface [m] a band of `band` voxels of `voxel` [m] keeps trilinear reads
+/// exact: the inverse of requiredBandVoxels.
+inline double exactReach(double band, double voxel) {
+    return std::fmax(band - std::sqrt(3.0), 0.0) * voxel;
+}
+
 /// The largest particle spacing [m] a band of `band` voxels of `voxel` [m] serves, for a static
 /// collider or a dynamic body, with the default kernel radius; 0 when it serves none.
 inline double largestSpacingForBand(double band, double voxel, bool dynamic) {
-    const double reach = std::fmax(band - std::sqrt(3.0), 0.0) * voxel;
+    const double reach = exactReach(band, voxel);
     return dynamic ? reach / (kDefaultKernelSpacings + kBodySurfaceOffsetSpacings) : 2.0 * reach;
 }
 
