@@ -104,7 +104,10 @@ Result<VideoEncoder> VideoEncoder::start(const fs::path& path, glm::uvec2 size, 
     sigemptyset(&defaults);
     sigaddset(&defaults, SIGPIPE);
     posix_spawnattr_setsigdefault(&attr, &defaults);
-    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
+    // Its own process group: a Ctrl-C at the terminal reaches sluice-play only, which then
+    // finishes the video properly (Interrupt.h) instead of finding ffmpeg gone.
+    posix_spawnattr_setpgroup(&attr, 0);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETPGROUP);
     pid_t pid = -1;
     const int rc = ::posix_spawn(&pid, ffmpeg->c_str(), &actions, &attr, argv.data(), environ);
     posix_spawn_file_actions_destroy(&actions);

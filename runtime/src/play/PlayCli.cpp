@@ -31,6 +31,8 @@ constexpr const char* kExitCodeHelp = R"(Exit codes:
   2  bad input: scene file, collider asset or command-line value; no ffmpeg for --video
   3  no OpenGL 4.5 core context with compute shaders; no display for the window
   4  internal error
+  130, 143  stopped by SIGINT (Ctrl-C) or SIGTERM: the run ended after the current step and
+            wrote its outputs up to it (a second Ctrl-C quits at once)
 
 Without --headless, sluice-play opens a window (GLFW): drag to orbit, right or middle drag to
 pan, wheel to zoom; F1 lists the keys. --frames, --video and --screenshot-at capture in
@@ -48,10 +50,12 @@ struct PlayOptions {
     std::uint64_t statsEvery = 0; // 0: about 20 rows over the run
     std::string statsJson;
     std::string plyDir;
+    std::string bodiesCsv;
     std::uint64_t dumpEvery = 1;
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; // 0: chosen for the renderer and the scene
     bool rasterSpheres = false;
+    bool noDomainBox = false;
     bool check = false;
     bool quiet = false;
     bool strict = false;
@@ -90,6 +94,7 @@ Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::
     settings.colour = *colour;
     settings.surface = *surface;
     settings.computeSmallSpheres = !o.rasterSpheres;
+    settings.drawDomainBox = !o.noDomainBox;
     return {};
 }
 
@@ -122,6 +127,7 @@ constexpr OptionUse kOptionUses[] = {
     {"--stats-json", true, false, false},
     {"--dump-ply", true, false, false},
     {"--dump-every", true, false, false},
+    {"--bodies-csv", true, false, false},
     {"--check", true, false, false},
     {"--quiet", true, true, false},
     {"--warmup", false, false, true},
@@ -172,9 +178,22 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
                                 ? "with --bench without --bench-frames"
                                 : "in a --headless run without --frames, --video or "
                                   "--screenshot-at";
-    for (const char* name : {"--size", "--colour", "--surface", "--zoom", "--raster-spheres"})
+    for (const char* name :
+         {"--size", "--colour", "--surface", "--zoom", "--raster-spheres", "--no-domain-box"})
         if (given(name) && !renders)
             out.push_back(unusedOption(name, renderWhy));
+}
+
+/// --bodies-csv for a scene without dynamic bodies would write only the header.
+void checkBodiesCsv(const CLI::App& app, const format::Scene& scene, PlayMode mode,
+                    std::vector<PlayWarning>& out) {
+    if (mode != PlayMode::Headless || app.count("--bodies-csv") == 0)
+        return;
+    for (const format::SceneCollider& collider : scene.colliders)
+        if (collider.dynamic)
+            return;
+    out.push_back(unusedOption("--bodies-csv", "for a scene without dynamic bodies (its table "
+                                               "would have only the header)"));
 }
 
 /// A --screenshot-at step the run never reaches.
@@ -245,6 +264,7 @@ std::vector<RunOutput> runOutputs(const PlayOptions& o, PlayMode mode) {
     if (mode == PlayMode::Headless) {
         outputs.push_back({"--stats-json", o.statsJson, false});
         outputs.push_back({"--dump-ply", o.plyDir, true});
+        outputs.push_back({"--bodies-csv", o.bodiesCsv, false});
     }
     return outputs;
 }
@@ -308,6 +328,7 @@ int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene 
     headless.statsEvery = o.statsEvery;
     headless.statsJson = o.statsJson;
     headless.plyDir = o.plyDir;
+    headless.bodiesCsv = o.bodiesCsv;
     headless.dumpEvery = o.dumpEvery;
     headless.deterministic = o.deterministic;
     headless.neighbourLanes = o.neighbourLanes;
@@ -336,6 +357,7 @@ int play(const CLI::App& app, const PlayOptions& o, PlayMode mode) {
         return reportFailure(loaded.error());
     for (PlayWarning& warning : checkScene(loaded->scene, loaded->colliders))
         warnings.push_back(std::move(warning));
+    checkBodiesCsv(app, loaded->scene, mode, warnings);
     if (auto stop = reportWarnings(warnings, o.strict))
         return *stop;
     if (auto ok = prepareRunOutputs(runOutputs(o, mode)); !ok)
@@ -365,6 +387,9 @@ void addRunOptions(CLI::App& app, PlayOptions& o) {
         ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_option("--stats-json", o.statsJson, "Write the recorded statistics to this JSON file");
     app.add_option("--dump-ply", o.plyDir, "Write particle PLY files into this folder");
+    app.add_option("--bodies-csv", o.bodiesCsv,
+                   "Write every dynamic body's trajectory (one row per recorded step and body) "
+                   "to this CSV file");
     app.add_option("--dump-every", o.dumpEvery, "Write a PLY file every K steps (default 1)")
         ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_flag("--deterministic", o.deterministic,
@@ -416,6 +441,8 @@ void addCaptureOptions(CLI::App& app, PlayOptions& o) {
     app.add_flag("--raster-spheres", o.rasterSpheres,
                  "Rasterise every particle sphere (default: the ones of at most 8x8 pixels in a "
                  "compute pass, the same pixels)");
+    app.add_flag("--no-domain-box", o.noDomainBox,
+                 "Do not draw the domain box's edges (drawn by default where the scene has one)");
     app.add_option("--screenshot-at", o.capture.screenshotAt,
                    "Write one PNG of step N (NAME-STEP.png), as the window's P key does");
     app.add_option("--shots", o.capture.shotsDir,

@@ -8,10 +8,14 @@
 #include <iostream>
 #include <optional>
 #include <span>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "capture/CaptureHeadless.h"
+#include "play/BodiesCsv.h"
+#include "play/Interrupt.h"
+#include "play/RunProgress.h"
 #include "play/SceneChecks.h"
 #include "play/StatsReport.h"
 #include "sluice/format/support/AtomicFile.h"
@@ -37,7 +41,10 @@ struct HeadlessRun {
     const gpu::Context& context;
     Simulation sim;
     std::optional<HeadlessCapture> capture;
+    BodiesCsv bodiesCsv;                            ///< --bodies-csv rows
+    RunProgress progress;                           ///< the terminal's progress line
     std::uint64_t statsEvery = 1;                   ///< a statistics row every this many steps
+    std::uint64_t stepsDone = 0;                    ///< steps run (fewer when interrupted)
     nlohmann::json steps = nlohmann::json::array(); ///< the recorded statistics
     bool dirty = false;            ///< a particle went non-finite or ended inside a collider,
                                    ///< or a body was put back (StepStats::bodyFaults)
@@ -68,7 +75,15 @@ Result<HeadlessRun> startRun(const HeadlessOptions& o, const format::Scene& scen
         return sim.error();
     const std::uint64_t every =
         o.statsEvery > 0 ? o.statsEvery : std::max<std::uint64_t>(1, o.steps / 20);
-    return HeadlessRun{o, scene, context, std::move(*sim), std::move(capture), every};
+    const bool progress = !o.quiet && RunProgress::stderrIsTerminal();
+    return HeadlessRun{o,
+                       scene,
+                       context,
+                       std::move(*sim),
+                       std::move(capture),
+                       BodiesCsv(o.bodiesCsv),
+                       RunProgress(o.steps, progress),
+                       every};
 }
 
 void printStartup(const HeadlessRun& run, const std::vector<std::string>& colliderLines) {
@@ -119,22 +134,28 @@ Result<void> writeStepOutputs(HeadlessRun& run, std::uint64_t step) {
     return run.capture ? run.capture->afterStep(run.sim, step) : Result<void>{};
 }
 
-/// A statistics row of step `step` (printed and kept for the JSON file), where one is due.
-void recordStats(HeadlessRun& run, std::uint64_t step) {
-    if (step % run.statsEvery != 0 && step != run.options.steps)
+/// A statistics row of step `step` (printed and kept for the JSON file, with the bodies' row of
+/// --bodies-csv), where one is due; `last`: the run's last step, always recorded.
+void recordStats(HeadlessRun& run, std::uint64_t step, bool last) {
+    if (step % run.statsEvery != 0 && !last)
         return;
     const StepStats stats = run.sim.readStats();
     double gpuMs = 0.0;
     for (double t : run.sim.passTimes())
         gpuMs += t > 0.0 ? t : 0.0;
-    if (!run.options.quiet)
-        std::cout << statsTableRow(stats, gpuMs > 0.0 ? gpuMs : -1.0);
+    if (!run.options.quiet) {
+        run.progress.clear();
+        // Flushed row by row, so a pipe (tee, a CI log) shows the run as it goes.
+        std::cout << statsTableRow(stats, gpuMs > 0.0 ? gpuMs : -1.0) << std::flush;
+    }
     nlohmann::json row = statsJson(stats);
     const std::vector<BodyState> bodies = run.sim.bodies();
     if (!bodies.empty())
         row["bodies"] = bodiesJson(bodies);
+    run.bodiesCsv.record(run.scene, step, run.sim.time(), bodies);
     run.steps.push_back(std::move(row));
     if (stats.nonFinite > 0) {
+        run.progress.clear();
         std::cerr << "sluice-play: step " << stats.step << ": " << stats.nonFinite
                   << " particles went non-finite and were reset to their last position\n";
         run.dirty = true;
@@ -162,18 +183,25 @@ void reportCapacity(HeadlessRun& run, std::uint64_t step) {
     run.capacityReported = true;
 }
 
-/// Steps 1..steps with their statistics and outputs; step 0's outputs first.
+/// Steps 1..steps with their statistics and outputs; step 0's outputs first. A SIGINT or
+/// SIGTERM (InterruptGuard) ends the loop after the current step, whose statistics are then
+/// recorded as the last.
 Result<void> runSteps(HeadlessRun& run) {
     if (auto ok = writeStepOutputs(run, 0); !ok)
         return ok;
+    run.bodiesCsv.record(run.scene, 0, run.sim.time(), run.sim.bodies());
     const auto start = std::chrono::steady_clock::now();
-    for (std::uint64_t step = 1; step <= run.options.steps; ++step) {
+    for (std::uint64_t step = 1; step <= run.options.steps && !InterruptGuard::requested();
+         ++step) {
         run.sim.step();
-        recordStats(run, step);
+        run.stepsDone = step;
+        recordStats(run, step, step == run.options.steps || InterruptGuard::requested());
         if (auto ok = writeStepOutputs(run, step); !ok)
             return ok;
         reportCapacity(run, step);
+        run.progress.update(step);
     }
+    run.progress.clear();
     if (run.capture) {
         if (auto ok = run.capture->finish(); !ok)
             return ok;
@@ -185,14 +213,19 @@ Result<void> runSteps(HeadlessRun& run) {
     return {};
 }
 
+/// A signal ended the run before its last step.
+bool interrupted(const HeadlessRun& run) {
+    return InterruptGuard::requested() && run.stepsDone < run.options.steps;
+}
+
 double stepsPerSecond(const HeadlessRun& run) {
-    return run.wallSeconds > 0.0 ? double(run.options.steps) / run.wallSeconds : 0.0;
+    return run.wallSeconds > 0.0 ? double(run.stepsDone) / run.wallSeconds : 0.0;
 }
 
 void printSummary(const HeadlessRun& run) {
     const PassTimes& times = run.passTimes;
     std::cout << "\n"
-              << run.options.steps << " steps in " << run.wallSeconds
+              << run.stepsDone << " steps in " << run.wallSeconds
               << " s wall: " << stepsPerSecond(run) << " steps/s (" << run.context.info().renderer
               << ")\nGPU ms per step:";
     for (std::size_t p = 0; p < times.size(); ++p)
@@ -214,6 +247,10 @@ Result<void> writeStatsFile(HeadlessRun& run) {
         {"capacity", run.sim.capacity()},
         {"steps", run.steps},
     };
+    if (interrupted(run))
+        doc["interrupted"] = {{"signal", InterruptGuard::signalName()},
+                              {"afterStep", run.stepsDone},
+                              {"ofSteps", o.steps}};
     // Timings differ run to run; a deterministic run leaves them out so its file is
     // byte-identical every time.
     if (!o.deterministic)
@@ -225,10 +262,35 @@ Result<void> writeStatsFile(HeadlessRun& run) {
     return format::writeFileAtomic(o.statsJson, std::as_bytes(std::span(text.data(), text.size())));
 }
 
+/// Before the first step: a run a software renderer would take minutes over is said so.
+void warnIfSlow(const HeadlessRun& run) {
+    const auto warning = slowRunWarning(run.context.info().renderer, run.sim.capacity(),
+                                        run.scene.simulation.substeps, run.options.steps,
+                                        std::thread::hardware_concurrency());
+    if (warning)
+        std::cerr << "sluice-play: warning [slow-run]: " << *warning << '\n';
+}
+
+/// The files of the run, written when it ends, however it ends.
+Result<void> writeEndOutputs(HeadlessRun& run) {
+    if (!run.options.statsJson.empty())
+        if (auto ok = writeStatsFile(run); !ok)
+            return ok;
+    return run.bodiesCsv.write();
+}
+
+int interruptedExit(const HeadlessRun& run) {
+    std::cerr << "sluice-play: " << InterruptGuard::signalName() << ": stopped after step "
+              << run.stepsDone << " of " << run.options.steps
+              << "; the outputs asked for were written up to it\n";
+    return InterruptGuard::exitCode();
+}
+
 } // namespace
 
 int playHeadless(const HeadlessOptions& o, const format::Scene& scene,
                  std::vector<format::ColliderAsset> colliders) {
+    const InterruptGuard interrupt;
     const std::vector<std::string> colliderLines = describeColliders(scene, colliders);
     auto context = gpu::Context::createHeadless();
     if (!context)
@@ -238,13 +300,15 @@ int playHeadless(const HeadlessOptions& o, const format::Scene& scene,
         return reportFailure(run.error());
     if (!o.quiet)
         printStartup(*run, colliderLines);
+    warnIfSlow(*run);
     if (auto ok = runSteps(*run); !ok)
         return reportFailure(ok.error());
     if (!o.quiet)
         printSummary(*run);
-    if (!o.statsJson.empty())
-        if (auto ok = writeStatsFile(*run); !ok)
-            return reportFailure(ok.error());
+    if (auto ok = writeEndOutputs(*run); !ok)
+        return reportFailure(ok.error());
+    if (interrupted(*run))
+        return interruptedExit(*run);
     if (o.check && run->dirty) {
         std::cerr << "sluice-play: --check: particles went non-finite or ended inside a "
                      "collider, or a body was lost (see the messages above and the table)\n";

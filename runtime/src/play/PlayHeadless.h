@@ -21,6 +21,7 @@ struct HeadlessOptions {
     std::uint64_t statsEvery = 0; ///< record statistics every K steps; 0: about 20 rows
     std::string statsJson;        ///< statistics file, empty for none
     std::string plyDir;           ///< PLY folder, empty for none
+    std::string bodiesCsv;        ///< body trajectory table (BodiesCsv.h), empty for none
     std::uint64_t dumpEvery = 1;  ///< a PLY file every K steps
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes

@@ -19,7 +19,8 @@ std::string statsTableRow(const StepStats& s, double gpuMs) {
     if (gpuMs >= 0.0)
         std::snprintf(gpu, sizeof gpu, "%.3f", gpuMs);
     char line[256];
-    std::snprintf(line, sizeof line, "%7llu  %9.4f  %9u  %9.3f  %9.3f  %13.3f  %6u  %10u  %5u  %8u  %11s\n",
+    std::snprintf(line, sizeof line,
+                  "%7llu  %9.4f  %9u  %9.3f  %9.3f  %13.3f  %6u  %10u  %5u  %8u  %11s\n",
                   static_cast<unsigned long long>(s.step), s.time, s.particles,
                   100.0 * s.avgDensityError, 100.0 * s.maxDensityError, s.maxSpeed,
                   s.insideColliders, s.nonFinite, s.iterations, s.maskOverflow, gpu);
@@ -48,8 +49,12 @@ nlohmann::json statsJson(const StepStats& s) {
 
 namespace {
 
-nlohmann::json vec3Json(glm::vec3 v) { return {v.x, v.y, v.z}; }
-nlohmann::json quatJson(glm::quat q) { return {q.x, q.y, q.z, q.w}; }
+nlohmann::json vec3Json(glm::vec3 v) {
+    return {v.x, v.y, v.z};
+}
+nlohmann::json quatJson(glm::quat q) {
+    return {q.x, q.y, q.z, q.w};
+}
 
 } // namespace
 
@@ -59,12 +64,14 @@ nlohmann::json bodiesJson(const std::vector<BodyState>& bodies) {
         out.push_back({
             {"collider", b.collider},
             {"mass", b.mass},
-            {"position", vec3Json(b.position)},
+            {"origin", vec3Json(b.pose.translation)},
+            {"centreOfMass", vec3Json(b.position)},
             {"orientation", quatJson(b.orientation)},
             {"linearVelocity", vec3Json(b.linearVelocity)},
             {"angularVelocity", vec3Json(b.angularVelocity)},
             {"force", vec3Json(b.force)},
             {"torque", vec3Json(b.torque)},
+            {"submergedShare", b.submergedShare},
             {"contacts", b.contacts},
         });
     return out;
@@ -83,8 +90,9 @@ nlohmann::json bodyTransformsJson(const format::Scene& scene, std::uint64_t step
         list.push_back({
             {"collider", b.collider},
             {"asset", scene.colliders[b.collider].asset},
-            {"translation", vec3Json(pose.translation)},
-            {"rotation", quatJson(pose.rotation)},
+            {"origin", vec3Json(pose.translation)},
+            {"centreOfMass", vec3Json(b.position)},
+            {"orientation", quatJson(pose.rotation)},
             {"scale", pose.scale},
             {"matrix", matrix},
         });

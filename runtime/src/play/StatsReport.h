@@ -21,13 +21,15 @@ std::string statsTableRow(const StepStats& stats, double gpuMs);
 nlohmann::json statsJson(const StepStats& stats);
 
 /// Every dynamic body's state as JSON (docs/bodies.md, "Outputs"): an array of objects with
-/// collider, mass, position, orientation [x, y, z, w], linearVelocity, angularVelocity, force,
-/// torque and contacts.
+/// collider, mass, origin (the asset frame's origin in the world), centreOfMass, orientation
+/// [x, y, z, w], linearVelocity, angularVelocity, force, torque, submergedShare and contacts.
+/// The names are those of bodyTransformsJson and of the --bodies-csv columns.
 nlohmann::json bodiesJson(const std::vector<BodyState>& bodies);
 
 /// The body-transforms file written beside each PLY frame: for every body, its collider index
-/// and asset, and the asset frame's world transform as translation, rotation quaternion
-/// [x, y, z, w], uniform scale and a row-major 4x4 matrix (what Blender and Houdini import).
+/// and asset, and the asset frame's world transform as origin, orientation quaternion
+/// [x, y, z, w], uniform scale and a row-major 4x4 matrix (what Blender and Houdini import),
+/// with the centre of mass beside it.
 nlohmann::json bodyTransformsJson(const format::Scene& scene, std::uint64_t step, double time,
                                   const std::vector<BodyState>& bodies);
 

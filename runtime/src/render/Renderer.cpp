@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "ColliderPass.h"
 #include "FluidSurfacePass.h"
@@ -14,8 +16,8 @@
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/SceneFraming.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {
@@ -84,6 +86,8 @@ struct Renderer::Impl {
     SphereSplatPass splat;
     gpu::Program backdrop;
     gpu::Program particles;
+    gpu::Program domainBox;                                ///< the domain box's edges (lines)
+    std::optional<std::pair<glm::vec3, glm::vec3>> domain; ///< the scene's domain box [m]
     gpu::Buffer frame;
     VertexArrayHandle vertexArray;
     glm::uvec2 size{0};
@@ -208,6 +212,14 @@ Result<Renderer> Renderer::create(const format::Scene& scene,
     if (!particles)
         return particles.error();
     impl->particles = std::move(*particles);
+    auto domainBox =
+        gpu::Program::graphics("render_domain_box", shaders::shaderSource("render_domain_box.vert"),
+                               shaders::shaderSource("render_domain_box.frag"));
+    if (!domainBox)
+        return domainBox.error();
+    impl->domainBox = std::move(*domainBox);
+    if (scene.domainMin && scene.domainMax)
+        impl->domain.emplace(*scene.domainMin, *scene.domainMax);
     auto frame = gpu::Buffer::create(sizeof(shared::RenderFrame), "render frame");
     if (!frame)
         return frame.error();
@@ -292,6 +304,18 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
     r.passTimer(RenderPass::Fluid).end();
 
     glBindFramebuffer(GL_FRAMEBUFFER, r.output);
+    if (settings.drawDomainBox && r.domain) {
+        // Against the depth of the opaque scene: edges behind a wall or the floor are hidden.
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
+        glDepthMask(GL_FALSE);
+        r.domainBox.set("uDomainMin", r.domain->first);
+        r.domainBox.set("uDomainMax", r.domain->second);
+        r.domainBox.use();
+        glDrawArrays(GL_LINES, 0, 24);
+        glDepthMask(GL_TRUE);
+        glDepthFunc(GL_LESS);
+    }
     r.passTimer(RenderPass::Glass).begin();
     if (settings.drawColliders && settings.glassWalls)
         r.colliders.drawGlass(poses);

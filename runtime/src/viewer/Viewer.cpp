@@ -23,6 +23,7 @@
 #include <imgui.h>
 
 #include "capture/CaptureVideo.h"
+#include "play/Interrupt.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/play/PlayCli.h"
 #include "sluice/rt/render/FluidStatsProbe.h"
@@ -125,7 +126,8 @@ public:
 
         const Clock::time_point start = Clock::now();
         Clock::time_point last = start;
-        while (!glfwWindowShouldClose(m_window) && !m_actions.quit) {
+        while (!glfwWindowShouldClose(m_window) && !m_actions.quit &&
+               !InterruptGuard::requested()) {
             glfwPollEvents();
             frame();
             ++m_frames;
@@ -143,6 +145,12 @@ public:
             std::cout << "sluice-play: " << m_frames << " frames, " << m_session->steps()
                       << " steps in " << seconds << " s (" << double(m_frames) / seconds
                       << " frames/s)\n";
+        if (InterruptGuard::requested()) {
+            std::cerr << "sluice-play: " << InterruptGuard::signalName()
+                      << ": the window closed at step " << m_session->steps()
+                      << "; its captures were written up to it\n";
+            return InterruptGuard::exitCode();
+        }
         return m_outputs.failed() ? kExitBadInput : kExitOk;
     }
 
@@ -364,6 +372,7 @@ struct ImGuiScope {
 } // namespace
 
 int runViewer(const ViewerOptions& options) {
+    const InterruptGuard interrupt;
     glfwSetErrorCallback(onGlfwError);
     if (glfwInit() != GLFW_TRUE) {
         std::cerr << "sluice-play: cannot open a window: " << g_glfwError

@@ -129,13 +129,30 @@ void ViewerOutputs::writeReadbacks(bool wait, ViewerSession& session, ViewerUi& 
 void ViewerOutputs::screenshot(const ReadbackFrame& frame, ViewerSession& session, ViewerUi& ui) {
     const std::filesystem::path path =
         screenshotPath(m_options.capture.shotsDir, session.scene().name, frame.tag);
-    reportStatus(ui, writePng(path, frame.image), "saved " + path.string());
-    if (!m_options.quiet && m_options.capture.screenshotAt == frame.tag)
+    const Result<void> written = writePng(path, frame.image);
+    reportStatus(ui, written, "saved " + path.string());
+    if (m_options.capture.screenshotAt != frame.tag)
+        return;
+    if (!written) {
+        m_failed = true;
+        return;
+    }
+    m_shotAtWritten = true;
+    if (!m_options.quiet)
         std::cout << "sluice-play: screenshot " << path.string() << '\n';
 }
 
 void ViewerOutputs::finish(ViewerSession& session, ViewerUi& ui) {
     writeReadbacks(true, session, ui);
+    if (m_options.capture.screenshotAt && !m_shotAtWritten && !m_failed) {
+        // The window closed (or --max-frames ended it) before showing that step: the run
+        // fails rather than ending as if the picture were there.
+        std::cerr << "sluice-play: --screenshot-at " << *m_options.capture.screenshotAt
+                  << ": no screenshot was written: the window closed before showing that step "
+                     "(at step "
+                  << session.steps() << ")\n";
+        m_failed = true;
+    }
     if (m_recording) {
         reportStatus(ui, m_recording->finish(), "saved " + m_recording->path().string());
         if (!m_options.quiet)

@@ -40,9 +40,11 @@ public:
     void requestWindowScreenshot(glm::uvec2 size, std::uint64_t step);
     /// Writes the frames whose readback finished; `wait` for all of them.
     void writeReadbacks(bool wait, ViewerSession& session, ViewerUi& ui);
-    /// At exit: every readback written, the recording and the capture finished.
+    /// At exit: every readback written, the recording and the capture finished; a
+    /// --screenshot-at step the window never showed is an error (failed()).
     void finish(ViewerSession& session, ViewerUi& ui);
-    /// Whether a --frames or --video output failed (the exit code says so).
+    /// Whether a --frames, --video or --screenshot-at output failed or was never written (the
+    /// exit code says so).
     bool failed() const { return m_failed; }
 
 private:
@@ -64,7 +66,8 @@ private:
     std::uint64_t m_lastCaptured = ~std::uint64_t{0};
     std::uint64_t m_lastRecorded = ~std::uint64_t{0};
     bool m_failed = false;
-    bool m_shotAtTaken = false;
+    bool m_shotAtTaken = false;   ///< the --screenshot-at readback was requested
+    bool m_shotAtWritten = false; ///< and its file written
     bool m_panelShotPending = false;
 };
 

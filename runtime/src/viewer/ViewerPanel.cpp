@@ -157,6 +157,8 @@ void renderModes(ViewerUi& ui) {
     ImGui::Checkbox("glass walls", &r.glassWalls);
     ImGui::SameLine();
     ImGui::Checkbox("floor", &r.drawFloor);
+    ImGui::SameLine();
+    ImGui::Checkbox("domain box", &r.drawDomainBox);
     if (r.surface == SurfaceMode::Fluid) {
         int iterations = int(r.smoothingIterations);
         ImGui::SliderInt("smoothing passes", &iterations, 0, 10);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ProgramRun.h"
+#include "play/BodiesCsv.h"
 #include "render/RenderTestSupport.h"
 
 namespace sluice::rt {
@@ -133,8 +135,12 @@ struct OptionMistake {
     const char* expectInError;
 };
 
-void PrintTo(const SceneMistake& mistake, std::ostream* out) { *out << mistake.name; }
-void PrintTo(const OptionMistake& mistake, std::ostream* out) { *out << mistake.name; }
+void PrintTo(const SceneMistake& mistake, std::ostream* out) {
+    *out << mistake.name;
+}
+void PrintTo(const OptionMistake& mistake, std::ostream* out) {
+    *out << mistake.name;
+}
 
 class SluicePlayOptionMistake : public ::testing::TestWithParam<OptionMistake> {};
 
@@ -262,16 +268,56 @@ TEST(SluicePlayChecks, WindowOutputsAreCheckedBeforeTheWindowOpens) {
         << err;
 }
 
+/// --bodies-csv against the statistics of the same run: the header, a row per body at step 0
+/// and at each recorded step, and at each recorded step the same figures as "bodies".
+void expectCsvMatchesStatistics(const std::string& csv, const nlohmann::json& stats) {
+    std::istringstream in(csv);
+    std::string line;
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line + "\n", bodiesCsvHeader());
+    std::vector<std::vector<std::string>> rows;
+    while (std::getline(in, line)) {
+        std::vector<std::string> fields;
+        std::istringstream cells(line);
+        for (std::string cell; std::getline(cells, cell, ',');)
+            fields.push_back(cell);
+        ASSERT_EQ(fields.size(), 25u) << line;
+        rows.push_back(std::move(fields));
+    }
+    const auto& steps = stats["steps"];
+    ASSERT_EQ(rows.size(), 4 * (steps.size() + 1)) << csv;
+    EXPECT_EQ(rows[0][0], "0");
+    for (std::size_t s = 0; s < steps.size(); ++s)
+        for (std::size_t b = 0; b < 4; ++b) {
+            const auto& row = rows[4 * (s + 1) + b];
+            const auto& body = steps[s]["bodies"][b];
+            EXPECT_EQ(std::stoull(row[0]), steps[s]["step"].get<std::uint64_t>());
+            EXPECT_EQ(std::stoul(row[2]), b);
+            EXPECT_EQ(std::stoul(row[3]), body["collider"].get<std::uint32_t>());
+            for (int axis = 0; axis < 3; ++axis) {
+                EXPECT_NEAR(std::stod(row[5 + axis]), body["origin"][axis].get<double>(), 1e-6);
+                EXPECT_NEAR(std::stod(row[8 + axis]), body["centreOfMass"][axis].get<double>(),
+                            1e-6);
+                EXPECT_NEAR(std::stod(row[15 + axis]), body["linearVelocity"][axis].get<double>(),
+                            1e-6);
+                EXPECT_NEAR(std::stod(row[22 + axis]), body["force"][axis].get<double>(), 1e-5);
+            }
+            EXPECT_NEAR(std::stod(row[21]), body["submergedShare"].get<double>(), 1e-7);
+        }
+}
+
 // A scene with dynamic bodies: the start-up lines name them, every statistics row has each
-// body's state, and each PLY frame has a body-transforms file whose matrix places the body's
-// asset frame where the statistics put its centre of mass. (Here, through play(): the bodies'
-// shaders fill Mesa caches that LeakSanitizer would report without the driver preloaded.)
+// body's state, each PLY frame has a body-transforms file whose matrix places the body's asset
+// frame at its origin, and --bodies-csv has a row per recorded step and body with the same
+// figures under the same names. (Here, through play(): the bodies' shaders fill Mesa caches
+// that LeakSanitizer would report without the driver preloaded.)
 TEST(SluicePlayBodies, WritesEachBodysStateAndTransformsBesideThePlyFrames) {
     const fs::path dir = tempDir("bodies");
     const auto result =
         play(dir, {(kAssets / "float.json").string(), "--headless", "--steps", "4", "--stats-every",
                    "2", "--deterministic", "--stats-json", (dir / "stats.json").string(),
-                   "--dump-ply", (dir / "ply").string(), "--dump-every", "2"});
+                   "--dump-ply", (dir / "ply").string(), "--dump-every", "2", "--bodies-csv",
+                   (dir / "bodies.csv").string()});
     ASSERT_EQ(result.code, 0) << shown(result);
     EXPECT_NE(result.out.find("body: collider 1, 0.432 kg, 1.728 L"), std::string::npos)
         << result.out;
@@ -293,12 +339,23 @@ TEST(SluicePlayBodies, WritesEachBodysStateAndTransformsBesideThePlyFrames) {
     ASSERT_EQ(frame["bodies"].size(), 4u);
     const auto& crate = frame["bodies"][0];
     EXPECT_EQ(crate["asset"].get<std::string>(), "crate.slc");
-    // The crate mesh's centre of mass is its origin, so the matrix's translation column is the
-    // centre of mass of the statistics.
-    for (int axis = 0; axis < 3; ++axis)
-        EXPECT_NEAR(crate["matrix"][axis][3].get<double>(),
-                    bodies[0]["position"][axis].get<double>(), 1e-6);
+    // The same names for the same things: origin and centre of mass in both files (the crate
+    // mesh's centre of mass is its origin), and the matrix's translation column is the origin.
+    for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_NEAR(crate["matrix"][axis][3].get<double>(), crate["origin"][axis].get<double>(),
+                    1e-6);
+        EXPECT_NEAR(crate["origin"][axis].get<double>(), bodies[0]["origin"][axis].get<double>(),
+                    1e-6);
+        EXPECT_NEAR(crate["centreOfMass"][axis].get<double>(),
+                    bodies[0]["centreOfMass"][axis].get<double>(), 1e-6);
+        EXPECT_NEAR(bodies[0]["origin"][axis].get<double>(),
+                    bodies[0]["centreOfMass"][axis].get<double>(), 1e-5);
+    }
+    for (int c = 0; c < 4; ++c)
+        EXPECT_NEAR(crate["orientation"][c].get<double>(),
+                    bodies[0]["orientation"][c].get<double>(), 1e-6);
     EXPECT_EQ(crate["matrix"][3], nlohmann::json::parse("[0.0, 0.0, 0.0, 1.0]"));
+    expectCsvMatchesStatistics(testrun::readText(dir / "bodies.csv"), stats);
 }
 
 } // namespace

@@ -418,5 +418,69 @@ TEST_F(RenderTest, StatisticsProbeAgreesWithTheSolversStatistics) {
     EXPECT_FALSE(probe->poll()); // nothing new
 }
 
+// Pixel distance from (px, py) to the segment a-b (pixel coordinates).
+float segmentDistance(glm::vec2 p, glm::vec2 a, glm::vec2 b) {
+    const glm::vec2 ab = b - a;
+    const float t =
+        glm::clamp(glm::dot(p - a, ab) / std::max(glm::dot(ab, ab), 1e-12f), 0.0f, 1.0f);
+    return glm::length(p - (a + t * ab));
+}
+
+// The domain box's edges: drawn where the scene has a box, on the projections of its twelve
+// edges and nowhere else; a scene without a box draws nothing more.
+TEST_F(RenderTest, DomainBoxEdgesAreDrawnOnTheProjectedEdgesOnly) {
+    const glm::vec3 lo{-0.15f, 0.0f, -0.15f};
+    const glm::vec3 hi{0.15f, 0.3f, 0.15f};
+    Stage stage(R"({
+        "simulation": { "spacing": 0.02 },
+        "fluid": [ { "box": { "min": [-0.04, 0.0, -0.04], "max": [0.04, 0.08, 0.04] } } ],
+        "domain": { "min": [-0.15, 0.0, -0.15], "max": [0.15, 0.3, 0.15] },
+        "camera": { "position": [0.7, 0.5, 0.8], "target": [0.0, 0.12, 0.0], "fov": 45 }
+    })");
+    ASSERT_TRUE(stage.ok());
+    RenderSettings off;
+    off.drawDomainBox = false;
+    const Image with = stage.draw();
+    const Image without = stage.draw(off);
+    std::vector<std::pair<glm::vec2, glm::vec2>> edges;
+    float length = 0.0f;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int which = 0; which < 4; ++which) {
+            glm::vec3 a, b;
+            for (int k = 0; k < 3; ++k) {
+                const int bit = k == (axis + 1) % 3   ? (which & 1)
+                                : k == (axis + 2) % 3 ? (which >> 1) & 1
+                                                      : 0;
+                a[k] = bit ? hi[k] : lo[k];
+                b[k] = k == axis ? hi[k] : a[k];
+            }
+            const glm::vec2 pa(stage.camera.project(a, kSize));
+            const glm::vec2 pb(stage.camera.project(b, kSize));
+            edges.emplace_back(pa, pb);
+            length += glm::length(pb - pa);
+        }
+    std::size_t drawn = 0;
+    std::size_t astray = 0;
+    for (std::uint32_t y = 0; y < kSize.y; ++y)
+        for (std::uint32_t x = 0; x < kSize.x; ++x) {
+            if (!pixelDiffers(with, without, x, y))
+                continue;
+            ++drawn;
+            float nearest = 1e9f;
+            for (const auto& [a, b] : edges)
+                nearest = std::min(nearest, segmentDistance({x + 0.5f, y + 0.5f}, a, b));
+            astray += nearest > 1.5f;
+        }
+    // The near edges are all in view; the bottom ones lie on the floor and the far ones partly
+    // behind the water, so at least a third of the total length shows.
+    EXPECT_GT(double(drawn), 0.33 * double(length)) << drawn << " pixels for " << length;
+    EXPECT_EQ(astray, 0u) << "of " << drawn;
+
+    Stage open(kBlockScene); // no domain box: nothing to draw
+    ASSERT_TRUE(open.ok());
+    const ImageDiff same = compareImages(open.draw(), open.draw(off));
+    EXPECT_EQ(same.maxChannel, 0);
+}
+
 } // namespace
 } // namespace sluice::rt

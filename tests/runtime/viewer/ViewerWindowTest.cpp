@@ -297,5 +297,55 @@ TEST(ViewerWindow, WithoutADisplayItSaysHowToRunHeadlessAndExitsThree) {
     EXPECT_NE(err.find("--headless"), std::string::npos) << err;
 }
 
+// A --screenshot-at step the window never shows (here --max-frames shows steps 0 to 2) is an
+// error naming it, not a silent success; one frame more writes it.
+TEST(ViewerWindow, AScreenshotTheWindowNeverShowedFailsTheRunSayingSo) {
+    if (!haveXvfb())
+        GTEST_SKIP() << "xvfb-run is not installed (Debian: apt-get install xvfb)";
+    const fs::path dir = tempDir("lost-screenshot");
+    const std::string scene = (kAssets / "martin-moyce.json").string();
+    const fs::path shot = dir / "shots" / "martin-moyce-000003.png";
+    const auto lost = playInWindow(dir, {scene, "--max-frames", "3", "--size", "320x240",
+                                         "--no-vsync", "--screenshot-at", "3", "--shots", "shots"});
+    EXPECT_EQ(lost.code, 2) << testrun::shown(lost);
+    EXPECT_NE(lost.err.find("--screenshot-at 3: no screenshot was written: the window closed "
+                            "before showing that step"),
+              std::string::npos)
+        << lost.err;
+    EXPECT_FALSE(fs::exists(shot));
+    const auto written =
+        playInWindow(dir, {scene, "--max-frames", "4", "--size", "320x240", "--no-vsync",
+                           "--screenshot-at", "3", "--shots", "shots"});
+    EXPECT_EQ(written.code, 0) << testrun::shown(written);
+    EXPECT_EQ(readPng(shot).width, 320u);
+}
+
+// Ctrl-C (SIGINT) closes the window after the current frame with its captures written: every
+// frame the run says it captured is on disk, and the exit code is 130.
+TEST(ViewerWindow, SigintClosesTheWindowWithItsCapturesWritten) {
+    if (!haveXvfb())
+        GTEST_SKIP() << "xvfb-run is not installed (Debian: apt-get install xvfb)";
+    const fs::path dir = tempDir("window-sigint");
+    std::string command = "cd " + quote(dir.string()) +
+                          " && xvfb-run -a -s '-screen 0 640x480x24' timeout --preserve-status "
+                          "-s INT 12 " +
+                          quote(SLUICE_PLAY_EXE) + " " +
+                          quote((kAssets / "martin-moyce.json").string()) +
+                          " --size 160x120 --no-vsync --frames f >stdout.txt 2>stderr.txt";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    const std::string out = testrun::readText(dir / "stdout.txt");
+    const std::string err = testrun::readText(dir / "stderr.txt");
+    EXPECT_EQ(WEXITSTATUS(status), 130) << out << err;
+    EXPECT_NE(err.find("SIGINT: the window closed at step"), std::string::npos) << err;
+    const auto at = out.find("captured ");
+    ASSERT_NE(at, std::string::npos) << out;
+    const std::size_t captured = std::stoul(out.substr(at + 9));
+    std::size_t files = 0;
+    for (const auto& entry : fs::directory_iterator(dir / "f"))
+        files += entry.path().extension() == ".png";
+    EXPECT_EQ(files, captured) << out;
+}
+
 } // namespace
 } // namespace sluice::rt

@@ -13,8 +13,8 @@
 #include <glm/glm.hpp>
 
 #include "sluice/format/asset/ColliderAsset.h"
-#include "sluice/format/support/Result.h"
 #include "sluice/format/scene/Scene.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Gl.h"
 #include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/OrbitCamera.h"
@@ -55,6 +55,9 @@ struct RenderSettings {
     /// collider behind it) as glass, so the fluid inside stays visible.
     bool glassWalls = true;
     bool drawFloor = true;
+    /// The domain box's twelve edges as lines, so water the box's walls hold does not float in
+    /// space (a scene without a domain box has none to draw). --no-domain-box turns them off.
+    bool drawDomainBox = true;
     /// Spheres: the ones that cover at most 8 x 8 pixels drawn by a compute pass (the same
     /// pixels as the rasterised impostors, at a fraction of the cost where the GPU has little
     /// rasteriser or the spheres are tiny); false rasterises every sphere.

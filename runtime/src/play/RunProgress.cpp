@@ -1,0 +1,94 @@
+// The progress line and the slow-run estimate.
+#include "play/RunProgress.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <unistd.h>
+
+namespace sluice::rt {
+namespace {
+
+// [us] CPU time of one particle through one substep on llvmpipe, all passes: 10.7 to 14.2 for
+// the shipped fluid scenes (dam-break, drop, martin-moyce, wave-sphere; 22 with crates) on a
+// 2-vCPU AMD EPYC (docs/performance.md, "What a run costs on llvmpipe"). A run's wall time is
+// about this x particles x substeps x steps / cores.
+constexpr double kLlvmpipeCoreMicrosPerParticleSubstep = 13.0;
+
+} // namespace
+
+RunProgress::RunProgress(std::uint64_t totalSteps, bool show)
+    : m_total(totalSteps), m_show(show), m_start(std::chrono::steady_clock::now()),
+      m_lastDraw(m_start) {}
+
+bool RunProgress::stderrIsTerminal() {
+    return ::isatty(STDERR_FILENO) == 1;
+}
+
+void RunProgress::update(std::uint64_t step) {
+    if (!m_show)
+        return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - m_lastDraw < std::chrono::milliseconds(500) && step != m_total)
+        return;
+    m_lastDraw = now;
+    const double elapsed = std::chrono::duration<double>(now - m_start).count();
+    const double rate = elapsed > 0.0 ? double(step) / elapsed : 0.0;
+    const double left = rate > 0.0 ? double(m_total - std::min(step, m_total)) / rate : 0.0;
+    std::fprintf(stderr, "\r\033[Ksluice-play: step %llu / %llu (%.0f %%), %.3g steps/s, %s left",
+                 static_cast<unsigned long long>(step), static_cast<unsigned long long>(m_total),
+                 100.0 * double(step) / double(std::max<std::uint64_t>(m_total, 1)), rate,
+                 formatDuration(left).c_str());
+    std::fflush(stderr);
+    m_drawn = true;
+}
+
+void RunProgress::clear() {
+    if (!m_drawn)
+        return;
+    std::fputs("\r\033[K", stderr);
+    std::fflush(stderr);
+    m_drawn = false;
+}
+
+std::string formatDuration(double seconds) {
+    if (!(seconds >= 0.0) || !std::isfinite(seconds))
+        return "?";
+    const auto total = static_cast<unsigned long long>(std::llround(seconds));
+    char text[48];
+    if (total < 60)
+        std::snprintf(text, sizeof text, "%llu s", total);
+    else if (total < 3600)
+        std::snprintf(text, sizeof text, "%llu:%02llu", total / 60, total % 60);
+    else
+        std::snprintf(text, sizeof text, "%llu:%02llu:%02llu", total / 3600, total / 60 % 60,
+                      total % 60);
+    return text;
+}
+
+bool isSoftwareRenderer(const std::string& renderer) {
+    for (const char* name : {"llvmpipe", "softpipe", "SwiftShader", "lavapipe"})
+        if (renderer.find(name) != std::string::npos)
+            return true;
+    return false;
+}
+
+std::optional<std::string> slowRunWarning(const std::string& renderer, std::uint64_t particles,
+                                          std::uint64_t substeps, std::uint64_t steps,
+                                          unsigned cores) {
+    if (!isSoftwareRenderer(renderer))
+        return std::nullopt;
+    const double seconds = kLlvmpipeCoreMicrosPerParticleSubstep * 1e-6 * double(particles) *
+                           double(substeps) * double(steps) / double(std::max(cores, 1u));
+    if (seconds <= kSlowRunSeconds)
+        return std::nullopt;
+    return "this run would take about " + formatDuration(seconds) + " on " + renderer +
+           " (software OpenGL on " + std::to_string(cores) +
+           " CPU cores: " + std::to_string(particles) + " particles x " + std::to_string(steps) +
+           " steps of " + std::to_string(substeps) +
+           " substeps); fewer --steps or particles, or a GPU, make "
+           "it shorter";
+}
+
+} // namespace sluice::rt

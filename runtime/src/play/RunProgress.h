@@ -1,0 +1,52 @@
+// What a long headless run tells the person waiting for it: a progress line on a terminal, and
+// before it starts, a warning when a software renderer would take minutes.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace sluice::rt {
+
+/// A one-line "step S / N, R steps/s, T left" on stderr, redrawn in place at most twice a
+/// second, only when stderr is a terminal (a log file or a pipe gets none of it).
+class RunProgress {
+public:
+    /// `show` false: every call does nothing.
+    RunProgress(std::uint64_t totalSteps, bool show);
+
+    /// After step `step` of the run.
+    void update(std::uint64_t step);
+    /// Erases the line, so that what is printed next starts on a clean line.
+    void clear();
+
+    /// True when stderr is a terminal (isatty).
+    static bool stderrIsTerminal();
+
+private:
+    std::uint64_t m_total;
+    bool m_show;
+    bool m_drawn = false;
+    std::chrono::steady_clock::time_point m_start;
+    std::chrono::steady_clock::time_point m_lastDraw;
+};
+
+/// "1:05:09", "4:07" or "12 s": a duration for people.
+std::string formatDuration(double seconds);
+
+/// Software OpenGL (Mesa's llvmpipe or softpipe, SwiftShader) by its GL_RENDERER string.
+bool isSoftwareRenderer(const std::string& renderer);
+
+/// Above this many seconds a run on a software renderer is warned about before it starts.
+inline constexpr double kSlowRunSeconds = 180.0;
+
+/// The warning for a run of `steps` steps of `substeps` substeps over `particles` particles on
+/// `renderer` with `cores` CPU cores when its estimated time passes kSlowRunSeconds; nothing on
+/// a GPU or for a shorter run. The estimate is linear in particles x substeps x steps, with the
+/// cost per particle-substep measured on llvmpipe (docs/performance.md), shared over the cores.
+std::optional<std::string> slowRunWarning(const std::string& renderer, std::uint64_t particles,
+                                          std::uint64_t substeps, std::uint64_t steps,
+                                          unsigned cores);
+
+} // namespace sluice::rt
