@@ -1,0 +1,79 @@
+// The fluid's surface as a triangle mesh, reconstructed from particles on the GPU: a smooth
+// field from the particles (an SPH colour field), sampled only in the blocks of a grid that the
+// particles reach, then contoured into a closed, manifold mesh with shared vertices and normals
+// (docs/surfaces.md).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "sluice/format/support/Result.h"
+#include "sluice/gpu/Buffer.h"
+
+namespace sluice::rt {
+
+/// A triangle mesh: vertices with unit normals, counter-clockwise triangles seen from outside.
+struct SurfaceMesh {
+    std::vector<glm::vec3> vertices;   ///< [m]
+    std::vector<glm::vec3> normals;    ///< unit, pointing out of the fluid
+    std::vector<glm::uvec3> triangles; ///< vertex indices
+    glm::vec3 gridOrigin{0.0f};        ///< where the sample grid started [m]
+    float cellSize = 0.0f;             ///< its spacing [m]
+    std::uint64_t storedSamples = 0;   ///< samples held (blocks the particles reach x 512)
+};
+
+/// How a surface is reconstructed. Zeros take the defaults, all derived from the radius.
+struct SurfaceOptions {
+    float particleRadius = 0.0f; ///< [m], > 0: half the particle spacing
+    float cellSize = 0.0f;       ///< sample spacing [m]; 0: the particle radius
+    /// The kernel's support [m]; 0: four particle radii (two spacings, the solver's own).
+    float smoothingRadius = 0.0f;
+    /// The surface's field value, as a share of the field inside a resting block of particles
+    /// on their lattice (which is 1): 0.5 puts a flat surface where the block ends, half a
+    /// spacing beyond its outer particles' centres. 0: 0.5.
+    float iso = 0.0f;
+};
+
+/// The options with every default filled in; InvalidArgument naming the option for a value
+/// that is not finite and positive (iso in (0, 4)), or for a cell larger than the support.
+Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options);
+
+/// Reconstructs surfaces from particles. Needs a current GL 4.5 context for its whole life.
+class SurfaceReconstructor {
+public:
+    /// Compiles the passes. ShaderCompile / ShaderLink with the driver's log.
+    static Result<SurfaceReconstructor> create();
+
+    SurfaceReconstructor(SurfaceReconstructor&&) noexcept;
+    SurfaceReconstructor& operator=(SurfaceReconstructor&&) noexcept;
+    ~SurfaceReconstructor();
+
+    /// The surface of `count` particles whose positions are the xyz of the vec4s in
+    /// `positions` (the solver's layout). Waits for the GPU (it reads back the sizes and the
+    /// mesh). InvalidArgument for bad options or non-finite positions; SizeOverflow when the
+    /// grid over the particles' bounds would pass 2^24 blocks of 8^3 samples (the particles
+    /// spread over too large a region for this cell size) or a buffer its GL's limit;
+    /// GpuOutOfMemory when the GL cannot allocate it. No particles: an empty mesh.
+    Result<SurfaceMesh> reconstruct(const gpu::Buffer& positions, std::uint32_t count,
+                                    const SurfaceOptions& options);
+
+    /// The same for positions on the CPU (uploaded first).
+    Result<SurfaceMesh> reconstruct(std::span<const glm::vec3> points,
+                                    const SurfaceOptions& options);
+
+private:
+    struct Impl;
+    explicit SurfaceReconstructor(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> m_impl;
+};
+
+/// Writes `mesh` as a binary little-endian PLY (float x y z nx ny nz per vertex, a uchar count
+/// and uint indices per face), atomically: Blender, Houdini and MeshLab read it. Io on failure.
+Result<void> writeSurfacePly(const std::filesystem::path& path, const SurfaceMesh& mesh);
+
+} // namespace sluice::rt

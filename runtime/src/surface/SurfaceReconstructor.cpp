@@ -1,0 +1,359 @@
+// The surface passes: mark the blocks the particles reach, number them, splat the field into
+// them, count each block's vertices and triangles, number those, write them (docs/surfaces.md).
+#include "sluice/rt/surface/SurfaceMesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "shared/Surface.h"
+#include "sim/PrefixScan.h"
+#include "sluice/gpu/Program.h"
+#include "sluice/rt/RuntimeShaders.h"
+
+namespace sluice::rt {
+namespace {
+
+namespace sh = shared;
+
+// [blocks] most blocks of 8^3 samples the grid over the particles' bounds may have: its flag
+// and slot arrays are 128 MiB then.
+constexpr std::uint64_t kMaxBlocks = std::uint64_t{1} << 24;
+constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
+
+enum Pass : std::size_t { Mark, Compact, Splat, Count, Vertices, Triangles, PassCount };
+constexpr std::array<const char*, PassCount> kPassFiles = {
+    "surface_mark.comp",  "surface_compact.comp",  "surface_splat.comp",
+    "surface_count.comp", "surface_vertices.comp", "surface_triangles.comp"};
+
+bool positiveFinite(float v) {
+    return std::isfinite(v) && v > 0.0f;
+}
+
+/// The sample grid over the particles: origin on the global lattice of the cell size (so the
+/// same particles give the same samples wherever the run is), and sizes.
+struct Grid {
+    glm::vec3 origin{0.0f};
+    glm::ivec3 samples{0};
+    glm::ivec3 blocks{0};
+    std::uint64_t blockCount = 0;
+};
+
+Result<Grid> gridOver(glm::vec3 lo, glm::vec3 hi, const SurfaceOptions& o) {
+    const float margin = o.smoothingRadius + 3.0f * o.cellSize;
+    Grid g;
+    const glm::vec3 first = glm::floor((lo - margin) / o.cellSize);
+    g.origin = first * o.cellSize;
+    const glm::vec3 last = glm::ceil((hi + margin) / o.cellSize);
+    const glm::dvec3 samples = glm::dvec3(last) - glm::dvec3(first) + 1.0;
+    const glm::dvec3 blocks = glm::ceil(samples / double(sh::kSurfaceBlockSide));
+    const double blockCount = blocks.x * blocks.y * blocks.z;
+    if (!(blockCount <= double(kMaxBlocks)))
+        return fail(ErrorCode::SizeOverflow,
+                    "surface: the particles span " + std::to_string(hi.x - lo.x) + " x " +
+                        std::to_string(hi.y - lo.y) + " x " + std::to_string(hi.z - lo.z) +
+                        " m, more than " + std::to_string(kMaxBlocks) + " blocks of " +
+                        std::to_string(sh::kSurfaceBlockSide) + "^3 cells of " +
+                        std::to_string(o.cellSize) + " m; use a larger cell size");
+    g.samples = glm::ivec3(samples);
+    g.blocks = glm::ivec3(blocks);
+    g.blockCount = std::uint64_t(blockCount);
+    return g;
+}
+
+Result<gpu::Buffer> uintBuffer(std::uint64_t count, const char* label) {
+    if (count > std::numeric_limits<std::uint32_t>::max() / 4)
+        return fail(ErrorCode::SizeOverflow, std::string("surface: ") + label + " would hold " +
+                                                 std::to_string(count) +
+                                                 " entries, past the 2^30 a buffer may");
+    auto buffer = gpu::Buffer::create(std::max<std::uint64_t>(count, 1) * 4, label);
+    if (buffer)
+        buffer->clear();
+    return buffer;
+}
+
+std::uint32_t readUint(const gpu::Buffer& buffer, std::uint64_t index) {
+    std::uint32_t value = 0;
+    buffer.download(&value, sizeof value, index * sizeof value);
+    return value;
+}
+
+void barrier() {
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+} // namespace
+
+Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {
+    SurfaceOptions o = options;
+    if (!positiveFinite(o.particleRadius))
+        return fail(ErrorCode::InvalidArgument, "surface: the particle radius " +
+                                                    std::to_string(o.particleRadius) +
+                                                    " is not a positive number");
+    const auto orDefault = [](float& value, float fallback, const char* name) -> Result<void> {
+        if (value == 0.0f)
+            value = fallback;
+        if (!positiveFinite(value))
+            return fail(ErrorCode::InvalidArgument, std::string("surface: ") + name + " " +
+                                                        std::to_string(value) +
+                                                        " is not a positive number");
+        return {};
+    };
+    if (auto ok = orDefault(o.cellSize, o.particleRadius, "the cell size"); !ok)
+        return ok.error();
+    if (auto ok = orDefault(o.smoothingRadius, 4.0f * o.particleRadius, "the smoothing radius");
+        !ok)
+        return ok.error();
+    if (auto ok = orDefault(o.iso, 0.5f, "the iso value"); !ok)
+        return ok.error();
+    if (o.iso >= 4.0f)
+        return fail(ErrorCode::InvalidArgument,
+                    "surface: the iso value " + std::to_string(o.iso) +
+                        " is not below 4 (it is a share of the field inside the fluid, 1)");
+    if (o.cellSize > o.smoothingRadius)
+        return fail(ErrorCode::InvalidArgument,
+                    "surface: the cell size " + std::to_string(o.cellSize) +
+                        " is larger than the smoothing radius " +
+                        std::to_string(o.smoothingRadius) + ": the field would be missed");
+    return o;
+}
+
+struct SurfaceReconstructor::Impl {
+    std::array<gpu::Program, PassCount> passes;
+    std::optional<PrefixScan> scan;
+    std::uint32_t scanCapacity = 0;
+
+    const gpu::Program& pass(Pass p) const { return passes[p]; }
+
+    Result<void> ensureScan(std::uint64_t count) {
+        if (scan && count <= scanCapacity)
+            return {};
+        auto created = PrefixScan::create(std::uint32_t(count));
+        if (!created)
+            return created.error();
+        scan.emplace(std::move(*created));
+        scanCapacity = std::uint32_t(count);
+        return {};
+    }
+
+    void setGrid(const Grid& g, const SurfaceOptions& o) const {
+        const float volume = 8.0f * o.particleRadius * o.particleRadius * o.particleRadius;
+        const auto iso = std::uint32_t(std::floor(double(o.iso) * sh::kSurfaceFixedScale));
+        for (const gpu::Program& p : passes) {
+            p.set("uOrigin", g.origin);
+            p.set("uCell", o.cellSize);
+            p.set("uSamples", g.samples);
+            p.set("uBlocks", g.blocks);
+            p.set("uSupport", o.smoothingRadius);
+            p.set("uVolume", volume);
+            p.set("uIsoFixed", iso);
+        }
+    }
+
+    Result<void> field(const gpu::Buffer& positions, std::uint32_t count, const Grid& g,
+                       struct Work& work);
+    Result<void> contour(struct Work& work);
+    SurfaceMesh download(const struct Work& work, const Grid& g) const;
+};
+
+/// The buffers of one reconstruction.
+struct Work {
+    gpu::Buffer flags, slots, active, field;
+    gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleEdges;
+    gpu::Buffer vertices, triangles;
+    std::uint32_t activeBlocks = 0;
+    std::uint32_t vertexCount = 0;
+    std::uint32_t triangleCount = 0;
+};
+
+/// Marks the blocks, numbers them, and splats the particles into the field.
+Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std::uint32_t count,
+                                               const Grid& g, Work& w) {
+    auto flags = uintBuffer(g.blockCount, "surface block flags");
+    auto slots = uintBuffer(g.blockCount, "surface block slots");
+    if (!flags || !slots)
+        return !flags ? flags.error() : slots.error();
+    w.flags = std::move(*flags);
+    w.slots = std::move(*slots);
+    if (auto ok = ensureScan(g.blockCount); !ok)
+        return ok;
+    positions.bindStorage(sh::kSurfBindPoints);
+    w.flags.bindStorage(sh::kSurfBindBlockFlag);
+    const std::uint32_t particleGroups = gpu::groupCount(count, sh::kSurfaceLocalSize);
+    pass(Mark).set("uCount", count);
+    pass(Mark).dispatchChunked(glm::uvec3(particleGroups, 1, 1), kMaxGroupsPerDispatch);
+    barrier();
+    scan->exclusive(w.flags, w.slots, std::uint32_t(g.blockCount));
+    barrier();
+    w.activeBlocks = readUint(w.slots, g.blockCount - 1) + readUint(w.flags, g.blockCount - 1);
+    auto active = uintBuffer(w.activeBlocks, "surface blocks");
+    auto field =
+        uintBuffer(std::uint64_t(w.activeBlocks) * sh::kSurfaceBlockSamples, "surface field");
+    if (!active || !field)
+        return !active ? active.error() : field.error();
+    w.active = std::move(*active);
+    w.field = std::move(*field);
+    w.flags.bindStorage(sh::kSurfBindBlockFlag);
+    w.slots.bindStorage(sh::kSurfBindBlockSlot);
+    w.active.bindStorage(sh::kSurfBindActive);
+    w.field.bindStorage(sh::kSurfBindField);
+    pass(Compact).set("uCount", std::uint32_t(g.blockCount));
+    pass(Compact).dispatchChunked(
+        glm::uvec3(gpu::groupCount(g.blockCount, sh::kSurfaceLocalSize), 1, 1),
+        kMaxGroupsPerDispatch);
+    positions.bindStorage(sh::kSurfBindPoints);
+    pass(Splat).set("uCount", count);
+    pass(Splat).dispatchChunked(glm::uvec3(particleGroups, 1, 1), kMaxGroupsPerDispatch);
+    barrier();
+    return {};
+}
+
+/// Counts, numbers and writes the vertices and triangles of the stored blocks.
+Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
+    const std::uint32_t n = w.activeBlocks;
+    const std::uint64_t samples = std::uint64_t(n) * sh::kSurfaceBlockSamples;
+    const char* labels[] = {"surface block vertices",  "surface block triangles",
+                            "surface vertex bases",    "surface triangle bases",
+                            "surface sample vertices", "surface sample edges"};
+    gpu::Buffer* targets[] = {&w.blockVerts, &w.blockTris,  &w.vertBase,
+                              &w.triBase,    &w.sampleVert, &w.sampleEdges};
+    for (std::size_t i = 0; i < 6; ++i) {
+        auto buffer = uintBuffer(i < 4 ? n : samples, labels[i]);
+        if (!buffer)
+            return buffer.error();
+        *targets[i] = std::move(*buffer);
+    }
+    const glm::uvec3 groups(n, 1, 1);
+    w.blockVerts.bindStorage(sh::kSurfBindBlockVerts);
+    w.blockTris.bindStorage(sh::kSurfBindBlockTris);
+    pass(Count).set("uCount", n);
+    pass(Count).dispatchChunked(groups, kMaxGroupsPerDispatch);
+    barrier();
+    if (auto ok = ensureScan(n); !ok)
+        return ok;
+    scan->exclusive(w.blockVerts, w.vertBase, n);
+    scan->exclusive(w.blockTris, w.triBase, n);
+    barrier();
+    w.vertexCount = readUint(w.vertBase, n - 1) + readUint(w.blockVerts, n - 1);
+    w.triangleCount = readUint(w.triBase, n - 1) + readUint(w.blockTris, n - 1);
+    auto vertices = gpu::Buffer::create(
+        std::max<std::uint64_t>(w.vertexCount, 1) * sizeof(sh::SurfaceVertex), "surface vertices");
+    auto triangles = uintBuffer(3 * std::uint64_t(w.triangleCount), "surface triangles");
+    if (!vertices || !triangles)
+        return !vertices ? vertices.error() : triangles.error();
+    w.vertices = std::move(*vertices);
+    w.triangles = std::move(*triangles);
+    // The scans bound their own buffers: bind the grid's again.
+    w.flags.bindStorage(sh::kSurfBindBlockFlag);
+    w.slots.bindStorage(sh::kSurfBindBlockSlot);
+    w.active.bindStorage(sh::kSurfBindActive);
+    w.field.bindStorage(sh::kSurfBindField);
+    w.vertBase.bindStorage(sh::kSurfBindVertBase);
+    w.triBase.bindStorage(sh::kSurfBindTriBase);
+    w.sampleVert.bindStorage(sh::kSurfBindSampleVert);
+    w.sampleEdges.bindStorage(sh::kSurfBindSampleEdges);
+    w.vertices.bindStorage(sh::kSurfBindVertices);
+    w.triangles.bindStorage(sh::kSurfBindTriangles);
+    pass(Vertices).set("uCount", n);
+    pass(Vertices).dispatchChunked(groups, kMaxGroupsPerDispatch);
+    barrier();
+    pass(Triangles).set("uCount", n);
+    pass(Triangles).dispatchChunked(groups, kMaxGroupsPerDispatch);
+    barrier();
+    return {};
+}
+
+SurfaceMesh SurfaceReconstructor::Impl::download(const Work& w, const Grid& g) const {
+    SurfaceMesh mesh;
+    mesh.gridOrigin = g.origin;
+    mesh.storedSamples = std::uint64_t(w.activeBlocks) * sh::kSurfaceBlockSamples;
+    const auto vertices = w.vertices.download<sh::SurfaceVertex>(0, w.vertexCount);
+    mesh.vertices.reserve(vertices.size());
+    mesh.normals.reserve(vertices.size());
+    for (const sh::SurfaceVertex& v : vertices) {
+        mesh.vertices.emplace_back(v.position);
+        mesh.normals.emplace_back(v.normal);
+    }
+    const auto indices = w.triangles.download<std::uint32_t>(0, 3 * std::uint64_t(w.triangleCount));
+    mesh.triangles.reserve(w.triangleCount);
+    for (std::size_t t = 0; t < w.triangleCount; ++t)
+        mesh.triangles.emplace_back(indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]);
+    return mesh;
+}
+
+SurfaceReconstructor::SurfaceReconstructor(std::unique_ptr<Impl> impl) : m_impl(std::move(impl)) {}
+SurfaceReconstructor::SurfaceReconstructor(SurfaceReconstructor&&) noexcept = default;
+SurfaceReconstructor& SurfaceReconstructor::operator=(SurfaceReconstructor&&) noexcept = default;
+SurfaceReconstructor::~SurfaceReconstructor() = default;
+
+Result<SurfaceReconstructor> SurfaceReconstructor::create() {
+    auto impl = std::make_unique<Impl>();
+    for (std::size_t p = 0; p < PassCount; ++p) {
+        auto program = gpu::Program::compute(kPassFiles[p], shaders::shaderSource(kPassFiles[p]));
+        if (!program)
+            return program.error();
+        impl->passes[p] = std::move(*program);
+    }
+    return SurfaceReconstructor(std::move(impl));
+}
+
+Result<SurfaceMesh> SurfaceReconstructor::reconstruct(const gpu::Buffer& positions,
+                                                      std::uint32_t count,
+                                                      const SurfaceOptions& options) {
+    auto o = resolveSurfaceOptions(options);
+    if (!o)
+        return o.error();
+    if (count == 0)
+        return SurfaceMesh{.cellSize = o->cellSize};
+    SLUICE_ASSERT(positions.size() >= std::size_t(count) * 16,
+                  "SurfaceReconstructor: fewer positions than count");
+    // The bounds on the CPU: one read of the positions, which the caller's export waits for
+    // anyway, and it finds non-finite ones before they size a grid.
+    const auto points = positions.download<glm::vec4>(0, count);
+    glm::vec3 lo(std::numeric_limits<float>::max());
+    glm::vec3 hi(std::numeric_limits<float>::lowest());
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const glm::vec3 p(points[i]);
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            return fail(ErrorCode::InvalidArgument,
+                        "surface: particle " + std::to_string(i) + " is not finite");
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    auto grid = gridOver(lo, hi, *o);
+    if (!grid)
+        return grid.error();
+    m_impl->setGrid(*grid, *o);
+    Work work;
+    if (auto ok = m_impl->field(positions, count, *grid, work); !ok)
+        return ok.error();
+    if (work.activeBlocks == 0)
+        return SurfaceMesh{.cellSize = o->cellSize};
+    if (auto ok = m_impl->contour(work); !ok)
+        return ok.error();
+    SurfaceMesh mesh = m_impl->download(work, *grid);
+    mesh.cellSize = o->cellSize;
+    return mesh;
+}
+
+Result<SurfaceMesh> SurfaceReconstructor::reconstruct(std::span<const glm::vec3> points,
+                                                      const SurfaceOptions& options) {
+    if (points.size() > std::numeric_limits<std::uint32_t>::max() / 16)
+        return fail(ErrorCode::SizeOverflow, "surface: " + std::to_string(points.size()) +
+                                                 " particles are more than a buffer holds");
+    std::vector<glm::vec4> padded;
+    padded.reserve(points.size());
+    for (const glm::vec3& p : points)
+        padded.emplace_back(p, 1.0f);
+    if (padded.empty())
+        padded.emplace_back(0.0f);
+    auto buffer = gpu::Buffer::createFrom(padded, "surface points");
+    if (!buffer)
+        return buffer.error();
+    return reconstruct(*buffer, std::uint32_t(points.size()), options);
+}
+
+} // namespace sluice::rt

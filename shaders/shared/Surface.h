@@ -1,0 +1,50 @@
+// Fluid surface reconstruction shared by C++ and GLSL (runtime/src/surface/): the sparse
+// sample grid's block size, the fixed-point field, the storage bindings and the vertex layout.
+// docs/surfaces.md has the algorithm.
+#ifndef SLUICE_SHARED_SURFACE_H
+#define SLUICE_SHARED_SURFACE_H
+
+#include "shared/GlslBridge.h"
+
+SLUICE_SHARED_BEGIN
+
+/// Samples along each side of a block: the grid is stored only in blocks that particles reach.
+SLUICE_CONST uint kSurfaceBlockSide = 8;
+/// Samples per block, and invocations per work group of the per-block passes.
+SLUICE_CONST uint kSurfaceBlockSamples = kSurfaceBlockSide * kSurfaceBlockSide * kSurfaceBlockSide;
+/// Invocations per work group of the per-particle and per-block-flag passes.
+SLUICE_CONST uint kSurfaceLocalSize = 128;
+/// Fixed-point scale of the field: each particle adds round(V W * scale) with an integer atomic,
+/// so the sums are the same in any order (deterministic) and hold up to 4096 times the bulk.
+SLUICE_CONST float kSurfaceFixedScale = 1048576.0;
+
+// Shader storage bindings.
+SLUICE_CONST uint kSurfBindPoints = 0;      ///< vec4 particle positions (xyz) [m]
+SLUICE_CONST uint kSurfBindBlockFlag = 1;   ///< uint per block of the grid: 1 where stored
+SLUICE_CONST uint kSurfBindBlockSlot = 2;   ///< uint per block: exclusive scan of the flags
+SLUICE_CONST uint kSurfBindActive = 3;      ///< uint per stored block: its block index
+SLUICE_CONST uint kSurfBindField = 4;       ///< uint per stored sample: fixed-point field
+SLUICE_CONST uint kSurfBindBlockVerts = 5;  ///< uint per stored block: vertices it owns
+SLUICE_CONST uint kSurfBindBlockTris = 6;   ///< uint per stored block: triangles of its cells
+SLUICE_CONST uint kSurfBindVertBase = 7;    ///< uint per stored block: first vertex (scanned)
+SLUICE_CONST uint kSurfBindTriBase = 8;     ///< uint per stored block: first triangle (scanned)
+SLUICE_CONST uint kSurfBindSampleVert = 9;  ///< uint per stored sample: its first vertex
+SLUICE_CONST uint kSurfBindSampleEdges = 10; ///< uint per stored sample: crossing edges, 7 bits
+SLUICE_CONST uint kSurfBindVertices = 11;   ///< SurfaceVertex per vertex
+SLUICE_CONST uint kSurfBindTriangles = 12;  ///< uint x3 per triangle
+
+/// One vertex of the mesh: on an edge of the sample grid where the field crosses the iso value.
+struct SurfaceVertex {
+    vec4 position; ///< xyz [m], w = 1
+    vec4 normal;   ///< xyz unit outward normal (down the field's gradient), w = 0
+};
+
+SLUICE_SHARED_END
+
+#ifdef __cplusplus
+#include <cstddef>
+static_assert(sizeof(sluice::shared::SurfaceVertex) == 32);
+static_assert(offsetof(sluice::shared::SurfaceVertex, normal) == 16);
+#endif
+
+#endif // SLUICE_SHARED_SURFACE_H

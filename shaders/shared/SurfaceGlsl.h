@@ -1,0 +1,122 @@
+// GLSL side of the surface passes: the grid's uniforms, the buffers, and the sample lookup
+// through the block map (0 outside the stored blocks).
+#ifndef SLUICE_SHARED_SURFACE_GLSL_H
+#define SLUICE_SHARED_SURFACE_GLSL_H
+
+#include "shared/ChunkedDispatch.h"
+#include "shared/Surface.h"
+
+uniform vec3 uOrigin;    // world position of sample (0, 0, 0) [m]
+uniform float uCell;     // sample spacing [m]
+uniform ivec3 uSamples;  // samples along each axis
+uniform ivec3 uBlocks;   // blocks along each axis
+uniform uint uCount;     // particles, or stored blocks in the per-block passes
+uniform float uSupport;  // kernel support radius [m]
+uniform float uVolume;   // particle volume [m^3]
+uniform uint uIsoFixed;  // iso value in field units, an odd multiple of 1/2 (never a sum)
+
+layout(std430, binding = kSurfBindBlockFlag) buffer BlockFlag { uint blockFlag[]; };
+layout(std430, binding = kSurfBindBlockSlot) buffer BlockSlot { uint blockSlot[]; };
+layout(std430, binding = kSurfBindActive) buffer Active { uint activeBlock[]; };
+layout(std430, binding = kSurfBindField) buffer Field { uint field[]; };
+
+uint blockIndex(ivec3 b) {
+    return uint(b.x) + uint(uBlocks.x) * (uint(b.y) + uint(uBlocks.y) * uint(b.z));
+}
+
+ivec3 blockCoord(uint index) {
+    uint bx = uint(uBlocks.x);
+    uint by = uint(uBlocks.y);
+    return ivec3(int(index % bx), int((index / bx) % by), int(index / (bx * by)));
+}
+
+// The local sample of invocation `lane` of a per-block pass (x fastest).
+ivec3 laneCoord(uint lane) {
+    return ivec3(int(lane & 7u), int((lane >> 3u) & 7u), int(lane >> 6u));
+}
+
+uint laneOf(ivec3 local) {
+    return uint(local.x) + 8u * (uint(local.y) + 8u * uint(local.z));
+}
+
+// Where sample s is stored, or 0xffffffff where it is not (outside the grid or its block).
+uint sampleSlot(ivec3 s) {
+    if (any(lessThan(s, ivec3(0))) || any(greaterThanEqual(s, uSamples)))
+        return 0xffffffffu;
+    ivec3 b = s / int(kSurfaceBlockSide);
+    uint index = blockIndex(b);
+    if (blockFlag[index] == 0u)
+        return 0xffffffffu;
+    return blockSlot[index] * kSurfaceBlockSamples + laneOf(s - b * int(kSurfaceBlockSide));
+}
+
+uint sampleValue(ivec3 s) {
+    uint slot = sampleSlot(s);
+    return slot == 0xffffffffu ? 0u : field[slot];
+}
+
+bool sampleInside(ivec3 s) {
+    return sampleValue(s) > uIsoFixed;
+}
+
+// Corner c of a cell (bit 0: +x, bit 1: +y, bit 2: +z).
+ivec3 cornerOffset(uint c) {
+    return ivec3(int(c & 1u), int((c >> 1u) & 1u), int((c >> 2u) & 1u));
+}
+
+// The crossing edges of sample s as 7 bits: bit d - 1 for the edge to s + cornerOffset(d),
+// d = 1..7 (the edges of the cube's Kuhn triangulation that start at s).
+uint crossingEdges(ivec3 s) {
+    bool inside = sampleInside(s);
+    uint mask = 0u;
+    for (uint d = 1u; d < 8u; ++d)
+        if (sampleInside(s + cornerOffset(d)) != inside)
+            mask |= 1u << (d - 1u);
+    return mask;
+}
+
+// Triangles of the cell whose lowest corner is s: over its six Kuhn tetrahedra (0, e_a,
+// e_a + e_b, 7 for every order a, b, c of the axes), one for a tetrahedron with one or three
+// corners inside, two for one with two.
+const uint kTetCorners[24] = uint[24](0u, 1u, 3u, 7u,  0u, 1u, 5u, 7u,  0u, 2u, 3u, 7u,
+                                      0u, 2u, 6u, 7u,  0u, 4u, 5u, 7u,  0u, 4u, 6u, 7u);
+
+uint cellInsideMask(ivec3 s) {
+    uint mask = 0u;
+    for (uint c = 0u; c < 8u; ++c)
+        if (sampleInside(s + cornerOffset(c)))
+            mask |= 1u << c;
+    return mask;
+}
+
+uint cellTriangles(uint insideMask) {
+    uint count = 0u;
+    for (uint t = 0u; t < 6u; ++t) {
+        uint k = 0u;
+        for (uint v = 0u; v < 4u; ++v)
+            k += (insideMask >> kTetCorners[4u * t + v]) & 1u;
+        count += k == 2u ? 2u : (k == 1u || k == 3u ? 1u : 0u);
+    }
+    return count;
+}
+
+// Work-group exclusive scan of one uint per invocation (kSurfaceBlockSamples invocations);
+// `total` gets the sum. Hillis-Steele over shared memory, every invocation must call it.
+shared uint scanTile[kSurfaceBlockSamples];
+
+uint groupExclusiveScan(uint lane, uint value, out uint total) {
+    scanTile[lane] = value;
+    barrier();
+    for (uint offset = 1u; offset < kSurfaceBlockSamples; offset <<= 1u) {
+        uint add = lane >= offset ? scanTile[lane - offset] : 0u;
+        barrier();
+        scanTile[lane] += add;
+        barrier();
+    }
+    total = scanTile[kSurfaceBlockSamples - 1u];
+    uint inclusive = scanTile[lane];
+    barrier();
+    return inclusive - value;
+}
+
+#endif // SLUICE_SHARED_SURFACE_GLSL_H
