@@ -20,6 +20,7 @@
 #include "sluice/format/support/CliErrors.h"
 #include "sluice/rt/render/Renderer.h"
 #include "sluice/rt/sim/Simulation.h"
+#include "sluice/rt/surface/SurfaceMesh.h"
 #include "viewer/Viewer.h"
 
 namespace sluice::rt {
@@ -51,6 +52,10 @@ struct PlayOptions {
     std::string statsJson;
     std::string plyDir;
     std::string bodiesCsv;
+    std::string surfaceDir;
+    std::uint64_t surfaceEvery = 1;
+    float surfaceCell = 0.0f;
+    float surfaceIso = 0.0f;
     std::uint64_t dumpEvery = 1;
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; // 0: chosen for the renderer and the scene
@@ -90,7 +95,7 @@ Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::
     const auto surface = parseSurfaceMode(o.surface);
     if (!surface)
         return fail(ErrorCode::InvalidArgument,
-                    "--surface " + o.surface + ": expected spheres or fluid");
+                    "--surface " + o.surface + ": expected spheres, fluid or mesh");
     settings.colour = *colour;
     settings.surface = *surface;
     settings.computeSmallSpheres = !o.rasterSpheres;
@@ -128,6 +133,10 @@ constexpr OptionUse kOptionUses[] = {
     {"--dump-ply", true, false, false},
     {"--dump-every", true, false, false},
     {"--bodies-csv", true, false, false},
+    {"--surface-mesh", true, false, false},
+    {"--surface-every", true, false, false},
+    {"--surface-cell", true, false, false},
+    {"--surface-iso", true, false, false},
     {"--check", true, false, false},
     {"--quiet", true, true, false},
     {"--warmup", false, false, true},
@@ -165,6 +174,10 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
             out.push_back(unusedOption(use.name, modeWords(mode)));
     if (mode == PlayMode::Headless && given("--dump-every") && o.plyDir.empty())
         out.push_back(unusedOption("--dump-every", "without --dump-ply"));
+    if (mode == PlayMode::Headless && o.surfaceDir.empty())
+        for (const char* name : {"--surface-every", "--surface-cell", "--surface-iso"})
+            if (given(name))
+                out.push_back(unusedOption(name, "without --surface-mesh"));
     if (mode != PlayMode::Bench && given("--every") && !o.capture.frames())
         out.push_back(unusedOption("--every", "without --frames or --video"));
     if (mode != PlayMode::Bench && given("--fps") && o.capture.video.empty())
@@ -194,6 +207,22 @@ void checkBodiesCsv(const CLI::App& app, const format::Scene& scene, PlayMode mo
             return;
     out.push_back(unusedOption("--bodies-csv", "for a scene without dynamic bodies (its table "
                                                "would have only the header)"));
+}
+
+/// --surface-cell and --surface-iso against the scene's particle radius, before anything runs.
+Result<void> checkSurfaceOptions(const PlayOptions& o, const format::Scene& scene, PlayMode mode) {
+    if (mode != PlayMode::Headless || o.surfaceDir.empty())
+        return {};
+    SurfaceOptions options;
+    options.particleRadius = 0.5f * scene.simulation.spacing;
+    options.cellSize = o.surfaceCell;
+    options.iso = o.surfaceIso;
+    auto resolved = resolveSurfaceOptions(options);
+    if (!resolved)
+        return fail(ErrorCode::InvalidArgument,
+                    "--surface-cell " + std::to_string(o.surfaceCell) + " / --surface-iso " +
+                        std::to_string(o.surfaceIso) + ": " + resolved.error().detail);
+    return {};
 }
 
 /// A --screenshot-at step the run never reaches.
@@ -265,6 +294,7 @@ std::vector<RunOutput> runOutputs(const PlayOptions& o, PlayMode mode) {
         outputs.push_back({"--stats-json", o.statsJson, false});
         outputs.push_back({"--dump-ply", o.plyDir, true});
         outputs.push_back({"--bodies-csv", o.bodiesCsv, false});
+        outputs.push_back({"--surface-mesh", o.surfaceDir, true});
     }
     return outputs;
 }
@@ -329,6 +359,10 @@ int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene 
     headless.statsJson = o.statsJson;
     headless.plyDir = o.plyDir;
     headless.bodiesCsv = o.bodiesCsv;
+    headless.surfaceDir = o.surfaceDir;
+    headless.surfaceEvery = o.surfaceEvery;
+    headless.surfaceCell = o.surfaceCell;
+    headless.surfaceIso = o.surfaceIso;
     headless.dumpEvery = o.dumpEvery;
     headless.deterministic = o.deterministic;
     headless.neighbourLanes = o.neighbourLanes;
@@ -358,6 +392,8 @@ int play(const CLI::App& app, const PlayOptions& o, PlayMode mode) {
     for (PlayWarning& warning : checkScene(loaded->scene, loaded->colliders))
         warnings.push_back(std::move(warning));
     checkBodiesCsv(app, loaded->scene, mode, warnings);
+    if (auto ok = checkSurfaceOptions(o, loaded->scene, mode); !ok)
+        return reportFailure(ok.error());
     if (auto stop = reportWarnings(warnings, o.strict))
         return *stop;
     if (auto ok = prepareRunOutputs(runOutputs(o, mode)); !ok)
@@ -390,6 +426,17 @@ void addRunOptions(CLI::App& app, PlayOptions& o) {
     app.add_option("--bodies-csv", o.bodiesCsv,
                    "Write every dynamic body's trajectory (one row per recorded step and body) "
                    "to this CSV file");
+    app.add_option("--surface-mesh", o.surfaceDir,
+                   "Write the fluid's surface as a triangle mesh (surface_STEP.ply) into this "
+                   "folder, at step 0 and every --surface-every steps");
+    app.add_option("--surface-every", o.surfaceEvery, "A surface mesh every K steps (default 1)")
+        ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
+    app.add_option("--surface-cell", o.surfaceCell,
+                   "Surface mesh: sample spacing [m] (default: the particle radius)")
+        ->check(format::cli::numberIn(1e-6, 1e3));
+    app.add_option("--surface-iso", o.surfaceIso,
+                   "Surface mesh: iso value, a share of the field inside the fluid (default 0.5)")
+        ->check(format::cli::numberIn(0.01, 3.99));
     app.add_option("--dump-every", o.dumpEvery, "Write a PLY file every K steps (default 1)")
         ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_flag("--deterministic", o.deterministic,
@@ -437,7 +484,8 @@ void addCaptureOptions(CLI::App& app, PlayOptions& o) {
         ->check(format::cli::numberIn(0.01, 100.0));
     app.add_option("--colour", o.colour, "Particle colours: water, speed or density (error)");
     app.add_option("--surface", o.surface,
-                   "Fluid drawn as spheres or as a screen-space fluid surface: spheres or fluid");
+                   "Fluid drawn as spheres, a screen-space fluid surface or the reconstructed "
+                   "surface mesh: spheres, fluid or mesh");
     app.add_flag("--raster-spheres", o.rasterSpheres,
                  "Rasterise every particle sphere (default: the ones of at most 8x8 pixels in a "
                  "compute pass, the same pixels)");

@@ -24,6 +24,7 @@
 #include "sluice/rt/play/PlayCli.h"
 #include "sluice/rt/play/PlyWriter.h"
 #include "sluice/rt/sim/Simulation.h"
+#include "sluice/rt/surface/SurfaceMesh.h"
 
 namespace sluice::rt {
 namespace {
@@ -41,6 +42,7 @@ struct HeadlessRun {
     const gpu::Context& context;
     Simulation sim;
     std::optional<HeadlessCapture> capture;
+    std::optional<SurfaceReconstructor> surfaces;   ///< --surface-mesh
     BodiesCsv bodiesCsv;                            ///< --bodies-csv rows
     RunProgress progress;                           ///< the terminal's progress line
     std::uint64_t statsEvery = 1;                   ///< a statistics row every this many steps
@@ -75,12 +77,20 @@ Result<HeadlessRun> startRun(const HeadlessOptions& o, const format::Scene& scen
         return sim.error();
     const std::uint64_t every =
         o.statsEvery > 0 ? o.statsEvery : std::max<std::uint64_t>(1, o.steps / 20);
+    std::optional<SurfaceReconstructor> surfaces;
+    if (!o.surfaceDir.empty()) {
+        auto created = SurfaceReconstructor::create();
+        if (!created)
+            return created.error();
+        surfaces.emplace(std::move(*created));
+    }
     const bool progress = !o.quiet && RunProgress::stderrIsTerminal();
     return HeadlessRun{o,
                        scene,
                        context,
                        std::move(*sim),
                        std::move(capture),
+                       std::move(surfaces),
                        BodiesCsv(o.bodiesCsv),
                        RunProgress(o.steps, progress),
                        every};
@@ -105,6 +115,28 @@ void printStartup(const HeadlessRun& run, const std::vector<std::string>& collid
     std::cout << "GL: " << run.context.info().renderer << "\n\n" << statsTableHeader();
 }
 
+std::string surfaceName(std::uint64_t step) {
+    char name[32];
+    std::snprintf(name, sizeof name, "surface_%06llu.ply", static_cast<unsigned long long>(step));
+    return name;
+}
+
+/// The fluid's surface mesh of step `step`, where one is due.
+Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
+    const HeadlessOptions& o = run.options;
+    if (!run.surfaces || step % o.surfaceEvery != 0)
+        return {};
+    SurfaceOptions options;
+    options.particleRadius = run.sim.constants().radius;
+    options.cellSize = o.surfaceCell;
+    options.iso = o.surfaceIso;
+    auto mesh =
+        run.surfaces->reconstruct(run.sim.positionBuffer(), run.sim.particleCount(), options);
+    if (!mesh)
+        return mesh.error();
+    return writeSurfacePly(std::filesystem::path(o.surfaceDir) / surfaceName(step), *mesh);
+}
+
 std::string bodiesName(std::uint64_t step) {
     char name[40];
     std::snprintf(name, sizeof name, "frame_%06llu.bodies.json",
@@ -112,8 +144,8 @@ std::string bodiesName(std::uint64_t step) {
     return name;
 }
 
-/// The PLY file (and, with dynamic bodies, their transforms beside it) and the captured frame
-/// of step `step`, where they are due.
+/// The PLY file (and, with dynamic bodies, their transforms beside it), the surface mesh and
+/// the captured frame of step `step`, where they are due.
 Result<void> writeStepOutputs(HeadlessRun& run, std::uint64_t step) {
     const HeadlessOptions& o = run.options;
     if (!o.plyDir.empty() && step % o.dumpEvery == 0) {
@@ -131,6 +163,8 @@ Result<void> writeStepOutputs(HeadlessRun& run, std::uint64_t step) {
                 return ok;
         }
     }
+    if (auto ok = writeSurface(run, step); !ok)
+        return ok;
     return run.capture ? run.capture->afterStep(run.sim, step) : Result<void>{};
 }
 

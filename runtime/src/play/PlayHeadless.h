@@ -17,12 +17,16 @@ namespace sluice::rt {
 
 /// The flags of a headless run (the output folders exist already: prepareRunOutputs).
 struct HeadlessOptions {
-    std::uint64_t steps = 1;      ///< steps to run, >= 1
-    std::uint64_t statsEvery = 0; ///< record statistics every K steps; 0: about 20 rows
-    std::string statsJson;        ///< statistics file, empty for none
-    std::string plyDir;           ///< PLY folder, empty for none
-    std::string bodiesCsv;        ///< body trajectory table (BodiesCsv.h), empty for none
-    std::uint64_t dumpEvery = 1;  ///< a PLY file every K steps
+    std::uint64_t steps = 1;        ///< steps to run, >= 1
+    std::uint64_t statsEvery = 0;   ///< record statistics every K steps; 0: about 20 rows
+    std::string statsJson;          ///< statistics file, empty for none
+    std::string plyDir;             ///< PLY folder, empty for none
+    std::string bodiesCsv;          ///< body trajectory table (BodiesCsv.h), empty for none
+    std::string surfaceDir;         ///< surface mesh folder (surface_NNNNNN.ply), empty for none
+    std::uint64_t surfaceEvery = 1; ///< a surface mesh every K steps
+    float surfaceCell = 0.0f;       ///< SurfaceOptions::cellSize, 0: the default
+    float surfaceIso = 0.0f;        ///< SurfaceOptions::iso, 0: the default
+    std::uint64_t dumpEvery = 1;    ///< a PLY file every K steps
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes
     bool check = false; ///< exit 1 when a particle went non-finite or ended inside a collider,

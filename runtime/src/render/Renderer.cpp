@@ -12,18 +12,20 @@
 #include "GlObjects.h"
 #include "SphereSplatPass.h"
 #include "shared/Render.h"
+#include "shared/Surface.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "sluice/rt/render/SceneFraming.h"
 #include "sluice/rt/sim/Simulation.h"
+#include "sluice/rt/surface/SurfaceMesh.h"
 
 namespace sluice::rt {
 namespace {
 
 constexpr std::array<std::string_view, 3> kColourNames{"water", "speed", "density"};
-constexpr std::array<std::string_view, 2> kSurfaceNames{"spheres", "fluid"};
+constexpr std::array<std::string_view, 3> kSurfaceNames{"spheres", "fluid", "mesh"};
 constexpr std::array<const char*, std::size_t(RenderPass::Count)> kPassNames{
     "backdrop", "colliders", "fluid", "glass"};
 
@@ -87,6 +89,11 @@ struct Renderer::Impl {
     gpu::Program backdrop;
     gpu::Program particles;
     gpu::Program domainBox;                                ///< the domain box's edges (lines)
+    gpu::Program meshProgram;                   ///< the reconstructed surface mesh
+    std::optional<SurfaceReconstructor> mesher; ///< made on the first frame in Mesh mode
+    gpu::Buffer meshVertices;
+    gpu::Buffer meshTriangles;
+    std::string meshError;
     std::optional<std::pair<glm::vec3, glm::vec3>> domain; ///< the scene's domain box [m]
     gpu::Buffer frame;
     VertexArrayHandle vertexArray;
@@ -102,6 +109,70 @@ struct Renderer::Impl {
     std::array<gpu::GpuTimer, std::size_t(RenderPass::Count)> passTimers; // rings of 4
 
     gpu::GpuTimer& passTimer(RenderPass pass) { return passTimers[std::size_t(pass)]; }
+
+    /// Reconstructs the surface of the particles and draws it into the scene target; false
+    /// (with meshError) when the reconstruction failed, and the caller draws spheres.
+    bool drawMesh(const Simulation& sim) {
+        if (!mesher) {
+            auto created = SurfaceReconstructor::create();
+            if (!created) {
+                meshError = created.error().message();
+                return false;
+            }
+            mesher.emplace(std::move(*created));
+        }
+        SurfaceOptions options;
+        options.particleRadius = sim.constants().radius;
+        auto mesh = mesher->reconstruct(sim.positionBuffer(), sim.particleCount(), options);
+        if (mesh) {
+            if (auto ok = uploadMesh(*mesh); !ok)
+                mesh = ok.error();
+        }
+        if (!mesh) {
+            meshError = mesh.error().message();
+            return false;
+        }
+        if (mesh->triangles.empty())
+            return true;
+        // The reconstruction bound its own programs and buffers: the frame's again.
+        frame.bindBase(GL_UNIFORM_BUFFER, shared::kRenderBindFrame);
+        sim.positionBuffer().bindStorage(shared::kRenderBindPositions);
+        sim.velocityBuffer().bindStorage(shared::kRenderBindVelocities);
+        glBindVertexArray(vertexArray.id());
+        glBindFramebuffer(GL_FRAMEBUFFER, sceneTarget.id());
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        meshVertices.bindStorage(shared::kRenderBindMeshVertices);
+        meshTriangles.bindStorage(shared::kRenderBindMeshTriangles);
+        meshProgram.use();
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * mesh->triangles.size()));
+        return true;
+    }
+
+    Result<void> uploadMesh(const SurfaceMesh& mesh) {
+        std::vector<shared::SurfaceVertex> vertices(mesh.vertices.size());
+        for (std::size_t i = 0; i < vertices.size(); ++i)
+            vertices[i] = {glm::vec4(mesh.vertices[i], 1.0f), glm::vec4(mesh.normals[i], 0.0f)};
+        const std::size_t vertexBytes = std::max<std::size_t>(vertices.size(), 1) * 32;
+        const std::size_t triangleBytes = std::max<std::size_t>(mesh.triangles.size(), 1) * 12;
+        if (meshVertices.size() < vertexBytes) {
+            auto buffer = gpu::Buffer::create(vertexBytes * 3 / 2, "render mesh vertices");
+            if (!buffer)
+                return buffer.error();
+            meshVertices = std::move(*buffer);
+        }
+        if (meshTriangles.size() < triangleBytes) {
+            auto buffer = gpu::Buffer::create(triangleBytes * 3 / 2, "render mesh triangles");
+            if (!buffer)
+                return buffer.error();
+            meshTriangles = std::move(*buffer);
+        }
+        if (!vertices.empty()) {
+            meshVertices.upload(vertices);
+            meshTriangles.upload(mesh.triangles);
+        }
+        return {};
+    }
 
     Result<void> resize(glm::uvec2 newSize) {
         if (newSize == size)
@@ -220,6 +291,12 @@ Result<Renderer> Renderer::create(const format::Scene& scene,
     impl->domainBox = std::move(*domainBox);
     if (scene.domainMin && scene.domainMax)
         impl->domain.emplace(*scene.domainMin, *scene.domainMax);
+    auto meshProgram = gpu::Program::graphics("render_surface_mesh",
+                                              shaders::shaderSource("render_surface_mesh.vert"),
+                                              shaders::shaderSource("render_surface_mesh.frag"));
+    if (!meshProgram)
+        return meshProgram.error();
+    impl->meshProgram = std::move(*meshProgram);
     auto frame = gpu::Buffer::create(sizeof(shared::RenderFrame), "render frame");
     if (!frame)
         return frame.error();
@@ -232,6 +309,10 @@ Result<Renderer> Renderer::create(const format::Scene& scene,
 
 Result<void> Renderer::resize(glm::uvec2 size) {
     return m_impl->resize(size);
+}
+
+const std::string& Renderer::meshError() const {
+    return m_impl->meshError;
 }
 
 glm::uvec2 Renderer::size() const {
@@ -279,7 +360,10 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
 
     const std::uint32_t count = sim.particleCount();
     r.passTimer(RenderPass::Fluid).begin();
-    if (settings.surface == SurfaceMode::Fluid) {
+    r.meshError.clear();
+    if (settings.surface == SurfaceMode::Mesh && r.drawMesh(sim)) {
+        r.output = r.sceneTarget.id();
+    } else if (settings.surface == SurfaceMode::Fluid) {
         const float radius = sim.constants().radius;
         FluidSurfaceParams params;
         params.smoothingIterations = settings.smoothingIterations;

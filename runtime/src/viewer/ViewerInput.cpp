@@ -53,8 +53,8 @@ void ViewerInput::key(int key, int action, int mods, ViewerUi& ui, ViewerActions
         ui.render.colour = ColourMode((std::uint32_t(ui.render.colour) + 1) % 3);
         break;
     case GLFW_KEY_M:
-        ui.render.surface =
-            ui.render.surface == SurfaceMode::Spheres ? SurfaceMode::Fluid : SurfaceMode::Spheres;
+        // Spheres, the screen-space fluid, the reconstructed mesh (what --surface-mesh writes).
+        ui.render.surface = SurfaceMode((std::uint32_t(ui.render.surface) + 1) % 3);
         break;
     case GLFW_KEY_G:
         ui.render.glassWalls = !ui.render.glassWalls;

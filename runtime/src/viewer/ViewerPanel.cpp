@@ -141,6 +141,8 @@ void renderModes(ViewerUi& ui) {
     ImGui::RadioButton("spheres", &surface, int(SurfaceMode::Spheres));
     ImGui::SameLine();
     ImGui::RadioButton("fluid surface", &surface, int(SurfaceMode::Fluid));
+    ImGui::SameLine();
+    ImGui::RadioButton("mesh", &surface, int(SurfaceMode::Mesh));
     r.surface = SurfaceMode(surface);
     int colour = int(r.colour);
     ImGui::RadioButton("water", &colour, int(ColourMode::Water));

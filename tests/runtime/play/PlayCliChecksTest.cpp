@@ -1,9 +1,11 @@
 // sluice-play's checks before a run, end to end: scene warnings and --strict, options that do
 // nothing, and output paths checked and their folders created before any step.
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -184,10 +186,107 @@ INSTANTIATE_TEST_SUITE_P(
         OptionMistake{"neighbourLanesInWindow",
                       {"--neighbour-lanes", "4"},
                       "--neighbour-lanes does nothing in the window [unused-option]"},
+        OptionMistake{"surfaceEveryWithoutSurfaceMesh",
+                      {"--headless", "--steps", "1", "--surface-every", "2"},
+                      "--surface-every does nothing without --surface-mesh [unused-option]"},
+        OptionMistake{"bodiesCsvWithoutBodies",
+                      {"--headless", "--steps", "1", "--bodies-csv", "b.csv"},
+                      "--bodies-csv does nothing for a scene without dynamic bodies"},
         OptionMistake{"rasterSpheresWithoutPictures",
                       {"--headless", "--steps", "1", "--raster-spheres"},
                       "--raster-spheres does nothing in a --headless run without --frames"}),
     CaseName{});
+
+/// A binary little-endian PLY mesh as --surface-mesh writes it: its vertices and triangles,
+/// each face checked to be a triangle of existing vertices, the size checked against the header.
+struct PlyMesh {
+    std::vector<glm::vec3> vertices;
+    std::vector<glm::uvec3> triangles;
+};
+
+PlyMesh readPlyMesh(const fs::path& path) {
+    const std::string bytes = testrun::readText(path);
+    PlyMesh mesh;
+    const std::size_t end = bytes.find("end_header\n");
+    if (end == std::string::npos) {
+        ADD_FAILURE() << path << ": no end_header";
+        return mesh;
+    }
+    std::istringstream header(bytes.substr(0, end));
+    std::size_t vertices = 0, faces = 0;
+    for (std::string line; std::getline(header, line);) {
+        std::istringstream words(line);
+        std::string a, b;
+        words >> a >> b;
+        if (a == "element" && b == "vertex")
+            words >> vertices;
+        if (a == "element" && b == "face")
+            words >> faces;
+    }
+    const std::size_t body = end + 11;
+    EXPECT_EQ(bytes.size(), body + vertices * 24 + faces * 13) << path;
+    if (bytes.size() != body + vertices * 24 + faces * 13)
+        return mesh;
+    for (std::size_t v = 0; v < vertices; ++v) {
+        float xyz[3];
+        std::memcpy(xyz, bytes.data() + body + v * 24, sizeof xyz);
+        mesh.vertices.emplace_back(xyz[0], xyz[1], xyz[2]);
+    }
+    for (std::size_t f = 0; f < faces; ++f) {
+        const char* at = bytes.data() + body + vertices * 24 + f * 13;
+        EXPECT_EQ(at[0], 3);
+        std::uint32_t index[3];
+        std::memcpy(index, at + 1, sizeof index);
+        for (std::uint32_t i : index)
+            EXPECT_LT(i, vertices);
+        mesh.triangles.emplace_back(index[0], index[1], index[2]);
+    }
+    return mesh;
+}
+
+double enclosedVolume(const PlyMesh& mesh) {
+    double volume = 0.0;
+    for (const glm::uvec3& t : mesh.triangles)
+        volume +=
+            glm::dot(glm::dvec3(mesh.vertices[t.x]),
+                     glm::cross(glm::dvec3(mesh.vertices[t.y]), glm::dvec3(mesh.vertices[t.z]))) /
+            6.0;
+    return volume;
+}
+
+// --surface-mesh writes one mesh per requested step (step 0 and every --surface-every) and
+// nothing else; each encloses the water's volume. Bad surface options fail before anything is
+// created.
+TEST(SluicePlaySurface, WritesOneClosedMeshPerRequestedStep) {
+    const fs::path dir = tempDir("surface");
+    const fs::path meshes = dir / "meshes";
+    const auto result = play(dir, {(kAssets / "martin-moyce.json").string(), "--headless",
+                                   "--steps", "4", "--deterministic", "--quiet", "--surface-mesh",
+                                   meshes.string(), "--surface-every", "2"});
+    ASSERT_EQ(result.code, 0) << shown(result);
+    std::set<std::string> names;
+    for (const auto& entry : fs::directory_iterator(meshes))
+        names.insert(entry.path().filename().string());
+    EXPECT_EQ(names, (std::set<std::string>{"surface_000000.ply", "surface_000002.ply",
+                                            "surface_000004.ply"}));
+    // 2000 particles at 2 cm: 16 L of water, in a 0.2 x 0.4 x 0.2 m column at step 0; the
+    // column's edges are rounded over a kernel radius (4 cm), which costs a few per cent.
+    for (const char* name : {"surface_000000.ply", "surface_000004.ply"}) {
+        const PlyMesh mesh = readPlyMesh(meshes / name);
+        EXPECT_GT(mesh.triangles.size(), 1000u) << name;
+        EXPECT_NEAR(enclosedVolume(mesh) / 0.016, 1.0, 0.05) << name;
+    }
+
+    const fs::path bad = dir / "bad";
+    const auto refused =
+        play(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "1",
+                   "--surface-mesh", bad.string(), "--surface-cell", "0.5"});
+    EXPECT_EQ(refused.code, 2) << shown(refused);
+    EXPECT_NE(refused.err.find("--surface-cell 0.5"), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("larger than the smoothing radius"), std::string::npos)
+        << refused.err;
+    EXPECT_FALSE(fs::exists(bad));
+}
 
 TEST(SluicePlayChecks, ShippedSceneStartsWithoutWarningsAndPrintsColliderSizes) {
     const fs::path dir = tempDir("shipped-strict");

@@ -146,6 +146,27 @@ TEST_F(RenderTest, FluidSurfaceCoversTheBlockRegionToo) {
     EXPECT_EQ(c.outside, 0u);
 }
 
+// The reconstructed mesh (--surface mesh) covers the block's region too: a closed surface at
+// the block's faces (its particles' centres are half a spacing inside them), nothing outside,
+// and it is water-coloured.
+TEST_F(RenderTest, SurfaceMeshCoversTheBlockRegionAndNothingElse) {
+    Stage stage(kBlockScene);
+    ASSERT_TRUE(stage.ok());
+    RenderSettings mesh;
+    mesh.surface = SurfaceMode::Mesh;
+    const Image with = stage.draw(mesh);
+    EXPECT_EQ(stage.renderer->meshError(), "");
+    const Image without = stage.drawWithoutParticles(mesh);
+    const PixelRect rect =
+        projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, 0.0025f);
+    const Coverage c = coverage(with, without, rect);
+    EXPECT_GT(double(c.inside), 0.6 * double(c.rectPixels)) << c.inside << " of " << c.rectPixels;
+    EXPECT_EQ(c.outside, 0u);
+    const glm::vec3 centre = stage.camera.project({0.0f, 0.1f, 0.0f}, kSize);
+    const glm::ivec3 water(with.at(std::uint32_t(centre.x), std::uint32_t(centre.y)));
+    EXPECT_GT(water.b, water.r + 40) << water.r << " " << water.g << " " << water.b;
+}
+
 const char* kSphereScene = R"({
     "simulation": { "spacing": 0.02 },
     "fluid": [ { "box": { "min": [%X0%, 0.05, %Z0%], "max": [%X1%, 0.15, %Z1%] } } ],

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -34,12 +35,13 @@ enum class ColourMode : std::uint32_t {
 enum class SurfaceMode : std::uint32_t {
     Spheres, ///< one shaded sphere per particle (with its colour mode)
     Fluid,   ///< the screen-space fluid surface (van der Laan et al. 2009)
+    Mesh,    ///< the reconstructed surface mesh, as --surface-mesh exports it (docs/surfaces.md)
 };
 
 /// "water" | "speed" | "density", as the command line spells them.
 std::string_view colourModeName(ColourMode mode);
 std::optional<ColourMode> parseColourMode(std::string_view name);
-/// "spheres" | "fluid".
+/// "spheres" | "fluid" | "mesh".
 std::string_view surfaceModeName(SurfaceMode mode);
 std::optional<SurfaceMode> parseSurfaceMode(std::string_view name);
 
@@ -128,6 +130,10 @@ public:
     double gpuAverageMilliseconds();
     /// GPU time of each pass of the latest measured frame [ms]; never waits.
     RenderPassTimes passTimes();
+
+    /// Why the latest frame in SurfaceMode::Mesh drew spheres instead (the reconstruction
+    /// failed: too large a region for its cell size, out of memory); empty when it did not.
+    const std::string& meshError() const;
 
     /// The scene's bounds (SceneFraming.h), for framing the camera.
     const Bounds& bounds() const;
