@@ -19,15 +19,17 @@ constexpr const char* kExitCodeHelp = R"(Exit codes:
 
 int run(int argc, char** argv) {
     CLI::App app{"sluice-bake: bakes meshes into signed-distance-field collider assets (.slc), "
-                 "checks them against the exact CGAL reference, and converts them to OpenVDB.",
+                 "checks them against the exact CGAL reference, converts them to OpenVDB, "
+                 "and turns particle frames into OpenVDB level sets.",
                  "sluice-bake"};
     app.set_version_flag("--version", cli::toolVersion());
     app.require_subcommand(1);
     app.footer(kExitCodeHelp);
 
     const std::vector<cli::Command> commands = {
-        cli::addBakeCommand(app),   cli::addValidateCommand(app), cli::addInfoCommand(app),
-        cli::addExportCommand(app), cli::addGlInfoCommand(app),   cli::addBatchCommand(app),
+        cli::addBakeCommand(app),    cli::addValidateCommand(app), cli::addInfoCommand(app),
+        cli::addExportCommand(app),  cli::addGlInfoCommand(app),   cli::addBatchCommand(app),
+        cli::addSurfaceCommand(app),
     };
 
     try {

@@ -75,6 +75,7 @@ Command addInfoCommand(CLI::App& parent);
 Command addExportCommand(CLI::App& parent);
 Command addGlInfoCommand(CLI::App& parent);
 Command addBatchCommand(CLI::App& parent);
+Command addSurfaceCommand(CLI::App& parent);
 
 // Number checks for options, shared with sluice-play (their messages read well after the
 // option's name and value, as reportParseError prints them).

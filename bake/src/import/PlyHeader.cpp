@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <string_view>
@@ -54,8 +55,8 @@ std::vector<std::string_view> wordsOf(std::string_view line) {
 /// problemNoLine(), which prefix the file.
 class PlyHeaderReader {
 public:
-    PlyHeaderReader(std::uint64_t fileBytes, const std::string& shown)
-        : m_fileBytes(fileBytes), m_shown(shown) {}
+    PlyHeaderReader(std::uint64_t fileBytes, const std::string& shown, PlyContent content)
+        : m_fileBytes(fileBytes), m_shown(shown), m_content(content) {}
 
     /// The header's lines, then whether there is something to bake.
     Result<PlyHeader> read(const std::string& head) {
@@ -142,6 +143,14 @@ private:
         }
         const bool binary = m_header.encoding != PlyEncoding::Ascii;
         const double needed = binary ? vertices * 3 + faces * 4 : vertices * 6 + faces * 8;
+        if (needed > double(m_fileBytes) && m_content == PlyContent::Points) {
+            // Points have no faces to speak of: most likely the file was cut short.
+            char text[120];
+            std::snprintf(text, sizeof text, "%.0f vertices, more than its %.0f bytes can hold",
+                          vertices, double(m_fileBytes));
+            return sluice::fail(ErrorCode::Truncated,
+                                m_shown + " is truncated: its header declares " + text);
+        }
         if (needed > double(m_fileBytes))
             return problemNoLine(declaresMoreThanTheFileHolds(vertices, faces, m_fileBytes));
         if (m_countTooLarge)
@@ -235,7 +244,7 @@ private:
 
     /// A file without vertex positions or faces has nothing to bake: said here, so that
     /// assimp never reads a PLY file sluice-bake would refuse anyway (found by tests/fuzz: a
-    /// binary file of no elements crashed assimp's reader).
+    /// binary file of no elements crashed assimp's reader). Points need no faces.
     Result<void> checkSomethingToBake() {
         const PlyElement* vertices = nullptr;
         bool faces = false;
@@ -247,7 +256,7 @@ private:
             if (e.indexList >= 0 && e.count > 0)
                 faces = true;
         }
-        if (!faces)
+        if (!faces && m_content == PlyContent::Mesh)
             return sluice::fail(ErrorCode::EmptyMesh,
                                 m_shown + ": no triangles (the PLY header declares no faces)");
         for (const char* axis : {"x", "y", "z"}) {
@@ -264,6 +273,7 @@ private:
 
     std::uint64_t m_fileBytes = 0;
     const std::string& m_shown;
+    PlyContent m_content = PlyContent::Mesh;
     std::size_t m_line = 0;
     PlyHeader m_header;
     std::optional<Error> m_countTooLarge; ///< the first element count of 2^32 or more
@@ -314,8 +324,8 @@ std::pair<double, double> rangeOf(PlyScalar s) {
 }
 
 Result<PlyHeader> readPlyHeader(const std::string& head, std::uint64_t fileBytes,
-                                const std::string& shown) {
-    return PlyHeaderReader(fileBytes, shown).read(head);
+                                const std::string& shown, PlyContent content) {
+    return PlyHeaderReader(fileBytes, shown, content).read(head);
 }
 
 Error plyProblem(const std::string& shown, std::size_t line, const std::string& what) {

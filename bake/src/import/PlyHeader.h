@@ -56,11 +56,15 @@ struct PlyHeader {
     std::uint64_t vertexCount = 0; ///< of the "vertex" element
 };
 
+/// What a header must declare to be accepted: a mesh (vertex positions and faces, what
+/// `bake` reads) or points (vertex positions only, what `surface` reads).
+enum class PlyContent { Mesh, Points };
+
 /// Reads the header from `head` (the first bytes of a file of `fileBytes`, up to
 /// kMaxPlyHeaderBytes, starting with the magic), checks it, and checks that it declares
-/// something to bake. Errors: MeshImport naming `shown` and the line, EmptyMesh without faces.
+/// `content`. Errors: MeshImport naming `shown` and the line, EmptyMesh without faces (Mesh).
 Result<PlyHeader> readPlyHeader(const std::string& head, std::uint64_t fileBytes,
-                                const std::string& shown);
+                                const std::string& shown, PlyContent content = PlyContent::Mesh);
 
 /// The MeshImport error "<shown>: line <line>: <what>".
 Error plyProblem(const std::string& shown, std::size_t line, const std::string& what);

@@ -27,6 +27,7 @@
 #include "interop/VdbFileCheck.h"
 #include "interop/VdbHeaders.h"
 #include "interop/VdbMesh.h"
+#include "interop/VdbWrite.h"
 #include "sluice/bake/Grid.h"
 #include "sluice/format/support/Hash.h"
 
@@ -144,9 +145,11 @@ bool syncPath(const fs::path& path, bool folder) {
     return ok;
 }
 
+} // namespace
+
 // OpenVDB writes through its own ofstream, so the temp-and-rename is done here rather than
 // through format's byte-span writer.
-Result<void> writeAtomically(const openvdb::GridBase::Ptr& grid, const fs::path& path) {
+Result<void> detail::writeVdbAtomically(const openvdb::GridCPtrVec& grids, const fs::path& path) {
     const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
     std::error_code ec;
     if (!fs::is_directory(folder, ec))
@@ -160,7 +163,7 @@ Result<void> writeAtomically(const openvdb::GridBase::Ptr& grid, const fs::path&
                                     std::to_string(::getpid()) + "-" + std::to_string(counter++));
     try {
         openvdb::io::File file(temp.string());
-        file.write(openvdb::GridCPtrVec{grid});
+        file.write(grids);
         file.close();
     } catch (const std::exception& e) {
         fs::remove(temp, ec);
@@ -183,6 +186,8 @@ Result<void> writeAtomically(const openvdb::GridBase::Ptr& grid, const fs::path&
     syncPath(folder, true); // the rename itself; best effort, as in format::writeFileAtomic
     return {};
 }
+
+namespace {
 
 // Checks the magic first, so "not a VDB" and "a cut-off VDB" get different codes.
 Result<void> checkMagic(const fs::path& path) {
@@ -300,7 +305,7 @@ Result<void> exportVdb(const format::ColliderAsset& asset, const fs::path& path)
             return fail(ErrorCode::Io,
                         "cannot build the VDB grid for " + quoted(path) + ": " + e.what());
         }
-        return writeAtomically(grid, path);
+        return detail::writeVdbAtomically(openvdb::GridCPtrVec{grid}, path);
     }
     if (auto ok = checkExportable(asset); !ok)
         return fail(ok.error().code, "cannot export to " + quoted(path) + ": " + ok.error().detail);
@@ -312,7 +317,7 @@ Result<void> exportVdb(const format::ColliderAsset& asset, const fs::path& path)
         return fail(ErrorCode::Io,
                     "cannot build the VDB grid for " + quoted(path) + ": " + e.what());
     }
-    return writeAtomically(grid, path);
+    return detail::writeVdbAtomically(openvdb::GridCPtrVec{grid}, path);
 }
 
 Result<ImportedMesh> importVdbLevelSet(const fs::path& path, double scale) {

@@ -312,7 +312,7 @@ TEST(Cli, AMisspelledCommandSuggestsTheClosestOne) {
                      "sluice-bake: unknown command 'bkae' (did you mean 'bake'?)");
     expectParseError({"frob"}, "sluice-bake: unknown command 'frob'");
     expectParseError({}, "sluice-bake: missing a command (one of: bake, validate, info, export, "
-                         "gl-info, batch)");
+                         "gl-info, batch, surface)");
     expectParseError({"--no-such-flag"}, "sluice-bake: unknown option '--no-such-flag'");
 }
 

@@ -1,4 +1,4 @@
-// The sluice-bake command line (CLI11): bake, validate, info, export, gl-info.
+// The sluice-bake command line (CLI11): bake, validate, info, export, gl-info, batch, surface.
 #pragma once
 
 #include "sluice/format/support/ExitCodes.h" // the exit codes runCli returns

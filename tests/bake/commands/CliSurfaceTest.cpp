@@ -1,0 +1,247 @@
+// `sluice-bake surface`: particle frames to OpenVDB level sets on the command line, read back
+// with OpenVDB; one grid per frame; bad input exits 2 and writes nothing.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "CliRun.h"
+#include "TestParticles.h"
+#include "interop/VdbHeaders.h"
+
+SLUICE_VDB_WARNINGS_OFF
+#include <openvdb/tools/Interpolation.h>
+SLUICE_VDB_WARNINGS_ON
+
+namespace fs = std::filesystem;
+using namespace sluice;
+using namespace sluice::bake::clirun;
+using namespace sluice::testparticles;
+
+namespace {
+
+// A ball of particles on a lattice, centred off the voxel grid so that the crossings are not
+// voxel centres. sluice-play's particle radius is half its spacing.
+constexpr double kSpacing = 0.02;      // [world units]
+constexpr double kRadius = 0.01;       // [world units] of a particle
+constexpr double kBall = 0.1;          // [world units] radius of the ball of particle centres
+constexpr double kVoxel = kRadius / 2; // [world units] the default voxel size
+const glm::dvec3 kCentre{0.0123, -0.0071, 0.0042};
+
+/// Every grid of a .vdb file, read with OpenVDB itself.
+openvdb::GridPtrVecPtr readGrids(const fs::path& path) {
+    bake::initOpenVdb();
+    openvdb::io::File file(path.string());
+    file.open();
+    openvdb::GridPtrVecPtr grids = file.getGrids();
+    file.close();
+    return grids;
+}
+
+/// The level set's value at world point `p`, trilinear between voxels.
+double sample(const openvdb::FloatGrid& grid, const glm::dvec3& p) {
+    const openvdb::Vec3R index = grid.worldToIndex(openvdb::Vec3R(p.x, p.y, p.z));
+    return openvdb::tools::BoxSampler::sample(grid.tree(), index);
+}
+
+/// [world units] Where the level set first turns positive walking from `from` along `dir`
+/// (a unit vector), linearly interpolated between samples a hundredth of a voxel apart.
+double zeroCrossing(const openvdb::FloatGrid& grid, const glm::dvec3& from, const glm::dvec3& dir,
+                    double maxDistance) {
+    const double step = kVoxel / 100;
+    double previous = sample(grid, from);
+    for (double t = step; t <= maxDistance; t += step) {
+        const double value = sample(grid, from + dir * t);
+        if (previous < 0.0 && value >= 0.0)
+            return t - step * value / (value - previous);
+        previous = value;
+    }
+    return NAN;
+}
+
+fs::path surfaceDir(const std::string& name) {
+    return testrun::tempDir("cli-surface-" + name);
+}
+
+TEST(CliSurface, ABallOfParticlesBecomesOneLevelSetWithTheBallsSurface) {
+    const fs::path dir = surfaceDir("ball");
+    const fs::path ply = dir / "frame_000015.ply";
+    writeBytes(ply, sluicePlayPly(latticeBall(kCentre, kBall, kSpacing)));
+    const fs::path output = dir / "out" / "ball.vdb";
+    const RunResult run = runBake(
+        dir, {"surface", ply.string(), "-o", output.string(), "--radius", std::to_string(kRadius)});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("frame_000015  515 particles"), std::string::npos) << run.out;
+
+    const openvdb::GridPtrVecPtr grids = readGrids(output);
+    ASSERT_EQ(grids->size(), 1u);
+    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[0]);
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->getName(), "frame_000015");
+    EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
+    EXPECT_NEAR(grid->voxelSize()[0], kVoxel, 1e-12);
+    EXPECT_NEAR(grid->background(), 3 * kVoxel, 1e-7); // OpenVDB's half-width, 3 voxels
+
+    // Inside at the centre (a particle's centre: about -radius), outside well beyond the ball.
+    EXPECT_LT(sample(*grid, kCentre), -0.5 * kRadius);
+    EXPECT_GT(sample(*grid, kCentre + glm::dvec3(0.3, 0, 0)), 0.0);
+    EXPECT_GT(sample(*grid, kCentre + glm::dvec3(0, -0.2, 0.2)), 0.0);
+
+    // Along each axis the outermost particle sits on the ball (5 spacings out), so the union of
+    // spheres crosses zero one particle radius beyond the ball's surface.
+    double worst = 0.0, worstFromBall = 0.0;
+    for (int axis = 0; axis < 3; ++axis)
+        for (double sign : {-1.0, 1.0}) {
+            glm::dvec3 along(0.0);
+            along[axis] = sign;
+            // From the outermost particle's centre: the spheres on the axis touch, so the field
+            // reaches 0 between them too.
+            const double t = kBall + zeroCrossing(*grid, kCentre + along * kBall, along, 0.05);
+            ASSERT_FALSE(std::isnan(t)) << "no crossing along axis " << axis;
+            worst = std::max(worst, std::abs(t - (kBall + kRadius)));
+            worstFromBall = std::max(worstFromBall, std::abs(t - kBall));
+        }
+    std::printf("surface: zero crossing within %.3g voxel of the union of spheres (ball + r), "
+                "%.3g world units from the ball of centres\n",
+                worst / kVoxel, worstFromBall);
+    EXPECT_LE(worst, 0.25 * kVoxel);
+    EXPECT_LE(worstFromBall, kRadius + kVoxel);
+}
+
+TEST(CliSurface, AFolderOfFramesGivesOneGridPerFrameInNameOrder) {
+    const fs::path dir = surfaceDir("folder");
+    const fs::path frames = dir / "frames";
+    fs::create_directories(frames);
+    // Written out of order; the bodies file and a note beside them are not frames.
+    writeBytes(frames / "frame_000010.ply",
+               sluicePlayPly(latticeBall(kCentre + glm::dvec3(0, -0.05, 0), 0.06, kSpacing)));
+    writeBytes(frames / "frame_000000.ply", sluicePlayPly(latticeBall(kCentre, 0.06, kSpacing)));
+    writeBytes(frames / "frame_000000.bodies.json", "{\"step\": 0, \"bodies\": []}");
+    writeBytes(frames / "notes.txt", "not a frame");
+    const fs::path output = dir / "frames.vdb";
+    const RunResult run =
+        runBake(dir, {"surface", frames.string(), "-o", output.string(), "--radius", "0.01"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+
+    const openvdb::GridPtrVecPtr grids = readGrids(output);
+    ASSERT_EQ(grids->size(), 2u);
+    EXPECT_EQ((*grids)[0]->getName(), "frame_000000");
+    EXPECT_EQ((*grids)[1]->getName(), "frame_000010");
+    for (int n = 0; n < 2; ++n) {
+        const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[std::size_t(n)]);
+        ASSERT_TRUE(grid);
+        EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
+        // Each frame is its own ball: the second one fell by 0.05.
+        const glm::dvec3 centre = kCentre + glm::dvec3(0, n == 0 ? 0.0 : -0.05, 0);
+        EXPECT_LT(sample(*grid, centre), 0.0) << n;
+        EXPECT_GT(sample(*grid, centre + glm::dvec3(0, n == 0 ? -0.1 : 0.1, 0)), 0.0) << n;
+    }
+}
+
+/// A bad-input run of `surface PARTICLES -o OUT [extra]`, first without OUT, then over an
+/// existing OUT, which must stay as it was.
+void expectSurfaceRejected(const fs::path& dir, const fs::path& particles,
+                           const std::vector<std::string>& extra, const std::string& named) {
+    const fs::path output = dir / "out" / "surface.vdb";
+    fs::remove_all(output.parent_path());
+    std::vector<std::string> args = {"surface", particles.string(), "-o", output.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    SCOPED_TRACE(particles.filename().string() + " " + named);
+    expectRejected(dir, args, named, output);
+    fs::create_directories(output.parent_path());
+    writeBytes(output, "previous level sets");
+    expectRejected(dir, args, named, output);
+}
+
+TEST(CliSurface, BadInputExitsTwoNamingTheFileAndWritesNothing) {
+    const fs::path dir = surfaceDir("bad-input");
+    const std::vector<std::string> radius = {"--radius", "0.01"};
+    const std::string good = sluicePlayPly(latticeBall(kCentre, 0.04, kSpacing));
+    auto file = [&](const std::string& name, const std::string& bytes) {
+        writeBytes(dir / name, bytes);
+        return dir / name;
+    };
+    expectSurfaceRejected(dir, dir / "missing.ply", radius, "missing.ply");
+    expectSurfaceRejected(dir, file("text.ply", "solid cube\nfacet normal 0 0 1\n"), radius,
+                          "text.ply");
+    expectSurfaceRejected(dir, file("cut.ply", good.substr(0, good.size() - 13)), radius,
+                          "cut.ply");
+    expectSurfaceRejected(dir, file("header-only.ply", good.substr(0, good.find("end_header"))),
+                          radius, "header-only.ply");
+    expectSurfaceRejected(dir, file("empty.ply", sluicePlayPly({})), radius, "empty.ply");
+    expectSurfaceRejected(dir, file("nan.ply", sluicePlayPly({{0, 0, 0}, {NAN, 0, 0}})), radius,
+                          "nan.ply");
+    expectSurfaceRejected(dir, file("inf.ply", sluicePlayPly({{0, 0, 0}, {0, 0, INFINITY}})),
+                          radius, "inf.ply");
+    // sluice-play's files record no particle size: without --radius, the file and the option.
+    const fs::path ball = file("ball.ply", good);
+    expectSurfaceRejected(dir, ball, {}, "ball.ply");
+    expectSurfaceRejected(dir, ball, {}, "--radius");
+    // A folder with no PLY files in it (only what sluice-play writes beside them).
+    fs::create_directories(dir / "no-frames");
+    writeBytes(dir / "no-frames" / "frame_000000.bodies.json", "{}");
+    expectSurfaceRejected(dir, dir / "no-frames", radius, "no-frames");
+    // A folder with one bad frame among good ones writes none of them.
+    fs::create_directories(dir / "one-bad");
+    writeBytes(dir / "one-bad" / "frame_000000.ply", good);
+    writeBytes(dir / "one-bad" / "frame_000001.ply", good.substr(0, good.size() / 2));
+    expectSurfaceRejected(dir, dir / "one-bad", radius, "frame_000001.ply");
+}
+
+TEST(CliSurface, BadSizesAndOutputsExitTwoAndWriteNothing) {
+    const fs::path dir = surfaceDir("bad-sizes");
+    const fs::path ball = dir / "ball.ply";
+    writeBytes(ball, sluicePlayPly(latticeBall(kCentre, 0.04, kSpacing)));
+    for (const char* value : {"0", "-0.01", "nan", "inf", "abc"}) {
+        expectSurfaceRejected(dir, ball, {"--radius", value}, "--radius");
+        expectSurfaceRejected(dir, ball, {"--radius", "0.01", "--voxel-size", value},
+                              "--voxel-size");
+    }
+    // OpenVDB rasterises spheres of 1.5 to 100 voxels only.
+    expectSurfaceRejected(dir, ball, {"--radius", "0.01", "--voxel-size", "0.01"}, "--voxel-size");
+    expectSurfaceRejected(dir, ball, {"--radius", "0.01", "--voxel-size", "0.00005"},
+                          "--voxel-size");
+
+    // Outputs that cannot be written: not .vdb, under a file, a folder.
+    const std::vector<std::string> args = {"surface", ball.string(), "--radius", "0.01", "-o"};
+    auto with = [&](const fs::path& out) {
+        std::vector<std::string> all = args;
+        all.push_back(out.string());
+        return all;
+    };
+    expectRejected(dir, with(dir / "surface.slc"), "surface.slc", dir / "surface.slc");
+    writeBytes(dir / "a-file", "not a folder");
+    expectRejected(dir, with(dir / "a-file" / "x.vdb"), "a-file", dir / "a-file" / "x.vdb");
+    fs::create_directories(dir / "folder.vdb");
+    const RunResult run = runBake(dir, with(dir / "folder.vdb"));
+    EXPECT_EQ(run.code, kExitBadInput) << shown(run);
+    EXPECT_NE(run.err.find("folder.vdb"), std::string::npos) << run.err;
+    EXPECT_TRUE(fs::is_directory(dir / "folder.vdb"));
+}
+
+TEST(CliSurface, VdbPrintReadsTheOutputWhenInstalled) {
+    if (std::system("command -v vdb_print > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "vdb_print (Debian's openvdb-tools) is not installed";
+    const fs::path dir = surfaceDir("vdb-print");
+    writeBytes(dir / "frame_000001.ply", sluicePlayPly(latticeBall(kCentre, 0.04, kSpacing)));
+    const fs::path output = dir / "frames.vdb";
+    ASSERT_EQ(runBake(dir, {"surface", (dir / "frame_000001.ply").string(), "-o", output.string(),
+                            "--radius", "0.01"})
+                  .code,
+              kExitOk);
+    const fs::path listing = dir / "listing.txt";
+    ASSERT_EQ(std::system(("vdb_print -l " + quote(output.string()) + " > " +
+                           quote(listing.string()) + " 2>&1")
+                              .c_str()),
+              0);
+    const std::string text = readText(listing);
+    EXPECT_NE(text.find("frame_000001"), std::string::npos) << text;
+    EXPECT_NE(text.find("level set"), std::string::npos) << text;
+}
+
+} // namespace
