@@ -21,7 +21,7 @@ from ._progress import progress_hooks
 __all__ = [
     "Error", "FileError", "MeshError", "AssetError", "SceneError", "GpuError", "BakeError",
     "InvalidArgument", "Mesh", "Collider", "Simulation", "load_mesh", "bake", "read_asset",
-    "validate", "bake_many", "tool_version",
+    "validate", "bake_many", "tool_version", "reconstruct_surface", "SurfaceMesh",
 ]
 __version__ = _sluice.__version__
 
@@ -383,5 +383,14 @@ class Simulation:
         """GL_RENDERER of the context ("llvmpipe (...)" without a GPU)."""
         return self._s.renderer
 
+    def surface_mesh(self, cell_size: Optional[float] = None, iso: Optional[float] = None,
+                     smoothing_radius: Optional[float] = None) -> "SurfaceMesh":
+        """The fluid's surface now, as ``sluice-play --surface-mesh`` writes it
+        (:func:`reconstruct_surface` of :attr:`positions` at the scene's particle radius)."""
+        radius = self.parameters["derived"]["particleRadius"]
+        return reconstruct_surface(self.positions, radius, cell_size=cell_size, iso=iso,
+                                   smoothing_radius=smoothing_radius)
+
 
 from ._batch import bake_entry, bake_many  # noqa: E402
+from ._surface import SurfaceMesh, reconstruct_surface  # noqa: E402

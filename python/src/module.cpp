@@ -7,6 +7,7 @@
 namespace sluice::py {
 void bindBake(nb::module_& m);
 void bindSimulation(nb::module_& m);
+void bindSurface(nb::module_& m);
 } // namespace sluice::py
 
 NB_MODULE(_sluice, m) {
@@ -18,5 +19,6 @@ NB_MODULE(_sluice, m) {
     sluice::py::registerErrors(m);
     sluice::py::bindBake(m);
     sluice::py::bindSimulation(m);
+    sluice::py::bindSurface(m);
     m.attr("__version__") = SLUICE_VERSION;
 }

@@ -150,7 +150,9 @@ Result<void> writeStepOutputs(HeadlessRun& run, std::uint64_t step) {
     const HeadlessOptions& o = run.options;
     if (!o.plyDir.empty() && step % o.dumpEvery == 0) {
         const auto particles = run.sim.downloadParticles();
-        if (auto ok = writePly(std::filesystem::path(o.plyDir) / plyName(step), particles); !ok)
+        if (auto ok = writePly(std::filesystem::path(o.plyDir) / plyName(step), particles,
+                               run.sim.constants().radius);
+            !ok)
             return ok;
         const std::vector<BodyState> bodies = run.sim.bodies();
         if (!bodies.empty()) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -10,9 +11,10 @@
 
 namespace sluice::rt {
 
-static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
+static_assert(std::endian::native == std::endian::little,
+              "PLY writer assumes a little-endian host");
 
-std::vector<std::byte> encodePly(std::span<const ParticleState> particles) {
+std::vector<std::byte> encodePly(std::span<const ParticleState> particles, float particleRadius) {
     std::vector<const ParticleState*> order;
     order.reserve(particles.size());
     for (const ParticleState& p : particles)
@@ -20,11 +22,16 @@ std::vector<std::byte> encodePly(std::span<const ParticleState> particles) {
     std::sort(order.begin(), order.end(),
               [](const ParticleState* a, const ParticleState* b) { return a->id < b->id; });
 
+    std::string radius;
+    if (particleRadius > 0.0f) {
+        char line[64];
+        std::snprintf(line, sizeof line, "comment particle_radius %.9g\n", particleRadius);
+        radius = line;
+    }
     const std::string header = "ply\n"
                                "format binary_little_endian 1.0\n"
-                               "comment written by sluice-play " SLUICE_VERSION "\n"
-                               "element vertex " +
-                               std::to_string(particles.size()) +
+                               "comment written by sluice-play " SLUICE_VERSION "\n" +
+                               radius + "element vertex " + std::to_string(particles.size()) +
                                "\n"
                                "property float x\nproperty float y\nproperty float z\n"
                                "property float vx\nproperty float vy\nproperty float vz\n"
@@ -44,8 +51,9 @@ std::vector<std::byte> encodePly(std::span<const ParticleState> particles) {
     return bytes;
 }
 
-Result<void> writePly(const std::filesystem::path& path, std::span<const ParticleState> particles) {
-    const std::vector<std::byte> bytes = encodePly(particles);
+Result<void> writePly(const std::filesystem::path& path, std::span<const ParticleState> particles,
+                      float particleRadius) {
+    const std::vector<std::byte> bytes = encodePly(particles, particleRadius);
     return format::writeFileAtomic(path, bytes);
 }
 

@@ -1,0 +1,67 @@
+// Bindings of the surface reconstruction: (N, 3) points in, a mesh out, in a headless GL
+// context of its own (made for the call, so nothing GL outlives it or crosses a fork).
+#include <cstring>
+#include <vector>
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+
+#include "Errors.h"
+#include "sluice/gpu/Context.h"
+#include "sluice/rt/surface/SurfaceMesh.h"
+
+namespace sluice::py {
+namespace {
+
+using Points = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+
+template <class T, class V> nb::ndarray<nb::numpy, T, nb::ndim<2>> rows(const std::vector<V>& v) {
+    const std::size_t n = v.size();
+    auto* data = new T[n * 3];
+    static_assert(sizeof(V) == 3 * sizeof(T));
+    if (n > 0)
+        std::memcpy(data, v.data(), n * sizeof(V));
+    nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<T*>(p); });
+    return nb::ndarray<nb::numpy, T, nb::ndim<2>>(data, {n, 3}, owner);
+}
+
+nb::tuple reconstruct(Points points, float particleRadius, float cellSize, float smoothingRadius,
+                      float iso) {
+    rt::SurfaceOptions options;
+    options.particleRadius = particleRadius;
+    options.cellSize = cellSize;
+    options.smoothingRadius = smoothingRadius;
+    options.iso = iso;
+    std::vector<glm::vec3> copy(points.shape(0));
+    if (!copy.empty())
+        std::memcpy(copy.data(), points.data(), copy.size() * sizeof(glm::vec3));
+    Result<rt::SurfaceMesh> mesh = [&]() -> Result<rt::SurfaceMesh> {
+        nb::gil_scoped_release release;
+        if (auto ok = rt::resolveSurfaceOptions(options); !ok)
+            return ok.error();
+        auto context = gpu::Context::createHeadless();
+        if (!context)
+            return context.error();
+        auto reconstructor = rt::SurfaceReconstructor::create();
+        if (!reconstructor)
+            return reconstructor.error();
+        return reconstructor->reconstruct(copy, options);
+    }();
+    if (!mesh)
+        raise(mesh.error().code == ErrorCode::InvalidArgument ? Family::Argument
+                                                              : Family::Simulation,
+              mesh.error());
+    return nb::make_tuple(rows<float>(mesh->vertices), rows<float>(mesh->normals),
+                          rows<std::uint32_t>(mesh->triangles));
+}
+
+} // namespace
+
+void bindSurface(nb::module_& m) {
+    m.def("reconstruct_surface", &reconstruct, nb::arg("points"), nb::arg("particle_radius"),
+          nb::arg("cell_size"), nb::arg("smoothing_radius"), nb::arg("iso"),
+          "The fluid surface of (N, 3) float32 points on the GPU: (vertices (V, 3) float32, "
+          "normals (V, 3) float32, triangles (T, 3) uint32); zeros take the defaults.");
+}
+
+} // namespace sluice::py
