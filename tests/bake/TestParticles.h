@@ -31,12 +31,24 @@ inline std::vector<glm::dvec3> latticeBall(const glm::dvec3& centre, double radi
     return points;
 }
 
+/// The points of a lattice block: `counts` points of `spacing` along each axis from `corner`.
+inline std::vector<glm::dvec3> latticeBlock(const glm::dvec3& corner, int counts, double spacing) {
+    std::vector<glm::dvec3> points;
+    for (int k = 0; k < counts; ++k)
+        for (int j = 0; j < counts; ++j)
+            for (int i = 0; i < counts; ++i)
+                points.push_back(corner + glm::dvec3(i, j, k) * spacing);
+    return points;
+}
+
 /// The bytes sluice-play --dump-ply writes for `points` (runtime/src/play/PlyWriter.cpp):
-/// binary little-endian, float x y z vx vy vz and uint id, velocities zero.
-inline std::string sluicePlayPly(const std::vector<glm::dvec3>& points) {
-    std::string bytes = "ply\nformat binary_little_endian 1.0\ncomment written by a test\n"
-                        "element vertex " +
-                        std::to_string(points.size()) +
+/// binary little-endian, float x y z vx vy vz and uint id, velocities zero; with a
+/// "comment particle_radius RADIUS" line after the first comment when `radius` is not empty.
+inline std::string sluicePlayPly(const std::vector<glm::dvec3>& points,
+                                 const std::string& radius = "") {
+    std::string bytes = "ply\nformat binary_little_endian 1.0\ncomment written by a test\n" +
+                        (radius.empty() ? "" : "comment particle_radius " + radius + "\n") +
+                        "element vertex " + std::to_string(points.size()) +
                         "\nproperty float x\nproperty float y\nproperty float z\n"
                         "property float vx\nproperty float vy\nproperty float vz\n"
                         "property uint id\nend_header\n";

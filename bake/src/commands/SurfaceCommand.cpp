@@ -11,19 +11,33 @@ namespace {
 struct SurfaceArgs {
     std::string particles;
     std::string output;
-    double radius = 0.0;    ///< [world units] 0: the files' per-vertex radius
+    double radius = 0.0;    ///< [world units] 0: each file's per-vertex or header radius
     double voxelSize = 0.0; ///< [world units] 0: half the radius
+    bool spheres = false;   ///< the union of the particles' spheres, not the fluid's surface
     bool quiet = false;
 };
 
+/// "radius 0.01 (--radius)", "radius per vertex", "radius 0.01 (header)".
+std::string radiusOf(const SurfaceFrame& frame) {
+    switch (frame.radiusSource) {
+    case RadiusSource::Option:
+        return "radius " + num(frame.radius) + " (--radius)";
+    case RadiusSource::PerVertex:
+        return "radius per vertex";
+    case RadiusSource::Header:
+        return "radius " + num(frame.radius) + " (header)";
+    }
+    return "";
+}
+
 void printSummary(const SurfaceArgs& args, const SurfaceReport& report) {
     std::cout << "surface " << args.particles << " -> " << args.output << " ("
-              << plural(report.frames.size(), "level-set grid") << ", particle radius "
-              << (report.radius > 0.0 ? num(report.radius) : std::string("per vertex"))
-              << ", voxel " << num(report.voxelSize) << " world units, band 3 voxels)\n";
+              << plural(report.frames.size(), "level-set grid") << ", "
+              << (args.spheres ? "union of particle spheres" : "fluid surface") << ", voxel "
+              << num(report.voxelSize) << " world units, band 3 voxels)\n";
     for (const SurfaceFrame& frame : report.frames)
         std::cout << "  " << frame.name << "  " << plural(frame.particles, "particle") << ", "
-                  << plural(frame.activeVoxels, "active voxel") << '\n';
+                  << radiusOf(frame) << ", " << plural(frame.activeVoxels, "active voxel") << '\n';
 }
 
 int runSurface(const SurfaceArgs& args) {
@@ -39,6 +53,7 @@ int runSurface(const SurfaceArgs& args) {
     SurfaceOptions options;
     options.radius = args.radius;
     options.voxelSize = args.voxelSize;
+    options.spheres = args.spheres;
     Result<SurfaceReport> report = writeParticleSurfaces(*frames, args.output, options);
     if (!report)
         return reportError(cmd, "nothing written", report.error());
@@ -46,7 +61,8 @@ int runSurface(const SurfaceArgs& args) {
         if (frame.ignoredParticles > 0)
             std::cerr << "sluice-bake surface: warning: " << frame.name << ": "
                       << frame.ignoredParticles << " of " << frame.particles
-                      << " particles have a radius outside 1.5 to 100 voxels and were left out\n";
+                      << " particles have a sphere radius outside 1.5 to 100 voxels and were left "
+                         "out\n";
     if (!args.quiet)
         printSummary(args, *report);
     return kExitOk;
@@ -64,12 +80,16 @@ void addSurfaceOptions(CLI::App& app, SurfaceArgs& args) {
         ->type_name("OUT");
     app.add_option("--radius", args.radius,
                    "[world units] particle radius (sluice-play's is half the scene's spacing); "
-                   "default: each file's per-vertex \"radius\" property")
+                   "default: each file's per-vertex \"radius\" property, else its header's "
+                   "\"comment particle_radius R\" (sluice-play writes it)")
         ->check(finiteNumber(false));
     app.add_option("--voxel-size", args.voxelSize,
-                   "[world units] default: half the radius (the smallest per-vertex radius of "
-                   "the first frame)")
+                   "[world units] default: half the radius of the first frame (the smallest "
+                   "per-vertex radius)")
         ->check(finiteNumber(false));
+    app.add_flag("--spheres", args.spheres,
+                 "the union of one sphere of the particle radius per particle, instead of the "
+                 "fluid's surface (spheres of twice the radius, eroded by the radius)");
     app.add_flag("-q,--quiet", args.quiet, "no summary");
 }
 
@@ -78,9 +98,10 @@ void addSurfaceOptions(CLI::App& app, SurfaceArgs& args) {
 Command addSurfaceCommand(CLI::App& parent) {
     return addSubcommand(
         parent, "surface",
-        "Turn particle frames (PLY) into OpenVDB narrow-band level sets, the union of one "
-        "sphere per particle (OpenVDB's ParticlesToLevelSet): one FloatGrid per frame in one "
-        ".vdb file, written atomically.",
+        "Turn particle frames (PLY) into OpenVDB narrow-band level sets of the fluid's surface "
+        "(a lattice block ends half a spacing beyond its outer particles; --spheres: the union "
+        "of the particles' spheres): one FloatGrid per frame in one .vdb file, written "
+        "atomically.",
         addSurfaceOptions, runSurface);
 }
 

@@ -118,8 +118,11 @@ private:
             } else if (key == "property") {
                 if (Result<void> r = readProperty(words); !r)
                     return r;
+            } else if (key == "comment") {
+                readComment(words);
             }
-            // "comment", "obj_info" and anything else: skipped, as assimp skips them.
+            // "obj_info" and anything else: skipped, as assimp skips them (comments too; they
+            // are kept only for what the file says about itself, such as a particle radius).
         }
         // Debian's assimp 5.2.5 reads header lines until it finds end_header, and loops for
         // ever at the end of a file without one (found by tests/fuzz: a file cut short inside
@@ -196,6 +199,14 @@ private:
         element.declared = std::strtod(count.c_str(), nullptr);
         m_header.elements.push_back(std::move(element));
         return {};
+    }
+
+    void readComment(const std::vector<std::string_view>& words) {
+        PlyComment comment;
+        comment.line = m_line;
+        for (std::size_t n = 1; n < words.size(); ++n)
+            comment.text += (n > 1 ? " " : "") + std::string(words[n]);
+        m_header.comments.push_back(std::move(comment));
     }
 
     Result<void> readProperty(const std::vector<std::string_view>& words) {

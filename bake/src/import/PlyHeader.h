@@ -47,13 +47,20 @@ struct PlyElement {
 
 enum class PlyEncoding { Ascii, LittleEndian, BigEndian };
 
+/// A "comment" line of the header: what follows the keyword, and where.
+struct PlyComment {
+    std::size_t line = 0; ///< the line's number, from 1
+    std::string text;     ///< the words after "comment", joined by one space
+};
+
 /// What an accepted header declares.
 struct PlyHeader {
     PlyEncoding encoding = PlyEncoding::Ascii;
     std::vector<PlyElement> elements;
-    std::uint64_t bodyOffset = 0;  ///< [bytes] where the body starts
-    std::size_t bodyFirstLine = 0; ///< the number of the body's first line, from 1
-    std::uint64_t vertexCount = 0; ///< of the "vertex" element
+    std::uint64_t bodyOffset = 0;     ///< [bytes] where the body starts
+    std::size_t bodyFirstLine = 0;    ///< the number of the body's first line, from 1
+    std::uint64_t vertexCount = 0;    ///< of the "vertex" element
+    std::vector<PlyComment> comments; ///< in the order of the header
 };
 
 /// What a header must declare to be accepted: a mesh (vertex positions and faces, what

@@ -1,4 +1,5 @@
-// Particle frames to OpenVDB level sets: OpenVDB's sphere rasteriser, one grid per frame.
+// Particle frames to OpenVDB level sets: OpenVDB's sphere rasteriser (and, for the fluid's
+// surface, an erosion of the union of spheres), one grid per frame.
 #include "sluice/bake/interop/ParticleLevelSet.h"
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include "interop/VdbWrite.h"
 
 SLUICE_VDB_WARNINGS_OFF
+#include <openvdb/tools/LevelSetFilter.h>
 #include <openvdb/tools/ParticlesToLevelSet.h>
 SLUICE_VDB_WARNINGS_ON
 
@@ -32,6 +34,11 @@ constexpr double kMaxRadiusVoxels = 100.0;
 constexpr const char* kMetaSourceFile = "sluice_source_file";
 constexpr const char* kMetaSourceHash = "sluice_source_hash";
 constexpr const char* kMetaRadius = "sluice_particle_radius";
+constexpr const char* kMetaSurface = "sluice_surface";
+
+/// The fluid's surface: spheres of twice the particle radius (one lattice spacing), which close
+/// the gaps between lattice neighbours, eroded by one particle radius.
+constexpr double kFluidSphereScale = 2.0;
 
 std::string quoted(const fs::path& path) {
     return "'" + path.string() + "'";
@@ -44,12 +51,14 @@ std::string number(double value) {
     return text;
 }
 
-/// The particle-list interface ParticlesToLevelSet reads (its header's "struct ParticleList").
+/// The particle-list interface ParticlesToLevelSet reads (its header's "struct ParticleList"),
+/// every radius times `scale`.
 class ParticleList {
 public:
     using PosType = openvdb::Vec3R;
 
-    explicit ParticleList(const detail::ParticleFrame& frame) : m_frame(frame) {}
+    ParticleList(const detail::ParticleFrame& frame, double scale)
+        : m_frame(frame), m_scale(scale) {}
 
     std::size_t size() const { return m_frame.positions.size(); }
     void getPos(std::size_t n, openvdb::Vec3R& xyz) const {
@@ -58,35 +67,53 @@ public:
     }
     void getPosRad(std::size_t n, openvdb::Vec3R& xyz, openvdb::Real& radius) const {
         getPos(n, xyz);
-        radius = m_frame.radii[n];
+        radius = m_scale * m_frame.radii[n];
     }
 
 private:
     const detail::ParticleFrame& m_frame;
+    double m_scale = 1.0;
 };
 
-/// "--radius R is N voxels of S: ..." when a uniform radius is outside what OpenVDB rasterises.
-Result<void> checkRadiusInVoxels(double radius, double voxelSize) {
-    const double voxels = radius / voxelSize;
-    if (voxels >= kMinRadiusVoxels && voxels <= kMaxRadiusVoxels)
-        return {};
-    return fail(ErrorCode::InvalidArgument,
-                "the particle radius " + number(radius) + " is " + number(voxels) +
-                    " voxels of --voxel-size " + number(voxelSize) +
-                    "; OpenVDB rasterises spheres of 1.5 to 100 voxels: choose a voxel size from " +
-                    number(radius / kMaxRadiusVoxels) + " to " + number(radius / kMinRadiusVoxels));
+/// The radius of the spheres rasterised for particles of radius 1.
+double sphereScale(const SurfaceOptions& options) {
+    return options.spheres ? 1.0 : kFluidSphereScale;
 }
 
-/// The radius for a frame read without --radius: its per-vertex radii, or an error saying
-/// what to give instead (sluice-play's own files record no particle size).
-Result<void> checkHasRadius(const detail::ParticleFrame& frame, const fs::path& path) {
-    if (!frame.radii.empty())
+/// "the particle radius R is N voxels of S: ..." when the spheres of a uniform radius are outside
+/// what OpenVDB rasterises.
+Result<void> checkRadiusInVoxels(double radius, double voxelSize, const SurfaceOptions& options) {
+    const double scale = sphereScale(options);
+    const double voxels = scale * radius / voxelSize;
+    if (voxels >= kMinRadiusVoxels && voxels <= kMaxRadiusVoxels)
         return {};
+    const std::string spheres =
+        options.spheres ? "spheres" : "the fluid's spheres (twice the particle radius)";
     return fail(ErrorCode::InvalidArgument,
-                quoted(path) + " has no per-vertex \"radius\" property and no --radius was given; "
-                               "sluice-play's PLY files record no particle size: give --radius R, "
-                               "sluice-play's particle radius being half the scene's \"spacing\" "
-                               "(--radius 0.01 for a spacing of 0.02)");
+                "the particle radius " + number(radius) + " makes spheres of " + number(voxels) +
+                    " voxels of --voxel-size " + number(voxelSize) + "; OpenVDB rasterises " +
+                    spheres + " of 1.5 to 100 voxels: choose a voxel size from " +
+                    number(scale * radius / kMaxRadiusVoxels) + " to " +
+                    number(scale * radius / kMinRadiusVoxels));
+}
+
+/// Where a frame's radius comes from (--radius, per vertex, the header), or an error saying what
+/// to give instead.
+Result<RadiusSource> radiusSource(const detail::ParticleFrame& frame, const fs::path& path,
+                                  const SurfaceOptions& options) {
+    if (options.radius > 0.0)
+        return RadiusSource::Option;
+    if (!frame.radii.empty())
+        return RadiusSource::PerVertex;
+    if (frame.headerRadius)
+        return RadiusSource::Header;
+    return fail(ErrorCode::InvalidArgument,
+                quoted(path) + " records no particle size (no per-vertex \"radius\" property, "
+                               "no \"comment particle_radius R\" header line) and no --radius "
+                               "was given: give --radius R, sluice-play's particle radius being "
+                               "half the scene's \"spacing\" (--radius 0.01 for a spacing of "
+                               "0.02), or write the frames again with a sluice-play that records "
+                               "it");
 }
 
 /// Index coordinates are int32: every sphere's band must fit well inside them.
@@ -105,44 +132,68 @@ Result<void> checkIndexRange(const detail::ParticleFrame& frame, double reach, d
                     number(voxelSize) + "; choose a larger --voxel-size");
 }
 
+/// The union of one sphere per particle, radius `scale` times the particle's (`uniform` for
+/// every particle when > 0, else per vertex), as a level set; counts what OpenVDB skipped.
+openvdb::FloatGrid::Ptr rasteriseSpheres(const detail::ParticleFrame& frame, double uniform,
+                                         double scale, double voxelSize, double halfWidth,
+                                         SurfaceFrame& summary) {
+    openvdb::FloatGrid::Ptr grid =
+        openvdb::createLevelSet<openvdb::FloatGrid>(voxelSize, halfWidth);
+    openvdb::tools::ParticlesToLevelSet<openvdb::FloatGrid> raster(*grid);
+    raster.setRmin(kMinRadiusVoxels);
+    raster.setRmax(kMaxRadiusVoxels);
+    const ParticleList particles(frame, scale);
+    if (uniform > 0.0)
+        raster.rasterizeSpheres(particles, scale * uniform);
+    else
+        raster.rasterizeSpheres(particles);
+    raster.finalize(/*prune=*/true);
+    summary.ignoredParticles = raster.getMinCount() + raster.getMaxCount();
+    return grid;
+}
+
+/// Moves the zero crossing `distance` [world units] inwards. LevelSetFilter::offset adds to the
+/// level set in steps of half a voxel, re-normalising after each, so the band stays a signed
+/// distance of the full half-width; a positive offset erodes (ParticleLevelSetTest checks it).
+void erode(openvdb::FloatGrid& grid, double distance) {
+    openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(grid);
+    filter.offset(float(distance));
+}
+
 /// One frame's particles as a named level-set grid, with its provenance.
 Result<openvdb::FloatGrid::Ptr> rasterise(const detail::ParticleFrame& frame, const fs::path& path,
                                           const SurfaceOptions& options, double voxelSize,
                                           SurfaceFrame& summary) {
-    const bool uniform = options.radius > 0.0;
+    const bool perVertex = summary.radiusSource == RadiusSource::PerVertex;
+    const double scale = sphereScale(options);
     const double largestRadius =
-        uniform ? options.radius : *std::max_element(frame.radii.begin(), frame.radii.end());
-    if (auto ok =
-            checkIndexRange(frame, largestRadius + options.halfWidth * voxelSize, voxelSize, path);
-        !ok)
+        perVertex ? *std::max_element(frame.radii.begin(), frame.radii.end()) : summary.radius;
+    const double reach = scale * largestRadius + options.halfWidth * voxelSize;
+    if (auto ok = checkIndexRange(frame, reach, voxelSize, path); !ok)
         return ok.error();
     try {
-        openvdb::FloatGrid::Ptr grid =
-            openvdb::createLevelSet<openvdb::FloatGrid>(voxelSize, options.halfWidth);
-        openvdb::tools::ParticlesToLevelSet<openvdb::FloatGrid> raster(*grid);
-        raster.setRmin(kMinRadiusVoxels);
-        raster.setRmax(kMaxRadiusVoxels);
-        const ParticleList particles(frame);
-        if (uniform)
-            raster.rasterizeSpheres(particles, options.radius);
-        else
-            raster.rasterizeSpheres(particles);
-        raster.finalize(/*prune=*/true);
-
         summary.particles = frame.positions.size();
-        summary.ignoredParticles = raster.getMinCount() + raster.getMaxCount();
+        openvdb::FloatGrid::Ptr grid =
+            rasteriseSpheres(frame, summary.radius, scale, voxelSize, options.halfWidth, summary);
         if (summary.ignoredParticles == summary.particles)
-            return fail(ErrorCode::InvalidArgument,
-                        quoted(path) +
-                            ": every particle's radius is outside 1.5 to 100 voxels of " +
-                            number(voxelSize) + "; choose another --voxel-size");
+            return fail(
+                ErrorCode::InvalidArgument,
+                quoted(path) + ": every particle's sphere radius (" +
+                    (options.spheres ? "the particle radius" : "twice the particle radius") +
+                    ") is outside 1.5 to 100 voxels of " + number(voxelSize) +
+                    "; choose another --voxel-size");
+        if (!options.spheres)
+            erode(*grid, perVertex ? *std::min_element(frame.radii.begin(), frame.radii.end())
+                                   : summary.radius);
         summary.activeVoxels = grid->activeVoxelCount();
 
         grid->setName(summary.name);
         grid->setCreator(std::string("sluice-bake ") + SLUICE_VERSION);
         grid->insertMeta(kMetaSourceFile, openvdb::StringMetadata(path.filename().string()));
         grid->insertMeta(kMetaSourceHash, openvdb::StringMetadata(frame.sourceHash));
-        grid->insertMeta(kMetaRadius, openvdb::DoubleMetadata(uniform ? options.radius : 0.0));
+        grid->insertMeta(kMetaRadius, openvdb::DoubleMetadata(summary.radius));
+        grid->insertMeta(kMetaSurface,
+                         openvdb::StringMetadata(options.spheres ? "spheres" : "fluid"));
         return grid;
     } catch (const std::bad_alloc&) {
         return fail(ErrorCode::SizeOverflow, quoted(path) + ": out of memory rasterising " +
@@ -162,7 +213,7 @@ Result<void> checkOptions(const SurfaceOptions& options) {
     if (!std::isfinite(options.halfWidth) || options.halfWidth < 1.0)
         return fail(ErrorCode::InvalidArgument, "the band's half-width must be >= 1 voxel");
     if (options.radius > 0.0 && options.voxelSize > 0.0)
-        return checkRadiusInVoxels(options.radius, options.voxelSize);
+        return checkRadiusInVoxels(options.radius, options.voxelSize, options);
     return {};
 }
 
@@ -205,21 +256,25 @@ Result<SurfaceReport> writeParticleSurfaces(const std::vector<fs::path>& frames,
         Result<detail::ParticleFrame> frame = detail::readParticlePly(path);
         if (!frame)
             return frame.error();
-        if (options.radius <= 0.0)
-            if (auto ok = checkHasRadius(*frame, path); !ok)
-                return ok.error();
+        SurfaceFrame summary;
+        summary.name = path.stem().string();
+        Result<RadiusSource> source = radiusSource(*frame, path, options);
+        if (!source)
+            return source.error();
+        summary.radiusSource = *source;
+        summary.radius = *source == RadiusSource::Option   ? options.radius
+                         : *source == RadiusSource::Header ? *frame->headerRadius
+                                                           : 0.0;
         if (report.voxelSize <= 0.0) {
             // The first frame fixes the voxel size, so every grid of the file shares it.
-            const double radius = options.radius > 0.0
-                                      ? options.radius
+            const double radius = summary.radius > 0.0
+                                      ? summary.radius
                                       : *std::min_element(frame->radii.begin(), frame->radii.end());
             report.voxelSize = radius / 2.0;
         }
-        if (options.radius > 0.0)
-            if (auto ok = checkRadiusInVoxels(options.radius, report.voxelSize); !ok)
+        if (summary.radius > 0.0)
+            if (auto ok = checkRadiusInVoxels(summary.radius, report.voxelSize, options); !ok)
                 return fail(ok.error().code, quoted(path) + ": " + ok.error().detail);
-        SurfaceFrame summary;
-        summary.name = path.stem().string();
         Result<openvdb::FloatGrid::Ptr> grid =
             rasterise(*frame, path, options, report.voxelSize, summary);
         if (!grid)

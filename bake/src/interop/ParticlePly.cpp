@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "import/PlyCheck.h"
 #include "import/PlyHeader.h"
@@ -229,6 +230,39 @@ Result<void> readVertices(PlyBodyReader& body, const PlyElement& vertex, const V
     return {};
 }
 
+/// The radius a header records as "comment particle_radius R" (sluice-play's frames), if any.
+Result<std::optional<double>> headerRadius(const PlyHeader& header, const std::string& shown) {
+    constexpr std::string_view kKey = "particle_radius";
+    std::optional<double> radius;
+    for (const PlyComment& comment : header.comments) {
+        const std::string_view text = comment.text;
+        if (text.substr(0, kKey.size()) != kKey ||
+            (text.size() > kKey.size() && text[kKey.size()] != ' '))
+            continue; // another comment
+        if (radius)
+            return plyProblem(shown, comment.line, "a second \"comment particle_radius\"");
+        const std::string value(text.substr(std::min(text.size(), kKey.size() + 1)));
+        char* stop = nullptr;
+        const double r = std::strtod(value.c_str(), &stop);
+        if (value.empty() || stop != value.c_str() + value.size())
+            return plyProblem(shown, comment.line,
+                              "\"comment particle_radius\" needs one number, not \"" + value +
+                                  "\"; write the file again or give --radius");
+        if (!std::isfinite(r))
+            return fail(ErrorCode::NonFinite,
+                        shown + ": line " + std::to_string(comment.line) +
+                            ": the header's particle radius \"" + value +
+                            "\" is not finite; write the file again or give --radius");
+        if (r <= 0.0)
+            return fail(ErrorCode::InvalidArgument,
+                        shown + ": line " + std::to_string(comment.line) +
+                            ": the header's particle radius " + value +
+                            " is not > 0; write the file again or give --radius");
+        radius = r;
+    }
+    return radius;
+}
+
 } // namespace
 
 Result<ParticleFrame> readParticlePly(const std::filesystem::path& path) {
@@ -248,8 +282,13 @@ Result<ParticleFrame> readParticlePly(const std::filesystem::path& path) {
     if (!header)
         return header.error();
 
+    Result<std::optional<double>> radius = headerRadius(*header, shown);
+    if (!radius)
+        return radius.error();
+
     PlyBodyReader body(*bytes, std::size_t(header->bodyOffset), header->encoding);
     ParticleFrame frame;
+    frame.headerRadius = *radius;
     frame.sourceHash = format::hex64(format::xxh3(*bytes));
     for (const PlyElement& element : header->elements) {
         if (element.name != "vertex") {

@@ -2,7 +2,8 @@
 //
 // sluice-play --dump-ply writes binary little-endian files with one "vertex" element of
 // float x y z vx vy vz and uint id (runtime/src/play/PlyWriter.cpp); other tools add a
-// per-vertex "radius". The header goes through the same hardened reader as `bake`'s PLY
+// per-vertex "radius", and sluice-play records its particle radius in the header as
+// "comment particle_radius R". The header goes through the same hardened reader as `bake`'s PLY
 // pre-flight check (import/PlyHeader.h), asking for points instead of a mesh; the body is
 // walked here with every read bounds-checked.
 #pragma once
@@ -11,6 +12,8 @@
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <optional>
 
 #include <glm/vec3.hpp>
 
@@ -25,16 +28,20 @@ inline constexpr std::uint64_t kMaxParticlePlyBytes = std::uint64_t(8) << 30;
 struct ParticleFrame {
     std::vector<glm::dvec3> positions; ///< [world units] one per vertex, all finite
     std::vector<double> radii;         ///< [world units] per vertex "radius", empty if none
-    std::string sourceHash;            ///< XXH3-64 of the file's bytes, 16 hex digits
+    /// [world units] the header's "comment particle_radius R" (finite, > 0), if it has one.
+    std::optional<double> headerRadius;
+    std::string sourceHash; ///< XXH3-64 of the file's bytes, 16 hex digits
 };
 
 /// Reads the "vertex" element of a PLY file (ASCII or binary, either byte order; positions
 /// and radius of any scalar type; elements before "vertex" are skipped, data after it
 /// ignored). Every message names the file. Errors: Io (missing, unreadable, not a regular
 /// file), SizeOverflow (over kMaxParticlePlyBytes), BadMagic (not a PLY file), MeshImport (a
-/// bad header, no x/y/z, a list-valued x, y, z or radius, a word that is not a number),
+/// bad header, no x/y/z, a list-valued x, y, z or radius, a word that is not a number, a
+/// "comment particle_radius" that is not one number or is given twice),
 /// Truncated (the body ends before its last vertex), EmptyMesh (no vertices), NonFinite (a
-/// non-finite coordinate or radius), InvalidArgument (a radius <= 0).
+/// non-finite coordinate, radius or header radius), InvalidArgument (a radius or header radius
+/// <= 0).
 Result<ParticleFrame> readParticlePly(const std::filesystem::path& path);
 
 } // namespace sluice::bake::detail

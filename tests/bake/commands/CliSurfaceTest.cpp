@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "CliRun.h"
@@ -68,49 +69,108 @@ fs::path surfaceDir(const std::string& name) {
     return testrun::tempDir("cli-surface-" + name);
 }
 
-TEST(CliSurface, ABallOfParticlesBecomesOneLevelSetWithTheBallsSurface) {
-    const fs::path dir = surfaceDir("ball");
-    const fs::path ply = dir / "frame_000015.ply";
-    writeBytes(ply, sluicePlayPly(latticeBall(kCentre, kBall, kSpacing)));
-    const fs::path output = dir / "out" / "ball.vdb";
-    const RunResult run = runBake(
-        dir, {"surface", ply.string(), "-o", output.string(), "--radius", std::to_string(kRadius)});
-    ASSERT_EQ(run.code, kExitOk) << shown(run);
-    EXPECT_NE(run.out.find("frame_000015  515 particles"), std::string::npos) << run.out;
-
+/// The one level-set grid of `output`, named `name`.
+openvdb::FloatGrid::Ptr readOneGrid(const fs::path& output, const std::string& name) {
     const openvdb::GridPtrVecPtr grids = readGrids(output);
-    ASSERT_EQ(grids->size(), 1u);
+    EXPECT_EQ(grids->size(), 1u);
+    if (grids->empty())
+        return nullptr;
     const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[0]);
-    ASSERT_TRUE(grid);
-    EXPECT_EQ(grid->getName(), "frame_000015");
+    EXPECT_TRUE(grid);
+    if (!grid)
+        return nullptr;
+    EXPECT_EQ(grid->getName(), name);
     EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
-    EXPECT_NEAR(grid->voxelSize()[0], kVoxel, 1e-12);
+    EXPECT_NEAR(grid->voxelSize()[0], kVoxel, 1e-9);   // kVoxel, or half the float radius
     EXPECT_NEAR(grid->background(), 3 * kVoxel, 1e-7); // OpenVDB's half-width, 3 voxels
+    return grid;
+}
 
-    // Inside at the centre (a particle's centre: about -radius), outside well beyond the ball.
-    EXPECT_LT(sample(*grid, kCentre), -0.5 * kRadius);
-    EXPECT_GT(sample(*grid, kCentre + glm::dvec3(0.3, 0, 0)), 0.0);
-    EXPECT_GT(sample(*grid, kCentre + glm::dvec3(0, -0.2, 0.2)), 0.0);
-
-    // Along each axis the outermost particle sits on the ball (5 spacings out), so the union of
-    // spheres crosses zero one particle radius beyond the ball's surface.
-    double worst = 0.0, worstFromBall = 0.0;
+/// [world units] The largest distance between the zero crossings along the six axis directions
+/// from `kCentre` and `expected`, starting from the outermost particle on each axis.
+double worstAxisCrossing(const openvdb::FloatGrid& grid, double expected) {
+    double worst = 0.0;
     for (int axis = 0; axis < 3; ++axis)
         for (double sign : {-1.0, 1.0}) {
             glm::dvec3 along(0.0);
             along[axis] = sign;
-            // From the outermost particle's centre: the spheres on the axis touch, so the field
-            // reaches 0 between them too.
-            const double t = kBall + zeroCrossing(*grid, kCentre + along * kBall, along, 0.05);
-            ASSERT_FALSE(std::isnan(t)) << "no crossing along axis " << axis;
-            worst = std::max(worst, std::abs(t - (kBall + kRadius)));
-            worstFromBall = std::max(worstFromBall, std::abs(t - kBall));
+            const double t = kBall + zeroCrossing(grid, kCentre + along * kBall, along, 0.05);
+            EXPECT_FALSE(std::isnan(t)) << "no crossing along axis " << axis;
+            worst = std::max(worst, std::isnan(t) ? HUGE_VAL : std::abs(t - expected));
         }
-    std::printf("surface: zero crossing within %.3g voxel of the union of spheres (ball + r), "
-                "%.3g world units from the ball of centres\n",
-                worst / kVoxel, worstFromBall);
+    return worst;
+}
+
+TEST(CliSurface, ABallOfParticlesBecomesTheFluidsSurfaceWithTheRadiusFromTheHeader) {
+    const fs::path dir = surfaceDir("ball");
+    const fs::path ply = dir / "frame_000015.ply";
+    const std::vector<glm::dvec3> particles = latticeBall(kCentre, kBall, kSpacing);
+    // As sluice-play records its radius: %.9g of the float 0.01.
+    writeBytes(ply, sluicePlayPly(particles, "0.00999999978"));
+    const fs::path output = dir / "out" / "ball.vdb";
+    const RunResult run = runBake(dir, {"surface", ply.string(), "-o", output.string()});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("fluid surface"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("frame_000015  515 particles, radius 0.01 (header)"), std::string::npos)
+        << run.out;
+    const openvdb::FloatGrid::Ptr grid = readOneGrid(output, "frame_000015");
+    ASSERT_TRUE(grid);
+
+    // Inside at the centre, outside well beyond the ball.
+    EXPECT_LT(sample(*grid, kCentre), -kVoxel);
+    EXPECT_GT(sample(*grid, kCentre + glm::dvec3(0.3, 0, 0)), 0.0);
+    EXPECT_GT(sample(*grid, kCentre + glm::dvec3(0, -0.2, 0.2)), 0.0);
+
+    // No pockets: every particle's centre and the centre of every lattice cube of 8 particles
+    // is inside.
+    double largest = -HUGE_VAL;
+    auto isParticle = [&](const glm::dvec3& offset) {
+        return glm::length(offset) <= kBall * (1.0 + 1e-9);
+    };
+    for (const glm::dvec3& p : particles) {
+        largest = std::max(largest, sample(*grid, p));
+        bool cube = true;
+        for (int corner = 0; corner < 8; ++corner)
+            cube = cube && isParticle(p - kCentre +
+                                      glm::dvec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1) *
+                                          kSpacing);
+        if (cube)
+            largest = std::max(largest, sample(*grid, p + glm::dvec3(kSpacing / 2)));
+    }
+    EXPECT_LT(largest, 0.0) << "a pocket";
+
+    // Along each axis the outermost particle sits on the ball of centres (5 spacings out) and
+    // the fluid it samples ends half a spacing beyond it, as a lattice block does.
+    const double worst = worstAxisCrossing(*grid, kBall + kSpacing / 2);
+    std::printf("surface: zero crossing within %.3g voxel of the fluid's surface (ball + s / 2); "
+                "largest value at particle and cube centres %.3g voxels\n",
+                worst / kVoxel, largest / kVoxel);
+    EXPECT_LE(worst, 0.25 * kVoxel + 0.05 * kVoxel);
+}
+
+TEST(CliSurface, SpheresGiveTheUnionOfParticleSpheres) {
+    const fs::path dir = surfaceDir("spheres");
+    const fs::path ply = dir / "frame_000015.ply";
+    // The header's radius is overridden by --radius.
+    writeBytes(ply, sluicePlayPly(latticeBall(kCentre, kBall, kSpacing), "0.5"));
+    const fs::path output = dir / "ball.vdb";
+    const RunResult run = runBake(dir, {"surface", ply.string(), "-o", output.string(), "--radius",
+                                        std::to_string(kRadius), "--spheres"});
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_NE(run.out.find("union of particle spheres"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("515 particles, radius 0.01 (--radius)"), std::string::npos) << run.out;
+    const openvdb::FloatGrid::Ptr grid = readOneGrid(output, "frame_000015");
+    ASSERT_TRUE(grid);
+    // Inside at the centre (a particle's centre: about -radius), outside well beyond the ball.
+    EXPECT_LT(sample(*grid, kCentre), -0.5 * kRadius);
+    EXPECT_GT(sample(*grid, kCentre + glm::dvec3(0.3, 0, 0)), 0.0);
+    // The union of spheres crosses zero one particle radius beyond the ball of centres.
+    const double worst = worstAxisCrossing(*grid, kBall + kRadius);
+    std::printf("surface --spheres: zero crossing within %.3g voxel of the union of spheres\n",
+                worst / kVoxel);
     EXPECT_LE(worst, 0.25 * kVoxel);
-    EXPECT_LE(worstFromBall, kRadius + kVoxel);
+    // The union's pocket at the centre of a lattice cube.
+    EXPECT_GT(sample(*grid, kCentre + glm::dvec3(kSpacing / 2)), 0.0);
 }
 
 TEST(CliSurface, AFolderOfFramesGivesOneGridPerFrameInNameOrder) {
@@ -178,10 +238,16 @@ TEST(CliSurface, BadInputExitsTwoNamingTheFileAndWritesNothing) {
                           "nan.ply");
     expectSurfaceRejected(dir, file("inf.ply", sluicePlayPly({{0, 0, 0}, {0, 0, INFINITY}})),
                           radius, "inf.ply");
-    // sluice-play's files record no particle size: without --radius, the file and the option.
+    // A file recording no particle size: without --radius, the file and the option.
     const fs::path ball = file("ball.ply", good);
     expectSurfaceRejected(dir, ball, {}, "ball.ply");
     expectSurfaceRejected(dir, ball, {}, "--radius");
+    // A header radius that is malformed, not finite or not > 0.
+    const std::vector<glm::dvec3> points = latticeBall(kCentre, 0.04, kSpacing);
+    for (const char* value : {"abc", "0.01x", "nan", "inf", "0", "-0.01"}) {
+        expectSurfaceRejected(dir, file("bad-radius.ply", sluicePlayPly(points, value)), {},
+                              "bad-radius.ply");
+    }
     // A folder with no PLY files in it (only what sluice-play writes beside them).
     fs::create_directories(dir / "no-frames");
     writeBytes(dir / "no-frames" / "frame_000000.bodies.json", "{}");
@@ -203,7 +269,10 @@ TEST(CliSurface, BadSizesAndOutputsExitTwoAndWriteNothing) {
                               "--voxel-size");
     }
     // OpenVDB rasterises spheres of 1.5 to 100 voxels only.
-    expectSurfaceRejected(dir, ball, {"--radius", "0.01", "--voxel-size", "0.01"}, "--voxel-size");
+    // Spheres of the radius (--spheres) or of twice the radius (the fluid's surface).
+    expectSurfaceRejected(dir, ball, {"--radius", "0.01", "--voxel-size", "0.01", "--spheres"},
+                          "--voxel-size");
+    expectSurfaceRejected(dir, ball, {"--radius", "0.01", "--voxel-size", "0.02"}, "--voxel-size");
     expectSurfaceRejected(dir, ball, {"--radius", "0.01", "--voxel-size", "0.00005"},
                           "--voxel-size");
 
