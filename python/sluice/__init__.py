@@ -27,6 +27,9 @@ __version__ = _sluice.__version__
 
 PathLike = Union[str, "os.PathLike[str]"]
 
+_SCENE_DICT_LABEL = "<scene dict>"
+"""What error messages call a scene given as a dict (a file's path otherwise)."""
+
 
 class Mesh:
     """A triangle mesh ready to bake: ``vertices`` (N, 3) float64, ``triangles`` (M, 3) uint32,
@@ -269,9 +272,10 @@ class Simulation:
                  base_dir: Optional[PathLike] = None) -> None:
         if isinstance(scene, dict):
             folder = os.fspath(base_dir) if base_dir is not None else os.getcwd()
+            # The file name only anchors relative asset paths; messages say "<scene dict>".
             self._s = _sluice.SimulationCore.from_json(json.dumps(scene),
                                                        os.path.join(folder, "scene.json"),
-                                                       deterministic)
+                                                       deterministic, label=_SCENE_DICT_LABEL)
         else:
             self._s = _sluice.SimulationCore.from_file(os.fspath(scene), deterministic)
 

@@ -139,10 +139,16 @@ void bindSimulation(nb::module_& m) {
             nb::arg("path"), nb::arg("deterministic") = false)
         .def_static(
             "from_json",
-            [](const std::string& text, const std::string& path, bool deterministic) {
-                return create(format::parseScene(text, path), deterministic);
+            [](const std::string& text, const std::string& path, bool deterministic,
+               const std::string& label) {
+                format::SceneReadOptions options;
+                options.label = label;
+                return create(format::parseScene(text, path, options), deterministic);
             },
-            nb::arg("text"), nb::arg("path"), nb::arg("deterministic") = false)
+            nb::arg("text"), nb::arg("path"), nb::arg("deterministic") = false,
+            nb::arg("label") = "",
+            "A scene from JSON text: collider assets relative to the folder of `path`, messages "
+            "naming it `label` (empty: `path`).")
         .def("step", &step, nb::arg("n") = 1)
         .def("stats_json",
              [](PySimulation& s) {
