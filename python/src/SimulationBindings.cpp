@@ -23,10 +23,25 @@ namespace {
 /// The context comes first so that it is destroyed last (GL objects before their context).
 struct PySimulation {
     std::optional<gpu::Context> context;
-    std::optional<rt::Simulation> sim;
+    std::unique_ptr<rt::Simulation> sim;
     std::string sceneJson; ///< the scene's path (for messages)
 
+    PySimulation() = default;
+    PySimulation(const PySimulation&) = delete;
+    PySimulation& operator=(const PySimulation&) = delete;
+    ~PySimulation() {
+        // A copy inherited across fork(): its GL objects are the parent's to delete.
+        if (gpu::forkedFromGlProcess())
+            (void)sim.release();
+    }
+
     rt::Simulation& current() {
+        if (gpu::forkedFromGlProcess())
+            throw SluiceError(Family::Simulation, ErrorCode::NoGlContext,
+                              sceneJson +
+                                  ": this Simulation's OpenGL context belongs to the process "
+                                  "this one was forked from; create the Simulation here instead "
+                                  "[NoGlContext]");
         context->makeCurrent();
         return *sim;
     }
@@ -48,7 +63,7 @@ std::unique_ptr<PySimulation> create(Result<format::Scene> scene, bool determini
     Result<rt::Simulation> sim = rt::Simulation::create(*scene, std::move(*colliders), options);
     if (!sim)
         raise(Family::Simulation, sim.error());
-    out->sim.emplace(std::move(*sim));
+    out->sim = std::make_unique<rt::Simulation>(std::move(*sim));
     out->sceneJson = scene->path;
     return out;
 }
