@@ -161,6 +161,12 @@ void Context::release() {
         return;
     if (m_debug != nullptr && currentDebugState() == m_debug.get())
         setCurrentDebugState(nullptr);
+    if (forkedFromGlProcess()) {
+        // The parent's context: any EGL call here could wait on the parent's driver threads.
+        m_display = m_context = m_surface = nullptr;
+        m_debug.reset();
+        return;
+    }
     EglContext egl;
     egl.display = m_display;
     egl.context = m_context;
@@ -172,6 +178,9 @@ void Context::release() {
 
 void Context::makeCurrent() const {
     SLUICE_ASSERT(m_display != nullptr, "Context::makeCurrent on a moved-from context");
+    SLUICE_ASSERT(
+        !forkedFromGlProcess(),
+        "Context::makeCurrent on a context inherited across fork() (forkedFromGlProcess)");
     EglContext egl;
     egl.display = m_display;
     egl.context = m_context;

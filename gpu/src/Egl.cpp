@@ -2,14 +2,13 @@
 #include "Egl.h"
 
 #include <cstdlib>
-#include <map>
-#include <mutex>
 #include <optional>
 #include <string_view>
 #include <vector>
 
 #include <glad/egl.h>
 
+#include "DisplayRegistry.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/gpu/Gl.h"
 #include "sluice/gpu/Program.h"
@@ -22,11 +21,6 @@ constexpr EGLint kDrmDeviceFileExt = 0x3233;     // EGL_EXT_device_drm
 constexpr EGLint kDrmRenderNodeFileExt = 0x3377; // EGL_EXT_device_drm_render_node
 constexpr EGLint kDeviceRendererExt = 0x335F;    // EGL_EXT_device_query_name (EGL_RENDERER_EXT)
 const EGLConfig kNoConfig = static_cast<EGLConfig>(nullptr); // EGL_NO_CONFIG_KHR
-
-// eglTerminate ends every context of a display, and Mesa hands out one display per platform and
-// device, so two Contexts on the same display share it: the last one terminates it.
-std::mutex g_displayMutex;
-std::map<EGLDisplay, int> g_displayUsers;
 
 const char* eglErrorName(EGLint error) {
     switch (error) {
@@ -63,10 +57,6 @@ const char* eglErrorName(EGLint error) {
     default:
         return "unknown EGL error";
     }
-}
-
-std::string lastEglError() {
-    return eglErrorName(eglGetError());
 }
 
 bool hasExtension(const char* list, std::string_view name) {
@@ -137,36 +127,6 @@ Result<Settings> resolveSettings(const ContextOptions& options) {
 /// An EGL or GL setup failure: every one of them means "no usable context here".
 Error noContext(std::string detail) {
     return fail(ErrorCode::NoGlContext, std::move(detail));
-}
-
-/// Initializes `display` unless another context already did.
-Result<void> acquireDisplay(EGLDisplay display) {
-    std::lock_guard lock(g_displayMutex);
-    int& users = g_displayUsers[display];
-    if (users == 0) {
-        EGLint major = 0;
-        EGLint minor = 0;
-        if (eglInitialize(display, &major, &minor) != EGL_TRUE) {
-            Error error = noContext("eglInitialize failed: " + lastEglError());
-            g_displayUsers.erase(display);
-            return error;
-        }
-    }
-    ++users;
-    return {};
-}
-
-void releaseDisplay(EGLDisplay display) {
-    std::lock_guard lock(g_displayMutex);
-    auto it = g_displayUsers.find(display);
-    if (it == g_displayUsers.end())
-        return;
-    if (--it->second == 0) {
-        // Joins llvmpipe's worker threads; without it they can still run during exit.
-        keepDriverLoadedForLeakChecks(); // ASan builds: eglTerminate would unload it
-        eglTerminate(display);
-        g_displayUsers.erase(it);
-    }
 }
 
 /// Checks the current context: GL 4.5 core, and a compute shader compiles.
@@ -364,7 +324,18 @@ void trySurfacelessPlatform(const Settings& settings, const ClientExtensions& cl
 
 } // namespace
 
+std::string lastEglError() {
+    return eglErrorName(eglGetError());
+}
+
 Result<EglContext> createEglContext(const ContextOptions& options) {
+    if (forkedFromGlProcess())
+        return fail(ErrorCode::NoGlContext,
+                    "this process was forked while its parent had an OpenGL context open; the GL "
+                    "driver's threads do not survive fork(), so no context can open here. Start "
+                    "worker processes with the spawn or forkserver method (Python: "
+                    "multiprocessing.get_context(\"spawn\")) or open contexts only after the "
+                    "fork");
     auto settings = resolveSettings(options);
     if (!settings)
         return settings.error();

@@ -27,6 +27,9 @@ Result<EglContext> createEglContext(const ContextOptions& options);
 /// the display when no other EglContext uses it. Leaves `egl` empty.
 void destroyEglContext(EglContext& egl);
 
+/// The name of eglGetError()'s code ("EGL_BAD_DISPLAY"), for messages.
+std::string lastEglError();
+
 /// Makes `egl` current on this thread; NoGlContext with the EGL error if that fails.
 Result<void> makeEglContextCurrent(const EglContext& egl);
 

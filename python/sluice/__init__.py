@@ -27,6 +27,9 @@ __version__ = _sluice.__version__
 
 PathLike = Union[str, "os.PathLike[str]"]
 
+_SCENE_DICT_LABEL = "<scene dict>"
+"""What error messages call a scene given as a dict (a file's path otherwise)."""
+
 
 class Mesh:
     """A triangle mesh ready to bake: ``vertices`` (N, 3) float64, ``triangles`` (M, 3) uint32,
@@ -232,18 +235,16 @@ def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int]
         close()
 
 
-def validate(collider: Union[Collider, PathLike], mesh: Union[Mesh, PathLike],
+def validate(collider: Union[Collider, PathLike], mesh: Union[Mesh, PathLike, Tuple[Any, Any]],
              samples: Optional[int] = None, sign: Optional[str] = None, seed: int = 1,
              max_error: Optional[float] = None, max_sign_errors: float = 0.0,
              progress: bool = True) -> Dict[str, Any]:
     """Checks a collider against the exact CGAL reference of its mesh; returns the report of
-    ``sluice-bake validate --json`` as a dict (figures, limits, ``withinLimits``). A mesh given
-    by path is read at the scale the collider records, as the command line does."""
+    ``sluice-bake validate --json`` as a dict (figures, limits, ``withinLimits``). ``mesh`` is
+    taken as ``bake`` takes it: a Mesh as it is, while a path, read as the command line does, and
+    a ``(vertices, triangles)`` pair are both scaled by the scale the collider records."""
     c = collider if isinstance(collider, Collider) else read_asset(collider)
-    if isinstance(mesh, Mesh):
-        m = mesh
-    else:
-        m = load_mesh(mesh, c.metadata["bake"]["scale"])
+    m = _as_mesh(mesh, None if isinstance(mesh, Mesh) else c.metadata["bake"]["scale"])
     request = _sluice.ValidateRequest()
     if samples is not None:
         request.samples = int(samples)
@@ -271,9 +272,10 @@ class Simulation:
                  base_dir: Optional[PathLike] = None) -> None:
         if isinstance(scene, dict):
             folder = os.fspath(base_dir) if base_dir is not None else os.getcwd()
+            # The file name only anchors relative asset paths; messages say "<scene dict>".
             self._s = _sluice.SimulationCore.from_json(json.dumps(scene),
                                                        os.path.join(folder, "scene.json"),
-                                                       deterministic)
+                                                       deterministic, label=_SCENE_DICT_LABEL)
         else:
             self._s = _sluice.SimulationCore.from_file(os.fspath(scene), deterministic)
 

@@ -41,6 +41,8 @@ def bake_entry(entry: Dict[str, Any], force: bool = False) -> Dict[str, Any]:
     "maxError", "error"}`` where ``error`` is ``{"type", "code", "message"}`` for a failure."""
     from . import _sluice
     from ._errors import Error
+    if entry.get("backend", "auto") != "cgal" and _sluice.forked_from_gl_process():
+        return _bake_entry_in_fresh_process(entry, force)
     request = _sluice.BakeRequest()
     request.resolution = int(entry.get("resolution", 64))
     request.voxel_size = float(entry.get("voxelSize", 0.0))
@@ -64,6 +66,38 @@ def bake_entry(entry: Dict[str, Any], force: bool = False) -> Dict[str, Any]:
                 "error": {"type": type(e).__name__, "code": e.code, "message": str(e)}}
 
 
+# The child of _bake_entry_in_fresh_process: this interpreter's sys.path, then (entry, force) on
+# stdin; the result pickled on the original stdout, which nothing else may write to.
+_FRESH_PROCESS = """
+import os, pickle, sys
+out = os.fdopen(os.dup(1), "wb")
+os.dup2(2, 1)
+sys.path[:] = pickle.load(sys.stdin.buffer)
+from sluice._batch import bake_entry
+pickle.dump(bake_entry(*pickle.load(sys.stdin.buffer)), out)
+"""
+
+
+def _bake_entry_in_fresh_process(entry: Dict[str, Any], force: bool) -> Dict[str, Any]:
+    """bake_entry in a new interpreter, for a worker forked from a process that had an OpenGL
+    context open (a fork-started pool after a Simulation): GL drivers keep threads that fork()
+    does not copy, so this process can open no context of its own (docs/python.md)."""
+    import pickle
+    import subprocess
+    import sys
+    payload = pickle.dumps(sys.path) + pickle.dumps((entry, force))
+    done = subprocess.run([sys.executable, "-c", _FRESH_PROCESS], input=payload,
+                          stdout=subprocess.PIPE, check=False)
+    if done.returncode == 0:
+        return pickle.loads(done.stdout)
+    return {"output": entry["output"], "label": entry["label"], "status": "failed",
+            "seconds": 0.0, "points": 0, "maxError": None,
+            "error": {"type": "BakeError", "code": "Unknown",
+                      "message": f"{entry['mesh']}: the process baking it (fresh, since this one "
+                                 f"was forked from one with an OpenGL context) exited with "
+                                 f"status {done.returncode}"}}
+
+
 def bake_many(manifest_or_entries: Union[str, "os.PathLike[str]", Iterable[Dict[str, Any]]],
               executor: Optional[Executor] = None, force: bool = False) -> List[Dict[str, Any]]:
     """Bakes every entry of a batch manifest (a path, read as ``sluice-bake batch`` reads it) or
@@ -71,7 +105,9 @@ def bake_many(manifest_or_entries: Union[str, "os.PathLike[str]", Iterable[Dict[
     per entry on ``executor``: by default a local process pool, or e.g. a Dask cluster's
     ``dask.distributed.Client(...).get_executor()``. Outputs are fresh (skipped) or baked to the
     same bytes as the command line; returns one result dict per entry, in order (see
-    ``bake_entry``). A mesh that fails reports its error there; the others still bake."""
+    ``bake_entry``). A mesh that fails reports its error there; the others still bake. A
+    fork-started pool works too: its workers bake in a fresh interpreter when they were forked
+    from a process with an OpenGL context open (a Simulation), which cannot open one itself."""
     entries = _entries(manifest_or_entries)
     own = executor is None
     if own:

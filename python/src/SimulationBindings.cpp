@@ -23,10 +23,25 @@ namespace {
 /// The context comes first so that it is destroyed last (GL objects before their context).
 struct PySimulation {
     std::optional<gpu::Context> context;
-    std::optional<rt::Simulation> sim;
+    std::unique_ptr<rt::Simulation> sim;
     std::string sceneJson; ///< the scene's path (for messages)
 
+    PySimulation() = default;
+    PySimulation(const PySimulation&) = delete;
+    PySimulation& operator=(const PySimulation&) = delete;
+    ~PySimulation() {
+        // A copy inherited across fork(): its GL objects are the parent's to delete.
+        if (gpu::forkedFromGlProcess())
+            (void)sim.release();
+    }
+
     rt::Simulation& current() {
+        if (gpu::forkedFromGlProcess())
+            throw SluiceError(Family::Simulation, ErrorCode::NoGlContext,
+                              sceneJson +
+                                  ": this Simulation's OpenGL context belongs to the process "
+                                  "this one was forked from; create the Simulation here instead "
+                                  "[NoGlContext]");
         context->makeCurrent();
         return *sim;
     }
@@ -48,7 +63,7 @@ std::unique_ptr<PySimulation> create(Result<format::Scene> scene, bool determini
     Result<rt::Simulation> sim = rt::Simulation::create(*scene, std::move(*colliders), options);
     if (!sim)
         raise(Family::Simulation, sim.error());
-    out->sim.emplace(std::move(*sim));
+    out->sim = std::make_unique<rt::Simulation>(std::move(*sim));
     out->sceneJson = scene->path;
     return out;
 }
@@ -139,10 +154,16 @@ void bindSimulation(nb::module_& m) {
             nb::arg("path"), nb::arg("deterministic") = false)
         .def_static(
             "from_json",
-            [](const std::string& text, const std::string& path, bool deterministic) {
-                return create(format::parseScene(text, path), deterministic);
+            [](const std::string& text, const std::string& path, bool deterministic,
+               const std::string& label) {
+                format::SceneReadOptions options;
+                options.label = label;
+                return create(format::parseScene(text, path, options), deterministic);
             },
-            nb::arg("text"), nb::arg("path"), nb::arg("deterministic") = false)
+            nb::arg("text"), nb::arg("path"), nb::arg("deterministic") = false,
+            nb::arg("label") = "",
+            "A scene from JSON text: collider assets relative to the folder of `path`, messages "
+            "naming it `label` (empty: `path`).")
         .def("step", &step, nb::arg("n") = 1)
         .def("stats_json",
              [](PySimulation& s) {

@@ -3,6 +3,7 @@
 
 #include "Errors.h"
 #include "sluice/bake/import/Isolated.h"
+#include "sluice/gpu/Context.h"
 
 namespace sluice::py {
 void bindBake(nb::module_& m);
@@ -20,5 +21,8 @@ NB_MODULE(_sluice, m) {
     sluice::py::bindBake(m);
     sluice::py::bindSimulation(m);
     sluice::py::bindSurface(m);
+    m.def("forked_from_gl_process", &sluice::gpu::forkedFromGlProcess,
+          "True in a process forked while its parent had an OpenGL context open: no context "
+          "can open here (GPU work needs a fresh process).");
     m.attr("__version__") = SLUICE_VERSION;
 }

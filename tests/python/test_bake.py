@@ -221,6 +221,48 @@ def test_validate_gives_the_figures_of_validate_json(sphere_obj: Path, tmp_path:
     assert report["figures"] == cli["figures"] and report["referenceSign"] == "winding"
 
 
+TETRA_VERTICES = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64)
+TETRA_TRIANGLES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])  # tetra.obj's faces
+
+
+def test_validate_takes_arrays_as_bake_does(tetra: Path) -> None:
+    # Arrays are the mesh file's numbers: scaled by the collider's scale, as the file is.
+    collider = sluice.bake(tetra, resolution=8, backend="cgal", scale=2.0, progress=False)
+    from_file = sluice.validate(collider, tetra, progress=False)
+    from_arrays = sluice.validate(collider, (TETRA_VERTICES, TETRA_TRIANGLES), progress=False)
+    assert from_file["figures"]["pointsChecked"] == 15 ** 3  # 8 voxels and 3 of padding a side
+    assert from_file["withinLimits"] and from_file["figures"]["maxError"] < 1e-5
+    # Only what names the mesh differs: its file and whether the asset's source hash matches it.
+    assert (from_file["mesh"], from_file["sourceHashMatches"]) == (str(tetra), True)
+    assert from_arrays["sourceHashMatches"] is False
+    same = {k: v for k, v in from_file.items() if k not in ("mesh", "sourceHashMatches")}
+    assert {k: v for k, v in from_arrays.items() if k in same} == same
+    sampled = sluice.validate(collider, (TETRA_VERTICES, TETRA_TRIANGLES), samples=200, seed=3,
+                              progress=False)
+    assert sampled["figures"] == sluice.validate(collider, tetra, samples=200, seed=3,
+                                                 progress=False)["figures"]
+
+
+@pytest.mark.parametrize("vertices,triangles", [
+    (TETRA_VERTICES[:, :2], TETRA_TRIANGLES),                          # (N, 2)
+    (TETRA_VERTICES, TETRA_TRIANGLES.ravel()),                         # flat indices
+    (TETRA_VERTICES, TETRA_TRIANGLES.astype(float)),                   # not integers
+    (TETRA_VERTICES, np.where(TETRA_TRIANGLES == 3, -1, TETRA_TRIANGLES)),  # negative
+    (TETRA_VERTICES, np.where(TETRA_TRIANGLES == 3, 4, TETRA_TRIANGLES)),   # past the end
+    (np.where(TETRA_VERTICES == 1, np.inf, TETRA_VERTICES), TETRA_TRIANGLES),  # not finite
+])
+def test_validate_rejects_bad_arrays_with_the_errors_of_bake(tetra: Path, vertices,
+                                                             triangles) -> None:
+    collider = sluice.bake(tetra, resolution=4, backend="cgal", progress=False)
+    with pytest.raises(sluice.Error) as baked:
+        sluice.bake((vertices, triangles), resolution=4, backend="cgal", progress=False)
+    with pytest.raises(sluice.Error) as validated:
+        sluice.validate(collider, (vertices, triangles), progress=False)
+    assert isinstance(baked.value, (sluice.InvalidArgument, sluice.MeshError))
+    assert type(validated.value) is type(baked.value)
+    assert (validated.value.code, str(validated.value)) == (baked.value.code, str(baked.value))
+
+
 def test_the_gil_is_released_while_baking(sphere_obj: Path) -> None:
     mesh = sluice.load_mesh(sphere_obj)
     ticks = []

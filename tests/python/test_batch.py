@@ -3,10 +3,15 @@
 
 from __future__ import annotations
 
+import os
 import shutil
+import signal
+import subprocess
+import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import sluice
@@ -114,3 +119,65 @@ def test_entries_can_be_given_as_dicts(tmp_path: Path) -> None:
         sluice.bake_many([{"mesh": "x.obj"}])
     with pytest.raises(sluice.FileError):
         sluice.bake_many(tmp_path / "no-manifest.json")
+
+
+# The user's report: a GPU bake, a Simulation stepped, then bake_many on a fork-started process
+# pool (ProcessPoolExecutor's default before Python 3.14). Then a child forked by hand, which can
+# open no GL context, fails at once instead of waiting for the parent's driver threads.
+FORK_AFTER_SIMULATION = """
+import json, multiprocessing, os, sys
+from concurrent.futures import ProcessPoolExecutor
+import sluice
+folder = sys.argv[1]
+sluice.bake(folder + "/t.obj", resolution=8, progress=False).save(folder + "/t.slc")
+sim = sluice.Simulation({"simulation": {"spacing": 0.05},
+                         "fluid": [{"box": {"min": [-0.1, 0.3, -0.1], "max": [0.1, 0.4, 0.1]}}],
+                         "colliders": [{"asset": "t.slc"}],
+                         "domain": {"min": [-0.2, -0.2, -0.2], "max": [1.2, 1.2, 1.2]}},
+                        base_dir=folder)
+sim.step(2, progress=False)
+entries = [{"mesh": folder + "/t.obj", "output": folder + f"/{i}.slc", "resolution": 8}
+           for i in range(2)]
+fork = None if sys.version_info < (3, 14) else multiprocessing.get_context("fork")
+with ProcessPoolExecutor(2, mp_context=fork) as pool:
+    results = sluice.bake_many(entries, executor=pool)
+print(json.dumps([r["status"] for r in results]), flush=True)
+pid = os.fork()
+if pid == 0:
+    try:
+        sluice.bake(folder + "/t.obj", resolution=8, backend="gpu", progress=False)
+    except sluice.GpuError as e:
+        print("bake", e.code, "spawn" in str(e), flush=True)
+    try:
+        sim.step(1, progress=False)
+    except sluice.GpuError as e:
+        print("step", e.code, flush=True)
+    del sim  # dropped without a GL call: the context is the parent's
+    os._exit(0)
+print("child", os.waitpid(pid, 0)[1], flush=True)
+"""
+
+
+def test_bake_many_on_a_fork_pool_after_a_simulation_bakes_on_the_gpu(tmp_path: Path) -> None:
+    write_tetrahedron(tmp_path / "t.obj")
+    package_root = str(Path(sluice.__file__).resolve().parents[1])
+    env = dict(os.environ, PYTHONPATH=package_root)
+    # A session of its own: a hang kills the pool's workers too, not only the script.
+    run = subprocess.Popen([sys.executable, "-c", FORK_AFTER_SIMULATION, str(tmp_path)],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                           start_new_session=True)
+    try:
+        out, err = run.communicate(timeout=120)
+    except subprocess.TimeoutExpired:
+        os.killpg(run.pid, signal.SIGKILL)
+        out, err = run.communicate()
+        pytest.fail(f"bake_many hung after a Simulation:\n{out}\n{err}")
+    assert run.returncode == 0, out + err
+    assert out.splitlines() == ['["baked", "baked"]', "bake NoGlContext True",
+                                "step NoGlContext", "child 0"], out + err
+    # Baked on the GPU, as in a fresh process: the same field as the parent's own bake.
+    parent = sluice.read_asset(tmp_path / "t.slc")
+    for name in ("0.slc", "1.slc"):
+        baked = sluice.read_asset(tmp_path / name)
+        assert baked.metadata["bake"]["backend"] == "gpu"
+        assert np.array_equal(baked.values, parent.values)

@@ -4,6 +4,7 @@ never a crash, and nothing half-written."""
 
 from __future__ import annotations
 
+import json
 import os
 import pickle
 import subprocess
@@ -222,6 +223,36 @@ def test_scene_dicts_are_checked_too() -> None:
     with pytest.raises(sluice.SceneError) as info:
         sluice.Simulation({"fluid": [], "simulation": {"spacing": 0.02}, "colour": 1})
     assert "colour" in str(info.value)
+
+
+@pytest.mark.parametrize("simulation,path,code", [
+    ({"spacing": 0.02, "kernelRaduis": 0.05}, "simulation.kernelRaduis", "BadMetadata"),
+    ({"spacing": 0.02, "xsph": "a lot"}, "simulation.xsph", "BadMetadata"),
+    ({"spacing": -1}, "simulation.spacing", "InvalidArgument"),
+])
+def test_a_bad_scene_dict_is_named_as_a_dict_with_the_json_path(tmp_path: Path, simulation: dict,
+                                                                 path: str, code: str) -> None:
+    scene = json.loads(SMALL_SCENE)
+    scene["simulation"] = simulation
+    with pytest.raises(sluice.SceneError) as info:
+        sluice.Simulation(scene, base_dir=tmp_path)
+    assert info.value.code == code
+    assert str(info.value).startswith(f"<scene dict>: {path}: "), str(info.value)
+    assert "scene.json" not in str(info.value)
+
+
+def test_a_scene_dicts_colliders_are_relative_to_base_dir_and_named_by_their_path(
+        tmp_path: Path) -> None:
+    scene = json.loads(SMALL_SCENE)
+    scene["colliders"] = [{"asset": "ball.slc", "friction": 2}]
+    with pytest.raises(sluice.SceneError) as info:
+        sluice.Simulation(scene, base_dir=tmp_path)
+    assert str(info.value).startswith("<scene dict>: colliders[0].friction: "), str(info.value)
+    scene["colliders"] = [{"asset": "ball.slc"}]
+    with pytest.raises(sluice.FileError) as info:
+        sluice.Simulation(scene, base_dir=tmp_path)
+    assert str(info.value).startswith("<scene dict>: colliders[0].asset: ")
+    assert str(tmp_path / "ball.slc") in str(info.value) and "scene.json" not in str(info.value)
 
 
 def test_every_truncated_prefix_of_a_scene_raises(tmp_path: Path) -> None:

@@ -313,7 +313,7 @@ Scene SceneParser::parse(const rj::Value& root) {
     const JsonObject o(root, "",
                        {"version", "name", "description", "simulation", "fluid", "emitters",
                         "colliders", "domain", "camera"});
-    m_scene.path = m_file.string();
+    m_scene.path = m_options.label.empty() ? m_file.string() : m_options.label;
     m_scene.name = m_file.stem().string();
     if (const rj::Value* v = o.find("name"))
         m_scene.name = detail::readString(*v, "name");
@@ -370,7 +370,9 @@ Scene SceneParser::parse(const rj::Value& root) {
 
 Result<Scene> parseScene(std::string_view json, const std::filesystem::path& file,
                          const SceneReadOptions& options) {
-    return detail::parseJsonText<Scene>(json, file, kSceneKind, [&](const rj::Document& doc) {
+    const std::filesystem::path shown =
+        options.label.empty() ? file : std::filesystem::path(options.label);
+    return detail::parseJsonText<Scene>(json, shown, kSceneKind, [&](const rj::Document& doc) {
         return SceneParser(file, options).parse(doc);
     });
 }

@@ -86,7 +86,8 @@ public:
 
     const ContextInfo& info() const { return m_info; }
 
-    /// Makes this context current on the calling thread (asserts on failure).
+    /// Makes this context current on the calling thread (asserts on failure, and in a process
+    /// that inherited the context across fork(): see forkedFromGlProcess).
     void makeCurrent() const;
 
     /// Runs the embedded gpu_selftest.comp over `count` values and compares with the CPU
@@ -109,6 +110,14 @@ private:
     ContextInfo m_info;
     std::unique_ptr<DebugState> m_debug; // heap, so the callback's pointer survives moves
 };
+
+/// True in a process made by fork() while its parent (or an ancestor) had a Context open. The
+/// driver keeps worker threads per EGL display (llvmpipe's compute pool) and fork() copies none of
+/// them, yet EGL would hand this process the same display again: its first dispatch would wait
+/// forever. So such a process never calls into EGL: createHeadless fails at once with
+/// NoGlContext saying why, and Contexts it inherited are dropped without a call. A process
+/// started fresh (spawn, forkserver, exec) opens contexts as usual.
+bool forkedFromGlProcess();
 
 /// AddressSanitizer builds only (a no-op otherwise): keeps the GL driver libraries loaded in
 /// the process (Mesa's *_dri.so) mapped until it exits. Mesa unloads its driver with its

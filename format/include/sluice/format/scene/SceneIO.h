@@ -3,10 +3,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <string_view>
 
-#include "sluice/format/support/Result.h"
 #include "sluice/format/scene/Scene.h"
+#include "sluice/format/support/Result.h"
 
 namespace sluice::format {
 
@@ -19,6 +20,10 @@ struct SceneReadOptions {
     /// Check that every collider's asset file exists (Io error "collider asset not found"
     /// otherwise). False parses a scene whose baked .slc colliders are not built yet.
     bool checkAssets = true;
+    /// What messages and Scene::path call the scene instead of the file's path, for a scene that
+    /// is no file (a Python dict: "<scene dict>"); empty: the file's path. Collider assets are
+    /// still relative to the file's folder, and the default name is still its stem.
+    std::string label;
 };
 
 /// Reads and validates a scene file. Every SimulationParams field holds a value afterwards (the
@@ -33,8 +38,8 @@ struct SceneReadOptions {
 Result<Scene> readScene(const std::filesystem::path& file, const SceneReadOptions& options = {});
 
 /// readScene on text already in memory. `fileForMessagesAndRelativePaths` names the scene in
-/// messages and in Scene::path, gives the default name (its stem), and is the file collider
-/// asset paths are relative to (its folder); it need not exist.
+/// messages and in Scene::path (unless options.label does), gives the default name (its stem),
+/// and is the file collider asset paths are relative to (its folder); it need not exist.
 Result<Scene> parseScene(std::string_view json,
                          const std::filesystem::path& fileForMessagesAndRelativePaths,
                          const SceneReadOptions& options = {});
