@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import os
-import struct
+import threading
 from typing import Any, Optional, Union
 
 import numpy as np
@@ -53,11 +53,25 @@ class SurfaceMesh:
         return f"SurfaceMesh({len(self.vertices)} vertices, {len(self.triangles)} triangles)"
 
 
+_local = threading.local()
+
+
+def _mesher() -> "_sluice.SurfaceMesher":
+    """This thread's context with the surface passes compiled, made at its first call (a GL
+    context is current on one thread at a time) and again in a child process, which must not
+    use its parent's."""
+    if getattr(_local, "pid", None) != os.getpid():
+        _local.mesher = None
+        _local.mesher = _sluice.SurfaceMesher()
+        _local.pid = os.getpid()
+    return _local.mesher
+
+
 def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optional[float] = None,
                         iso: Optional[float] = None, smoothing_radius: Optional[float] = None,
                         anisotropic: bool = False) -> SurfaceMesh:
     """The fluid surface of (N, 3) particle positions, reconstructed on the GPU in a headless
-    context of its own (docs/surfaces.md): an SPH colour field of the particles (poly6 over
+    context of this thread's own, kept for the next call (docs/surfaces.md): an SPH colour field of the particles (poly6 over
     ``smoothing_radius``, default 4 particle radii) sampled on a sparse grid of ``cell_size``
     (default: the particle radius) where the particles reach, contoured at ``iso`` (a share of
     the field inside the fluid; default 0.5, which puts a flat surface half a spacing beyond the
@@ -72,6 +86,6 @@ def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optio
         raise InvalidArgument(f"reconstruct_surface: points must have shape (N, 3), not "
                               f"{p.shape} [InvalidArgument]", "InvalidArgument")
     p = np.ascontiguousarray(p, dtype=np.float32)
-    v, n, t = _sluice.reconstruct_surface(p, float(particle_radius), float(cell_size or 0.0),
-                                          float(smoothing_radius or 0.0), float(iso or 0.0))
+    v, n, t = _mesher().reconstruct(p, float(particle_radius), float(cell_size or 0.0),
+                                    float(smoothing_radius or 0.0), float(iso or 0.0))
     return SurfaceMesh(v, n, t)

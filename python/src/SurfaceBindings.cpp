@@ -1,6 +1,7 @@
 // Bindings of the surface reconstruction: (N, 3) points in, a mesh out, in a headless GL
-// context of its own (made for the call, so nothing GL outlives it or crosses a fork).
+// context of its own.
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include <nanobind/nanobind.h>
@@ -25,43 +26,64 @@ template <class T, class V> nb::ndarray<nb::numpy, T, nb::ndim<2>> rows(const st
     return nb::ndarray<nb::numpy, T, nb::ndim<2>>(data, {n, 3}, owner);
 }
 
-nb::tuple reconstruct(Points points, float particleRadius, float cellSize, float smoothingRadius,
-                      float iso) {
-    rt::SurfaceOptions options;
-    options.particleRadius = particleRadius;
-    options.cellSize = cellSize;
-    options.smoothingRadius = smoothingRadius;
-    options.iso = iso;
-    std::vector<glm::vec3> copy(points.shape(0));
-    if (!copy.empty())
-        std::memcpy(copy.data(), points.data(), copy.size() * sizeof(glm::vec3));
-    Result<rt::SurfaceMesh> mesh = [&]() -> Result<rt::SurfaceMesh> {
-        nb::gil_scoped_release release;
-        if (auto ok = rt::resolveSurfaceOptions(options); !ok)
-            return ok.error();
-        auto context = gpu::Context::createHeadless();
-        if (!context)
-            return context.error();
-        auto reconstructor = rt::SurfaceReconstructor::create();
-        if (!reconstructor)
-            return reconstructor.error();
-        return reconstructor->reconstruct(copy, options);
-    }();
-    if (!mesh)
-        raise(mesh.error().code == ErrorCode::InvalidArgument ? Family::Argument
-                                                              : Family::Simulation,
-              mesh.error());
-    return nb::make_tuple(rows<float>(mesh->vertices), rows<float>(mesh->normals),
-                          rows<std::uint32_t>(mesh->triangles));
-}
+/// A headless context and the compiled surface passes, kept between calls: the Python layer
+/// holds one per thread and process (python/sluice/_surface.py), so a call pays neither a
+/// context nor a compile.
+struct PyMesher {
+    std::optional<gpu::Context> context;
+    std::optional<rt::SurfaceReconstructor> reconstructor;
+
+    PyMesher() {
+        Result<void> made = [&]() -> Result<void> {
+            nb::gil_scoped_release release;
+            auto created = gpu::Context::createHeadless();
+            if (!created)
+                return created.error();
+            context.emplace(std::move(*created));
+            auto passes = rt::SurfaceReconstructor::create();
+            if (!passes)
+                return passes.error();
+            reconstructor.emplace(std::move(*passes));
+            return {};
+        }();
+        if (!made)
+            raise(Family::Simulation, made.error());
+    }
+
+    nb::tuple reconstruct(Points points, float particleRadius, float cellSize,
+                          float smoothingRadius, float iso) {
+        rt::SurfaceOptions options;
+        options.particleRadius = particleRadius;
+        options.cellSize = cellSize;
+        options.smoothingRadius = smoothingRadius;
+        options.iso = iso;
+        std::vector<glm::vec3> copy(points.shape(0));
+        if (!copy.empty())
+            std::memcpy(copy.data(), points.data(), copy.size() * sizeof(glm::vec3));
+        Result<rt::SurfaceMesh> mesh = [&]() -> Result<rt::SurfaceMesh> {
+            nb::gil_scoped_release release;
+            context->makeCurrent();
+            return reconstructor->reconstruct(copy, options);
+        }();
+        if (!mesh)
+            raise(mesh.error().code == ErrorCode::InvalidArgument ? Family::Argument
+                                                                  : Family::Simulation,
+                  mesh.error());
+        return nb::make_tuple(rows<float>(mesh->vertices), rows<float>(mesh->normals),
+                              rows<std::uint32_t>(mesh->triangles));
+    }
+};
 
 } // namespace
 
 void bindSurface(nb::module_& m) {
-    m.def("reconstruct_surface", &reconstruct, nb::arg("points"), nb::arg("particle_radius"),
-          nb::arg("cell_size"), nb::arg("smoothing_radius"), nb::arg("iso"),
-          "The fluid surface of (N, 3) float32 points on the GPU: (vertices (V, 3) float32, "
-          "normals (V, 3) float32, triangles (T, 3) uint32); zeros take the defaults.");
+    nb::class_<PyMesher>(m, "SurfaceMesher",
+                         "A headless GL context with the surface passes compiled.")
+        .def(nb::init<>())
+        .def("reconstruct", &PyMesher::reconstruct, nb::arg("points"), nb::arg("particle_radius"),
+             nb::arg("cell_size"), nb::arg("smoothing_radius"), nb::arg("iso"),
+             "The fluid surface of (N, 3) float32 points on the GPU: (vertices (V, 3) float32, "
+             "normals (V, 3) float32, triangles (T, 3) uint32); zeros take the defaults.");
 }
 
 } // namespace sluice::py

@@ -10,8 +10,12 @@ SLUICE_SHARED_BEGIN
 
 /// Samples along each side of a block: the grid is stored only in blocks that particles reach.
 SLUICE_CONST uint kSurfaceBlockSide = 8;
-/// Samples per block, and invocations per work group of the per-block passes.
+/// Samples per block.
 SLUICE_CONST uint kSurfaceBlockSamples = kSurfaceBlockSide * kSurfaceBlockSide * kSurfaceBlockSide;
+/// Invocations per work group of the per-block passes (one block a group): one per row of
+/// kSurfaceBlockSide samples along x. Software GL runs a work group's barriers as switches
+/// between all its invocations, so few invocations with a row each beat one per sample.
+SLUICE_CONST uint kSurfaceBlockRows = kSurfaceBlockSide * kSurfaceBlockSide;
 /// Invocations per work group of the per-particle and per-block-flag passes.
 SLUICE_CONST uint kSurfaceLocalSize = 128;
 /// Fixed-point scale of the field: each particle adds round(V W * scale) with an integer atomic,
@@ -29,9 +33,13 @@ SLUICE_CONST uint kSurfBindBlockTris = 6;   ///< uint per stored block: triangle
 SLUICE_CONST uint kSurfBindVertBase = 7;    ///< uint per stored block: first vertex (scanned)
 SLUICE_CONST uint kSurfBindTriBase = 8;     ///< uint per stored block: first triangle (scanned)
 SLUICE_CONST uint kSurfBindSampleVert = 9;  ///< uint per stored sample: its first vertex
-SLUICE_CONST uint kSurfBindSampleEdges = 10; ///< uint per stored sample: crossing edges, 7 bits
+SLUICE_CONST uint kSurfBindSampleCode = 10; ///< uint per stored sample: its crossing edges
+                                            ///< (bits 0-6) and its cell's inside corners (8-15)
 SLUICE_CONST uint kSurfBindVertices = 11;   ///< SurfaceVertex per vertex
 SLUICE_CONST uint kSurfBindTriangles = 12;  ///< uint x3 per triangle
+SLUICE_CONST uint kSurfBindTriangleTable = 13; ///< uint x12 per cell case (KuhnTable.h)
+/// Triangles a cell has at most (two in each of its six Kuhn tetrahedra).
+SLUICE_CONST uint kSurfaceCellTrianglesMax = 12;
 
 /// One vertex of the mesh: on an edge of the sample grid where the field crosses the iso value.
 struct SurfaceVertex {

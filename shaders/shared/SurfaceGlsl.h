@@ -30,9 +30,9 @@ ivec3 blockCoord(uint index) {
     return ivec3(int(index % bx), int((index / bx) % by), int(index / (bx * by)));
 }
 
-// The local sample of invocation `lane` of a per-block pass (x fastest).
-ivec3 laneCoord(uint lane) {
-    return ivec3(int(lane & 7u), int((lane >> 3u) & 7u), int(lane >> 6u));
+// The local sample of index i in a block (x fastest).
+ivec3 laneCoord(uint i) {
+    return ivec3(int(i & 7u), int((i >> 3u) & 7u), int(i >> 6u));
 }
 
 uint laneOf(ivec3 local) {
@@ -64,30 +64,11 @@ ivec3 cornerOffset(uint c) {
     return ivec3(int(c & 1u), int((c >> 1u) & 1u), int((c >> 2u) & 1u));
 }
 
-// The crossing edges of sample s as 7 bits: bit d - 1 for the edge to s + cornerOffset(d),
-// d = 1..7 (the edges of the cube's Kuhn triangulation that start at s).
-uint crossingEdges(ivec3 s) {
-    bool inside = sampleInside(s);
-    uint mask = 0u;
-    for (uint d = 1u; d < 8u; ++d)
-        if (sampleInside(s + cornerOffset(d)) != inside)
-            mask |= 1u << (d - 1u);
-    return mask;
-}
-
 // Triangles of the cell whose lowest corner is s: over its six Kuhn tetrahedra (0, e_a,
 // e_a + e_b, 7 for every order a, b, c of the axes), one for a tetrahedron with one or three
 // corners inside, two for one with two.
 const uint kTetCorners[24] = uint[24](0u, 1u, 3u, 7u,  0u, 1u, 5u, 7u,  0u, 2u, 3u, 7u,
                                       0u, 2u, 6u, 7u,  0u, 4u, 5u, 7u,  0u, 4u, 6u, 7u);
-
-uint cellInsideMask(ivec3 s) {
-    uint mask = 0u;
-    for (uint c = 0u; c < 8u; ++c)
-        if (sampleInside(s + cornerOffset(c)))
-            mask |= 1u << c;
-    return mask;
-}
 
 uint cellTriangles(uint insideMask) {
     uint count = 0u;
@@ -100,23 +81,64 @@ uint cellTriangles(uint insideMask) {
     return count;
 }
 
-// Work-group exclusive scan of one uint per invocation (kSurfaceBlockSamples invocations);
-// `total` gets the sum. Hillis-Steele over shared memory, every invocation must call it.
-shared uint scanTile[kSurfaceBlockSamples];
+// The per-block passes read a block's samples and a border around them from shared memory:
+// local coordinates -1 .. 9 on each axis (the cells' +1 corners and the gradients' +-1 reach),
+// loaded once per block instead of looked up through the block map for every use.
+const int kTileSide = 11;
+shared uint tile[kTileSide * kTileSide * kTileSide];
 
-uint groupExclusiveScan(uint lane, uint value, out uint total) {
-    scanTile[lane] = value;
-    barrier();
-    for (uint offset = 1u; offset < kSurfaceBlockSamples; offset <<= 1u) {
-        uint add = lane >= offset ? scanTile[lane - offset] : 0u;
-        barrier();
-        scanTile[lane] += add;
-        barrier();
+void loadTile(ivec3 blockOrigin, uint lane) {
+    for (uint i = lane; i < uint(kTileSide * kTileSide * kTileSide); i += kSurfaceBlockRows) {
+        ivec3 local = ivec3(int(i % uint(kTileSide)), int((i / uint(kTileSide)) % uint(kTileSide)),
+                            int(i / uint(kTileSide * kTileSide))) - 1;
+        tile[i] = sampleValue(blockOrigin + local);
     }
-    total = scanTile[kSurfaceBlockSamples - 1u];
-    uint inclusive = scanTile[lane];
     barrier();
-    return inclusive - value;
+}
+
+uint tileValue(ivec3 local) {
+    ivec3 t = local + 1;
+    return tile[t.x + kTileSide * (t.y + kTileSide * t.z)];
+}
+
+bool tileInside(ivec3 local) {
+    return tileValue(local) > uIsoFixed;
+}
+
+// crossingEdges and cellInsideMask of the sample at `local` in the loaded tile.
+uint tileCrossingEdges(ivec3 local) {
+    bool inside = tileInside(local);
+    uint mask = 0u;
+    for (uint d = 1u; d < 8u; ++d)
+        if (tileInside(local + cornerOffset(d)) != inside)
+            mask |= 1u << (d - 1u);
+    return mask;
+}
+
+uint tileCellInsideMask(ivec3 local) {
+    uint mask = 0u;
+    for (uint c = 0u; c < 8u; ++c)
+        if (tileInside(local + cornerOffset(c)))
+            mask |= 1u << c;
+    return mask;
+}
+
+// Work-group exclusive scan of one uint per row (kSurfaceBlockRows invocations); `total` gets
+// the sum. One barrier; each invocation adds the rows before its own. Every invocation must
+// call it.
+shared uint scanRow[kSurfaceBlockRows];
+
+uint rowExclusiveScan(uint row, uint value, out uint total) {
+    scanRow[row] = value;
+    barrier();
+    uint before = 0u;
+    total = 0u;
+    for (uint i = 0u; i < kSurfaceBlockRows; ++i) {
+        uint v = scanRow[i];
+        before += i < row ? v : 0u;
+        total += v;
+    }
+    return before;
 }
 
 #endif // SLUICE_SHARED_SURFACE_GLSL_H

@@ -1,34 +1,51 @@
 // Per stored block: the vertices its samples own (crossing edges) and the triangles of the
-// cells whose lowest corner it holds.
+// cells whose lowest corner it holds; and each sample's code (its crossing edges and its
+// cell's inside corners) for the passes that write them. One invocation per row of samples.
 #version 450 core
 
 #include "shared/SurfaceGlsl.h"
 
-layout(local_size_x = kSurfaceBlockSamples) in;
+layout(local_size_x = kSurfaceBlockRows) in;
 
 layout(std430, binding = kSurfBindBlockVerts) writeonly buffer BlockVerts { uint blockVerts[]; };
 layout(std430, binding = kSurfBindBlockTris) writeonly buffer BlockTris { uint blockTris[]; };
+layout(std430, binding = kSurfBindSampleCode) writeonly buffer SampleCode { uint sampleCode[]; };
 
 shared uint groupVerts;
 shared uint groupTris;
 
 void main() {
-    uint slot = SLUICE_GLOBAL_ID.x / kSurfaceBlockSamples;
-    uint lane = gl_LocalInvocationID.x;
-    if (lane == 0u) {
+    uint slot = SLUICE_GLOBAL_ID.x / kSurfaceBlockRows;
+    uint row = gl_LocalInvocationID.x;
+    if (slot >= uCount) // uniform over the group
+        return;
+    if (row == 0u) {
         groupVerts = 0u;
         groupTris = 0u;
     }
-    barrier();
-    if (slot < uCount) { // uniform over the group
-        ivec3 s = blockCoord(activeBlock[slot]) * int(kSurfaceBlockSide) + laneCoord(lane);
-        if (all(lessThan(s, uSamples))) {
-            atomicAdd(groupVerts, bitCount(crossingEdges(s)));
-            atomicAdd(groupTris, cellTriangles(cellInsideMask(s)));
+    ivec3 origin = blockCoord(activeBlock[slot]) * int(kSurfaceBlockSide);
+    loadTile(origin, row); // its barrier also publishes the zeroed sums
+    uint verts = 0u;
+    uint tris = 0u;
+    for (uint x = 0u; x < kSurfaceBlockSide; ++x) {
+        uint i = row * kSurfaceBlockSide + x;
+        ivec3 local = laneCoord(i);
+        uint code = 0u;
+        if (all(lessThan(origin + local, uSamples))) {
+            uint edges = tileCrossingEdges(local);
+            uint cell = tileCellInsideMask(local);
+            verts += bitCount(edges);
+            tris += cellTriangles(cell);
+            code = edges | (cell << 8u);
         }
+        sampleCode[slot * kSurfaceBlockSamples + i] = code;
     }
+    if (verts != 0u)
+        atomicAdd(groupVerts, verts);
+    if (tris != 0u)
+        atomicAdd(groupTris, tris);
     barrier();
-    if (lane == 0u && slot < uCount) {
+    if (row == 0u) {
         blockVerts[slot] = groupVerts;
         blockTris[slot] = groupTris;
     }

@@ -13,6 +13,7 @@
 #include "sim/PrefixScan.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
+#include "surface/KuhnTable.h"
 
 namespace sluice::rt {
 namespace {
@@ -124,6 +125,7 @@ Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {
 struct SurfaceReconstructor::Impl {
     std::array<gpu::Program, PassCount> passes;
     std::optional<PrefixScan> scan;
+    gpu::Buffer triangleTable; ///< cellTriangleTable()
     std::uint32_t scanCapacity = 0;
 
     const gpu::Program& pass(Pass p) const { return passes[p]; }
@@ -162,7 +164,7 @@ struct SurfaceReconstructor::Impl {
 /// The buffers of one reconstruction.
 struct Work {
     gpu::Buffer flags, slots, active, field;
-    gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleEdges;
+    gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleCode;
     gpu::Buffer vertices, triangles;
     std::uint32_t activeBlocks = 0;
     std::uint32_t vertexCount = 0;
@@ -217,9 +219,9 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     const std::uint64_t samples = std::uint64_t(n) * sh::kSurfaceBlockSamples;
     const char* labels[] = {"surface block vertices",  "surface block triangles",
                             "surface vertex bases",    "surface triangle bases",
-                            "surface sample vertices", "surface sample edges"};
+                            "surface sample vertices", "surface sample codes"};
     gpu::Buffer* targets[] = {&w.blockVerts, &w.blockTris,  &w.vertBase,
-                              &w.triBase,    &w.sampleVert, &w.sampleEdges};
+                              &w.triBase,    &w.sampleVert, &w.sampleCode};
     for (std::size_t i = 0; i < 6; ++i) {
         auto buffer = uintBuffer(i < 4 ? n : samples, labels[i]);
         if (!buffer)
@@ -229,6 +231,7 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     const glm::uvec3 groups(n, 1, 1);
     w.blockVerts.bindStorage(sh::kSurfBindBlockVerts);
     w.blockTris.bindStorage(sh::kSurfBindBlockTris);
+    w.sampleCode.bindStorage(sh::kSurfBindSampleCode);
     pass(Count).set("uCount", n);
     pass(Count).dispatchChunked(groups, kMaxGroupsPerDispatch);
     barrier();
@@ -254,9 +257,10 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     w.vertBase.bindStorage(sh::kSurfBindVertBase);
     w.triBase.bindStorage(sh::kSurfBindTriBase);
     w.sampleVert.bindStorage(sh::kSurfBindSampleVert);
-    w.sampleEdges.bindStorage(sh::kSurfBindSampleEdges);
+    w.sampleCode.bindStorage(sh::kSurfBindSampleCode);
     w.vertices.bindStorage(sh::kSurfBindVertices);
     w.triangles.bindStorage(sh::kSurfBindTriangles);
+    triangleTable.bindStorage(sh::kSurfBindTriangleTable);
     pass(Vertices).set("uCount", n);
     pass(Vertices).dispatchChunked(groups, kMaxGroupsPerDispatch);
     barrier();
@@ -297,6 +301,11 @@ Result<SurfaceReconstructor> SurfaceReconstructor::create() {
             return program.error();
         impl->passes[p] = std::move(*program);
     }
+    static_assert(kCellTrianglesMax == sh::kSurfaceCellTrianglesMax);
+    auto table = gpu::Buffer::createFrom(cellTriangleTable(), "surface triangle table");
+    if (!table)
+        return table.error();
+    impl->triangleTable = std::move(*table);
     return SurfaceReconstructor(std::move(impl));
 }
 
