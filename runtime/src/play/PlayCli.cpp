@@ -14,13 +14,13 @@
 #include "capture/CaptureVideo.h"
 #include "play/Bench.h"
 #include "play/PlayHeadless.h"
+#include "play/PlayOptions.h"
 #include "play/RunOutputs.h"
 #include "play/SceneChecks.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/support/CliErrors.h"
 #include "sluice/rt/render/Renderer.h"
 #include "sluice/rt/sim/Simulation.h"
-#include "sluice/rt/surface/SurfaceMesh.h"
 #include "viewer/Viewer.h"
 
 namespace sluice::rt {
@@ -44,43 +44,6 @@ domain box or in a collider, a collider far from the scene's scale, a --screensh
 the last step, options that do nothing in the chosen mode. --strict makes them errors (exit 2).
 Output files and folders are checked, and their folders created, before any work starts.)";
 
-struct PlayOptions {
-    std::string scene;
-    bool headless = false;
-    std::uint64_t steps = 0;
-    std::uint64_t statsEvery = 0; // 0: about 20 rows over the run
-    std::string statsJson;
-    std::string plyDir;
-    std::string bodiesCsv;
-    std::string surfaceDir;
-    std::uint64_t surfaceEvery = 1;
-    float surfaceCell = 0.0f;
-    float surfaceIso = 0.0f;
-    std::uint64_t dumpEvery = 1;
-    bool deterministic = false;
-    std::uint32_t neighbourLanes = 0; // 0: chosen for the renderer and the scene
-    bool rasterSpheres = false;
-    bool noDomainBox = false;
-    bool check = false;
-    bool quiet = false;
-    bool strict = false;
-    bool bench = false;
-    std::string benchJson;
-    std::uint64_t warmup = 20;
-    std::uint32_t benchFrames = 0;
-    // Rendering and capture (headless and window).
-    CaptureOptions capture;
-    std::string size; // empty: 1280x720, or 1920x1080 for --bench-frames
-    std::string colour = "water";
-    std::string surface = "spheres";
-    // Window only.
-    std::uint64_t maxFrames = 0;
-    bool noVsync = false;
-    bool noPanel = false;
-    bool screenshotPanel = false;
-    std::uint32_t stepsPerFrame = 1;
-};
-
 /// --size (or `defaultSize` when it is not given), --colour and --surface.
 Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::uvec2& size,
                             RenderSettings& settings) {
@@ -101,152 +64,6 @@ Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::
     settings.computeSmallSpheres = !o.rasterSpheres;
     settings.drawDomainBox = !o.noDomainBox;
     return {};
-}
-
-/// The three ways sluice-play runs.
-enum class PlayMode { Headless, Window, Bench };
-
-const char* modeWords(PlayMode mode) {
-    switch (mode) {
-    case PlayMode::Headless:
-        return "in a --headless run";
-    case PlayMode::Window:
-        return "in the window";
-    case PlayMode::Bench:
-        return "with --bench";
-    }
-    return "";
-}
-
-/// An option and the modes it does something in.
-struct OptionUse {
-    const char* name;
-    bool headless;
-    bool window;
-    bool bench;
-};
-
-constexpr OptionUse kOptionUses[] = {
-    {"--steps", true, false, true},
-    {"--stats-every", true, false, false},
-    {"--stats-json", true, false, false},
-    {"--dump-ply", true, false, false},
-    {"--dump-every", true, false, false},
-    {"--bodies-csv", true, false, false},
-    {"--surface-mesh", true, false, false},
-    {"--surface-every", true, false, false},
-    {"--surface-cell", true, false, false},
-    {"--surface-iso", true, false, false},
-    {"--check", true, false, false},
-    {"--quiet", true, true, false},
-    {"--warmup", false, false, true},
-    {"--bench-json", false, false, true},
-    {"--frames", true, true, false},
-    {"--every", true, true, false},
-    {"--video", true, true, false},
-    {"--fps", true, true, false},
-    {"--screenshot-at", true, true, false},
-    {"--shots", true, true, false},
-    {"--max-frames", false, true, false},
-    {"--no-vsync", false, true, false},
-    {"--no-panel", false, true, false},
-    {"--steps-per-frame", false, true, false},
-    {"--screenshot-panel", false, true, false},
-    {"--neighbour-lanes", true, false, true},
-};
-
-bool usedIn(const OptionUse& use, PlayMode mode) {
-    return mode == PlayMode::Headless ? use.headless
-           : mode == PlayMode::Window ? use.window
-                                      : use.bench;
-}
-
-PlayWarning unusedOption(const std::string& option, const std::string& why) {
-    return {"unused-option", option + " does nothing " + why};
-}
-
-/// Options given that do nothing in `mode`, or nothing without another option.
-void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
-                    std::vector<PlayWarning>& out) {
-    const auto given = [&](const char* name) { return app.count(name) > 0; };
-    for (const OptionUse& use : kOptionUses)
-        if (given(use.name) && !usedIn(use, mode))
-            out.push_back(unusedOption(use.name, modeWords(mode)));
-    if (mode == PlayMode::Headless && given("--dump-every") && o.plyDir.empty())
-        out.push_back(unusedOption("--dump-every", "without --dump-ply"));
-    if (mode == PlayMode::Headless && o.surfaceDir.empty())
-        for (const char* name : {"--surface-every", "--surface-cell", "--surface-iso"})
-            if (given(name))
-                out.push_back(unusedOption(name, "without --surface-mesh"));
-    if (mode != PlayMode::Bench && given("--every") && !o.capture.frames())
-        out.push_back(unusedOption("--every", "without --frames or --video"));
-    if (mode != PlayMode::Bench && given("--fps") && o.capture.video.empty())
-        out.push_back(unusedOption("--fps", "without --video"));
-    if (mode == PlayMode::Headless && given("--shots") && !o.capture.screenshotAt)
-        out.push_back(unusedOption("--shots", "in a --headless run without --screenshot-at"));
-    const bool renders = mode == PlayMode::Window ||
-                         (mode == PlayMode::Headless && o.capture.any()) ||
-                         (mode == PlayMode::Bench && o.benchFrames > 0);
-    const char* renderWhy = mode == PlayMode::Bench
-                                ? "with --bench without --bench-frames"
-                                : "in a --headless run without --frames, --video or "
-                                  "--screenshot-at";
-    for (const char* name :
-         {"--size", "--colour", "--surface", "--zoom", "--raster-spheres", "--no-domain-box"})
-        if (given(name) && !renders)
-            out.push_back(unusedOption(name, renderWhy));
-}
-
-/// --bodies-csv for a scene without dynamic bodies would write only the header.
-void checkBodiesCsv(const CLI::App& app, const format::Scene& scene, PlayMode mode,
-                    std::vector<PlayWarning>& out) {
-    if (mode != PlayMode::Headless || app.count("--bodies-csv") == 0)
-        return;
-    for (const format::SceneCollider& collider : scene.colliders)
-        if (collider.dynamic)
-            return;
-    out.push_back(unusedOption("--bodies-csv", "for a scene without dynamic bodies (its table "
-                                               "would have only the header)"));
-}
-
-/// --surface-cell and --surface-iso against the scene's particle radius, before anything runs.
-Result<void> checkSurfaceOptions(const PlayOptions& o, const format::Scene& scene, PlayMode mode) {
-    if (mode != PlayMode::Headless || o.surfaceDir.empty())
-        return {};
-    SurfaceOptions options;
-    options.particleRadius = 0.5f * scene.simulation.spacing;
-    options.cellSize = o.surfaceCell;
-    options.iso = o.surfaceIso;
-    auto resolved = resolveSurfaceOptions(options);
-    if (!resolved)
-        return fail(ErrorCode::InvalidArgument,
-                    "--surface-cell " + std::to_string(o.surfaceCell) + " / --surface-iso " +
-                        std::to_string(o.surfaceIso) + ": " + resolved.error().detail);
-    return {};
-}
-
-/// A --screenshot-at step the run never reaches.
-void checkScreenshotStep(const PlayOptions& o, PlayMode mode, std::vector<PlayWarning>& out) {
-    if (!o.capture.screenshotAt)
-        return;
-    const std::uint64_t at = *o.capture.screenshotAt;
-    std::uint64_t last = 0;
-    std::string limit;
-    if (mode == PlayMode::Headless) {
-        last = o.steps;
-        limit = "--steps " + std::to_string(o.steps);
-    } else if (mode == PlayMode::Window && o.maxFrames > 0) {
-        // Frame f shows step f * stepsPerFrame; the last frame is maxFrames - 1.
-        last = (o.maxFrames - 1) * o.stepsPerFrame;
-        limit = "--max-frames " + std::to_string(o.maxFrames) + " shows steps up to " +
-                std::to_string(last);
-    } else {
-        return;
-    }
-    if (at > last)
-        out.push_back({"screenshot-after-end", "--screenshot-at " + std::to_string(at) +
-                                                   " is after the last step (" + limit +
-                                                   "): no screenshot would be written"});
 }
 
 /// The scene and its colliders, read once, before any GL work.

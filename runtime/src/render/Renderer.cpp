@@ -88,7 +88,7 @@ struct Renderer::Impl {
     SphereSplatPass splat;
     gpu::Program backdrop;
     gpu::Program particles;
-    gpu::Program domainBox;                                ///< the domain box's edges (lines)
+    gpu::Program domainBox;                     ///< the domain box's edges (lines)
     gpu::Program meshProgram;                   ///< the reconstructed surface mesh
     std::optional<SurfaceReconstructor> mesher; ///< made on the first frame in Mesh mode
     gpu::Buffer meshVertices;
@@ -109,6 +109,34 @@ struct Renderer::Impl {
     std::array<gpu::GpuTimer, std::size_t(RenderPass::Count)> passTimers; // rings of 4
 
     gpu::GpuTimer& passTimer(RenderPass pass) { return passTimers[std::size_t(pass)]; }
+
+    /// The domain box's edges, against the depth of the opaque scene (edges behind a wall or
+    /// the floor are hidden), into the bound framebuffer.
+    void drawDomainBox() {
+        if (!domain)
+            return;
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
+        glDepthMask(GL_FALSE);
+        domainBox.set("uDomainMin", domain->first);
+        domainBox.set("uDomainMax", domain->second);
+        domainBox.use();
+        glDrawArrays(GL_LINES, 0, 24);
+        glDepthMask(GL_TRUE);
+        glDepthFunc(GL_LESS);
+    }
+
+    /// The particles as spheres into the scene target: the small ones in compute where asked
+    /// and the list of large ones fits, else every sphere rasterised.
+    void drawSpheres(std::uint32_t count, float radius, bool computeSmall) {
+        if (!computeSmall || !splat.drawSpheres(count, radius, sceneDepth.id())) {
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            particles.use();
+            glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * std::uint64_t(count)));
+        }
+        output = sceneTarget.id();
+    }
 
     /// Reconstructs the surface of the particles and draws it into the scene target; false
     /// (with meshError) when the reconstruction failed, and the caller draws spheres.
@@ -374,32 +402,13 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
                      settings.fluidSphereScale * radius);
         r.output = r.finalTarget.id();
     } else {
-        // Small spheres in compute where asked and the list of large ones fits, else every
-        // sphere rasterised.
-        if (!settings.computeSmallSpheres ||
-            !r.splat.drawSpheres(count, sim.constants().radius, r.sceneDepth.id())) {
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            r.particles.use();
-            glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * std::uint64_t(count)));
-        }
-        r.output = r.sceneTarget.id();
+        r.drawSpheres(count, sim.constants().radius, settings.computeSmallSpheres);
     }
     r.passTimer(RenderPass::Fluid).end();
 
     glBindFramebuffer(GL_FRAMEBUFFER, r.output);
-    if (settings.drawDomainBox && r.domain) {
-        // Against the depth of the opaque scene: edges behind a wall or the floor are hidden.
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LEQUAL);
-        glDepthMask(GL_FALSE);
-        r.domainBox.set("uDomainMin", r.domain->first);
-        r.domainBox.set("uDomainMax", r.domain->second);
-        r.domainBox.use();
-        glDrawArrays(GL_LINES, 0, 24);
-        glDepthMask(GL_TRUE);
-        glDepthFunc(GL_LESS);
-    }
+    if (settings.drawDomainBox)
+        r.drawDomainBox();
     r.passTimer(RenderPass::Glass).begin();
     if (settings.drawColliders && settings.glassWalls)
         r.colliders.drawGlass(poses);
