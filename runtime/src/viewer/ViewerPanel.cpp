@@ -183,7 +183,7 @@ const char* viewerKeyHelp() {
            "R               reset the scene\n"
            "F               frame the scene\n"
            "C               next colour mode (water, speed, density error)\n"
-           "M               spheres / fluid surface\n"
+           "M               spheres / fluid surface / surface mesh\n"
            "G               glass walls on / off\n"
            "P, F12          screenshot (PNG in the current folder)\n"
            "O               screenshots with / without the panel\n"
