@@ -55,10 +55,6 @@ uint sampleValue(ivec3 s) {
     return slot == 0xffffffffu ? 0u : field[slot];
 }
 
-bool sampleInside(ivec3 s) {
-    return sampleValue(s) > uIsoFixed;
-}
-
 // Corner c of a cell (bit 0: +x, bit 1: +y, bit 2: +z).
 ivec3 cornerOffset(uint c) {
     return ivec3(int(c & 1u), int((c >> 1u) & 1u), int((c >> 2u) & 1u));
