@@ -76,8 +76,19 @@ nlohmann::json benchRender(Renderer& renderer, const format::Scene& scene, const
     std::printf("  render %ux%u, %s, %u particles, %u frames (each waited for):\n", o.renderSize.x,
                 o.renderSize.y, std::string(surfaceModeName(o.render.surface)).c_str(),
                 sim.particleCount(), o.renderFrames);
+    // The frame's passes, then the screen-space surface's stages (parts of "fluid", timed in
+    // that mode only).
+    const auto stagesBegin = passMs.begin() + std::ptrdiff_t(RenderPass::FluidSpheres);
+    const std::vector<std::vector<double>> framePasses(passMs.begin(), stagesBegin);
     const nlohmann::json passes = printMedians(
-        "render pass", passMs, [](std::size_t p) { return renderPassName(RenderPass(p)); });
+        "render pass", framePasses, [](std::size_t p) { return renderPassName(RenderPass(p)); });
+    nlohmann::json stages = nullptr;
+    if (o.render.surface == SurfaceMode::Fluid)
+        stages = printMedians("  fluid stage", std::vector(stagesBegin, passMs.end()),
+                              [](std::size_t p) {
+                                  return renderPassName(
+                                      RenderPass(p + std::size_t(RenderPass::FluidSpheres)));
+                              });
     const double frame = median(frameMs);
     std::printf("  %-16s %12.4f   (wall %.4f ms per frame, glFinish included)\n", "frame", frame,
                 1e3 * wall / double(o.renderFrames));
@@ -98,6 +109,7 @@ nlohmann::json benchRender(Renderer& renderer, const format::Scene& scene, const
             {"frames", o.renderFrames},
             {"medianFrameMs", frame},
             {"medianPassMs", passes},
+            {"medianFluidStageMs", stages},
             {"wallMsPerFrame", 1e3 * wall / double(o.renderFrames)},
             {"gpuTimersCoverDrawing", !softwareRaster}};
 }

@@ -2,6 +2,7 @@
 // the timing summary and the statistics file.
 #include "play/PlayHeadless.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <optional>
 #include <span>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -54,6 +56,8 @@ struct HeadlessRun {
     bool capacityReported = false; ///< the full-capacity message was printed
     double wallSeconds = 0.0;      ///< the steps' wall time, capture included [s]
     PassTimes passTimes{};         ///< GPU time per pass after the last step [ms]
+    std::vector<double> surfaceSeconds;      ///< each surface mesh's reconstruction [s]
+    std::vector<double> surfaceWriteSeconds; ///< each surface mesh's PLY file [s]
 };
 
 /// Creates the capture (if any) and the simulation. The renderer uploads the colliders to 3D
@@ -130,11 +134,38 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     options.particleRadius = run.sim.constants().radius;
     options.cellSize = o.surfaceCell;
     options.iso = o.surfaceIso;
+    const auto start = std::chrono::steady_clock::now();
     auto mesh =
         run.surfaces->reconstruct(run.sim.positionBuffer(), run.sim.particleCount(), options);
     if (!mesh)
         return mesh.error();
-    return writeSurfacePly(std::filesystem::path(o.surfaceDir) / surfaceName(step), *mesh);
+    const auto built = std::chrono::steady_clock::now();
+    auto written = writeSurfacePly(std::filesystem::path(o.surfaceDir) / surfaceName(step), *mesh);
+    run.surfaceSeconds.push_back(std::chrono::duration<double>(built - start).count());
+    run.surfaceWriteSeconds.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count());
+    return written;
+}
+
+double median(std::vector<double> values) {
+    if (values.empty())
+        return 0.0;
+    const auto mid = values.begin() + std::ptrdiff_t(values.size() / 2);
+    std::nth_element(values.begin(), mid, values.end());
+    return *mid;
+}
+
+/// The summary's line on --surface-mesh: what one mesh costs (reconstruction and download,
+/// then the PLY file), the median over the run's meshes.
+void printSurfaceTimes(const HeadlessRun& run) {
+    if (run.surfaceSeconds.empty())
+        return;
+    const double build = median(run.surfaceSeconds);
+    std::cout << "surface meshes: " << run.surfaceSeconds.size() << ", median " << build * 1e3
+              << " ms each to reconstruct and download ("
+              << (build > 0.0 ? double(run.sim.particleCount()) / build * 1e-6 : 0.0)
+              << " M particles/s), " << median(run.surfaceWriteSeconds) * 1e3
+              << " ms to write\n";
 }
 
 std::string bodiesName(std::uint64_t step) {
@@ -268,6 +299,7 @@ void printSummary(const HeadlessRun& run) {
         if (times[p] >= 0.0)
             std::cout << "  " << passName(Pass(p)) << " " << times[p];
     std::cout << "\n";
+    printSurfaceTimes(run);
     if (run.capture)
         run.capture->report(std::cout);
 }
@@ -294,6 +326,10 @@ Result<void> writeStatsFile(HeadlessRun& run) {
                          {"wallSeconds", run.wallSeconds},
                          {"stepsPerSecond", stepsPerSecond(run)},
                          {"gpuMsPerStep", passTimesJson(run.passTimes)}};
+    if (!o.deterministic && !run.surfaceSeconds.empty())
+        doc["timing"]["surfaceMeshMs"] = {{"count", run.surfaceSeconds.size()},
+                                          {"median", median(run.surfaceSeconds) * 1e3},
+                                          {"writeMedian", median(run.surfaceWriteSeconds) * 1e3}};
     const std::string text = doc.dump(2) + "\n";
     return format::writeFileAtomic(o.statsJson, std::as_bytes(std::span(text.data(), text.size())));
 }

@@ -131,13 +131,23 @@ bool FluidSurfacePass::drawSpheresSplatted(std::uint32_t particleCount, GLuint s
 
 void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLuint sceneDepth,
                             GLuint output, const FluidSurfaceParams& params,
-                            SphereSplatPass* splat, float sphereRadius) const {
+                            SphereSplatPass* splat, float sphereRadius,
+                            const FluidSurfaceTimers& timers) const {
+    const auto begin = [](gpu::GpuTimer* t) {
+        if (t)
+            t->begin();
+    };
+    const auto end = [](gpu::GpuTimer* t) {
+        if (t)
+            t->end();
+    };
     const GLsizei vertices = static_cast<GLsizei>(6 * std::uint64_t(particleCount));
     const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     const GLfloat far = 1.0f;
     glDisable(GL_CULL_FACE);
     glBindTextureUnit(shared::kRenderUnitSceneDepth, sceneDepth);
 
+    begin(timers.spheres);
     if (splat == nullptr ||
         !drawSpheresSplatted(particleCount, sceneDepth, *splat, sphereRadius)) {
         // 1. The front-most sphere's view depth per pixel (the opaque scene tested in the
@@ -163,7 +173,10 @@ void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLu
         glDisable(GL_BLEND);
     }
 
+    end(timers.spheres);
+
     // 3. Bilateral smoothing of the depth, ping-ponging with the filter texture.
+    begin(timers.smooth);
     m_smoothProgram.use();
     m_smoothProgram.set("uWorldRadius", params.filterRadius);
     m_smoothProgram.set("uDepthFalloff", params.depthFalloff);
@@ -175,8 +188,10 @@ void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLu
         glDrawArrays(GL_TRIANGLES, 0, 3);
         smoothed = toTemp ? m_depthTemp.id() : m_depth.id();
     }
+    end(timers.smooth);
 
     // 4. Shading over the scene, with the fluid's depth, into the output.
+    begin(timers.shade);
     glBindFramebuffer(GL_FRAMEBUFFER, output);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS); // every pixel is written; the shader chose fluid or scene
@@ -187,6 +202,7 @@ void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLu
     m_compositeProgram.use();
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glDepthFunc(GL_LESS);
+    end(timers.shade);
 }
 
 } // namespace sluice::rt

@@ -11,6 +11,7 @@
 #include "GlObjects.h"
 #include "SphereSplatPass.h"
 #include "sluice/format/support/Result.h"
+#include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
 
 namespace sluice::rt {
@@ -20,6 +21,14 @@ struct FluidSurfaceParams {
     std::uint32_t smoothingIterations = 3; ///< bilateral filter passes
     float filterRadius = 0.0f;             ///< spatial radius of the filter [m]
     float depthFalloff = 0.0f;             ///< depth difference that weighs e^-1 [m]
+};
+
+/// GPU timers around draw()'s stages (the spheres' depth and thickness, the smoothing, the
+/// shading); null ones are skipped.
+struct FluidSurfaceTimers {
+    gpu::GpuTimer* spheres = nullptr;
+    gpu::GpuTimer* smooth = nullptr;
+    gpu::GpuTimer* shade = nullptr;
 };
 
 /// Owns the fluid's intermediate targets (view depth, its smoothing partner, thickness) at the
@@ -39,8 +48,8 @@ public:
     /// are rasterised; without, every sphere is rasterised. `sphereRadius` is the frame
     /// block's fluidSphereRadius [m].
     void draw(std::uint32_t particleCount, GLuint sceneColour, GLuint sceneDepth, GLuint output,
-              const FluidSurfaceParams& params, SphereSplatPass* splat,
-              float sphereRadius) const;
+              const FluidSurfaceParams& params, SphereSplatPass* splat, float sphereRadius,
+              const FluidSurfaceTimers& timers = {}) const;
 
 private:
     /// Steps 1 and 2 of draw() through the compute passes; false (nothing drawn) when the list

@@ -27,7 +27,7 @@ namespace {
 constexpr std::array<std::string_view, 3> kColourNames{"water", "speed", "density"};
 constexpr std::array<std::string_view, 3> kSurfaceNames{"spheres", "fluid", "mesh"};
 constexpr std::array<const char*, std::size_t(RenderPass::Count)> kPassNames{
-    "backdrop", "colliders", "fluid", "glass"};
+    "backdrop", "colliders", "fluid", "glass", "spheres", "smooth", "shade"};
 
 // Towards the light: above, a little to the front right of the usual cameras.
 const glm::vec3 kLight = glm::normalize(glm::vec3(0.35f, 0.85f, 0.4f));
@@ -109,6 +109,7 @@ struct Renderer::Impl {
     std::array<gpu::GpuTimer, std::size_t(RenderPass::Count)> passTimers; // rings of 4
 
     gpu::GpuTimer& passTimer(RenderPass pass) { return passTimers[std::size_t(pass)]; }
+    bool fluidStagesTimed = false; // the latest frame drew the screen-space surface
 
     /// The domain box's edges, against the depth of the opaque scene (edges behind a wall or
     /// the floor are hidden), into the bound framebuffer.
@@ -389,6 +390,7 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
     const std::uint32_t count = sim.particleCount();
     r.passTimer(RenderPass::Fluid).begin();
     r.meshError.clear();
+    r.fluidStagesTimed = false;
     if (settings.surface == SurfaceMode::Mesh && r.drawMesh(sim)) {
         r.output = r.sceneTarget.id();
     } else if (settings.surface == SurfaceMode::Fluid) {
@@ -397,9 +399,13 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
         params.smoothingIterations = settings.smoothingIterations;
         params.filterRadius = settings.filterRadius * radius;
         params.depthFalloff = std::max(settings.depthFalloff * radius, 1e-6f);
+        const FluidSurfaceTimers timers{&r.passTimer(RenderPass::FluidSpheres),
+                                        &r.passTimer(RenderPass::FluidSmooth),
+                                        &r.passTimer(RenderPass::FluidShade)};
         r.fluid.draw(count, r.sceneColour.id(), r.sceneDepth.id(), r.finalTarget.id(), params,
                      settings.computeSmallSpheres ? &r.splat : nullptr,
-                     settings.fluidSphereScale * radius);
+                     settings.fluidSphereScale * radius, timers);
+        r.fluidStagesTimed = true;
         r.output = r.finalTarget.id();
     } else {
         r.drawSpheres(count, sim.constants().radius, settings.computeSmallSpheres);
@@ -450,7 +456,8 @@ RenderPassTimes Renderer::passTimes() {
     for (std::size_t p = 0; p < times.size(); ++p) {
         m_impl->passTimers[p].poll();
         const auto ns = m_impl->passTimers[p].latestNs();
-        times[p] = ns ? double(*ns) * 1e-6 : -1.0;
+        const bool stage = p >= std::size_t(RenderPass::FluidSpheres);
+        times[p] = ns && (!stage || m_impl->fluidStagesTimed) ? double(*ns) * 1e-6 : -1.0;
     }
     return times;
 }

@@ -67,7 +67,9 @@ void statistics(const ViewerFigures& f) {
         for (std::size_t p = 0; p < f.renderPassMs.size(); ++p) {
             ImGui::TableNextRow();
             ImGui::TableNextColumn();
-            ImGui::Text("render %s", renderPassName(RenderPass(p)));
+            // The screen-space surface's stages are parts of "render fluid".
+            const bool stage = p >= std::size_t(RenderPass::FluidSpheres);
+            ImGui::Text(stage ? "  fluid %s" : "render %s", renderPassName(RenderPass(p)));
             ImGui::TableNextColumn();
             if (f.renderPassMs[p] >= 0.0)
                 ImGui::Text("%.3f ms", f.renderPassMs[p]);

@@ -5,7 +5,7 @@
 #
 #   bash tests/bench/device/run.sh [--quick]
 #
-# SLUICE_DEVICE_PHASES (default "shaders solver render bodies bake") picks the phases, so a
+# SLUICE_DEVICE_PHASES (default "shaders solver render surface bodies bake") picks the phases, so a
 # re-run after a fix spends the device's minutes on what changed; SLUICE_BAKE_MESHES (default
 # "armadillo bunny00") and SLUICE_BAKE_REPEAT (5) size the baker phase.
 #
@@ -27,7 +27,7 @@ final=${OUT:-/tmp/sluice-device}
 out=/tmp/sluice-device-work
 rm -rf "$out" && mkdir -p "$out/shots" "$final"
 failed=0
-phases=${SLUICE_DEVICE_PHASES:-shaders solver render bodies bake}
+phases=${SLUICE_DEVICE_PHASES:-shaders solver render surface bodies bake}
 phase() { case " $phases " in *" $1 "*) return 0 ;; esac; return 1; }
 
 # The GL/EGL dispatch libraries and NVIDIA's EGL vendor file, where this is the NVIDIA machine.
@@ -111,8 +111,11 @@ publish() {
     if [ -f "$f" ]; then
       echo "screen-space surface, $(json "$f" particles) particles at $(json "$f" width)x$(json "$f" height):" \
         "frame $(json "$f" medianFrameMs) ms GPU (floor at 1M, 1920x1080: <= 3 ms), wall" \
-        "$(json "$f" wallMsPerFrame) ms per waited-for frame"
+        "$(json "$f" wallMsPerFrame) ms per waited-for frame; fluid pass $(json "$f" fluid) ms:" \
+        "spheres $(json "$f" spheres), smooth $(json "$f" smooth), shade $(json "$f" shade) ms"
     fi
+    grep -m1 '^surface meshes' "$out/surface-mesh-1m.log" 2>/dev/null |
+      sed 's/$/ (floor: >= 20 M particles\/s)/'
     for f in "$out"/wave-sphere-15k.json "$out"/dam-break-1m-4it.json; do
       [ -f "$f" ] && echo "$(basename "$f" .json): $(json "$f" bytesPerParticle) bytes per particle (floor: <= 200)"
     done
@@ -154,7 +157,7 @@ if phase shaders; then
   for scene in "$scenes"/*.json; do
     name=$(basename "$scene" .json)
     case $name in *-15k|*-1m|*-1m-4it|bodies-*) continue ;; esac
-    for surface in spheres fluid; do
+    for surface in spheres fluid mesh; do
       step "shader-$name-$surface" "$bin/sluice-play" "$scene" --headless --check --quiet \
         --steps $steps --screenshot-at $steps --shots "$out/shots/$surface" --surface $surface \
         --size 1280x720
@@ -204,6 +207,17 @@ if phase render; then
   # Every sphere rasterised, for comparison with the compute pass for small ones.
   step bench-render-raster "$bin/sluice-play" "$rscene" --bench --warmup $rwarm \
     --steps $rsteps --bench-frames $rframes --raster-spheres --bench-json "$out/render-raster.json"
+  publish
+fi
+
+# The fluid's surface mesh (issue 28: at least 20 M particles/s on a GPU): the 1M dam break
+# after its warm-up frames, one mesh a step, reconstructed, downloaded and written as PLY.
+if phase surface; then
+  sscene=$scenes/dam-break-1m-4it.json ssteps=30
+  [ $quick = 1 ] && sscene=$scenes/dam-break.json ssteps=2
+  rm -rf /tmp/sluice-device-surface
+  step surface-mesh-1m "$bin/sluice-play" "$sscene" --headless --steps $ssteps \
+    --surface-mesh /tmp/sluice-device-surface --surface-every 5 --stats-json "$out/surface-mesh.json"
   publish
 fi
 

@@ -77,6 +77,9 @@ TEST(SluicePlay, BenchRendersAndTimesFramesOfTheFinalState) {
     EXPECT_EQ(render["surface"].get<std::string>(), "fluid");
     for (const char* pass : {"backdrop", "colliders", "fluid", "glass"})
         EXPECT_GE(render["medianPassMs"][pass].get<double>(), 0.0) << pass;
+    // The screen-space surface's stages, each timed inside the fluid pass.
+    for (const char* stage : {"spheres", "smooth", "shade"})
+        EXPECT_GE(render["medianFluidStageMs"][stage].get<double>(), 0.0) << stage;
     EXPECT_GT(render["wallMsPerFrame"].get<double>(), 0.0);
     // A frame's GPU time is its passes' (each timed inside it) and cannot exceed its wall time.
     double passes = 0.0;

@@ -76,8 +76,19 @@ struct RenderSettings {
     float refraction = 60.0f;
 };
 
-/// The render passes timed per frame, in order.
-enum class RenderPass : std::uint32_t { Backdrop, Colliders, Fluid, Glass, Count };
+/// The render passes timed per frame, in order. The last three are parts of Fluid in the
+/// screen-space surface mode (its spheres' depth and thickness, the depth's smoothing, the
+/// shading), timed inside it; they have no time in the other modes.
+enum class RenderPass : std::uint32_t {
+    Backdrop,
+    Colliders,
+    Fluid,
+    Glass,
+    FluidSpheres,
+    FluidSmooth,
+    FluidShade,
+    Count
+};
 
 /// Short name of a render pass ("colliders"); Fluid is the particles in either surface mode.
 const char* renderPassName(RenderPass pass);
