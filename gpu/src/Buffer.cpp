@@ -97,6 +97,18 @@ void Buffer::clear() {
     failOnDebugErrors("Buffer::clear");
 }
 
+void Buffer::clear(std::size_t offset, std::size_t bytes) {
+    SLUICE_ASSERT(m_id != 0, "Buffer::clear on an empty buffer");
+    SLUICE_ASSERT(offset % 4 == 0 && bytes % 4 == 0 && offset + bytes <= m_size,
+                  "Buffer::clear: range outside the buffer or not 4-byte aligned");
+    if (bytes == 0)
+        return;
+    const std::uint32_t zero = 0;
+    glClearNamedBufferSubData(m_id, GL_R32UI, GLintptr(offset), GLsizeiptr(bytes), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+    failOnDebugErrors("Buffer::clear");
+}
+
 void Buffer::bindBase(GLenum target, GLuint index) const {
     SLUICE_ASSERT(m_id != 0, "Buffer::bindBase on an empty buffer");
     glBindBufferBase(target, index, m_id);

@@ -30,6 +30,11 @@ SLUICE_CONST uint kSplatMaxSide = 8;
 SLUICE_CONST uint kRenderImageSplatDepth = 0;  ///< r32ui: nearest window depth's bits per pixel
 SLUICE_CONST uint kRenderImageSplatWinner = 1; ///< r32ui: the particle of that depth, ~0u: none
 SLUICE_CONST uint kRenderImageSplatThickness = 2; ///< r32ui: summed chords, kSplatThicknessScale
+SLUICE_CONST uint kRenderImageFluidSmooth = 3; ///< r32f: render_fluid_smooth.comp's output depth
+/// render_fluid_smooth.comp: pixels along each side of a work group's tile, and the farthest
+/// tap from a pixel along each axis [pixels].
+SLUICE_CONST uint kFluidSmoothTile = 16;
+SLUICE_CONST uint kFluidSmoothReach = 8;
 /// Fixed-point scale of the compute pass's summed thickness [1/m]: micrometres, so integer adds
 /// (order-free) hold up to 4 km of water.
 SLUICE_CONST float kSplatThicknessScale = 1.0e6;

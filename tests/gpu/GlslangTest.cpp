@@ -114,7 +114,7 @@ std::vector<ProgramCase> allPrograms() {
         graphics("RenderParticlesThicknessListed", "render_particles.vert", "render_particles.frag",
                  {{"SLUICE_THICKNESS", "1"}, {"SLUICE_PARTICLE_LIST", "1"}}),
         graphics("RenderBackdrop", "render_fullscreen.vert", "render_backdrop.frag"),
-        graphics("RenderFluidSmooth", "render_fullscreen.vert", "render_fluid_smooth.frag"),
+        compute("RenderFluidSmooth", runtimeSource, "render_fluid_smooth.comp"),
         graphics("RenderFluidComposite", "render_fullscreen.vert", "render_fluid_composite.frag"),
         graphics("RenderCollider", "render_collider.vert", "render_collider.frag"),
         graphics("RenderColliderGlass", "render_collider.vert", "render_collider.frag",

@@ -57,6 +57,7 @@ struct HeadlessRun {
     double wallSeconds = 0.0;      ///< the steps' wall time, capture included [s]
     PassTimes passTimes{};         ///< GPU time per pass after the last step [ms]
     std::vector<double> surfaceSeconds;      ///< each surface mesh's reconstruction [s]
+    std::vector<SurfaceTimings> surfaceStages; ///< and where its time went
     std::vector<double> surfaceWriteSeconds; ///< each surface mesh's PLY file [s]
 };
 
@@ -142,6 +143,7 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     const auto built = std::chrono::steady_clock::now();
     auto written = writeSurfacePly(std::filesystem::path(o.surfaceDir) / surfaceName(step), *mesh);
     run.surfaceSeconds.push_back(std::chrono::duration<double>(built - start).count());
+    run.surfaceStages.push_back(mesh->timings);
     run.surfaceWriteSeconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count());
     return written;
@@ -155,8 +157,23 @@ double median(std::vector<double> values) {
     return *mid;
 }
 
+/// The median over the run's surface meshes of each reconstruction stage [ms].
+nlohmann::json surfaceStageMedians(const HeadlessRun& run) {
+    const auto stage = [&](double SurfaceTimings::*member) {
+        std::vector<double> values;
+        for (const SurfaceTimings& t : run.surfaceStages)
+            values.push_back(t.*member);
+        return median(std::move(values));
+    };
+    return {{"bounds", stage(&SurfaceTimings::bounds)},
+            {"blocks", stage(&SurfaceTimings::blocks)},
+            {"field", stage(&SurfaceTimings::field)},
+            {"contour", stage(&SurfaceTimings::contour)},
+            {"download", stage(&SurfaceTimings::download)}};
+}
+
 /// The summary's line on --surface-mesh: what one mesh costs (reconstruction and download,
-/// then the PLY file), the median over the run's meshes.
+/// then the PLY file) and where the time went, the medians over the run's meshes.
 void printSurfaceTimes(const HeadlessRun& run) {
     if (run.surfaceSeconds.empty())
         return;
@@ -165,7 +182,11 @@ void printSurfaceTimes(const HeadlessRun& run) {
               << " ms each to reconstruct and download ("
               << (build > 0.0 ? double(run.sim.particleCount()) / build * 1e-6 : 0.0)
               << " M particles/s), " << median(run.surfaceWriteSeconds) * 1e3
-              << " ms to write\n";
+              << " ms to write\n  surface stages, median ms:";
+    const nlohmann::json stages = surfaceStageMedians(run);
+    for (const auto& [name, ms] : stages.items())
+        std::cout << "  " << name << " " << ms.get<double>();
+    std::cout << "\n";
 }
 
 std::string bodiesName(std::uint64_t step) {
@@ -329,7 +350,8 @@ Result<void> writeStatsFile(HeadlessRun& run) {
     if (!o.deterministic && !run.surfaceSeconds.empty())
         doc["timing"]["surfaceMeshMs"] = {{"count", run.surfaceSeconds.size()},
                                           {"median", median(run.surfaceSeconds) * 1e3},
-                                          {"writeMedian", median(run.surfaceWriteSeconds) * 1e3}};
+                                          {"writeMedian", median(run.surfaceWriteSeconds) * 1e3},
+                                          {"stagesMedian", surfaceStageMedians(run)}};
     const std::string text = doc.dump(2) + "\n";
     return format::writeFileAtomic(o.statsJson, std::as_bytes(std::span(text.data(), text.size())));
 }

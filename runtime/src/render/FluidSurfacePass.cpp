@@ -42,7 +42,9 @@ Result<FluidSurfacePass> FluidSurfacePass::create() {
         {&pass.m_depthResolve, fullScreen("render_splat_fluid (depth)", "render_splat_fluid.frag")},
         {&pass.m_thicknessResolve,
          fullScreen("render_splat_fluid (thickness)", "render_splat_fluid.frag", thicknessDefine)},
-        {&pass.m_smoothProgram, fullScreen("render_fluid_smooth", "render_fluid_smooth.frag")},
+        {&pass.m_smoothProgram,
+         gpu::Program::compute("render_fluid_smooth.comp",
+                               shaders::shaderSource("render_fluid_smooth.comp"))},
         {&pass.m_compositeProgram,
          fullScreen("render_fluid_composite", "render_fluid_composite.frag")},
     };
@@ -73,12 +75,6 @@ Result<void> FluidSurfacePass::resize(glm::uvec2 size) {
     auto depthTarget = createFramebuffer(depth->id(), zBuffer->id(), "fluid depth");
     if (!depthTarget)
         return depthTarget.error();
-    auto tempTarget = createFramebuffer(temp->id(), 0, "fluid filter");
-    if (!tempTarget)
-        return tempTarget.error();
-    auto smoothTarget = createFramebuffer(depth->id(), 0, "fluid smooth");
-    if (!smoothTarget)
-        return smoothTarget.error();
     auto thicknessTarget = createFramebuffer(thickness->id(), 0, "fluid thickness");
     if (!thicknessTarget)
         return thicknessTarget.error();
@@ -87,8 +83,6 @@ Result<void> FluidSurfacePass::resize(glm::uvec2 size) {
     m_zBuffer = std::move(*zBuffer);
     m_thickness = std::move(*thickness);
     m_depthTarget = std::move(*depthTarget);
-    m_depthTempTarget = std::move(*tempTarget);
-    m_smoothTarget = std::move(*smoothTarget);
     m_thicknessTarget = std::move(*thicknessTarget);
     m_size = size;
     return {};
@@ -175,19 +169,24 @@ void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLu
 
     end(timers.spheres);
 
-    // 3. Bilateral smoothing of the depth, ping-ponging with the filter texture.
+    // 3. Bilateral smoothing of the depth in compute, ping-ponging with the filter texture.
     begin(timers.smooth);
-    m_smoothProgram.use();
     m_smoothProgram.set("uWorldRadius", params.filterRadius);
     m_smoothProgram.set("uDepthFalloff", params.depthFalloff);
+    const glm::uvec3 tiles(gpu::groupCount(m_size.x, shared::kFluidSmoothTile),
+                           gpu::groupCount(m_size.y, shared::kFluidSmoothTile), 1);
     GLuint smoothed = m_depth.id();
     for (std::uint32_t i = 0; i < params.smoothingIterations; ++i) {
-        const bool toTemp = i % 2 == 0;
-        glBindFramebuffer(GL_FRAMEBUFFER, toTemp ? m_depthTempTarget.id() : m_smoothTarget.id());
+        const GLuint target = i % 2 == 0 ? m_depthTemp.id() : m_depth.id();
+        // The depth (and thickness) targets were rendered to, or the previous pass stored.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         glBindTextureUnit(shared::kRenderUnitFluidDepth, smoothed);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        smoothed = toTemp ? m_depthTemp.id() : m_depth.id();
+        glBindImageTexture(shared::kRenderImageFluidSmooth, target, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           GL_R32F);
+        m_smoothProgram.dispatch(tiles);
+        smoothed = target;
     }
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     end(timers.smooth);
 
     // 4. Shading over the scene, with the fluid's depth, into the output.

@@ -63,16 +63,14 @@ private:
     gpu::Program m_thicknessListed;
     gpu::Program m_depthResolve;     // render_splat_fluid.frag: the compute pass's depths
     gpu::Program m_thicknessResolve; // and thickness
-    gpu::Program m_smoothProgram;
+    gpu::Program m_smoothProgram; // render_fluid_smooth.comp
     gpu::Program m_compositeProgram;
     glm::uvec2 m_size{0};
     TextureHandle m_depth;     // R32F view depth [m], 0 where there is no fluid
-    TextureHandle m_depthTemp; // R32F, the other half of the separable filter
+    TextureHandle m_depthTemp; // R32F, the smoothing's other target
     TextureHandle m_zBuffer;   // depth attachment of the depth pass
     TextureHandle m_thickness; // R32F summed chord length [m]
     FramebufferHandle m_depthTarget;
-    FramebufferHandle m_depthTempTarget;
-    FramebufferHandle m_smoothTarget; // m_depth without a depth attachment
     FramebufferHandle m_thicknessTarget;
 };
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -65,21 +66,43 @@ Result<Grid> gridOver(glm::vec3 lo, glm::vec3 hi, const SurfaceOptions& o) {
     return g;
 }
 
-Result<gpu::Buffer> uintBuffer(std::uint64_t count, const char* label) {
+/// Makes `buffer` hold at least `bytes`, reusing it when it does (a reconstruction a frame
+/// allocates nothing once the sizes settle; a new one gets a quarter more room), and zeroes its
+/// first `bytes` when `zeroed`.
+Result<void> ensureBytes(gpu::Buffer& buffer, std::uint64_t bytes, const char* label,
+                         bool zeroed) {
+    bytes = std::max<std::uint64_t>(bytes, 4);
+    if (buffer.size() < bytes) {
+        buffer = {};
+        auto created = gpu::Buffer::create(bytes + bytes / 4 / 4 * 4, label);
+        if (!created)
+            return created.error();
+        buffer = std::move(*created);
+    }
+    if (zeroed)
+        buffer.clear(0, bytes);
+    return {};
+}
+
+/// ensureBytes for `count` uints, zeroed; SizeOverflow past what a buffer may hold.
+Result<void> ensureUints(gpu::Buffer& buffer, std::uint64_t count, const char* label) {
     if (count > std::numeric_limits<std::uint32_t>::max() / 4)
         return fail(ErrorCode::SizeOverflow, std::string("surface: ") + label + " would hold " +
                                                  std::to_string(count) +
                                                  " entries, past the 2^30 a buffer may");
-    auto buffer = gpu::Buffer::create(std::max<std::uint64_t>(count, 1) * 4, label);
-    if (buffer)
-        buffer->clear();
-    return buffer;
+    return ensureBytes(buffer, count * 4, label, true);
 }
 
 std::uint32_t readUint(const gpu::Buffer& buffer, std::uint64_t index) {
     std::uint32_t value = 0;
     buffer.download(&value, sizeof value, index * sizeof value);
     return value;
+}
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
 void barrier() {
@@ -122,11 +145,24 @@ Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {
     return o;
 }
 
+/// The buffers of the reconstructions, kept from one to the next (ensureBytes), and the
+/// counts and stage times of the latest.
+struct Work {
+    gpu::Buffer flags, slots, active, field;
+    gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleCode;
+    gpu::Buffer vertices, triangles;
+    std::uint32_t activeBlocks = 0;
+    std::uint32_t vertexCount = 0;
+    std::uint32_t triangleCount = 0;
+    SurfaceTimings timings;
+};
+
 struct SurfaceReconstructor::Impl {
     std::array<gpu::Program, PassCount> passes;
     std::optional<PrefixScan> scan;
     gpu::Buffer triangleTable; ///< cellTriangleTable()
     std::uint32_t scanCapacity = 0;
+    Work work;
 
     const gpu::Program& pass(Pass p) const { return passes[p]; }
 
@@ -156,30 +192,19 @@ struct SurfaceReconstructor::Impl {
     }
 
     Result<void> field(const gpu::Buffer& positions, std::uint32_t count, const Grid& g,
-                       struct Work& work);
-    Result<void> contour(struct Work& work);
-    SurfaceMesh download(const struct Work& work, const Grid& g) const;
-};
-
-/// The buffers of one reconstruction.
-struct Work {
-    gpu::Buffer flags, slots, active, field;
-    gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleCode;
-    gpu::Buffer vertices, triangles;
-    std::uint32_t activeBlocks = 0;
-    std::uint32_t vertexCount = 0;
-    std::uint32_t triangleCount = 0;
+                       Work& work);
+    Result<void> contour(Work& work);
+    SurfaceMesh download(const Work& work, const Grid& g) const;
 };
 
 /// Marks the blocks, numbers them, and splats the particles into the field.
 Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std::uint32_t count,
                                                const Grid& g, Work& w) {
-    auto flags = uintBuffer(g.blockCount, "surface block flags");
-    auto slots = uintBuffer(g.blockCount, "surface block slots");
-    if (!flags || !slots)
-        return !flags ? flags.error() : slots.error();
-    w.flags = std::move(*flags);
-    w.slots = std::move(*slots);
+    auto start = Clock::now();
+    if (auto ok = ensureUints(w.flags, g.blockCount, "surface block flags"); !ok)
+        return ok;
+    if (auto ok = ensureUints(w.slots, g.blockCount, "surface block slots"); !ok)
+        return ok;
     if (auto ok = ensureScan(g.blockCount); !ok)
         return ok;
     positions.bindStorage(sh::kSurfBindPoints);
@@ -191,13 +216,14 @@ Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std
     scan->exclusive(w.flags, w.slots, std::uint32_t(g.blockCount));
     barrier();
     w.activeBlocks = readUint(w.slots, g.blockCount - 1) + readUint(w.flags, g.blockCount - 1);
-    auto active = uintBuffer(w.activeBlocks, "surface blocks");
-    auto field =
-        uintBuffer(std::uint64_t(w.activeBlocks) * sh::kSurfaceBlockSamples, "surface field");
-    if (!active || !field)
-        return !active ? active.error() : field.error();
-    w.active = std::move(*active);
-    w.field = std::move(*field);
+    w.timings.blocks = millisecondsSince(start);
+    start = Clock::now();
+    if (auto ok = ensureUints(w.active, w.activeBlocks, "surface blocks"); !ok)
+        return ok;
+    if (auto ok = ensureUints(w.field, std::uint64_t(w.activeBlocks) * sh::kSurfaceBlockSamples,
+                              "surface field");
+        !ok)
+        return ok;
     w.flags.bindStorage(sh::kSurfBindBlockFlag);
     w.slots.bindStorage(sh::kSurfBindBlockSlot);
     w.active.bindStorage(sh::kSurfBindActive);
@@ -210,11 +236,14 @@ Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std
     pass(Splat).set("uCount", count);
     pass(Splat).dispatchChunked(glm::uvec3(particleGroups, 1, 1), kMaxGroupsPerDispatch);
     barrier();
+    glFinish(); // so that the splat's time is its own, not the contour's
+    w.timings.field = millisecondsSince(start);
     return {};
 }
 
 /// Counts, numbers and writes the vertices and triangles of the stored blocks.
 Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
+    const auto start = Clock::now();
     const std::uint32_t n = w.activeBlocks;
     const std::uint64_t samples = std::uint64_t(n) * sh::kSurfaceBlockSamples;
     const char* labels[] = {"surface block vertices",  "surface block triangles",
@@ -222,12 +251,9 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
                             "surface sample vertices", "surface sample codes"};
     gpu::Buffer* targets[] = {&w.blockVerts, &w.blockTris,  &w.vertBase,
                               &w.triBase,    &w.sampleVert, &w.sampleCode};
-    for (std::size_t i = 0; i < 6; ++i) {
-        auto buffer = uintBuffer(i < 4 ? n : samples, labels[i]);
-        if (!buffer)
-            return buffer.error();
-        *targets[i] = std::move(*buffer);
-    }
+    for (std::size_t i = 0; i < 6; ++i)
+        if (auto ok = ensureUints(*targets[i], i < 4 ? n : samples, labels[i]); !ok)
+            return ok;
     const glm::uvec3 groups(n, 1, 1);
     w.blockVerts.bindStorage(sh::kSurfBindBlockVerts);
     w.blockTris.bindStorage(sh::kSurfBindBlockTris);
@@ -242,13 +268,13 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     barrier();
     w.vertexCount = readUint(w.vertBase, n - 1) + readUint(w.blockVerts, n - 1);
     w.triangleCount = readUint(w.triBase, n - 1) + readUint(w.blockTris, n - 1);
-    auto vertices = gpu::Buffer::create(
-        std::max<std::uint64_t>(w.vertexCount, 1) * sizeof(sh::SurfaceVertex), "surface vertices");
-    auto triangles = uintBuffer(3 * std::uint64_t(w.triangleCount), "surface triangles");
-    if (!vertices || !triangles)
-        return !vertices ? vertices.error() : triangles.error();
-    w.vertices = std::move(*vertices);
-    w.triangles = std::move(*triangles);
+    if (auto ok = ensureBytes(w.vertices, std::uint64_t(w.vertexCount) * sizeof(sh::SurfaceVertex),
+                              "surface vertices", false);
+        !ok)
+        return ok;
+    if (auto ok = ensureUints(w.triangles, 3 * std::uint64_t(w.triangleCount), "surface triangles");
+        !ok)
+        return ok;
     // The scans bound their own buffers: bind the grid's again.
     w.flags.bindStorage(sh::kSurfBindBlockFlag);
     w.slots.bindStorage(sh::kSurfBindBlockSlot);
@@ -267,6 +293,8 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     pass(Triangles).set("uCount", n);
     pass(Triangles).dispatchChunked(groups, kMaxGroupsPerDispatch);
     barrier();
+    glFinish();
+    w.timings.contour = millisecondsSince(start);
     return {};
 }
 
@@ -321,6 +349,7 @@ Result<SurfaceMesh> SurfaceReconstructor::reconstruct(const gpu::Buffer& positio
                   "SurfaceReconstructor: fewer positions than count");
     // The bounds on the CPU: one read of the positions, which the caller's export waits for
     // anyway, and it finds non-finite ones before they size a grid.
+    const auto start = Clock::now();
     const auto points = positions.download<glm::vec4>(0, count);
     glm::vec3 lo(std::numeric_limits<float>::max());
     glm::vec3 hi(std::numeric_limits<float>::lowest());
@@ -336,15 +365,21 @@ Result<SurfaceMesh> SurfaceReconstructor::reconstruct(const gpu::Buffer& positio
     if (!grid)
         return grid.error();
     m_impl->setGrid(*grid, *o);
-    Work work;
+    Work& work = m_impl->work;
+    work.activeBlocks = work.vertexCount = work.triangleCount = 0;
+    work.timings = {};
+    work.timings.bounds = millisecondsSince(start);
     if (auto ok = m_impl->field(positions, count, *grid, work); !ok)
         return ok.error();
     if (work.activeBlocks == 0)
-        return SurfaceMesh{.cellSize = o->cellSize};
+        return SurfaceMesh{.cellSize = o->cellSize, .timings = work.timings};
     if (auto ok = m_impl->contour(work); !ok)
         return ok.error();
+    const auto downloadStart = Clock::now();
     SurfaceMesh mesh = m_impl->download(work, *grid);
     mesh.cellSize = o->cellSize;
+    mesh.timings = work.timings;
+    mesh.timings.download = millisecondsSince(downloadStart);
     return mesh;
 }
 

@@ -80,6 +80,9 @@ public:
 
     /// Sets every byte to zero (glClearNamedBufferData).
     void clear();
+    /// Sets bytes [offset, offset + bytes) to zero (glClearNamedBufferSubData). Precondition:
+    /// the range lies in the buffer and both are multiples of 4.
+    void clear(std::size_t offset, std::size_t bytes);
 
     /// glBindBufferBase(target, index): e.g. GL_SHADER_STORAGE_BUFFER and the binding index
     /// from shaders/shared/*.h. Precondition: index below the target's binding limit.

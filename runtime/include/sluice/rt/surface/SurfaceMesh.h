@@ -17,6 +17,17 @@
 
 namespace sluice::rt {
 
+/// Where a reconstruction's time went [ms, wall clock], each stage ending where the CPU waits
+/// for the GPU: the positions read and their bounds; the blocks marked and counted; the field
+/// splatted; the mesh counted and written; the mesh read back into the vectors.
+struct SurfaceTimings {
+    double bounds = 0.0;
+    double blocks = 0.0;
+    double field = 0.0;
+    double contour = 0.0;
+    double download = 0.0;
+};
+
 /// A triangle mesh: vertices with unit normals, counter-clockwise triangles seen from outside.
 struct SurfaceMesh {
     std::vector<glm::vec3> vertices;   ///< [m]
@@ -25,6 +36,7 @@ struct SurfaceMesh {
     glm::vec3 gridOrigin{0.0f};        ///< where the sample grid started [m]
     float cellSize = 0.0f;             ///< its spacing [m]
     std::uint64_t storedSamples = 0;   ///< samples held (blocks the particles reach x 512)
+    SurfaceTimings timings;            ///< of the reconstruction that made it
 };
 
 /// How a surface is reconstructed. Zeros take the defaults, all derived from the radius.
