@@ -31,8 +31,16 @@ struct PySimulation {
     PySimulation& operator=(const PySimulation&) = delete;
     ~PySimulation() {
         // A copy inherited across fork(): its GL objects are the parent's to delete.
-        if (gpu::forkedFromGlProcess())
+        if (gpu::forkedFromGlProcess()) {
             (void)sim.release();
+            return;
+        }
+        // Its GL objects are deleted in its own context: with another one current (a surface
+        // mesher's), their names would delete that context's objects.
+        if (sim && context) {
+            context->makeCurrent();
+            sim.reset();
+        }
     }
 
     rt::Simulation& current() {

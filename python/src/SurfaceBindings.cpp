@@ -1,6 +1,7 @@
 // Bindings of the surface reconstruction: (N, 3) points in, a mesh out, in a headless GL
 // context of its own.
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -31,7 +32,20 @@ template <class T, class V> nb::ndarray<nb::numpy, T, nb::ndim<2>> rows(const st
 /// context nor a compile.
 struct PyMesher {
     std::optional<gpu::Context> context;
-    std::optional<rt::SurfaceReconstructor> reconstructor;
+    std::unique_ptr<rt::SurfaceReconstructor> reconstructor;
+
+    PyMesher(const PyMesher&) = delete;
+    PyMesher& operator=(const PyMesher&) = delete;
+    ~PyMesher() {
+        // The passes' GL objects are deleted in their own context (see ~PySimulation); a
+        // child of fork() leaves them to the parent.
+        if (gpu::forkedFromGlProcess())
+            (void)reconstructor.release();
+        else if (reconstructor && context) {
+            context->makeCurrent();
+            reconstructor.reset();
+        }
+    }
 
     PyMesher() {
         Result<void> made = [&]() -> Result<void> {
@@ -43,7 +57,7 @@ struct PyMesher {
             auto passes = rt::SurfaceReconstructor::create();
             if (!passes)
                 return passes.error();
-            reconstructor.emplace(std::move(*passes));
+            reconstructor = std::make_unique<rt::SurfaceReconstructor>(std::move(*passes));
             return {};
         }();
         if (!made)

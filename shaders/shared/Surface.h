@@ -38,6 +38,7 @@ SLUICE_CONST uint kSurfBindSampleCode = 10; ///< uint per stored sample: its cro
 SLUICE_CONST uint kSurfBindVertices = 11;   ///< SurfaceVertex per vertex
 SLUICE_CONST uint kSurfBindTriangles = 12;  ///< uint x3 per triangle
 SLUICE_CONST uint kSurfBindTriangleTable = 13; ///< uint x12 per cell case (KuhnTable.h)
+SLUICE_CONST uint kSurfBindBounds = 14;        ///< SurfaceBounds (surface_bounds.comp)
 /// Triangles a cell has at most (two in each of its six Kuhn tetrahedra).
 SLUICE_CONST uint kSurfaceCellTrianglesMax = 12;
 
@@ -47,12 +48,22 @@ struct SurfaceVertex {
     vec4 normal;   ///< xyz unit outward normal (down the field's gradient), w = 0
 };
 
+/// The particles' box and non-finite ones (surface_bounds.comp). lo and hi hold floats as
+/// order-preserving bits: sign set -> all bits flipped, else the sign bit set.
+struct SurfaceBounds {
+    uint lo[3];            ///< starts at 0xffffffff
+    uint hi[3];            ///< starts at 0
+    uint nonFinite;        ///< particles with a NaN or infinite coordinate
+    uint firstNonFinite;   ///< the lowest index among them, 0xffffffff when none
+};
+
 SLUICE_SHARED_END
 
 #ifdef __cplusplus
 #include <cstddef>
 static_assert(sizeof(sluice::shared::SurfaceVertex) == 32);
 static_assert(offsetof(sluice::shared::SurfaceVertex, normal) == 16);
+static_assert(sizeof(sluice::shared::SurfaceBounds) == 32);
 #endif
 
 #endif // SLUICE_SHARED_SURFACE_H

@@ -133,3 +133,19 @@ def test_no_points_give_an_empty_mesh() -> None:
     mesh = sluice.reconstruct_surface(np.zeros((0, 3), np.float32), RADIUS)
     assert mesh.vertices.shape == (0, 3) and mesh.triangles.shape == (0, 3)
     assert mesh.volume == 0.0
+
+
+def test_a_simulation_deleted_while_the_mesher_is_current_leaves_the_mesher_whole() -> None:
+    # Found when the bounds moved to the GPU: deleting a Simulation ran its GL deletes in
+    # whichever context was current, the mesher's, and took the mesher's buffers with them.
+    points = lattice(8)
+    before = sluice.reconstruct_surface(points, RADIUS)
+    scene = Path(__file__).resolve().parents[2] / "assets" / "martin-moyce.json"
+    sim = sluice.Simulation(scene)
+    sim.step(1, progress=False)
+    sluice.reconstruct_surface(points, RADIUS)  # the mesher's context is current now
+    del sim
+    after = sluice.reconstruct_surface(points, RADIUS)
+    assert len(before.triangles) > 0
+    assert np.array_equal(after.vertices, before.vertices)
+    assert np.array_equal(after.triangles, before.triangles)

@@ -91,8 +91,6 @@ struct Renderer::Impl {
     gpu::Program domainBox;                     ///< the domain box's edges (lines)
     gpu::Program meshProgram;                   ///< the reconstructed surface mesh
     std::optional<SurfaceReconstructor> mesher; ///< made on the first frame in Mesh mode
-    gpu::Buffer meshVertices;
-    gpu::Buffer meshTriangles;
     std::string meshError;
     std::optional<std::pair<glm::vec3, glm::vec3>> domain; ///< the scene's domain box [m]
     gpu::Buffer frame;
@@ -152,16 +150,13 @@ struct Renderer::Impl {
         }
         SurfaceOptions options;
         options.particleRadius = sim.constants().radius;
-        auto mesh = mesher->reconstruct(sim.positionBuffer(), sim.particleCount(), options);
-        if (mesh) {
-            if (auto ok = uploadMesh(*mesh); !ok)
-                mesh = ok.error();
-        }
+        // Drawn from the reconstructor's own buffers: nothing read back but the sizes.
+        auto mesh = mesher->build(sim.positionBuffer(), sim.particleCount(), options);
         if (!mesh) {
             meshError = mesh.error().message();
             return false;
         }
-        if (mesh->triangles.empty())
+        if (mesh->triangleCount == 0)
             return true;
         // The reconstruction bound its own programs and buffers: the frame's again.
         frame.bindBase(GL_UNIFORM_BUFFER, shared::kRenderBindFrame);
@@ -171,36 +166,11 @@ struct Renderer::Impl {
         glBindFramebuffer(GL_FRAMEBUFFER, sceneTarget.id());
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
-        meshVertices.bindStorage(shared::kRenderBindMeshVertices);
-        meshTriangles.bindStorage(shared::kRenderBindMeshTriangles);
+        mesh->vertices->bindStorage(shared::kRenderBindMeshVertices);
+        mesh->triangles->bindStorage(shared::kRenderBindMeshTriangles);
         meshProgram.use();
-        glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * mesh->triangles.size()));
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * std::uint64_t(mesh->triangleCount)));
         return true;
-    }
-
-    Result<void> uploadMesh(const SurfaceMesh& mesh) {
-        std::vector<shared::SurfaceVertex> vertices(mesh.vertices.size());
-        for (std::size_t i = 0; i < vertices.size(); ++i)
-            vertices[i] = {glm::vec4(mesh.vertices[i], 1.0f), glm::vec4(mesh.normals[i], 0.0f)};
-        const std::size_t vertexBytes = std::max<std::size_t>(vertices.size(), 1) * 32;
-        const std::size_t triangleBytes = std::max<std::size_t>(mesh.triangles.size(), 1) * 12;
-        if (meshVertices.size() < vertexBytes) {
-            auto buffer = gpu::Buffer::create(vertexBytes * 3 / 2, "render mesh vertices");
-            if (!buffer)
-                return buffer.error();
-            meshVertices = std::move(*buffer);
-        }
-        if (meshTriangles.size() < triangleBytes) {
-            auto buffer = gpu::Buffer::create(triangleBytes * 3 / 2, "render mesh triangles");
-            if (!buffer)
-                return buffer.error();
-            meshTriangles = std::move(*buffer);
-        }
-        if (!vertices.empty()) {
-            meshVertices.upload(vertices);
-            meshTriangles.upload(mesh.triangles);
-        }
-        return {};
     }
 
     Result<void> resize(glm::uvec2 newSize) {

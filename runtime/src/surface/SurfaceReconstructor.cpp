@@ -4,11 +4,14 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "shared/Surface.h"
 #include "sim/PrefixScan.h"
@@ -26,10 +29,11 @@ namespace sh = shared;
 constexpr std::uint64_t kMaxBlocks = std::uint64_t{1} << 24;
 constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
 
-enum Pass : std::size_t { Mark, Compact, Splat, Count, Vertices, Triangles, PassCount };
+enum Pass : std::size_t { Bounds, Mark, Compact, Splat, Count, Vertices, Triangles, PassCount };
 constexpr std::array<const char*, PassCount> kPassFiles = {
-    "surface_mark.comp",  "surface_compact.comp",  "surface_splat.comp",
-    "surface_count.comp", "surface_vertices.comp", "surface_triangles.comp"};
+    "surface_bounds.comp", "surface_mark.comp",     "surface_compact.comp",
+    "surface_splat.comp",  "surface_count.comp",    "surface_vertices.comp",
+    "surface_triangles.comp"};
 
 bool positiveFinite(float v) {
     return std::isfinite(v) && v > 0.0f;
@@ -151,6 +155,9 @@ struct Work {
     gpu::Buffer flags, slots, active, field;
     gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleCode;
     gpu::Buffer vertices, triangles;
+    gpu::Buffer bounds;   ///< shared::SurfaceBounds
+    gpu::Buffer readback; ///< the mesh on its way to the CPU: mapped for reading, persistently
+    const std::byte* mapped = nullptr;
     std::uint32_t activeBlocks = 0;
     std::uint32_t vertexCount = 0;
     std::uint32_t triangleCount = 0;
@@ -194,7 +201,9 @@ struct SurfaceReconstructor::Impl {
     Result<void> field(const gpu::Buffer& positions, std::uint32_t count, const Grid& g,
                        Work& work);
     Result<void> contour(Work& work);
-    SurfaceMesh download(const Work& work, const Grid& g) const;
+    Result<std::pair<glm::vec3, glm::vec3>> bounds(const gpu::Buffer& positions,
+                                                   std::uint32_t count);
+    Result<SurfaceMesh> download(const SurfaceGpuMesh& built);
 };
 
 /// Marks the blocks, numbers them, and splats the particles into the field.
@@ -298,21 +307,56 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     return {};
 }
 
-SurfaceMesh SurfaceReconstructor::Impl::download(const Work& w, const Grid& g) const {
+/// Reads `built` back: both arrays copied on the GPU into one buffer mapped for reading (one
+/// transfer into memory the CPU reads directly), then unpacked into the vectors.
+Result<SurfaceMesh> SurfaceReconstructor::Impl::download(const SurfaceGpuMesh& built) {
     SurfaceMesh mesh;
-    mesh.gridOrigin = g.origin;
-    mesh.storedSamples = std::uint64_t(w.activeBlocks) * sh::kSurfaceBlockSamples;
-    const auto vertices = w.vertices.download<sh::SurfaceVertex>(0, w.vertexCount);
-    mesh.vertices.reserve(vertices.size());
-    mesh.normals.reserve(vertices.size());
-    for (const sh::SurfaceVertex& v : vertices) {
-        mesh.vertices.emplace_back(v.position);
-        mesh.normals.emplace_back(v.normal);
+    mesh.gridOrigin = built.gridOrigin;
+    mesh.cellSize = built.cellSize;
+    mesh.storedSamples = built.storedSamples;
+    mesh.timings = built.timings;
+    if (built.triangleCount == 0 && built.vertexCount == 0)
+        return mesh;
+    const std::uint64_t vertexBytes = std::uint64_t(built.vertexCount) * sizeof(sh::SurfaceVertex);
+    const std::uint64_t triangleBytes = std::uint64_t(built.triangleCount) * 12;
+    if (work.readback.size() < vertexBytes + triangleBytes) {
+        work.readback = {};
+        work.mapped = nullptr;
+        const std::uint64_t bytes = (vertexBytes + triangleBytes) * 5 / 4 + 16;
+        const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_CLIENT_STORAGE_BIT;
+        auto created = gpu::Buffer::create(bytes, "surface readback", flags);
+        if (!created)
+            return created.error();
+        work.readback = std::move(*created);
+        work.mapped = static_cast<const std::byte*>(
+            glMapNamedBufferRange(work.readback.id(), 0, GLsizeiptr(bytes),
+                                  GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT));
+        if (work.mapped == nullptr) {
+            work.readback = {};
+            return fail(ErrorCode::GpuOutOfMemory,
+                        "surface: could not map a readback buffer of " + std::to_string(bytes) +
+                            " bytes");
+        }
     }
-    const auto indices = w.triangles.download<std::uint32_t>(0, 3 * std::uint64_t(w.triangleCount));
-    mesh.triangles.reserve(w.triangleCount);
-    for (std::size_t t = 0; t < w.triangleCount; ++t)
-        mesh.triangles.emplace_back(indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glCopyNamedBufferSubData(built.vertices->id(), work.readback.id(), 0, 0,
+                             GLsizeiptr(vertexBytes));
+    glCopyNamedBufferSubData(built.triangles->id(), work.readback.id(), 0, GLintptr(vertexBytes),
+                             GLsizeiptr(triangleBytes));
+    // Persistent mappings see the copies once a fence after them has signalled, with the
+    // client-mapped barrier before it.
+    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+    glFinish();
+    const auto* vertices = reinterpret_cast<const sh::SurfaceVertex*>(work.mapped);
+    mesh.vertices.resize(built.vertexCount);
+    mesh.normals.resize(built.vertexCount);
+    for (std::uint32_t v = 0; v < built.vertexCount; ++v) {
+        mesh.vertices[v] = glm::vec3(vertices[v].position);
+        mesh.normals[v] = glm::vec3(vertices[v].normal);
+    }
+    static_assert(sizeof(glm::uvec3) == 12);
+    mesh.triangles.resize(built.triangleCount);
+    std::memcpy(mesh.triangles.data(), work.mapped + vertexBytes, triangleBytes);
     return mesh;
 }
 
@@ -337,31 +381,56 @@ Result<SurfaceReconstructor> SurfaceReconstructor::create() {
     return SurfaceReconstructor(std::move(impl));
 }
 
-Result<SurfaceMesh> SurfaceReconstructor::reconstruct(const gpu::Buffer& positions,
-                                                      std::uint32_t count,
-                                                      const SurfaceOptions& options) {
+/// The particles' box on the GPU (surface_bounds.comp): lo and hi, or InvalidArgument naming
+/// the first non-finite particle.
+Result<std::pair<glm::vec3, glm::vec3>> SurfaceReconstructor::Impl::bounds(
+    const gpu::Buffer& positions, std::uint32_t count) {
+    if (work.bounds.size() == 0) {
+        auto created = gpu::Buffer::create(sizeof(sh::SurfaceBounds), "surface bounds");
+        if (!created)
+            return created.error();
+        work.bounds = std::move(*created);
+    }
+    const sh::SurfaceBounds empty{{~0u, ~0u, ~0u}, {0u, 0u, 0u}, 0u, ~0u};
+    work.bounds.upload(&empty, sizeof empty);
+    positions.bindStorage(sh::kSurfBindPoints);
+    work.bounds.bindStorage(sh::kSurfBindBounds);
+    pass(Bounds).set("uCount", count);
+    pass(Bounds).dispatchChunked(glm::uvec3(gpu::groupCount(count, sh::kSurfaceLocalSize), 1, 1),
+                                 kMaxGroupsPerDispatch);
+    barrier();
+    sh::SurfaceBounds b{};
+    work.bounds.download(&b, sizeof b);
+    if (b.nonFinite > 0)
+        return fail(ErrorCode::InvalidArgument,
+                    "surface: particle " + std::to_string(b.firstNonFinite) + " is not finite" +
+                        (b.nonFinite > 1 ? " (and " + std::to_string(b.nonFinite - 1) +
+                                               " more)"
+                                         : std::string()));
+    const auto value = [](std::uint32_t bits) {
+        const std::uint32_t u = (bits & 0x80000000u) != 0 ? bits & 0x7fffffffu : ~bits;
+        return std::bit_cast<float>(u);
+    };
+    return std::pair{glm::vec3(value(b.lo[0]), value(b.lo[1]), value(b.lo[2])),
+                     glm::vec3(value(b.hi[0]), value(b.hi[1]), value(b.hi[2]))};
+}
+
+Result<SurfaceGpuMesh> SurfaceReconstructor::build(const gpu::Buffer& positions,
+                                                   std::uint32_t count,
+                                                   const SurfaceOptions& options) {
     auto o = resolveSurfaceOptions(options);
     if (!o)
         return o.error();
     if (count == 0)
-        return SurfaceMesh{.cellSize = o->cellSize};
+        return SurfaceGpuMesh{.cellSize = o->cellSize};
     SLUICE_ASSERT(positions.size() >= std::size_t(count) * 16,
                   "SurfaceReconstructor: fewer positions than count");
-    // The bounds on the CPU: one read of the positions, which the caller's export waits for
-    // anyway, and it finds non-finite ones before they size a grid.
     const auto start = Clock::now();
-    const auto points = positions.download<glm::vec4>(0, count);
-    glm::vec3 lo(std::numeric_limits<float>::max());
-    glm::vec3 hi(std::numeric_limits<float>::lowest());
-    for (std::uint32_t i = 0; i < count; ++i) {
-        const glm::vec3 p(points[i]);
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-            return fail(ErrorCode::InvalidArgument,
-                        "surface: particle " + std::to_string(i) + " is not finite");
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    auto grid = gridOver(lo, hi, *o);
+    // The bounds size the grid; non-finite positions are refused before they do.
+    const auto box = m_impl->bounds(positions, count);
+    if (!box)
+        return box.error();
+    auto grid = gridOver(box->first, box->second, *o);
     if (!grid)
         return grid.error();
     m_impl->setGrid(*grid, *o);
@@ -371,15 +440,33 @@ Result<SurfaceMesh> SurfaceReconstructor::reconstruct(const gpu::Buffer& positio
     work.timings.bounds = millisecondsSince(start);
     if (auto ok = m_impl->field(positions, count, *grid, work); !ok)
         return ok.error();
-    if (work.activeBlocks == 0)
-        return SurfaceMesh{.cellSize = o->cellSize, .timings = work.timings};
-    if (auto ok = m_impl->contour(work); !ok)
-        return ok.error();
-    const auto downloadStart = Clock::now();
-    SurfaceMesh mesh = m_impl->download(work, *grid);
-    mesh.cellSize = o->cellSize;
+    SurfaceGpuMesh mesh{.gridOrigin = grid->origin,
+                        .cellSize = o->cellSize,
+                        .storedSamples =
+                            std::uint64_t(work.activeBlocks) * sh::kSurfaceBlockSamples};
+    if (work.activeBlocks > 0) {
+        if (auto ok = m_impl->contour(work); !ok)
+            return ok.error();
+        mesh.vertices = &work.vertices;
+        mesh.triangles = &work.triangles;
+        mesh.vertexCount = work.vertexCount;
+        mesh.triangleCount = work.triangleCount;
+    }
     mesh.timings = work.timings;
-    mesh.timings.download = millisecondsSince(downloadStart);
+    return mesh;
+}
+
+Result<SurfaceMesh> SurfaceReconstructor::reconstruct(const gpu::Buffer& positions,
+                                                      std::uint32_t count,
+                                                      const SurfaceOptions& options) {
+    auto built = build(positions, count, options);
+    if (!built)
+        return built.error();
+    const auto start = Clock::now();
+    auto mesh = m_impl->download(*built);
+    if (!mesh)
+        return mesh.error();
+    mesh->timings.download = millisecondsSince(start);
     return mesh;
 }
 

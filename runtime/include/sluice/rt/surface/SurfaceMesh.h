@@ -55,6 +55,20 @@ struct SurfaceOptions {
 /// that is not finite and positive (iso in (0, 4)), or for a cell larger than the support.
 Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options);
 
+/// A mesh SurfaceReconstructor::build left in GPU memory, valid until the reconstructor's next
+/// call: `vertices` holds shared::SurfaceVertex records (shaders/shared/Surface.h: position and
+/// unit normal, a vec4 each), `triangles` three vertex indices (uint) per triangle.
+struct SurfaceGpuMesh {
+    const gpu::Buffer* vertices = nullptr;
+    const gpu::Buffer* triangles = nullptr;
+    std::uint32_t vertexCount = 0;
+    std::uint32_t triangleCount = 0;
+    glm::vec3 gridOrigin{0.0f};      ///< as in SurfaceMesh
+    float cellSize = 0.0f;           ///< as in SurfaceMesh
+    std::uint64_t storedSamples = 0; ///< as in SurfaceMesh
+    SurfaceTimings timings;          ///< download is 0
+};
+
 /// Reconstructs surfaces from particles. Needs a current GL 4.5 context for its whole life.
 class SurfaceReconstructor {
 public:
@@ -73,6 +87,11 @@ public:
     /// GpuOutOfMemory when the GL cannot allocate it. No particles: an empty mesh.
     Result<SurfaceMesh> reconstruct(const gpu::Buffer& positions, std::uint32_t count,
                                     const SurfaceOptions& options);
+
+    /// The same surface left in GPU memory, for drawing it: no mesh is read back (only its
+    /// sizes), same errors.
+    Result<SurfaceGpuMesh> build(const gpu::Buffer& positions, std::uint32_t count,
+                                 const SurfaceOptions& options);
 
     /// The same for positions on the CPU (uploaded first).
     Result<SurfaceMesh> reconstruct(std::span<const glm::vec3> points,
