@@ -116,6 +116,13 @@ publish() {
     fi
     grep -m1 '^surface meshes' "$out/surface-mesh-1m.log" 2>/dev/null |
       sed 's/$/ (floor: >= 20 M particles\/s)/'
+    grep -m1 '^  surface stages' "$out/surface-mesh-1m.log" 2>/dev/null
+    f=$out/render-mesh.json
+    if [ -f "$f" ]; then
+      echo "surface mesh mode, $(json "$f" particles) particles at $(json "$f" width)x$(json "$f" height):" \
+        "fluid pass $(json "$f" fluid) ms GPU (the mesh rebuilt every frame), frame" \
+        "$(json "$f" medianFrameMs) ms, wall $(json "$f" wallMsPerFrame) ms"
+    fi
     for f in "$out"/wave-sphere-15k.json "$out"/dam-break-1m-4it.json; do
       [ -f "$f" ] && echo "$(basename "$f" .json): $(json "$f" bytesPerParticle) bytes per particle (floor: <= 200)"
     done
@@ -204,6 +211,9 @@ if phase render; then
     step "bench-render-$surface" "$bin/sluice-play" "$rscene" --bench --warmup $rwarm \
       --steps $rsteps --bench-frames $rframes --surface $surface --bench-json "$json_out"
   done
+  # The reconstructed surface mesh, rebuilt every frame (fewer frames: it is the slow mode).
+  step bench-render-mesh "$bin/sluice-play" "$rscene" --bench --warmup $rwarm \
+    --steps $rsteps --bench-frames 30 --surface mesh --bench-json "$out/render-mesh.json"
   # Every sphere rasterised, for comparison with the compute pass for small ones.
   step bench-render-raster "$bin/sluice-play" "$rscene" --bench --warmup $rwarm \
     --steps $rsteps --bench-frames $rframes --raster-spheres --bench-json "$out/render-raster.json"
