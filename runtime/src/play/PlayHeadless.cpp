@@ -58,6 +58,8 @@ struct HeadlessRun {
     PassTimes passTimes{};         ///< GPU time per pass after the last step [ms]
     std::vector<double> surfaceSeconds;      ///< each surface mesh's reconstruction [s]
     std::vector<SurfaceTimings> surfaceStages; ///< and where its time went
+    std::size_t surfaceVertices = 0;           ///< of the latest surface mesh
+    std::size_t surfaceTriangles = 0;
     std::vector<double> surfaceWriteSeconds; ///< each surface mesh's PLY file [s]
 };
 
@@ -144,6 +146,8 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     auto written = writeSurfacePly(std::filesystem::path(o.surfaceDir) / surfaceName(step), *mesh);
     run.surfaceSeconds.push_back(std::chrono::duration<double>(built - start).count());
     run.surfaceStages.push_back(mesh->timings);
+    run.surfaceVertices = mesh->vertices.size();
+    run.surfaceTriangles = mesh->triangles.size();
     run.surfaceWriteSeconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count());
     return written;
@@ -182,7 +186,8 @@ void printSurfaceTimes(const HeadlessRun& run) {
               << " ms each to reconstruct and download ("
               << (build > 0.0 ? double(run.sim.particleCount()) / build * 1e-6 : 0.0)
               << " M particles/s), " << median(run.surfaceWriteSeconds) * 1e3
-              << " ms to write\n  surface stages, median ms:";
+              << " ms to write; the last " << run.surfaceVertices << " vertices, "
+              << run.surfaceTriangles << " triangles\n  surface stages, median ms:";
     const nlohmann::json stages = surfaceStageMedians(run);
     for (const auto& [name, ms] : stages.items())
         std::cout << "  " << name << " " << ms.get<double>();

@@ -277,6 +277,29 @@ TEST(SluicePlaySurface, WritesOneClosedMeshPerRequestedStep) {
         EXPECT_NEAR(enclosedVolume(mesh) / 0.016, 1.0, 0.05) << name;
     }
 
+    // Without --quiet the summary says what a mesh cost, stage by stage, and so does the
+    // statistics file (timings are left out of a --deterministic one).
+    const fs::path stats = dir / "stats.json";
+    const auto timed = play(dir, {(kAssets / "martin-moyce.json").string(), "--headless",
+                                  "--steps", "2", "--surface-mesh", (dir / "timed").string(),
+                                  "--stats-json", stats.string()});
+    ASSERT_EQ(timed.code, 0) << shown(timed);
+    EXPECT_NE(timed.out.find("surface meshes: 3, median "), std::string::npos) << timed.out;
+    EXPECT_NE(timed.out.find("surface stages, median ms:  blocks "), std::string::npos)
+        << timed.out;
+    const auto doc = nlohmann::json::parse(testrun::readText(stats));
+    const auto& surface = doc["timing"]["surfaceMeshMs"];
+    EXPECT_EQ(surface["count"].get<int>(), 3);
+    double stages = 0.0;
+    for (const auto& [stage, ms] : surface["stagesMedian"].items()) {
+        EXPECT_GE(ms.get<double>(), 0.0) << stage;
+        stages += ms.get<double>();
+    }
+    EXPECT_EQ(surface["stagesMedian"].size(), 5u);
+    // The stages lie inside the whole call (medians of each, so allow for their spread).
+    EXPECT_GT(surface["median"].get<double>(), 0.0);
+    EXPECT_LE(stages, 2.0 * surface["median"].get<double>());
+
     const fs::path bad = dir / "bad";
     const auto refused =
         play(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "1",
