@@ -6,8 +6,12 @@
 #include "shared/RenderGlsl.h"
 #include "shared/Surface.h"
 
-layout(std430, binding = kRenderBindMeshVertices) readonly buffer MeshVertices {
-    SurfaceVertex meshVertices[];
+// Positions and normals as packed float triples (std430 would pad a vec3 array to 16 bytes).
+layout(std430, binding = kRenderBindMeshPositions) readonly buffer MeshPositions {
+    float meshPositions[];
+};
+layout(std430, binding = kRenderBindMeshNormals) readonly buffer MeshNormals {
+    float meshNormals[];
 };
 layout(std430, binding = kRenderBindMeshTriangles) readonly buffer MeshTriangles {
     uint meshTriangles[];
@@ -17,8 +21,8 @@ out vec3 vWorld;
 out vec3 vNormal;
 
 void main() {
-    SurfaceVertex v = meshVertices[meshTriangles[gl_VertexID]];
-    vWorld = v.position.xyz;
-    vNormal = v.normal.xyz;
+    uint v = 3u * meshTriangles[gl_VertexID];
+    vWorld = vec3(meshPositions[v], meshPositions[v + 1u], meshPositions[v + 2u]);
+    vNormal = vec3(meshNormals[v], meshNormals[v + 1u], meshNormals[v + 2u]);
     gl_Position = F.proj * F.view * vec4(vWorld, 1.0);
 }

@@ -20,8 +20,9 @@ SLUICE_CONST uint kRenderBindSparse = 3;     ///< uint[]
 SLUICE_CONST uint kRenderBindSplatList = 4;  ///< uint[] particle indices
 SLUICE_CONST uint kRenderBindSplatArgs = 5;  ///< SplatDrawArgs
 // The reconstructed surface mesh (SurfaceMode::Mesh, render_surface_mesh.vert).
-SLUICE_CONST uint kRenderBindMeshVertices = 6;  ///< SurfaceVertex[] (shared/Surface.h)
+SLUICE_CONST uint kRenderBindMeshPositions = 6; ///< float x3 per vertex [m] (shared/Surface.h)
 SLUICE_CONST uint kRenderBindMeshTriangles = 7; ///< uint[] three per triangle
+SLUICE_CONST uint kRenderBindMeshNormals = 8;   ///< float x3 per vertex, unit
 SLUICE_CONST uint kSplatLocalSize = 128;
 /// Widest and tallest a sphere's square may cover on screen [pixels] and be drawn by the
 /// compute pass (one invocation visits every pixel of it); larger ones are rasterised.

@@ -35,18 +35,14 @@ SLUICE_CONST uint kSurfBindTriBase = 8;     ///< uint per stored block: first tr
 SLUICE_CONST uint kSurfBindSampleVert = 9;  ///< uint per stored sample: its first vertex
 SLUICE_CONST uint kSurfBindSampleCode = 10; ///< uint per stored sample: its crossing edges
                                             ///< (bits 0-6) and its cell's inside corners (8-15)
-SLUICE_CONST uint kSurfBindVertices = 11;   ///< SurfaceVertex per vertex
+SLUICE_CONST uint kSurfBindPositions = 11;  ///< float x3 per vertex: its position [m]
 SLUICE_CONST uint kSurfBindTriangles = 12;  ///< uint x3 per triangle
 SLUICE_CONST uint kSurfBindTriangleTable = 13; ///< uint x12 per cell case (KuhnTable.h)
 SLUICE_CONST uint kSurfBindBounds = 14;        ///< SurfaceBounds (surface_bounds.comp)
+SLUICE_CONST uint kSurfBindNormals = 15; ///< float x3 per vertex: its unit outward normal
 /// Triangles a cell has at most (two in each of its six Kuhn tetrahedra).
 SLUICE_CONST uint kSurfaceCellTrianglesMax = 12;
 
-/// One vertex of the mesh: on an edge of the sample grid where the field crosses the iso value.
-struct SurfaceVertex {
-    vec4 position; ///< xyz [m], w = 1
-    vec4 normal;   ///< xyz unit outward normal (down the field's gradient), w = 0
-};
 
 /// The particles' box and non-finite ones (surface_bounds.comp). lo and hi hold floats as
 /// order-preserving bits: sign set -> all bits flipped, else the sign bit set.
@@ -61,8 +57,6 @@ SLUICE_SHARED_END
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(sluice::shared::SurfaceVertex) == 32);
-static_assert(offsetof(sluice::shared::SurfaceVertex, normal) == 16);
 static_assert(sizeof(sluice::shared::SurfaceBounds) == 32);
 #endif
 

@@ -13,7 +13,9 @@ layout(std430, binding = kSurfBindBlockVerts) readonly buffer BlockVerts { uint 
 layout(std430, binding = kSurfBindVertBase) readonly buffer VertBase { uint vertBase[]; };
 layout(std430, binding = kSurfBindSampleVert) writeonly buffer SampleVert { uint sampleVert[]; };
 layout(std430, binding = kSurfBindSampleCode) readonly buffer SampleCode { uint sampleCode[]; };
-layout(std430, binding = kSurfBindVertices) writeonly buffer Vertices { SurfaceVertex vertices[]; };
+// Packed float triples, the layout of the CPU's vectors: read back with one copy each.
+layout(std430, binding = kSurfBindPositions) writeonly buffer Positions { float positions[]; };
+layout(std430, binding = kSurfBindNormals) writeonly buffer Normals { float normals[]; };
 
 // Central differences of the field at `local` in the loaded tile (unscaled: only its direction
 // is used).
@@ -56,10 +58,12 @@ void main() {
             float t = clamp((iso - fa) / (fb - fa), 0.0, 1.0);
             vec3 g = mix(ga, gradient(n), t);
             float len = length(g);
-            SurfaceVertex v;
-            v.position = vec4(uOrigin + (vec3(s) + t * vec3(cornerOffset(d))) * uCell, 1.0);
-            v.normal = vec4(len > 0.0 ? -g / len : vec3(0.0, 1.0, 0.0), 0.0);
-            vertices[base] = v;
+            vec3 p = uOrigin + (vec3(s) + t * vec3(cornerOffset(d))) * uCell;
+            vec3 normal = len > 0.0 ? -g / len : vec3(0.0, 1.0, 0.0);
+            for (uint k = 0u; k < 3u; ++k) {
+                positions[3u * base + k] = p[k];
+                normals[3u * base + k] = normal[k];
+            }
             ++base;
         }
     }

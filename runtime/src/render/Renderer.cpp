@@ -166,7 +166,8 @@ struct Renderer::Impl {
         glBindFramebuffer(GL_FRAMEBUFFER, sceneTarget.id());
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
-        mesh->vertices->bindStorage(shared::kRenderBindMeshVertices);
+        mesh->positions->bindStorage(shared::kRenderBindMeshPositions);
+        mesh->normals->bindStorage(shared::kRenderBindMeshNormals);
         mesh->triangles->bindStorage(shared::kRenderBindMeshTriangles);
         meshProgram.use();
         glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * std::uint64_t(mesh->triangleCount)));

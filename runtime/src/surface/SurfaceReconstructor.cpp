@@ -7,7 +7,6 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <optional>
 #include <string>
@@ -154,10 +153,8 @@ Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {
 struct Work {
     gpu::Buffer flags, slots, active, field;
     gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleCode;
-    gpu::Buffer vertices, triangles;
-    gpu::Buffer bounds;   ///< shared::SurfaceBounds
-    gpu::Buffer readback; ///< the mesh on its way to the CPU: mapped for reading, persistently
-    const std::byte* mapped = nullptr;
+    gpu::Buffer positions, normals, triangles;
+    gpu::Buffer bounds; ///< shared::SurfaceBounds
     std::uint32_t activeBlocks = 0;
     std::uint32_t vertexCount = 0;
     std::uint32_t triangleCount = 0;
@@ -277,10 +274,10 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     barrier();
     w.vertexCount = readUint(w.vertBase, n - 1) + readUint(w.blockVerts, n - 1);
     w.triangleCount = readUint(w.triBase, n - 1) + readUint(w.blockTris, n - 1);
-    if (auto ok = ensureBytes(w.vertices, std::uint64_t(w.vertexCount) * sizeof(sh::SurfaceVertex),
-                              "surface vertices", false);
-        !ok)
-        return ok;
+    for (auto [buffer, label] : {std::pair{&w.positions, "surface positions"},
+                                 std::pair{&w.normals, "surface normals"}})
+        if (auto ok = ensureBytes(*buffer, std::uint64_t(w.vertexCount) * 12, label, false); !ok)
+            return ok;
     if (auto ok = ensureUints(w.triangles, 3 * std::uint64_t(w.triangleCount), "surface triangles");
         !ok)
         return ok;
@@ -293,7 +290,8 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     w.triBase.bindStorage(sh::kSurfBindTriBase);
     w.sampleVert.bindStorage(sh::kSurfBindSampleVert);
     w.sampleCode.bindStorage(sh::kSurfBindSampleCode);
-    w.vertices.bindStorage(sh::kSurfBindVertices);
+    w.positions.bindStorage(sh::kSurfBindPositions);
+    w.normals.bindStorage(sh::kSurfBindNormals);
     w.triangles.bindStorage(sh::kSurfBindTriangles);
     triangleTable.bindStorage(sh::kSurfBindTriangleTable);
     pass(Vertices).set("uCount", n);
@@ -307,8 +305,8 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     return {};
 }
 
-/// Reads `built` back: both arrays copied on the GPU into one buffer mapped for reading (one
-/// transfer into memory the CPU reads directly), then unpacked into the vectors.
+/// Reads `built` back: each array copied straight into its vector (the GPU wrote them in the
+/// vectors' layout).
 Result<SurfaceMesh> SurfaceReconstructor::Impl::download(const SurfaceGpuMesh& built) {
     SurfaceMesh mesh;
     mesh.gridOrigin = built.gridOrigin;
@@ -317,46 +315,14 @@ Result<SurfaceMesh> SurfaceReconstructor::Impl::download(const SurfaceGpuMesh& b
     mesh.timings = built.timings;
     if (built.triangleCount == 0 && built.vertexCount == 0)
         return mesh;
-    const std::uint64_t vertexBytes = std::uint64_t(built.vertexCount) * sizeof(sh::SurfaceVertex);
-    const std::uint64_t triangleBytes = std::uint64_t(built.triangleCount) * 12;
-    if (work.readback.size() < vertexBytes + triangleBytes) {
-        work.readback = {};
-        work.mapped = nullptr;
-        const std::uint64_t bytes = (vertexBytes + triangleBytes) * 5 / 4 + 16;
-        const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_CLIENT_STORAGE_BIT;
-        auto created = gpu::Buffer::create(bytes, "surface readback", flags);
-        if (!created)
-            return created.error();
-        work.readback = std::move(*created);
-        work.mapped = static_cast<const std::byte*>(
-            glMapNamedBufferRange(work.readback.id(), 0, GLsizeiptr(bytes),
-                                  GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT));
-        if (work.mapped == nullptr) {
-            work.readback = {};
-            return fail(ErrorCode::GpuOutOfMemory,
-                        "surface: could not map a readback buffer of " + std::to_string(bytes) +
-                            " bytes");
-        }
-    }
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glCopyNamedBufferSubData(built.vertices->id(), work.readback.id(), 0, 0,
-                             GLsizeiptr(vertexBytes));
-    glCopyNamedBufferSubData(built.triangles->id(), work.readback.id(), 0, GLintptr(vertexBytes),
-                             GLsizeiptr(triangleBytes));
-    // Persistent mappings see the copies once a fence after them has signalled, with the
-    // client-mapped barrier before it.
-    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
-    glFinish();
-    const auto* vertices = reinterpret_cast<const sh::SurfaceVertex*>(work.mapped);
+    static_assert(sizeof(glm::vec3) == 12 && sizeof(glm::uvec3) == 12);
     mesh.vertices.resize(built.vertexCount);
     mesh.normals.resize(built.vertexCount);
-    for (std::uint32_t v = 0; v < built.vertexCount; ++v) {
-        mesh.vertices[v] = glm::vec3(vertices[v].position);
-        mesh.normals[v] = glm::vec3(vertices[v].normal);
-    }
-    static_assert(sizeof(glm::uvec3) == 12);
     mesh.triangles.resize(built.triangleCount);
-    std::memcpy(mesh.triangles.data(), work.mapped + vertexBytes, triangleBytes);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    built.positions->download(mesh.vertices.data(), mesh.vertices.size() * 12);
+    built.normals->download(mesh.normals.data(), mesh.normals.size() * 12);
+    built.triangles->download(mesh.triangles.data(), mesh.triangles.size() * 12);
     return mesh;
 }
 
@@ -447,7 +413,8 @@ Result<SurfaceGpuMesh> SurfaceReconstructor::build(const gpu::Buffer& positions,
     if (work.activeBlocks > 0) {
         if (auto ok = m_impl->contour(work); !ok)
             return ok.error();
-        mesh.vertices = &work.vertices;
+        mesh.positions = &work.positions;
+        mesh.normals = &work.normals;
         mesh.triangles = &work.triangles;
         mesh.vertexCount = work.vertexCount;
         mesh.triangleCount = work.triangleCount;

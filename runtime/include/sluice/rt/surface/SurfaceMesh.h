@@ -56,10 +56,11 @@ struct SurfaceOptions {
 Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options);
 
 /// A mesh SurfaceReconstructor::build left in GPU memory, valid until the reconstructor's next
-/// call: `vertices` holds shared::SurfaceVertex records (shaders/shared/Surface.h: position and
-/// unit normal, a vec4 each), `triangles` three vertex indices (uint) per triangle.
+/// call: `positions` and `normals` hold three floats per vertex (position [m], unit outward
+/// normal), `triangles` three vertex indices (uint) per triangle, as SurfaceMesh's vectors do.
 struct SurfaceGpuMesh {
-    const gpu::Buffer* vertices = nullptr;
+    const gpu::Buffer* positions = nullptr;
+    const gpu::Buffer* normals = nullptr;
     const gpu::Buffer* triangles = nullptr;
     std::uint32_t vertexCount = 0;
     std::uint32_t triangleCount = 0;
