@@ -99,7 +99,7 @@ void Buffer::clear() {
 
 void Buffer::clear(std::size_t offset, std::size_t bytes) {
     SLUICE_ASSERT(m_id != 0, "Buffer::clear on an empty buffer");
-    SLUICE_ASSERT(offset % 4 == 0 && bytes % 4 == 0 && offset + bytes <= m_size,
+    SLUICE_ASSERT(offset % 4 == 0 && bytes % 4 == 0 && bytes <= m_size && offset <= m_size - bytes,
                   "Buffer::clear: range outside the buffer or not 4-byte aligned");
     if (bytes == 0)
         return;

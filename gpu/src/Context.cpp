@@ -190,6 +190,19 @@ void Context::makeCurrent() const {
     setCurrentDebugState(m_debug.get());
 }
 
+bool Context::tryMakeCurrent() const noexcept {
+    if (m_display == nullptr || forkedFromGlProcess())
+        return false;
+    EglContext egl;
+    egl.display = m_display;
+    egl.context = m_context;
+    egl.surface = m_surface;
+    if (!makeEglContextCurrent(egl))
+        return false;
+    setCurrentDebugState(m_debug.get());
+    return true;
+}
+
 std::vector<DebugMessage> Context::takeDebugMessages() {
     if (m_debug == nullptr)
         return {};

@@ -30,17 +30,13 @@ struct PySimulation {
     PySimulation(const PySimulation&) = delete;
     PySimulation& operator=(const PySimulation&) = delete;
     ~PySimulation() {
-        // A copy inherited across fork(): its GL objects are the parent's to delete.
-        if (gpu::forkedFromGlProcess()) {
-            (void)sim.release();
-            return;
-        }
         // Its GL objects are deleted in its own context: with another one current (a surface
-        // mesher's), their names would delete that context's objects.
-        if (sim && context) {
-            context->makeCurrent();
-            sim.reset();
-        }
+        // mesher's), their names would delete that context's objects. Where it cannot be made
+        // current (a copy inherited across fork(), whose objects are the parent's; a context
+        // still current on another thread) they are left to the context's end.
+        if (sim && !(context && context->tryMakeCurrent()))
+            (void)sim.release();
+        sim.reset();
     }
 
     rt::Simulation& current() {

@@ -37,14 +37,10 @@ struct PyMesher {
     PyMesher(const PyMesher&) = delete;
     PyMesher& operator=(const PyMesher&) = delete;
     ~PyMesher() {
-        // The passes' GL objects are deleted in their own context (see ~PySimulation); a
-        // child of fork() leaves them to the parent.
-        if (gpu::forkedFromGlProcess())
+        // The passes' GL objects are deleted in their own context, or left (see ~PySimulation).
+        if (reconstructor && !(context && context->tryMakeCurrent()))
             (void)reconstructor.release();
-        else if (reconstructor && context) {
-            context->makeCurrent();
-            reconstructor.reset();
-        }
+        reconstructor.reset();
     }
 
     PyMesher() {

@@ -23,8 +23,8 @@ uint orderedBits(float f) {
 void main() {
     uint i = SLUICE_GLOBAL_ID.x;
     uint l = gl_LocalInvocationID.x;
-    vec3 lo = vec3(3.0e38);
-    vec3 hi = vec3(-3.0e38);
+    vec3 lo = vec3(uintBitsToFloat(0x7f800000u)); // +infinity: no particle yet
+    vec3 hi = -lo;
     if (i < uCount) {
         vec3 p = points[i].xyz;
         // Exponent bits all set: NaN or infinite (by the bits, as compilers may fold isnan).

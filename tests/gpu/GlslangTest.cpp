@@ -65,7 +65,8 @@ const ShaderDefine kPointsBake{"SDF_POINTS", "1"};
 
 /// Every program the libraries build, with the define combinations their code uses:
 /// SelfTest.cpp, Simulation.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp, FluidStatsProbe.cpp,
-/// Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp, ColliderPass.cpp and GpuBaker.cpp
+/// Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp, ColliderPass.cpp, SurfaceReconstructor.cpp
+/// and GpuBaker.cpp
 /// (compilePrograms).
 std::vector<ProgramCase> allPrograms() {
     return {
@@ -114,6 +115,15 @@ std::vector<ProgramCase> allPrograms() {
         graphics("RenderParticlesThicknessListed", "render_particles.vert", "render_particles.frag",
                  {{"SLUICE_THICKNESS", "1"}, {"SLUICE_PARTICLE_LIST", "1"}}),
         graphics("RenderBackdrop", "render_fullscreen.vert", "render_backdrop.frag"),
+        graphics("RenderDomainBox", "render_domain_box.vert", "render_domain_box.frag"),
+        graphics("RenderSurfaceMesh", "render_surface_mesh.vert", "render_surface_mesh.frag"),
+        compute("SurfaceBounds", runtimeSource, "surface_bounds.comp"),
+        compute("SurfaceMark", runtimeSource, "surface_mark.comp"),
+        compute("SurfaceCompact", runtimeSource, "surface_compact.comp"),
+        compute("SurfaceSplat", runtimeSource, "surface_splat.comp"),
+        compute("SurfaceCount", runtimeSource, "surface_count.comp"),
+        compute("SurfaceVertices", runtimeSource, "surface_vertices.comp"),
+        compute("SurfaceTriangles", runtimeSource, "surface_triangles.comp"),
         compute("RenderFluidSmooth", runtimeSource, "render_fluid_smooth.comp"),
         graphics("RenderFluidComposite", "render_fullscreen.vert", "render_fluid_composite.frag"),
         graphics("RenderCollider", "render_collider.vert", "render_collider.frag"),

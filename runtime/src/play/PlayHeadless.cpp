@@ -189,8 +189,8 @@ void printSurfaceTimes(const HeadlessRun& run) {
               << " ms to write; the last " << run.surfaceVertices << " vertices, "
               << run.surfaceTriangles << " triangles\n  surface stages, median ms:";
     const nlohmann::json stages = surfaceStageMedians(run);
-    for (const auto& [name, ms] : stages.items())
-        std::cout << "  " << name << " " << ms.get<double>();
+    for (const char* name : {"bounds", "blocks", "field", "contour", "download"})
+        std::cout << "  " << name << " " << stages[name].get<double>();
     std::cout << "\n";
 }
 

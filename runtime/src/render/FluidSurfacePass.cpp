@@ -186,7 +186,8 @@ void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLu
         m_smoothProgram.dispatch(tiles);
         smoothed = target;
     }
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    // The composite samples the result; the next frame clears and renders into the targets.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     end(timers.smooth);
 
     // 4. Shading over the scene, with the fluid's depth, into the output.

@@ -338,7 +338,11 @@ private:
     std::optional<FluidStatsProbe> m_probe;
     std::optional<FluidStats> m_fluid;
     std::optional<double> m_renderGpuMs;
-    RenderPassTimes m_renderPassMs{-1.0, -1.0, -1.0, -1.0};
+    RenderPassTimes m_renderPassMs = [] {
+        RenderPassTimes unknown;
+        unknown.fill(-1.0);
+        return unknown;
+    }();
     ViewerOutputs m_outputs{m_options};
     std::uint64_t m_frames = 0;
     double m_frameMs = 0.0;

@@ -285,7 +285,7 @@ TEST(SluicePlaySurface, WritesOneClosedMeshPerRequestedStep) {
                                   "--stats-json", stats.string()});
     ASSERT_EQ(timed.code, 0) << shown(timed);
     EXPECT_NE(timed.out.find("surface meshes: 3, median "), std::string::npos) << timed.out;
-    EXPECT_NE(timed.out.find("surface stages, median ms:  blocks "), std::string::npos)
+    EXPECT_NE(timed.out.find("surface stages, median ms:  bounds "), std::string::npos)
         << timed.out;
     const auto doc = nlohmann::json::parse(testrun::readText(stats));
     const auto& surface = doc["timing"]["surfaceMeshMs"];

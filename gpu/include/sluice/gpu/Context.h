@@ -90,6 +90,11 @@ public:
     /// that inherited the context across fork(): see forkedFromGlProcess).
     void makeCurrent() const;
 
+    /// The same without asserting, for destructors: false where the context cannot be made
+    /// current here (current on another thread, inherited across fork(), moved from), and then
+    /// the caller must not touch its objects.
+    bool tryMakeCurrent() const noexcept;
+
     /// Runs the embedded gpu_selftest.comp over `count` values and compares with the CPU
     /// (shared/GpuSelfTest.h); `maxGroupsPerDispatch` > 0 splits it with dispatchChunked.
     /// NoGlContext if the values differ, ShaderCompile/ShaderLink if it does not build.

@@ -18,8 +18,8 @@
 namespace sluice::rt {
 
 /// Where a reconstruction's time went [ms, wall clock], each stage ending where the CPU waits
-/// for the GPU: the positions read and their bounds; the blocks marked and counted; the field
-/// splatted; the mesh counted and written; the mesh read back into the vectors.
+/// for the GPU: the particles' bounds (a reduction on the GPU); the blocks marked and counted;
+/// the field splatted; the mesh counted and written; the mesh read back into the vectors.
 struct SurfaceTimings {
     double bounds = 0.0;
     double blocks = 0.0;
