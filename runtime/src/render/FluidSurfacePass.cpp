@@ -123,6 +123,34 @@ bool FluidSurfacePass::drawSpheresSplatted(std::uint32_t particleCount, GLuint s
     return true;
 }
 
+/// Step 3 of draw(): params.smoothingIterations passes of the bilateral filter in compute,
+/// ping-ponging between the depth and the filter texture; returns the one holding the result.
+GLuint FluidSurfacePass::smoothDepth(const FluidSurfaceParams& params,
+                                     gpu::GpuTimer* timer) const {
+    if (timer)
+        timer->begin();
+    m_smoothProgram.set("uWorldRadius", params.filterRadius);
+    m_smoothProgram.set("uDepthFalloff", params.depthFalloff);
+    const glm::uvec3 tiles(gpu::groupCount(m_size.x, shared::kFluidSmoothTile),
+                           gpu::groupCount(m_size.y, shared::kFluidSmoothTile), 1);
+    GLuint smoothed = m_depth.id();
+    for (std::uint32_t i = 0; i < params.smoothingIterations; ++i) {
+        const GLuint target = i % 2 == 0 ? m_depthTemp.id() : m_depth.id();
+        // The depth (and thickness) targets were rendered to, or the previous pass stored.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        glBindTextureUnit(shared::kRenderUnitFluidDepth, smoothed);
+        glBindImageTexture(shared::kRenderImageFluidSmooth, target, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           GL_R32F);
+        m_smoothProgram.dispatch(tiles);
+        smoothed = target;
+    }
+    // The composite samples the result; the next frame clears and renders into the targets.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    if (timer)
+        timer->end();
+    return smoothed;
+}
+
 void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLuint sceneDepth,
                             GLuint output, const FluidSurfaceParams& params,
                             SphereSplatPass* splat, float sphereRadius,
@@ -169,26 +197,8 @@ void FluidSurfacePass::draw(std::uint32_t particleCount, GLuint sceneColour, GLu
 
     end(timers.spheres);
 
-    // 3. Bilateral smoothing of the depth in compute, ping-ponging with the filter texture.
-    begin(timers.smooth);
-    m_smoothProgram.set("uWorldRadius", params.filterRadius);
-    m_smoothProgram.set("uDepthFalloff", params.depthFalloff);
-    const glm::uvec3 tiles(gpu::groupCount(m_size.x, shared::kFluidSmoothTile),
-                           gpu::groupCount(m_size.y, shared::kFluidSmoothTile), 1);
-    GLuint smoothed = m_depth.id();
-    for (std::uint32_t i = 0; i < params.smoothingIterations; ++i) {
-        const GLuint target = i % 2 == 0 ? m_depthTemp.id() : m_depth.id();
-        // The depth (and thickness) targets were rendered to, or the previous pass stored.
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glBindTextureUnit(shared::kRenderUnitFluidDepth, smoothed);
-        glBindImageTexture(shared::kRenderImageFluidSmooth, target, 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                           GL_R32F);
-        m_smoothProgram.dispatch(tiles);
-        smoothed = target;
-    }
-    // The composite samples the result; the next frame clears and renders into the targets.
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    end(timers.smooth);
+    // 3. Bilateral smoothing of the depth.
+    const GLuint smoothed = smoothDepth(params, timers.smooth);
 
     // 4. Shading over the scene, with the fluid's depth, into the output.
     begin(timers.shade);

@@ -57,6 +57,9 @@ private:
     bool drawSpheresSplatted(std::uint32_t particleCount, GLuint sceneDepth,
                              SphereSplatPass& splat, float sphereRadius) const;
 
+    /// Step 3 of draw(): the smoothing passes; the texture that holds the result.
+    GLuint smoothDepth(const FluidSurfaceParams& params, gpu::GpuTimer* timer) const;
+
     gpu::Program m_depthProgram;
     gpu::Program m_thicknessProgram;
     gpu::Program m_depthListed;      // the same two over the compute pass's list
