@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "play/SceneChecks.h"
+#include "play/StatsReport.h"
 #include "shared/Pbf.h"
 #include "sluice/format/support/AtomicFile.h"
 #include "sluice/gpu/Context.h"
@@ -22,14 +23,6 @@
 
 namespace sluice::rt {
 namespace {
-
-double median(std::vector<double> values) {
-    if (values.empty())
-        return 0.0;
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 /// Prints the median of every pass's times under a `title` column and returns them as a JSON
 /// object keyed by `nameOf(pass index)`.

@@ -153,14 +153,6 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     return written;
 }
 
-double median(std::vector<double> values) {
-    if (values.empty())
-        return 0.0;
-    const auto mid = values.begin() + std::ptrdiff_t(values.size() / 2);
-    std::nth_element(values.begin(), mid, values.end());
-    return *mid;
-}
-
 /// The median over the run's surface meshes of each reconstruction stage [ms].
 nlohmann::json surfaceStageMedians(const HeadlessRun& run) {
     const auto stage = [&](double SurfaceTimings::*member) {

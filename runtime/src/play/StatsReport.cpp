@@ -1,11 +1,20 @@
 // Formatting of step statistics for people (table) and programs (JSON).
 #include "play/StatsReport.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include <glm/gtc/quaternion.hpp>
 
 namespace sluice::rt {
+
+double median(std::vector<double> values) {
+    if (values.empty())
+        return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
 
 std::string statsTableHeader() {
     return "   step   time [s]  particles  avg err %  max err %  max |v| [m/s]  inside  "

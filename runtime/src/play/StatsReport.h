@@ -11,6 +11,9 @@
 
 namespace sluice::rt {
 
+/// The median of `values` (the mean of the middle two for an even count); 0 when empty.
+double median(std::vector<double> values);
+
 /// Header lines of the statistics table.
 std::string statsTableHeader();
 
