@@ -115,9 +115,12 @@ void main() {
         density = counted.x;
         if (k == 0u)
             atomicMax(stats.maxNeighbours, uint(counted.y));
-        // Dynamic bodies fill part of the support (docs/bodies.md): their boundary volume adds
-        // to the density, and the particle's own gradient gains its slope.
+        // Solids fill part of the support (docs/pbf.md, "Boundary volume"): the walls', the
+        // static colliders' and each dynamic body's boundary volume adds to the density, and
+        // the particle's own gradient gains its slope.
         float boundary = 0.0;
+        addWallBoundary(xi, boundary, gradSum);
+        addColliderBoundary(xi, boundary, gradSum);
         for (uint b = 0u; b < P.bodyCount; ++b) {
             float phi;
             vec3 normal;

@@ -262,6 +262,54 @@ float ReferencePbf::boundaryShareSlope(float phi) const {
     return float(-double(m_c.boundaryScale) * 315.0 / 256.0 / double(m_c.h) * a * a * a * a);
 }
 
+// docs/pbf.md, "Boundary volume": the walls and the static and kinematic colliders (at their
+// pose at t1) as boundary volume. Each domain face is a flat boundary r beyond the plane the
+// centres are clamped to; the faces of an axis add, the axes combine as independent cuts,
+// 1 - (1 - f_x)(1 - f_y)(1 - f_z). A collider adds the flat share at its phi. Adds the share
+// to `boundary` and its gradient to `gradient`, in the solver's order of operations.
+void ReferencePbf::addSolidBoundary(glm::vec3 x, float t1, float& boundary,
+                                    glm::vec3& gradient) const {
+    if (!m_params.solidBoundary)
+        return;
+    const float r = m_c.radius;
+    const float h = m_c.h;
+    if (m_hasDomain) {
+        const glm::vec3 below = x - (m_domainMin + glm::vec3(r)) + r;
+        const glm::vec3 above = (m_domainMax - glm::vec3(r)) - x + r;
+        if (std::min({below.x, below.y, below.z, above.x, above.y, above.z}) < h) {
+            const float k = m_c.boundaryScale;
+            glm::vec3 open(1.0f), slope(0.0f);
+            for (int a = 0; a < 3; ++a) {
+                if (below[a] < h) {
+                    open[a] -= boundaryShare(below[a]) / k;
+                    slope[a] -= boundaryShareSlope(below[a]) / k;
+                }
+                if (above[a] < h) {
+                    open[a] -= boundaryShare(above[a]) / k;
+                    slope[a] += boundaryShareSlope(above[a]) / k;
+                }
+            }
+            boundary += k * (1.0f - open.x * open.y * open.z);
+            gradient -= k * slope * glm::vec3(open.y * open.z, open.x * open.z, open.x * open.y);
+        }
+    }
+    for (const Collider& c : m_colliders) {
+        if (c.body != kNoBody)
+            continue;
+        const rt::ColliderPose now = rt::colliderPose(c.placement, t1);
+        const glm::vec3 q = now.toLocal(x);
+        const float phi = now.scale * c.sampler.value(glm::dvec3(q));
+        if (!(phi < h))
+            continue;
+        const glm::vec3 grad = now.rotation * glm::vec3(c.sampler.gradient(glm::dvec3(q)));
+        const float gradLength = glm::length(grad);
+        if (!(gradLength > 0.0f))
+            continue;
+        boundary += boundaryShare(phi);
+        gradient += boundaryShareSlope(phi) * (grad / gradLength);
+    }
+}
+
 // phi_b at x, from the body's fluid-facing surface (bodyOffset inside its zero level set), and
 // its outward unit world normal; false when the kernel does not reach the body (phi_b >= h) or
 // the gradient is zero.
@@ -362,6 +410,7 @@ void ReferencePbf::solve() {
             // Bodies fill part of the support and stiffen the particle's own gradient
             // (docs/bodies.md, "Boundary volume").
             float boundary = 0.0f;
+            addSolidBoundary(m_predicted[i], t1, boundary, gSum);
             for (const Body& b : m_bodies) {
                 float phi;
                 glm::vec3 normal;
@@ -401,6 +450,14 @@ void ReferencePbf::solve() {
             glm::vec3 x = xi + dp[i];
             if (!isFinite(x))
                 x = xi; // a non-finite correction is dropped (step 4.4)
+            // docs/pbf.md, "Boundary volume": the walls and static colliders push with the
+            // particle's own lambda along their share's gradient at x*_i.
+            float solidShare = 0.0f;
+            glm::vec3 solidSlope(0.0f);
+            addSolidBoundary(xi, t1, solidShare, solidSlope);
+            const glm::vec3 solidPush = m_lambda[i] * solidSlope;
+            if (isFinite(solidPush))
+                x += solidPush;
             // docs/bodies.md: each body, a constraint partner of infinite mass, pushes with the
             // particle's own lambda along its normal at x*_i, and takes the reaction.
             for (Body& b : m_bodies) {

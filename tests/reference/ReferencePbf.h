@@ -151,6 +151,7 @@ private:
     bool bodyBoundary(const Body& body, glm::vec3 x, float& phi, glm::vec3& normal) const;
     float boundaryShare(float phi) const;
     float boundaryShareSlope(float phi) const;
+    void addSolidBoundary(glm::vec3 x, float t1, float& boundary, glm::vec3& gradient) const;
     void addReaction(Body& body, glm::vec3 x, glm::vec3 dx);
     void addHeld(Body& body, glm::vec3 x, glm::vec3 dx);
     void startBodyStep();

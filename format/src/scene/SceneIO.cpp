@@ -93,7 +93,7 @@ void SceneParser::readSimulation(const rj::Value* value) {
                        {"spacing", "kernelRadius", "restDensity", "timeStep", "substeps",
                         "minIterations", "maxIterations", "targetDensityError", "relaxation",
                         "scorrK", "scorrN", "scorrDeltaQ", "xsph", "vorticity", "gravity",
-                        "capacity"});
+                        "capacity", "boundary"});
     // Ranges from the one table (SimulationLimits.h); spacing first, as the kernel radius's
     // range and every default are in units of it, then the kernel radius, which bounds
     // scorrDeltaQ.
@@ -146,6 +146,16 @@ void SceneParser::readSimulation(const rj::Value* value) {
     if (const rj::Value* g = o.find("gravity"))
         p.gravity = readVec3(*g, o.pathOf("gravity"));
     m_givenCapacity = intIn("capacity", p.capacity);
+    if (const rj::Value* v = o.find("boundary")) {
+        const std::string text = detail::readString(*v, o.pathOf("boundary"));
+        if (text == "solids" || text == "bodies")
+            p.solidBoundary = text == "solids";
+        else
+            throwAt(ErrorCode::InvalidArgument, o.pathOf("boundary"),
+                    "unknown boundary model \"" + detail::displayKey(text) +
+                        "\"; expected \"solids\" (walls, colliders and bodies add boundary "
+                        "volume) or \"bodies\" (only dynamic bodies do)");
+    }
 }
 
 FluidBlock SceneParser::readBlock(const rj::Value& value, const std::string& path) {

@@ -305,6 +305,16 @@ TEST(SceneReader, KeepsEveryExplicitSimulationValue) {
     EXPECT_EQ(p.capacity, 100u);
 }
 
+TEST(SceneReader, ReadsTheBoundaryModelAndRefusesAnUnknownOne) {
+    EXPECT_FALSE(parseOk(kMinimal).simulation.solidBoundary) << "the default is \"bodies\"";
+    EXPECT_TRUE(parseOk(withSimulation(R"("boundary": "solids")")).simulation.solidBoundary);
+    EXPECT_FALSE(parseOk(withSimulation(R"("boundary": "bodies")")).simulation.solidBoundary);
+    expectError(withSimulation(R"("boundary": "walls")"), ErrorCode::InvalidArgument,
+                {"simulation.boundary", "unknown boundary model \"walls\"", "\"solids\""});
+    expectError(withSimulation(R"("boundary": true)"), ErrorCode::BadMetadata,
+                {"simulation.boundary", "expected a string"});
+}
+
 TEST(SceneReader, DerivesTheScorrDeltaQAndVorticityFromAnExplicitKernelRadius) {
     const Scene s = parseOk(withSimulation(R"("spacing": 0.01, "kernelRadius": 0.035)"));
     EXPECT_FLOAT_EQ(s.simulation.scorrDeltaQ, 0.2f * 0.035f);
@@ -683,7 +693,7 @@ TEST(SceneReader, RejectsUnknownKeyWithItsPath) {
 TEST(SceneReader, ListsTheKnownKeysWhenNoneIsClose) {
     expectError(
         withSimulation(R"("viscosity": 0.1)"), ErrorCode::BadMetadata,
-        {"simulation.viscosity: unknown key \"viscosity\" (known keys: spacing", "capacity)"});
+        {"simulation.viscosity: unknown key \"viscosity\" (known keys: spacing", "capacity, boundary)"});
     // Hostile keys are shown escaped and cut short.
     expectError("{\"a\\u0001" + std::string(200, 'x') + "\": 1}", ErrorCode::BadMetadata,
                 {": a\\x01xxx", "...: unknown key"});

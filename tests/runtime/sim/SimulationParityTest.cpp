@@ -55,25 +55,31 @@ ParityScene parityScene() {
 // (nothing gets there) needs 5 x 2525 x 7 cells and the solver hashes instead.
 // Each grid also with the neighbour passes split over lanes (4 and 8 invocations per particle,
 // the layouts a GPU picks for small scenes): the same sums in another fixed order.
+// And each grid with the walls and static colliders in the density ("boundary": "solids",
+// docs/pbf.md "Boundary volume"): the walls and both colliders then add boundary volume.
 struct ParityCase {
     bool dense;
     std::uint32_t lanes;
+    bool solids = false;
 };
 
 void PrintTo(const ParityCase& c, std::ostream* os) {
-    *os << (c.dense ? "dense grid, " : "hash, ") << c.lanes << " lanes";
+    *os << (c.dense ? "dense grid, " : "hash, ") << c.lanes << " lanes"
+        << (c.solids ? ", solids' boundary volume" : "");
 }
 
 class SimulationParity : public GpuTest, public ::testing::WithParamInterface<ParityCase> {};
 
 INSTANTIATE_TEST_SUITE_P(Grids, SimulationParity,
                          ::testing::Values(ParityCase{true, 1}, ParityCase{false, 1},
-                                           ParityCase{true, 4}, ParityCase{false, 8}),
+                                           ParityCase{true, 4}, ParityCase{false, 8},
+                                           ParityCase{true, 1, true}, ParityCase{false, 8, true}),
                          [](const auto& param) {
                              return std::string(param.param.dense ? "Dense" : "Hash") +
                                     (param.param.lanes > 1
                                          ? std::to_string(param.param.lanes) + "Lanes"
-                                         : "");
+                                         : "") +
+                                    (param.param.solids ? "Solids" : "");
                          });
 
 TEST_P(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfterTwenty) {
@@ -81,6 +87,7 @@ TEST_P(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfter
     const bool dense = GetParam().dense;
     if (!dense)
         p.scene.domainMax->y = 100.0f;
+    p.scene.simulation.solidBoundary = GetParam().solids;
     std::vector<ref::ReferenceCollider> refColliders;
     for (std::size_t c = 0; c < p.assets.size(); ++c)
         refColliders.push_back({&p.assets[c], p.scene.colliders[c]});

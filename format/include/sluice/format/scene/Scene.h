@@ -43,6 +43,10 @@ struct SimulationParams {
     float vorticity = 0.0f;            ///< vorticity confinement epsilon [m/s]; default
                                        ///< 0.01 * sqrt(9.81 * h)
     glm::vec3 gravity{0.0f, -9.81f, 0.0f}; ///< [m/s^2]
+    bool solidBoundary = false;        ///< true ("boundary": "solids"): the domain's walls and
+                                       ///< static colliders add boundary volume to the density,
+                                       ///< as bodies do; false ("bodies", the default): only
+                                       ///< dynamic bodies do (docs/pbf.md, "Boundary volume")
     std::uint32_t capacity = 0;        ///< most particles; default: blocks + everything emitters
                                        ///< emit between start and stop (stop defaults start + 10 s)
 };

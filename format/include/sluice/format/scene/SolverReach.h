@@ -12,6 +12,11 @@ namespace sluice::format {
 /// (docs/bodies.md, "Surface offset").
 inline constexpr double kBodySurfaceOffsetSpacings = 0.15;
 
+/// The same offset when walls and static colliders have boundary volume too ("boundary":
+/// "solids"), calibrated on floating cubes (docs/bodies.md, "Surface offset"). Smaller than the
+/// one above, so the bands below, which use that one, serve both.
+inline constexpr double kBodySurfaceOffsetSpacingsWithSolids = 0.05;
+
 /// The kernel radius h a scene gets unless it sets one, in particle spacings.
 inline constexpr double kDefaultKernelSpacings = 2.0;
 
