@@ -134,7 +134,14 @@ bool setParam(format::SimulationParams& p, const std::string& key, nb::handle va
         f(p.xsph);
     else if (key == "vorticity")
         f(p.vorticity);
-    else if (key == "gravity") {
+    else if (key == "boundary") {
+        const std::string model = nb::cast<std::string>(value);
+        if (model != "solids" && model != "bodies")
+            throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
+                              "simulation.boundary: unknown boundary model \"" + model +
+                                  "\"; expected \"solids\" or \"bodies\" [InvalidArgument]");
+        p.solidBoundary = model == "solids";
+    } else if (key == "gravity") {
         nb::sequence g = nb::cast<nb::sequence>(value);
         if (nb::len(g) != 3)
             throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,

@@ -98,6 +98,15 @@ def test_live_parameters_change_the_run(scene: Path) -> None:
     params = sim.parameters
     assert params["gravity"] == [0.0, 0.0, 0.0] and params["maxIterations"] == 3
     assert params["xsph"] == pytest.approx(0.02)
+    assert params["boundary"] == "bodies"
+    offset = params["derived"]["bodySurfaceOffset"]
+    sim.set_parameters(boundary="solids")
+    assert sim.parameters["boundary"] == "solids"
+    # The bodies' surface offset is calibrated per model (docs/bodies.md): 0.15 and 0.05 spacings.
+    assert sim.parameters["derived"]["bodySurfaceOffset"] == pytest.approx(offset / 3, rel=1e-5)
+    with pytest.raises(sluice.InvalidArgument, match="unknown boundary model"):
+        sim.set_parameters(boundary="walls")
+    sim.set_parameters(boundary="bodies")
     falling = sluice.Simulation(scene)
     sim.step(3)
     falling.step(3)

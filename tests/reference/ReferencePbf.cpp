@@ -194,8 +194,8 @@ void ReferencePbf::finishBodySubstep(double share) {
         const double held = glm::length(heldImpulse);
         b.heldForce += share * heldImpulse / dt;
         if (held > 0.0 && b.mass > 0.0) {
-            const glm::dvec3 v = b.velocity + dt * glm::dvec3(m_params.gravity) -
-                                 m * b.sumDx / dt / b.mass;
+            const glm::dvec3 v =
+                b.velocity + dt * glm::dvec3(m_params.gravity) - m * b.sumDx / dt / b.mass;
             const double approach = -glm::dot(v, heldImpulse / held);
             const double part = approach > 0.0 ? std::min(1.0, approach * b.mass / held) : 0.0;
             b.force += share * part * heldImpulse / dt;

@@ -135,11 +135,13 @@ nlohmann::json parametersJson(const format::SimulationParams& p, const PbfConsta
         {"vorticity", p.vorticity},
         {"gravity", {p.gravity.x, p.gravity.y, p.gravity.z}},
         {"capacity", p.capacity},
+        {"boundary", p.solidBoundary ? "solids" : "bodies"},
         {"derived",
          {{"particleMass", k.mass},
           {"particleRadius", k.radius},
           {"epsilon", k.epsilon},
-          {"substepDt", k.dt}}},
+          {"substepDt", k.dt},
+          {"bodySurfaceOffset", k.bodyOffset}}},
     };
 }
 

@@ -29,9 +29,9 @@ class SimulationBoundary : public GpuTest {};
 /// lattice has 1 everywhere.
 struct StillWater {
     double surfaceError = 0.0; ///< (mean highest centre of interior columns + s/2) / H - 1
-    double bulk = 0.0;   ///< 3 s from every side wall, from 3 s to 7 s above the floor
-    double floor = 0.0;  ///< centres within s of the floor, 3 s from the side walls
-    double wall = 0.0;   ///< within s of one side wall, 3 s to 7 s up, 3 s from the others; mean of 4
+    double bulk = 0.0;         ///< 3 s from every side wall, from 3 s to 7 s above the floor
+    double floor = 0.0;        ///< centres within s of the floor, 3 s from the side walls
+    double wall = 0.0; ///< within s of one side wall, 3 s to 7 s up, 3 s from the others; mean of 4
     double corner = 0.0; ///< within s of two side walls, 3 s to 7 s up; mean of the 4 corners
 };
 
@@ -143,9 +143,10 @@ TEST_F(SimulationBoundary, StillWaterInATankColliderKeepsItsVolumeAndItsWallLaye
     scene.domainMin = lo - glm::vec3(0.1f);
     scene.domainMax = hi + glm::vec3(0.1f);
     const glm::dvec3 dlo(lo), dhi(hi);
-    std::vector<format::ColliderAsset> assets{testscene::assetOverBox(
-        dlo, dhi, 0.5 * kSpacing, 0.06,
-        [dlo, dhi](const glm::dvec3& p) { return -testasset::boxSdf(p, dlo, dhi); })};
+    std::vector<format::ColliderAsset> assets{
+        testscene::assetOverBox(dlo, dhi, 0.5 * kSpacing, 0.06, [dlo, dhi](const glm::dvec3& p) {
+            return -testasset::boxSdf(p, dlo, dhi);
+        })};
     format::SceneCollider tank;
     tank.asset = "tank.slc";
     scene.colliders.push_back(tank);
