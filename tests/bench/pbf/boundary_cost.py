@@ -28,17 +28,22 @@ TANKS = {
 MODELS = ("bodies", "solids")
 
 
-def make_scene(tank, model, spacing):
+def make_scene(tank, model, spacing, solids_target=None):
     water, colliders, domain = TANKS[tank]
+    sim = {"spacing": spacing, "boundary": model}
+    if model == "solids" and solids_target is not None:
+        sim["targetDensityError"] = solids_target
     return {"version": 1, "name": f"boundary-{tank}-{model}",
-            "simulation": {"spacing": spacing, "boundary": model},
+            "simulation": sim,
             "fluid": [{"box": water}], "colliders": colliders, "domain": domain}
 
 
 def main():
     a, play, assets = sweep.parse_bench_args(
         __doc__, [("--tanks", dict(default="baked,box")),
-                  ("--spacing", dict(type=float, default=0.02))],
+                  ("--spacing", dict(type=float, default=0.02)),
+                  ("--solids-target", dict(type=float, help="targetDensityError of the solids "
+                                           "runs (default: the scene default, 0.005)"))],
         warmup=60, steps=30, repeat=5, repeat_help="runs per tank and model, interleaved",
         results_name="pbf_boundary_cost")
     tanks = a.tanks.split(",")
@@ -48,7 +53,7 @@ def main():
             for model in MODELS:
                 path = os.path.join(assets, f"bench-boundary-{tank}-{model}.json")
                 with open(path, "w") as f:
-                    json.dump(make_scene(tank, model, a.spacing), f, indent=4)
+                    json.dump(make_scene(tank, model, a.spacing, a.solids_target), f, indent=4)
                 try:
                     cmd, bench, wall, extra, error = sweep.run_bench(
                         play, path, a.warmup, a.steps, path.replace(".json", ".bench.json"),
@@ -58,12 +63,13 @@ def main():
                 if error:
                     raise SystemExit(f"{tank} {model}: {error}")
                 rec = {"tank": tank, "boundary": model, "repeat": rep,
+                       "iterations": bench["meanIterations"],
                        "stepMs": bench["medianStepMs"], "solveMs": bench["medianPassMs"]["solve"],
                        "particles": bench["particles"], "wallSeconds": wall,
                        "loadBefore": extra["loadBefore"]}
                 runs.append(rec)
                 print(f"{tank:5s} {model:6s} rep {rep}: step {rec['stepMs']:8.2f} ms, solve "
-                      f"{rec['solveMs']:8.2f} ms, {rec['particles']} particles, load "
+                      f"{rec['solveMs']:8.2f} ms, {rec['iterations']:.2f} iterations, {rec['particles']} particles, load "
                       f"{extra['loadBefore'][0]:.1f}", flush=True)
     summary = []
     for tank in tanks:
@@ -79,6 +85,7 @@ def main():
     doc = {"what": "sluice-play --bench, still water, boundary bodies vs solids "
                    "(tests/bench/pbf/boundary_cost.py)",
            "date": sweep.utc_now(), "machineName": a.machine, "machine": sweep.machine_info(),
+           "solidsTarget": a.solids_target,
            "warmup": a.warmup, "steps": a.steps, "runs": runs, "summary": summary}
     sweep.write_results(a.out, doc)
     return 0
