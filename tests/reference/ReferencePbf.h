@@ -2,6 +2,7 @@
 // no GPU.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -13,6 +14,11 @@
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::ref {
+
+/// Whether every component of v is finite.
+inline bool isFinite(glm::vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 /// A collider for the reference: its baked asset (not owned; must outlive the ReferencePbf) and
 /// its placement in the scene. With placement.dynamic set it is a rigid body (docs/bodies.md),
@@ -162,6 +168,9 @@ private:
         glm::vec3 sum{0.0f};
     };
     void collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1, Pushed& pushed);
+    float constraintAndLambda(std::size_t i, const std::vector<float>& pairW,
+                              const std::vector<glm::vec3>& pairGrad, float t1);
+    glm::vec3 applyCorrection(std::size_t i, glm::vec3 dp, glm::vec3 xOld, float t0, float t1);
     void vorticityAndXsph(std::vector<glm::vec3>& velocity) const;
     void finishStats();
 

@@ -693,7 +693,7 @@ TEST(SceneReader, RejectsUnknownKeyWithItsPath) {
 TEST(SceneReader, ListsTheKnownKeysWhenNoneIsClose) {
     expectError(
         withSimulation(R"("viscosity": 0.1)"), ErrorCode::BadMetadata,
-        {"simulation.viscosity: unknown key \"viscosity\" (known keys: spacing", "capacity, boundary)"});
+        {"simulation.viscosity: unknown key \"viscosity\" (known keys: spacing", "capacity boundary)"});
     // Hostile keys are shown escaped and cut short.
     expectError("{\"a\\u0001" + std::string(200, 'x') + "\": 1}", ErrorCode::BadMetadata,
                 {": a\\x01xxx", "...: unknown key"});
