@@ -14,6 +14,7 @@
 #include "Errors.h"
 #include "play/StatsReport.h"
 #include "sluice/format/scene/SceneIO.h"
+#include "sluice/format/scene/SimulationLimits.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/sim/Simulation.h"
 
@@ -136,11 +137,12 @@ bool setParam(format::SimulationParams& p, const std::string& key, nb::handle va
         f(p.vorticity);
     else if (key == "boundary") {
         const std::string model = nb::cast<std::string>(value);
-        if (model != "solids" && model != "bodies")
+        const std::optional<bool> solids = format::solidBoundaryFromName(model);
+        if (!solids)
             throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
-                              "simulation.boundary: unknown boundary model \"" + model +
-                                  "\"; expected \"solids\" or \"bodies\" [InvalidArgument]");
-        p.solidBoundary = model == "solids";
+                              "simulation.boundary: " + format::unknownBoundaryModel(model) +
+                                  " [InvalidArgument]");
+        p.solidBoundary = *solids;
     } else if (key == "gravity") {
         nb::sequence g = nb::cast<nb::sequence>(value);
         if (nb::len(g) != 3)

@@ -58,9 +58,6 @@ SLUICE_CONST uint kBindNeighbourMask = 21; ///< uint[kNeighbourMaskWords] per so
 // GpuCollider::gridKind: how its samples are stored in the SDF buffer.
 SLUICE_CONST uint kColliderDense = 0;  ///< float per grid point, x fastest
 SLUICE_CONST uint kColliderSparse = 1; ///< a NanoVDB float grid, at a 32-byte aligned offset
-// PbfParams::boundaryFlags: the solids that add boundary volume besides dynamic bodies.
-SLUICE_CONST uint kBoundaryWalls = 1;     ///< the domain box's faces
-SLUICE_CONST uint kBoundaryColliders = 2; ///< static and kinematic colliders
 // Prefix scan.
 SLUICE_CONST uint kBindScanData = 0;   ///< uint[] exclusive scan output
 SLUICE_CONST uint kBindScanSums = 1;   ///< uint[] one total per block
@@ -97,7 +94,7 @@ struct PbfParams {
     /*  80 */ vec3 domainMin; ///< [m]
     /*  92 */ uint hasDomain; ///< 1 when a domain box is set, 0 otherwise
     /*  96 */ vec3 domainMax; ///< [m]
-    /* 108 */ uint boundaryFlags; ///< kBoundaryWalls | kBoundaryColliders: solids with boundary volume
+    /* 108 */ uint solidBoundary; ///< 1: walls and static colliders add boundary volume
     // Counts.
     /* 112 */ uint particleCount; ///< particles now live
     /* 116 */ uint hashMask;      ///< hash table size - 1 (the size is a power of two)
@@ -213,7 +210,7 @@ SLUICE_PBF_AT(PbfParams, targetDensityError, 76);
 SLUICE_PBF_AT(PbfParams, domainMin, 80);
 SLUICE_PBF_AT(PbfParams, hasDomain, 92);
 SLUICE_PBF_AT(PbfParams, domainMax, 96);
-SLUICE_PBF_AT(PbfParams, boundaryFlags, 108);
+SLUICE_PBF_AT(PbfParams, solidBoundary, 108);
 SLUICE_PBF_AT(PbfParams, particleCount, 112);
 SLUICE_PBF_AT(PbfParams, minIterations, 124);
 SLUICE_PBF_AT(PbfParams, solveChunks, 128);

@@ -305,7 +305,7 @@ float boundaryShareSlope(float phi) {
 // which is within 1.3 % of the exact share in an edge or a corner. Adds the walls' share to
 // `boundary` and its gradient (outward from the fluid, into the walls) to `gradient`.
 void addWallBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
-    if (P.hasDomain == 0u || (P.boundaryFlags & kBoundaryWalls) == 0u)
+    if (P.hasDomain == 0u || P.solidBoundary == 0u)
         return;
     vec3 below = x - P.domainMin + PBF_RADIUS; // to the faces at the low ends of x, y and z
     vec3 above = P.domainMax - x + PBF_RADIUS; // and at the high ends
@@ -385,7 +385,7 @@ vec3 collide(vec3 x, vec3 xOld) {
 // r away from, so a particle resting on it sees the calibrated share. Adds the share to
 // `boundary` and its gradient to `gradient`. Dynamic bodies are summed per body by the passes.
 void addColliderBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
-    if ((P.boundaryFlags & kBoundaryColliders) == 0u)
+    if (P.solidBoundary == 0u)
         return;
     for (uint c = 0u; c < P.colliderCount; ++c) {
         if (colliders[c].body != kNoBody)

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 #include <new>
+#include <optional>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -148,13 +149,10 @@ void SceneParser::readSimulation(const rj::Value* value) {
     m_givenCapacity = intIn("capacity", p.capacity);
     if (const rj::Value* v = o.find("boundary")) {
         const std::string text = detail::readString(*v, o.pathOf("boundary"));
-        if (text == "solids" || text == "bodies")
-            p.solidBoundary = text == "solids";
-        else
-            throwAt(ErrorCode::InvalidArgument, o.pathOf("boundary"),
-                    "unknown boundary model \"" + detail::displayKey(text) +
-                        "\"; expected \"solids\" (walls, colliders and bodies add boundary "
-                        "volume) or \"bodies\" (only dynamic bodies do)");
+        const std::optional<bool> solids = solidBoundaryFromName(text);
+        if (!solids)
+            throwAt(ErrorCode::InvalidArgument, o.pathOf("boundary"), unknownBoundaryModel(text));
+        p.solidBoundary = *solids;
     }
 }
 

@@ -101,6 +101,23 @@ std::string rangeProblem(double value, const std::string& shown, const ParamRang
     return problem;
 }
 
+const char* boundaryModelName(bool solidBoundary) {
+    return solidBoundary ? "solids" : "bodies";
+}
+
+std::optional<bool> solidBoundaryFromName(std::string_view name) {
+    for (bool solids : {true, false})
+        if (name == boundaryModelName(solids))
+            return solids;
+    return std::nullopt;
+}
+
+std::string unknownBoundaryModel(std::string_view name) {
+    return "unknown boundary model \"" + detail::displayKey(std::string(name)) +
+           "\"; expected \"solids\" (walls, colliders and bodies add boundary volume) or "
+           "\"bodies\" (only dynamic bodies do)";
+}
+
 Result<void> checkSimulationParams(const SimulationParams& p) {
     for (const std::string_view name : kFloatParams) {
         const float v = floatParam(p, name);

@@ -6,6 +6,8 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "sluice/format/scene/SimulationLimits.h"
+
 namespace sluice::rt {
 
 double median(std::vector<double> values) {
@@ -135,7 +137,7 @@ nlohmann::json parametersJson(const format::SimulationParams& p, const PbfConsta
         {"vorticity", p.vorticity},
         {"gravity", {p.gravity.x, p.gravity.y, p.gravity.z}},
         {"capacity", p.capacity},
-        {"boundary", p.solidBoundary ? "solids" : "bodies"},
+        {"boundary", format::boundaryModelName(p.solidBoundary)},
         {"derived",
          {{"particleMass", k.mass},
           {"particleRadius", k.radius},

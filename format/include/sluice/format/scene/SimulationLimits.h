@@ -2,6 +2,7 @@
 // setParameters (so the viewer's panel and Python's set_parameters) all check against them.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -34,5 +35,16 @@ std::string rangeProblem(double value, const std::string& shown, const ParamRang
 /// minIterations): NonFinite for a value that is not finite, InvalidArgument naming the
 /// parameter and its range for one out of range ("xsph: 5 is out of range [0, 1]").
 Result<void> checkSimulationParams(const SimulationParams& p);
+
+/// The name of a boundary model ("simulation.boundary", docs/scene-format.md): "solids" when
+/// SimulationParams::solidBoundary, else "bodies".
+const char* boundaryModelName(bool solidBoundary);
+
+/// SimulationParams::solidBoundary for a model's name; empty for an unknown name.
+std::optional<bool> solidBoundaryFromName(std::string_view name);
+
+/// What an unknown model name is told: `unknown boundary model "NAME"; expected ...`, the name
+/// shown escaped and cut short as the scene reader shows keys.
+std::string unknownBoundaryModel(std::string_view name);
 
 } // namespace sluice::format
