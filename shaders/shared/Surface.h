@@ -40,6 +40,17 @@ SLUICE_CONST uint kSurfBindTriangles = 12;  ///< uint x3 per triangle
 SLUICE_CONST uint kSurfBindTriangleTable = 13; ///< uint x12 per cell case (KuhnTable.h)
 SLUICE_CONST uint kSurfBindBounds = 14;        ///< SurfaceBounds (surface_bounds.comp)
 SLUICE_CONST uint kSurfBindNormals = 15; ///< float x3 per vertex: its unit outward normal
+// Anisotropic kernels only (surface_bin_*.comp, surface_anisotropy.comp):
+SLUICE_CONST uint kSurfBindBinCount = 16;     ///< uint per block of the grid: its particles
+SLUICE_CONST uint kSurfBindBinStart = 17;     ///< uint per block: exclusive scan of the counts
+SLUICE_CONST uint kSurfBindBinParticles = 18; ///< uint per particle: indices, block by block
+SLUICE_CONST uint kSurfBindKernels = 19;      ///< vec4 x4 per particle: SurfaceKernel's layout
+/// Anisotropic kernels (Yu & Turk 2013): the largest ratio of a kernel's longest axis to its
+/// shortest (their k_r). With the sphere's volume, no axis is longer than cbrt(ratio^2)
+/// supports (a line of particles).
+SLUICE_CONST float kSurfaceAnisotropyRatio = 4.0;
+/// Particles with fewer neighbours within the support (themselves included) keep the sphere.
+SLUICE_CONST uint kSurfaceAnisotropyMinNeighbours = 8;
 /// Triangles a cell has at most (two in each of its six Kuhn tetrahedra).
 SLUICE_CONST uint kSurfaceCellTrianglesMax = 12;
 

@@ -30,6 +30,30 @@ ivec3 blockCoord(uint index) {
     return ivec3(int(index % bx), int((index / bx) % by), int(index / (bx * by)));
 }
 
+// The block holding world position p (clamped to the grid, which holds every particle).
+ivec3 blockOfPoint(vec3 p) {
+    ivec3 s = ivec3(floor((p - uOrigin) / uCell));
+    return clamp(s / int(kSurfaceBlockSide), ivec3(0), uBlocks - 1);
+}
+
+// A particle's kernel (surface_anisotropy.comp; the sphere of radius uSupport round the
+// particle when the kernels are isotropic): centre, the symmetric matrix G taking an offset
+// from the centre to the sphere's scale (the field is poly6 of |G d|; det G = 1, so the kernel
+// holds the sphere's volume), and the half-extents of the ellipsoid |G d| < uSupport.
+struct SurfaceKernel {
+    vec3 centre;
+    mat3 g;
+    vec3 extent;
+};
+
+SurfaceKernel packedKernel(vec4 a, vec4 b, vec4 c, vec4 d) {
+    SurfaceKernel k;
+    k.centre = a.xyz;
+    k.g = mat3(b.x, b.y, b.z, b.y, b.w, c.x, b.z, c.x, c.y);
+    k.extent = d.xyz;
+    return k;
+}
+
 // The local sample of index i in a block (x fastest).
 ivec3 laneCoord(uint i) {
     return ivec3(int(i & 7u), int((i >> 3u) & 7u), int(i >> 6u));

@@ -2,18 +2,17 @@
 // crossing edge always starts in a stored block): blockFlag = 1. Same value from any order.
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "shared/SurfaceKernelGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
-
-layout(std430, binding = kSurfBindPoints) readonly buffer Points { vec4 points[]; };
 
 void main() {
     uint i = SLUICE_GLOBAL_ID.x;
     if (i >= uCount)
         return;
-    vec3 p = (points[i].xyz - uOrigin) / uCell;
-    float reach = uSupport / uCell + 2.0;
+    SurfaceKernel k = kernelOf(i);
+    vec3 p = (k.centre - uOrigin) / uCell;
+    vec3 reach = k.extent / uCell + 2.0;
     ivec3 lo = clamp(ivec3(floor(p - reach)), ivec3(0), uSamples - 1) / int(kSurfaceBlockSide);
     ivec3 hi = clamp(ivec3(ceil(p + reach)), ivec3(0), uSamples - 1) / int(kSurfaceBlockSide);
     for (int z = lo.z; z <= hi.z; ++z)

@@ -1,28 +1,29 @@
-// The field: every particle adds V W(|x - x_j|) to the samples within its kernel (poly6,
-// support uSupport), in fixed point with integer atomics, so any order gives the same sums.
+// The field: every particle adds V W to the samples within its kernel (poly6 of support
+// uSupport, of |x - x_j| or, anisotropic, of |G (x - c_j)|), in fixed point with integer
+// atomics, so any order gives the same sums.
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "shared/SurfaceKernelGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
-
-layout(std430, binding = kSurfBindPoints) readonly buffer Points { vec4 points[]; };
 
 void main() {
     uint i = SLUICE_GLOBAL_ID.x;
     if (i >= uCount)
         return;
-    vec3 p = points[i].xyz;
+    SurfaceKernel k = kernelOf(i);
+    vec3 p = k.centre;
     vec3 g = (p - uOrigin) / uCell;
-    float reach = uSupport / uCell;
+    vec3 reach = k.extent / uCell;
     ivec3 lo = max(ivec3(ceil(g - reach)), ivec3(0));
     ivec3 hi = min(ivec3(floor(g + reach)), uSamples - 1);
     float h2 = uSupport * uSupport;
-    // poly6: 315 / (64 pi h^9) (h^2 - r^2)^3, times the particle volume and the fixed scale.
+    // poly6: 315 / (64 pi h^9) (h^2 - r^2)^3, times the particle volume and the fixed scale
+    // (det G = 1: an anisotropic kernel holds the sphere's volume).
     float scale = uVolume * kSurfaceFixedScale * 315.0 /
                   (64.0 * 3.14159265358979 * h2 * h2 * h2 * h2 * uSupport);
-    // Block by block, so the block map is read once per block, not once per sample; rows
-    // along x are clipped to the support sphere before the loop.
+    // Block by block, so the block map is read once per block, not once per sample; a
+    // sphere's rows along x are clipped to it before the loop.
     int side = int(kSurfaceBlockSide);
     ivec3 blo = lo / side;
     ivec3 bhi = hi / side;
@@ -41,11 +42,17 @@ void main() {
                     for (int y = from.y; y <= to.y; ++y) {
                         float dy = uOrigin.y + float(y) * uCell - p.y;
                         float ryz = dy * dy + dz * dz;
-                        if (ryz >= h2)
+                        if (!uAnisotropic && ryz >= h2)
                             continue;
                         for (int x = from.x; x <= to.x; ++x) {
                             float dx = uOrigin.x + float(x) * uCell - p.x;
-                            float q = h2 - ryz - dx * dx;
+                            float q;
+                            if (uAnisotropic) {
+                                vec3 u = k.g * vec3(dx, dy, dz);
+                                q = h2 - dot(u, u);
+                            } else {
+                                q = h2 - ryz - dx * dx;
+                            }
                             if (q <= 0.0)
                                 continue;
                             uint add = uint(scale * q * q * q + 0.5);

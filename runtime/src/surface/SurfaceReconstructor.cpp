@@ -28,11 +28,33 @@ namespace sh = shared;
 constexpr std::uint64_t kMaxBlocks = std::uint64_t{1} << 24;
 constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
 
-enum Pass : std::size_t { Bounds, Mark, Compact, Splat, Count, Vertices, Triangles, PassCount };
+enum Pass : std::size_t {
+    Bounds,
+    BinCount,
+    BinFill,
+    Anisotropy,
+    Mark,
+    Compact,
+    Splat,
+    Count,
+    Vertices,
+    Triangles,
+    PassCount
+};
 constexpr std::array<const char*, PassCount> kPassFiles = {
-    "surface_bounds.comp", "surface_mark.comp",     "surface_compact.comp",
-    "surface_splat.comp",  "surface_count.comp",    "surface_vertices.comp",
+    "surface_bounds.comp",    "surface_bin_count.comp", "surface_bin_fill.comp",
+    "surface_anisotropy.comp", "surface_mark.comp",     "surface_compact.comp",
+    "surface_splat.comp",     "surface_count.comp",     "surface_vertices.comp",
     "surface_triangles.comp"};
+
+
+/// How far a kernel reaches at most, in supports: an anisotropic one is longest along a line
+/// of particles, its other two axes kSurfaceAnisotropyRatio times shorter, with the sphere's
+/// volume.
+float kernelReach(const SurfaceOptions& o) {
+    return o.anisotropic ? std::cbrt(sh::kSurfaceAnisotropyRatio * sh::kSurfaceAnisotropyRatio)
+                         : 1.0f;
+}
 
 bool positiveFinite(float v) {
     return std::isfinite(v) && v > 0.0f;
@@ -48,7 +70,7 @@ struct Grid {
 };
 
 Result<Grid> gridOver(glm::vec3 lo, glm::vec3 hi, const SurfaceOptions& o) {
-    const float margin = o.smoothingRadius + 3.0f * o.cellSize;
+    const float margin = o.smoothingRadius * kernelReach(o) + 3.0f * o.cellSize;
     Grid g;
     const glm::vec3 first = glm::floor((lo - margin) / o.cellSize);
     g.origin = first * o.cellSize;
@@ -140,6 +162,12 @@ Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {
         return fail(ErrorCode::InvalidArgument,
                     "surface: the iso value " + std::to_string(o.iso) +
                         " is not below 4 (it is a share of the field inside the fluid, 1)");
+    if (!o.centreSmoothing)
+        o.centreSmoothing = kDefaultCentreSmoothing;
+    if (!(*o.centreSmoothing >= 0.0f && *o.centreSmoothing <= 1.0f))
+        return fail(ErrorCode::InvalidArgument, "surface: the centre smoothing " +
+                                                    std::to_string(*o.centreSmoothing) +
+                                                    " is not in [0, 1]");
     if (o.cellSize > o.smoothingRadius)
         return fail(ErrorCode::InvalidArgument,
                     "surface: the cell size " + std::to_string(o.cellSize) +
@@ -155,6 +183,7 @@ struct Work {
     gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleCode;
     gpu::Buffer positions, normals, triangles;
     gpu::Buffer bounds; ///< shared::SurfaceBounds
+    gpu::Buffer binCount, binStart, binParticles, kernels; ///< anisotropic kernels only
     std::uint32_t activeBlocks = 0;
     std::uint32_t vertexCount = 0;
     std::uint32_t triangleCount = 0;
@@ -192,20 +221,69 @@ struct SurfaceReconstructor::Impl {
             p.set("uSupport", o.smoothingRadius);
             p.set("uVolume", volume);
             p.set("uIsoFixed", iso);
+            p.set("uAnisotropic", std::int32_t(o.anisotropic ? 1 : 0));
         }
+        pass(Anisotropy).set("uCentreSmoothing", o.centreSmoothing.value_or(0.0f));
     }
 
+    Result<void> kernels(const gpu::Buffer& positions, std::uint32_t count, const Grid& g,
+                         Work& work);
     Result<void> field(const gpu::Buffer& positions, std::uint32_t count, const Grid& g,
-                       Work& work);
+                       bool anisotropic, Work& work);
     Result<void> contour(Work& work);
     Result<std::pair<glm::vec3, glm::vec3>> bounds(const gpu::Buffer& positions,
                                                    std::uint32_t count);
     Result<SurfaceMesh> download(const SurfaceGpuMesh& built);
 };
 
-/// Marks the blocks, numbers them, and splats the particles into the field.
+/// Anisotropic kernels: sorts the particles into the grid's blocks (count, scan, fill) and
+/// writes every particle's kernel from its neighbours (surface_anisotropy.comp).
+Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions,
+                                                 std::uint32_t count, const Grid& g, Work& w) {
+    const auto start = Clock::now();
+    if (auto ok = ensureUints(w.binCount, g.blockCount, "surface bin counts"); !ok)
+        return ok;
+    if (auto ok = ensureUints(w.binStart, g.blockCount, "surface bin starts"); !ok)
+        return ok;
+    if (auto ok = ensureUints(w.binParticles, count, "surface bin particles"); !ok)
+        return ok;
+    if (auto ok = ensureUints(w.kernels, 16 * std::uint64_t(count), "surface kernels"); !ok)
+        return ok;
+    if (auto ok = ensureScan(g.blockCount); !ok)
+        return ok;
+    const glm::uvec3 groups(gpu::groupCount(count, sh::kSurfaceLocalSize), 1, 1);
+    positions.bindStorage(sh::kSurfBindPoints);
+    w.binCount.bindStorage(sh::kSurfBindBinCount);
+    pass(BinCount).set("uCount", count);
+    pass(BinCount).dispatchChunked(groups, kMaxGroupsPerDispatch);
+    barrier();
+    scan->exclusive(w.binCount, w.binStart, std::uint32_t(g.blockCount));
+    barrier();
+    positions.bindStorage(sh::kSurfBindPoints);
+    w.binCount.bindStorage(sh::kSurfBindBinCount);
+    w.binStart.bindStorage(sh::kSurfBindBinStart);
+    w.binParticles.bindStorage(sh::kSurfBindBinParticles);
+    w.kernels.bindStorage(sh::kSurfBindKernels);
+    pass(BinFill).set("uCount", count);
+    pass(BinFill).dispatchChunked(groups, kMaxGroupsPerDispatch);
+    barrier();
+    pass(Anisotropy).set("uCount", count);
+    pass(Anisotropy).set("uBinCount", std::uint32_t(g.blockCount));
+    pass(Anisotropy).dispatchChunked(groups, kMaxGroupsPerDispatch);
+    barrier();
+    glFinish();
+    w.timings.kernels = millisecondsSince(start);
+    return {};
+}
+
+/// Marks the blocks, numbers them, and splats the particles into the field (their kernels
+/// from `kernels` when anisotropic).
 Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std::uint32_t count,
-                                               const Grid& g, Work& w) {
+                                               const Grid& g, bool anisotropic, Work& w) {
+    if (anisotropic) {
+        if (auto ok = kernels(positions, count, g, w); !ok)
+            return ok;
+    }
     auto start = Clock::now();
     if (auto ok = ensureUints(w.flags, g.blockCount, "surface block flags"); !ok)
         return ok;
@@ -214,6 +292,8 @@ Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std
     if (auto ok = ensureScan(g.blockCount); !ok)
         return ok;
     positions.bindStorage(sh::kSurfBindPoints);
+    // Read only when anisotropic; something is bound either way.
+    (anisotropic ? w.kernels : positions).bindStorage(sh::kSurfBindKernels);
     w.flags.bindStorage(sh::kSurfBindBlockFlag);
     const std::uint32_t particleGroups = gpu::groupCount(count, sh::kSurfaceLocalSize);
     pass(Mark).set("uCount", count);
@@ -239,6 +319,7 @@ Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std
         glm::uvec3(gpu::groupCount(g.blockCount, sh::kSurfaceLocalSize), 1, 1),
         kMaxGroupsPerDispatch);
     positions.bindStorage(sh::kSurfBindPoints);
+    (anisotropic ? w.kernels : positions).bindStorage(sh::kSurfBindKernels);
     pass(Splat).set("uCount", count);
     pass(Splat).dispatchChunked(glm::uvec3(particleGroups, 1, 1), kMaxGroupsPerDispatch);
     barrier();
@@ -404,7 +485,7 @@ Result<SurfaceGpuMesh> SurfaceReconstructor::build(const gpu::Buffer& positions,
     work.activeBlocks = work.vertexCount = work.triangleCount = 0;
     work.timings = {};
     work.timings.bounds = millisecondsSince(start);
-    if (auto ok = m_impl->field(positions, count, *grid, work); !ok)
+    if (auto ok = m_impl->field(positions, count, *grid, o->anisotropic, work); !ok)
         return ok.error();
     SurfaceGpuMesh mesh{.gridOrigin = grid->origin,
                         .cellSize = o->cellSize,

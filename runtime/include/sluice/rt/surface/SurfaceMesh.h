@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -22,6 +23,7 @@ namespace sluice::rt {
 /// the field splatted; the mesh counted and written; the mesh read back into the vectors.
 struct SurfaceTimings {
     double bounds = 0.0;
+    double kernels = 0.0; ///< anisotropic kernels: the particles binned, the kernels written
     double blocks = 0.0;
     double field = 0.0;
     double contour = 0.0;
@@ -39,6 +41,9 @@ struct SurfaceMesh {
     SurfaceTimings timings;            ///< of the reconstruction that made it
 };
 
+/// The anisotropic kernels' default centre smoothing (SurfaceOptions::centreSmoothing).
+inline constexpr float kDefaultCentreSmoothing = 0.25f;
+
 /// How a surface is reconstructed. Zeros take the defaults, all derived from the radius.
 struct SurfaceOptions {
     float particleRadius = 0.0f; ///< [m], > 0: half the particle spacing
@@ -49,6 +54,12 @@ struct SurfaceOptions {
     /// on their lattice (which is 1): 0.5 puts a flat surface where the block ends, half a
     /// spacing beyond its outer particles' centres. 0: 0.5.
     float iso = 0.0f;
+    /// Anisotropic kernels (Yu & Turk 2013): each particle's kernel follows its neighbours'
+    /// spread, flat across a surface or a sheet, round in the bulk (docs/surfaces.md).
+    bool anisotropic = false;
+    /// With anisotropic kernels, how far each kernel's centre moves to its neighbours' weighted
+    /// mean, in [0, 1] (Yu & Turk's lambda). Unset: kDefaultCentreSmoothing.
+    std::optional<float> centreSmoothing;
 };
 
 /// The options with every default filled in; InvalidArgument naming the option for a value
