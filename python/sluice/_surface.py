@@ -69,23 +69,25 @@ def _mesher() -> "_sluice.SurfaceMesher":
 
 def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optional[float] = None,
                         iso: Optional[float] = None, smoothing_radius: Optional[float] = None,
-                        anisotropic: bool = False) -> SurfaceMesh:
+                        anisotropic: bool = False,
+                        centre_smoothing: Optional[float] = None) -> SurfaceMesh:
     """The fluid surface of (N, 3) particle positions, reconstructed on the GPU in a headless
     context of this thread's own, kept for the next call (docs/surfaces.md): an SPH colour field of the particles (poly6 over
     ``smoothing_radius``, default 4 particle radii) sampled on a sparse grid of ``cell_size``
     (default: the particle radius) where the particles reach, contoured at ``iso`` (a share of
     the field inside the fluid; default 0.5, which puts a flat surface half a spacing beyond the
     outer particles' centres). The same points give the same mesh as ``sluice-play
-    --surface-mesh``, bit for bit. ``anisotropic=True`` (Yu & Turk 2013 kernels) is not
-    implemented yet and raises InvalidArgument."""
-    if anisotropic:
-        raise InvalidArgument("reconstruct_surface: anisotropic kernels are not implemented yet "
-                              "[InvalidArgument]", "InvalidArgument")
+    --surface-mesh``, bit for bit. ``anisotropic=True`` gives each particle a kernel shaped by
+    its neighbours (after Yu & Turk 2013: flat across surfaces and thin sheets, which then stay
+    whole), as ``--surface-anisotropic``; its centre moves ``centre_smoothing`` (in [0, 1],
+    default 0.25) of the way to its neighbours' mean."""
     p = np.asarray(points)
     if p.ndim != 2 or p.shape[1] != 3:
         raise InvalidArgument(f"reconstruct_surface: points must have shape (N, 3), not "
                               f"{p.shape} [InvalidArgument]", "InvalidArgument")
     p = np.ascontiguousarray(p, dtype=np.float32)
     v, n, t = _mesher().reconstruct(p, float(particle_radius), float(cell_size or 0.0),
-                                    float(smoothing_radius or 0.0), float(iso or 0.0))
+                                    float(smoothing_radius or 0.0), float(iso or 0.0),
+                                    bool(anisotropic),
+                                    None if centre_smoothing is None else float(centre_smoothing))
     return SurfaceMesh(v, n, t)

@@ -7,6 +7,7 @@
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
 
 #include "Errors.h"
 #include "sluice/gpu/Context.h"
@@ -61,12 +62,15 @@ struct PyMesher {
     }
 
     nb::tuple reconstruct(Points points, float particleRadius, float cellSize,
-                          float smoothingRadius, float iso) {
+                          float smoothingRadius, float iso, bool anisotropic,
+                          std::optional<float> centreSmoothing) {
         rt::SurfaceOptions options;
         options.particleRadius = particleRadius;
         options.cellSize = cellSize;
         options.smoothingRadius = smoothingRadius;
         options.iso = iso;
+        options.anisotropic = anisotropic;
+        options.centreSmoothing = centreSmoothing;
         std::vector<glm::vec3> copy(points.shape(0));
         if (!copy.empty())
             std::memcpy(copy.data(), points.data(), copy.size() * sizeof(glm::vec3));
@@ -92,8 +96,10 @@ void bindSurface(nb::module_& m) {
         .def(nb::init<>())
         .def("reconstruct", &PyMesher::reconstruct, nb::arg("points"), nb::arg("particle_radius"),
              nb::arg("cell_size"), nb::arg("smoothing_radius"), nb::arg("iso"),
+             nb::arg("anisotropic"), nb::arg("centre_smoothing").none(),
              "The fluid surface of (N, 3) float32 points on the GPU: (vertices (V, 3) float32, "
-             "normals (V, 3) float32, triangles (T, 3) uint32); zeros take the defaults.");
+             "normals (V, 3) float32, triangles (T, 3) uint32); zeros and None take the "
+             "defaults.");
 }
 
 } // namespace sluice::py

@@ -90,15 +90,21 @@ def read_ply(path: Path):
     return out
 
 
-def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path) -> None:
+@pytest.mark.parametrize("anisotropic", [False, True])
+def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, anisotropic: bool) -> None:
     scene = Path(__file__).resolve().parents[2] / "assets" / "martin-moyce.json"
     run_tool("sluice-play", scene, "--headless", "--steps", 2, "--deterministic", "--quiet",
              "--dump-ply", tmp_path / "ply", "--dump-every", 2, "--surface-mesh",
-             tmp_path / "mesh", "--surface-every", 2)
+             tmp_path / "mesh", "--surface-every", 2,
+             *(["--surface-anisotropic"] if anisotropic else []))
     particles = read_ply(tmp_path / "ply" / "frame_000002.ply")["vertex"]
     points = np.stack([particles["x"], particles["y"], particles["z"]], -1)
     cli = read_ply(tmp_path / "mesh" / "surface_000002.ply")
-    mesh = sluice.reconstruct_surface(points, RADIUS)
+    mesh = sluice.reconstruct_surface(points, RADIUS, anisotropic=anisotropic)
+    # The two kernels give two different meshes.
+    other = sluice.reconstruct_surface(points, RADIUS, anisotropic=not anisotropic)
+    assert other.vertices.shape != mesh.vertices.shape or not np.array_equal(other.vertices,
+                                                                             mesh.vertices)
     cli_vertices = np.stack([cli["vertex"][k] for k in ("x", "y", "z")], -1)
     cli_normals = np.stack([cli["vertex"][k] for k in ("nx", "ny", "nz")], -1)
     assert np.array_equal(mesh.vertices, cli_vertices)
@@ -107,7 +113,7 @@ def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path) -> None:
     # And the live simulation's own surface, after the same steps.
     sim = sluice.Simulation(scene, deterministic=True)
     sim.step(2, progress=False)
-    live = sim.surface_mesh()
+    live = sim.surface_mesh(anisotropic=anisotropic)
     assert np.array_equal(live.triangles, mesh.triangles)
     assert np.array_equal(live.vertices, mesh.vertices)
     # save_ply writes what sluice-play writes, header comment aside.
@@ -122,7 +128,8 @@ def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path) -> None:
     (np.zeros((4, 3)), 0.0, {}, "particle radius"),
     (np.array([[0.0, 0.0, 0.0], [np.nan, 0.0, 0.0]]), RADIUS, {}, "particle 1 is not finite"),
     (np.zeros((4, 3)), RADIUS, {"cell_size": -1.0}, "cell size"),
-    (np.zeros((4, 3)), RADIUS, {"anisotropic": True}, "not implemented"),
+    (np.zeros((4, 3)), RADIUS, {"anisotropic": True, "centre_smoothing": 1.5}, "centre smoothing"),
+    (np.zeros((4, 3)), RADIUS, {"anisotropic": True, "centre_smoothing": -0.1}, "centre smoothing"),
 ])
 def test_bad_input_raises_invalid_argument(points, radius, kw, text) -> None:
     with pytest.raises(sluice.InvalidArgument, match=text):

@@ -180,6 +180,7 @@ int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene 
     headless.surfaceEvery = o.surfaceEvery;
     headless.surfaceCell = o.surfaceCell;
     headless.surfaceIso = o.surfaceIso;
+    headless.surfaceAnisotropic = o.surfaceAnisotropic;
     headless.dumpEvery = o.dumpEvery;
     headless.deterministic = o.deterministic;
     headless.neighbourLanes = o.neighbourLanes;
@@ -254,6 +255,9 @@ void addRunOptions(CLI::App& app, PlayOptions& o) {
     app.add_option("--surface-iso", o.surfaceIso,
                    "Surface mesh: iso value, a share of the field inside the fluid (default 0.5)")
         ->check(format::cli::numberIn(0.01, 3.99));
+    app.add_flag("--surface-anisotropic", o.surfaceAnisotropic,
+                 "Surface mesh: anisotropic kernels, flat across surfaces and thin sheets "
+                 "(docs/surfaces.md)");
     app.add_option("--dump-every", o.dumpEvery, "Write a PLY file every K steps (default 1)")
         ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_flag("--deterministic", o.deterministic,

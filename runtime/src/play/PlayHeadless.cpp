@@ -137,6 +137,7 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     options.particleRadius = run.sim.constants().radius;
     options.cellSize = o.surfaceCell;
     options.iso = o.surfaceIso;
+    options.anisotropic = o.surfaceAnisotropic;
     const auto start = std::chrono::steady_clock::now();
     auto mesh =
         run.surfaces->reconstruct(run.sim.positionBuffer(), run.sim.particleCount(), options);
@@ -153,19 +154,22 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     return written;
 }
 
+/// The surface stages, in the order they run (SurfaceTimings; kernels: 0 unless anisotropic).
+constexpr std::pair<const char*, double SurfaceTimings::*> kSurfaceStages[] = {
+    {"bounds", &SurfaceTimings::bounds},   {"kernels", &SurfaceTimings::kernels},
+    {"blocks", &SurfaceTimings::blocks},   {"field", &SurfaceTimings::field},
+    {"contour", &SurfaceTimings::contour}, {"download", &SurfaceTimings::download}};
+
 /// The median over the run's surface meshes of each reconstruction stage [ms].
 nlohmann::json surfaceStageMedians(const HeadlessRun& run) {
-    const auto stage = [&](double SurfaceTimings::*member) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [name, member] : kSurfaceStages) {
         std::vector<double> values;
         for (const SurfaceTimings& t : run.surfaceStages)
             values.push_back(t.*member);
-        return median(std::move(values));
-    };
-    return {{"bounds", stage(&SurfaceTimings::bounds)},
-            {"blocks", stage(&SurfaceTimings::blocks)},
-            {"field", stage(&SurfaceTimings::field)},
-            {"contour", stage(&SurfaceTimings::contour)},
-            {"download", stage(&SurfaceTimings::download)}};
+        out[name] = median(std::move(values));
+    }
+    return out;
 }
 
 /// The summary's line on --surface-mesh: what one mesh costs (reconstruction and download,
@@ -181,8 +185,8 @@ void printSurfaceTimes(const HeadlessRun& run) {
               << " ms to write; the last " << run.surfaceVertices << " vertices, "
               << run.surfaceTriangles << " triangles\n  surface stages, median ms:";
     const nlohmann::json stages = surfaceStageMedians(run);
-    for (const char* name : {"bounds", "blocks", "field", "contour", "download"})
-        std::cout << "  " << name << " " << stages[name].get<double>();
+    for (const auto& stage : kSurfaceStages)
+        std::cout << "  " << stage.first << " " << stages[stage.first].get<double>();
     std::cout << "\n";
 }
 

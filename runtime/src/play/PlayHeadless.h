@@ -26,6 +26,7 @@ struct HeadlessOptions {
     std::uint64_t surfaceEvery = 1; ///< a surface mesh every K steps
     float surfaceCell = 0.0f;       ///< SurfaceOptions::cellSize, 0: the default
     float surfaceIso = 0.0f;        ///< SurfaceOptions::iso, 0: the default
+    bool surfaceAnisotropic = false; ///< SurfaceOptions::anisotropic
     std::uint64_t dumpEvery = 1;    ///< a PLY file every K steps
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes

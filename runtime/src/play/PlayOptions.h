@@ -28,6 +28,7 @@ struct PlayOptions {
     std::uint64_t surfaceEvery = 1;
     float surfaceCell = 0.0f;
     float surfaceIso = 0.0f;
+    bool surfaceAnisotropic = false;
     std::uint64_t dumpEvery = 1;
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; // 0: chosen for the renderer and the scene

@@ -139,7 +139,7 @@ struct Renderer::Impl {
 
     /// Reconstructs the surface of the particles and draws it into the scene target; false
     /// (with meshError) when the reconstruction failed, and the caller draws spheres.
-    bool drawMesh(const Simulation& sim) {
+    bool drawMesh(const Simulation& sim, bool anisotropic) {
         if (!mesher) {
             auto created = SurfaceReconstructor::create();
             if (!created) {
@@ -150,6 +150,7 @@ struct Renderer::Impl {
         }
         SurfaceOptions options;
         options.particleRadius = sim.constants().radius;
+        options.anisotropic = anisotropic;
         // Drawn from the reconstructor's own buffers: nothing read back but the sizes.
         auto mesh = mesher->build(sim.positionBuffer(), sim.particleCount(), options);
         if (!mesh) {
@@ -362,7 +363,7 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
     r.passTimer(RenderPass::Fluid).begin();
     r.meshError.clear();
     r.fluidStagesTimed = false;
-    if (settings.surface == SurfaceMode::Mesh && r.drawMesh(sim)) {
+    if (settings.surface == SurfaceMode::Mesh && r.drawMesh(sim, settings.meshAnisotropic)) {
         r.output = r.sceneTarget.id();
     } else if (settings.surface == SurfaceMode::Fluid) {
         const float radius = sim.constants().radius;

@@ -150,6 +150,8 @@ void renderModes(ViewerUi& ui) {
     ImGui::SameLine();
     ImGui::RadioButton("mesh", &surface, int(SurfaceMode::Mesh));
     r.surface = SurfaceMode(surface);
+    if (r.surface == SurfaceMode::Mesh)
+        ImGui::Checkbox("anisotropic kernels", &r.meshAnisotropic);
     int colour = int(r.colour);
     ImGui::RadioButton("water", &colour, int(ColourMode::Water));
     ImGui::SameLine();

@@ -189,6 +189,9 @@ INSTANTIATE_TEST_SUITE_P(
         OptionMistake{"surfaceEveryWithoutSurfaceMesh",
                       {"--headless", "--steps", "1", "--surface-every", "2"},
                       "--surface-every does nothing without --surface-mesh [unused-option]"},
+        OptionMistake{"surfaceAnisotropicWithoutSurfaceMesh",
+                      {"--headless", "--steps", "1", "--surface-anisotropic"},
+                      "--surface-anisotropic does nothing without --surface-mesh [unused-option]"},
         OptionMistake{"bodiesCsvWithoutBodies",
                       {"--headless", "--steps", "1", "--bodies-csv", "b.csv"},
                       "--bodies-csv does nothing for a scene without dynamic bodies"},
@@ -295,7 +298,7 @@ TEST(SluicePlaySurface, WritesOneClosedMeshPerRequestedStep) {
         EXPECT_GE(ms.get<double>(), 0.0) << stage;
         stages += ms.get<double>();
     }
-    EXPECT_EQ(surface["stagesMedian"].size(), 5u);
+    EXPECT_EQ(surface["stagesMedian"].size(), 6u);
     // The stages lie inside the whole call (medians of each, so allow for their spread).
     EXPECT_GT(surface["median"].get<double>(), 0.0);
     EXPECT_LE(stages, 2.0 * surface["median"].get<double>());

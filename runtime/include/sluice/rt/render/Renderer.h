@@ -64,6 +64,8 @@ struct RenderSettings {
     /// pixels as the rasterised impostors, at a fraction of the cost where the GPU has little
     /// rasteriser or the spheres are tiny); false rasterises every sphere.
     bool computeSmallSpheres = true;
+    /// Mesh: anisotropic kernels (SurfaceOptions::anisotropic), as --surface-anisotropic.
+    bool meshAnisotropic = false;
     /// Screen-space fluid: the spheres of its depth and thickness passes in particle radii
     /// (above 1.42 the rest lattice leaves no gaps), filter passes, filter radius and depth
     /// falloff in particle radii, absorption of the thickness [1/m], refraction offset
