@@ -16,12 +16,15 @@ from ._errors import InvalidArgument
 class SurfaceMesh:
     """A closed, manifold triangle mesh: ``vertices`` (V, 3) float32 [m], unit ``normals``
     (V, 3) float32 pointing out of the fluid, ``triangles`` (T, 3) uint32, counter-clockwise
-    seen from outside."""
+    seen from outside. ``timings``: where the reconstruction's time went, {stage: ms} (bounds,
+    kernels, blocks, field, contour, download; docs/surfaces.md)."""
 
-    def __init__(self, vertices: np.ndarray, normals: np.ndarray, triangles: np.ndarray) -> None:
+    def __init__(self, vertices: np.ndarray, normals: np.ndarray, triangles: np.ndarray,
+                 timings: Optional[dict] = None) -> None:
         self.vertices = vertices
         self.normals = normals
         self.triangles = triangles
+        self.timings = dict(timings or {})
 
     @property
     def volume(self) -> float:
@@ -86,8 +89,8 @@ def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optio
         raise InvalidArgument(f"reconstruct_surface: points must have shape (N, 3), not "
                               f"{p.shape} [InvalidArgument]", "InvalidArgument")
     p = np.ascontiguousarray(p, dtype=np.float32)
-    v, n, t = _mesher().reconstruct(p, float(particle_radius), float(cell_size or 0.0),
+    v, n, t, timings = _mesher().reconstruct(p, float(particle_radius), float(cell_size or 0.0),
                                     float(smoothing_radius or 0.0), float(iso or 0.0),
                                     bool(anisotropic),
                                     None if centre_smoothing is None else float(centre_smoothing))
-    return SurfaceMesh(v, n, t)
+    return SurfaceMesh(v, n, t, timings)

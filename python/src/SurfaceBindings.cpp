@@ -83,8 +83,14 @@ struct PyMesher {
             raise(mesh.error().code == ErrorCode::InvalidArgument ? Family::Argument
                                                                   : Family::Simulation,
                   mesh.error());
+        const rt::SurfaceTimings& t = mesh->timings;
+        nb::dict timings;
+        for (const auto& [name, ms] : {std::pair{"bounds", t.bounds}, {"kernels", t.kernels},
+                                       {"blocks", t.blocks}, {"field", t.field},
+                                       {"contour", t.contour}, {"download", t.download}})
+            timings[name] = ms;
         return nb::make_tuple(rows<float>(mesh->vertices), rows<float>(mesh->normals),
-                              rows<std::uint32_t>(mesh->triangles));
+                              rows<std::uint32_t>(mesh->triangles), timings);
     }
 };
 
@@ -98,8 +104,8 @@ void bindSurface(nb::module_& m) {
              nb::arg("cell_size"), nb::arg("smoothing_radius"), nb::arg("iso"),
              nb::arg("anisotropic"), nb::arg("centre_smoothing").none(),
              "The fluid surface of (N, 3) float32 points on the GPU: (vertices (V, 3) float32, "
-             "normals (V, 3) float32, triangles (T, 3) uint32); zeros and None take the "
-             "defaults.");
+             "normals (V, 3) float32, triangles (T, 3) uint32, stage times {name: ms}); zeros "
+             "and None take the defaults.");
 }
 
 } // namespace sluice::py

@@ -68,10 +68,10 @@ void main() {
         return;
     vec3 p = points[i].xyz;
     float invH = 1.0 / uSupport;
-    int reach = int(ceil(uSupport / (uCell * float(kSurfaceBlockSide))));
-    ivec3 home = blockOfPoint(p);
-    ivec3 lo = max(home - reach, ivec3(0));
-    ivec3 hi = min(home + reach, uBlocks - 1);
+    // The blocks the support's box overlaps (8 on average where the block is twice the
+    // support, not 27).
+    ivec3 lo = blockOfPoint(p - uSupport);
+    ivec3 hi = blockOfPoint(p + uSupport);
     int n = 0;
     int sw = 0;
     ivec3 sd = ivec3(0);

@@ -23,7 +23,9 @@ void main() {
     float scale = uVolume * kSurfaceFixedScale * 315.0 /
                   (64.0 * 3.14159265358979 * h2 * h2 * h2 * h2 * uSupport);
     // Block by block, so the block map is read once per block, not once per sample; a
-    // sphere's rows along x are clipped to it before the loop.
+    // sphere's rows along x are clipped to it before the loop, an ellipsoid's x range solved
+    // per row (|G d|^2 = d^T G^2 d is a quadratic in d.x: a x^2 + 2 b x + c).
+    mat3 g2 = k.g * k.g;
     int side = int(kSurfaceBlockSide);
     ivec3 blo = lo / side;
     ivec3 bhi = hi / side;
@@ -44,7 +46,22 @@ void main() {
                         float ryz = dy * dy + dz * dz;
                         if (!uAnisotropic && ryz >= h2)
                             continue;
-                        for (int x = from.x; x <= to.x; ++x) {
+                        int first = from.x;
+                        int last = to.x;
+                        if (uAnisotropic) {
+                            float b = g2[1][0] * dy + g2[2][0] * dz;
+                            float c = dot(vec2(dy, dz), mat2(g2[1].yz, g2[2].yz) * vec2(dy, dz));
+                            float disc = b * b - g2[0][0] * (c - h2);
+                            if (disc <= 0.0)
+                                continue;
+                            // One sample wider each way: q decides at the ends, as for a sphere.
+                            float root = sqrt(disc);
+                            float x0 = p.x + (-b - root) / g2[0][0];
+                            float x1 = p.x + (-b + root) / g2[0][0];
+                            first = max(first, int(floor((x0 - uOrigin.x) / uCell)));
+                            last = min(last, int(ceil((x1 - uOrigin.x) / uCell)));
+                        }
+                        for (int x = first; x <= last; ++x) {
                             float dx = uOrigin.x + float(x) * uCell - p.x;
                             float q;
                             if (uAnisotropic) {

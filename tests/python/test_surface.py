@@ -101,6 +101,8 @@ def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, anisotro
     points = np.stack([particles["x"], particles["y"], particles["z"]], -1)
     cli = read_ply(tmp_path / "mesh" / "surface_000002.ply")
     mesh = sluice.reconstruct_surface(points, RADIUS, anisotropic=anisotropic)
+    assert set(mesh.timings) == {"bounds", "kernels", "blocks", "field", "contour", "download"}
+    assert (mesh.timings["kernels"] > 0.0) == anisotropic
     # The two kernels give two different meshes.
     other = sluice.reconstruct_surface(points, RADIUS, anisotropic=not anisotropic)
     assert other.vertices.shape != mesh.vertices.shape or not np.array_equal(other.vertices,

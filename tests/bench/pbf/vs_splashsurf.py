@@ -63,9 +63,12 @@ def particle_sets(build):
             ("jittered block 64x64x32", jittered)]
 
 
+OPTIONS = {"anisotropic": False}  # --anisotropic sets it
+
+
 def sluice_mesh(points):
     import sluice
-    m = sluice.reconstruct_surface(points.astype(np.float32), RADIUS)
+    m = sluice.reconstruct_surface(points.astype(np.float32), RADIUS, **OPTIONS)
     return m.vertices.astype(np.float64), m.triangles.astype(np.int64)
 
 
@@ -185,7 +188,10 @@ def main():
     ap.add_argument("--build", default="build/dev")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--json", default="")
+    ap.add_argument("--anisotropic", action="store_true",
+                    help="Sluice with anisotropic kernels (default centre smoothing)")
     args = ap.parse_args()
+    OPTIONS["anisotropic"] = args.anisotropic
     import sluice
     import pysplashsurf  # noqa: F401
     load = os.getloadavg()
@@ -203,7 +209,7 @@ def main():
         "date": time.strftime("%Y-%m-%d %H:%M"), "cpu": cpu_model(), "cores": os.cpu_count(),
         "loadBefore": load, "loadAfter": os.getloadavg(), "repeat": args.repeat,
         "sluice": sluice.tool_version(), "renderer": "llvmpipe (no GPU) unless stated",
-        "particleRadius": RADIUS, "rows": rows,
+        "particleRadius": RADIUS, "sluiceOptions": dict(OPTIONS), "rows": rows,
     }
     if args.json:
         with open(args.json, "w") as f:
