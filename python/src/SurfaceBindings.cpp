@@ -85,9 +85,12 @@ struct PyMesher {
                   mesh.error());
         const rt::SurfaceTimings& t = mesh->timings;
         nb::dict timings;
-        for (const auto& [name, ms] : {std::pair{"bounds", t.bounds}, {"kernels", t.kernels},
-                                       {"blocks", t.blocks}, {"field", t.field},
-                                       {"contour", t.contour}, {"download", t.download}})
+        for (const auto& [name, ms] : {std::pair{"bounds", t.bounds},
+                                       {"kernels", t.kernels},
+                                       {"blocks", t.blocks},
+                                       {"field", t.field},
+                                       {"contour", t.contour},
+                                       {"download", t.download}})
             timings[name] = ms;
         return nb::make_tuple(rows<float>(mesh->vertices), rows<float>(mesh->normals),
                               rows<std::uint32_t>(mesh->triangles), timings);

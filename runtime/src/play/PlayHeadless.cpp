@@ -50,13 +50,13 @@ struct HeadlessRun {
     std::uint64_t statsEvery = 1;                   ///< a statistics row every this many steps
     std::uint64_t stepsDone = 0;                    ///< steps run (fewer when interrupted)
     nlohmann::json steps = nlohmann::json::array(); ///< the recorded statistics
-    bool dirty = false;            ///< a particle went non-finite or ended inside a collider,
-                                   ///< or a body was put back (StepStats::bodyFaults)
-    std::uint32_t bodyFaults = 0;  ///< StepStats::bodyFaults reported so far
-    bool capacityReported = false; ///< the full-capacity message was printed
-    double wallSeconds = 0.0;      ///< the steps' wall time, capture included [s]
-    PassTimes passTimes{};         ///< GPU time per pass after the last step [ms]
-    std::vector<double> surfaceSeconds;      ///< each surface mesh's reconstruction [s]
+    bool dirty = false;                 ///< a particle went non-finite or ended inside a collider,
+                                        ///< or a body was put back (StepStats::bodyFaults)
+    std::uint32_t bodyFaults = 0;       ///< StepStats::bodyFaults reported so far
+    bool capacityReported = false;      ///< the full-capacity message was printed
+    double wallSeconds = 0.0;           ///< the steps' wall time, capture included [s]
+    PassTimes passTimes{};              ///< GPU time per pass after the last step [ms]
+    std::vector<double> surfaceSeconds; ///< each surface mesh's reconstruction [s]
     std::vector<SurfaceTimings> surfaceStages; ///< and where its time went
     std::size_t surfaceVertices = 0;           ///< of the latest surface mesh
     std::size_t surfaceTriangles = 0;

@@ -78,8 +78,8 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
     if (mode == PlayMode::Headless && given("--dump-every") && o.plyDir.empty())
         out.push_back(unusedOption("--dump-every", "without --dump-ply"));
     if (mode == PlayMode::Headless && o.surfaceDir.empty())
-        for (const char* name : {"--surface-every", "--surface-cell", "--surface-iso",
-                                 "--surface-anisotropic"})
+        for (const char* name :
+             {"--surface-every", "--surface-cell", "--surface-iso", "--surface-anisotropic"})
             if (given(name))
                 out.push_back(unusedOption(name, "without --surface-mesh"));
     if (mode != PlayMode::Bench && given("--every") && !o.capture.frames())

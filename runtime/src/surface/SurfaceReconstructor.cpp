@@ -17,15 +17,13 @@
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "surface/KuhnTable.h"
+#include "surface/SurfaceGrid.h"
 
 namespace sluice::rt {
 namespace {
 
 namespace sh = shared;
 
-// [blocks] most blocks of 8^3 samples the grid over the particles' bounds may have: its flag
-// and slot arrays are 128 MiB then.
-constexpr std::uint64_t kMaxBlocks = std::uint64_t{1} << 24;
 constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
 
 enum Pass : std::size_t {
@@ -42,60 +40,15 @@ enum Pass : std::size_t {
     PassCount
 };
 constexpr std::array<const char*, PassCount> kPassFiles = {
-    "surface_bounds.comp",    "surface_bin_count.comp", "surface_bin_fill.comp",
-    "surface_anisotropy.comp", "surface_mark.comp",     "surface_compact.comp",
-    "surface_splat.comp",     "surface_count.comp",     "surface_vertices.comp",
+    "surface_bounds.comp",     "surface_bin_count.comp", "surface_bin_fill.comp",
+    "surface_anisotropy.comp", "surface_mark.comp",      "surface_compact.comp",
+    "surface_splat.comp",      "surface_count.comp",     "surface_vertices.comp",
     "surface_triangles.comp"};
-
-
-/// How far a kernel reaches at most, in supports: an anisotropic one is longest along a line
-/// of particles, its other two axes kSurfaceAnisotropyRatio times shorter, with the sphere's
-/// volume.
-float kernelReach(const SurfaceOptions& o) {
-    return o.anisotropic ? std::cbrt(sh::kSurfaceAnisotropyRatio * sh::kSurfaceAnisotropyRatio)
-                         : 1.0f;
-}
-
-bool positiveFinite(float v) {
-    return std::isfinite(v) && v > 0.0f;
-}
-
-/// The sample grid over the particles: origin on the global lattice of the cell size (so the
-/// same particles give the same samples wherever the run is), and sizes.
-struct Grid {
-    glm::vec3 origin{0.0f};
-    glm::ivec3 samples{0};
-    glm::ivec3 blocks{0};
-    std::uint64_t blockCount = 0;
-};
-
-Result<Grid> gridOver(glm::vec3 lo, glm::vec3 hi, const SurfaceOptions& o) {
-    const float margin = o.smoothingRadius * kernelReach(o) + 3.0f * o.cellSize;
-    Grid g;
-    const glm::vec3 first = glm::floor((lo - margin) / o.cellSize);
-    g.origin = first * o.cellSize;
-    const glm::vec3 last = glm::ceil((hi + margin) / o.cellSize);
-    const glm::dvec3 samples = glm::dvec3(last) - glm::dvec3(first) + 1.0;
-    const glm::dvec3 blocks = glm::ceil(samples / double(sh::kSurfaceBlockSide));
-    const double blockCount = blocks.x * blocks.y * blocks.z;
-    if (!(blockCount <= double(kMaxBlocks)))
-        return fail(ErrorCode::SizeOverflow,
-                    "surface: the particles span " + std::to_string(hi.x - lo.x) + " x " +
-                        std::to_string(hi.y - lo.y) + " x " + std::to_string(hi.z - lo.z) +
-                        " m, more than " + std::to_string(kMaxBlocks) + " blocks of " +
-                        std::to_string(sh::kSurfaceBlockSide) + "^3 cells of " +
-                        std::to_string(o.cellSize) + " m; use a larger cell size");
-    g.samples = glm::ivec3(samples);
-    g.blocks = glm::ivec3(blocks);
-    g.blockCount = std::uint64_t(blockCount);
-    return g;
-}
 
 /// Makes `buffer` hold at least `bytes`, reusing it when it does (a reconstruction a frame
 /// allocates nothing once the sizes settle; a new one gets a quarter more room), and zeroes its
 /// first `bytes` when `zeroed`.
-Result<void> ensureBytes(gpu::Buffer& buffer, std::uint64_t bytes, const char* label,
-                         bool zeroed) {
+Result<void> ensureBytes(gpu::Buffer& buffer, std::uint64_t bytes, const char* label, bool zeroed) {
     bytes = std::max<std::uint64_t>(bytes, 4);
     if (buffer.size() < bytes) {
         buffer = {};
@@ -136,53 +89,13 @@ void barrier() {
 
 } // namespace
 
-Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {
-    SurfaceOptions o = options;
-    if (!positiveFinite(o.particleRadius))
-        return fail(ErrorCode::InvalidArgument, "surface: the particle radius " +
-                                                    std::to_string(o.particleRadius) +
-                                                    " is not a positive number");
-    const auto orDefault = [](float& value, float fallback, const char* name) -> Result<void> {
-        if (value == 0.0f)
-            value = fallback;
-        if (!positiveFinite(value))
-            return fail(ErrorCode::InvalidArgument, std::string("surface: ") + name + " " +
-                                                        std::to_string(value) +
-                                                        " is not a positive number");
-        return {};
-    };
-    if (auto ok = orDefault(o.cellSize, o.particleRadius, "the cell size"); !ok)
-        return ok.error();
-    if (auto ok = orDefault(o.smoothingRadius, 4.0f * o.particleRadius, "the smoothing radius");
-        !ok)
-        return ok.error();
-    if (auto ok = orDefault(o.iso, 0.5f, "the iso value"); !ok)
-        return ok.error();
-    if (o.iso >= 4.0f)
-        return fail(ErrorCode::InvalidArgument,
-                    "surface: the iso value " + std::to_string(o.iso) +
-                        " is not below 4 (it is a share of the field inside the fluid, 1)");
-    if (!o.centreSmoothing)
-        o.centreSmoothing = kDefaultCentreSmoothing;
-    if (!(*o.centreSmoothing >= 0.0f && *o.centreSmoothing <= 1.0f))
-        return fail(ErrorCode::InvalidArgument, "surface: the centre smoothing " +
-                                                    std::to_string(*o.centreSmoothing) +
-                                                    " is not in [0, 1]");
-    if (o.cellSize > o.smoothingRadius)
-        return fail(ErrorCode::InvalidArgument,
-                    "surface: the cell size " + std::to_string(o.cellSize) +
-                        " is larger than the smoothing radius " +
-                        std::to_string(o.smoothingRadius) + ": the field would be missed");
-    return o;
-}
-
 /// The buffers of the reconstructions, kept from one to the next (ensureBytes), and the
 /// counts and stage times of the latest.
 struct Work {
     gpu::Buffer flags, slots, active, field;
     gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleCode;
     gpu::Buffer positions, normals, triangles;
-    gpu::Buffer bounds; ///< shared::SurfaceBounds
+    gpu::Buffer bounds;                                    ///< shared::SurfaceBounds
     gpu::Buffer binCount, binStart, binParticles, kernels; ///< anisotropic kernels only
     std::uint32_t activeBlocks = 0;
     std::uint32_t vertexCount = 0;
@@ -210,7 +123,7 @@ struct SurfaceReconstructor::Impl {
         return {};
     }
 
-    void setGrid(const Grid& g, const SurfaceOptions& o) const {
+    void setGrid(const SurfaceGrid& g, const SurfaceOptions& o) const {
         const float volume = 8.0f * o.particleRadius * o.particleRadius * o.particleRadius;
         const auto iso = std::uint32_t(std::floor(double(o.iso) * sh::kSurfaceFixedScale));
         for (const gpu::Program& p : passes) {
@@ -226,9 +139,9 @@ struct SurfaceReconstructor::Impl {
         pass(Anisotropy).set("uCentreSmoothing", o.centreSmoothing.value_or(0.0f));
     }
 
-    Result<void> kernels(const gpu::Buffer& positions, std::uint32_t count, const Grid& g,
+    Result<void> kernels(const gpu::Buffer& positions, std::uint32_t count, const SurfaceGrid& g,
                          Work& work);
-    Result<void> field(const gpu::Buffer& positions, std::uint32_t count, const Grid& g,
+    Result<void> field(const gpu::Buffer& positions, std::uint32_t count, const SurfaceGrid& g,
                        bool anisotropic, Work& work);
     Result<void> contour(Work& work);
     Result<std::pair<glm::vec3, glm::vec3>> bounds(const gpu::Buffer& positions,
@@ -238,8 +151,8 @@ struct SurfaceReconstructor::Impl {
 
 /// Anisotropic kernels: sorts the particles into the grid's blocks (count, scan, fill) and
 /// writes every particle's kernel from its neighbours (surface_anisotropy.comp).
-Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions,
-                                                 std::uint32_t count, const Grid& g, Work& w) {
+Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions, std::uint32_t count,
+                                                 const SurfaceGrid& g, Work& w) {
     const auto start = Clock::now();
     if (auto ok = ensureUints(w.binCount, g.blockCount, "surface bin counts"); !ok)
         return ok;
@@ -279,7 +192,7 @@ Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions,
 /// Marks the blocks, numbers them, and splats the particles into the field (their kernels
 /// from `kernels` when anisotropic).
 Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std::uint32_t count,
-                                               const Grid& g, bool anisotropic, Work& w) {
+                                               const SurfaceGrid& g, bool anisotropic, Work& w) {
     if (anisotropic) {
         if (auto ok = kernels(positions, count, g, w); !ok)
             return ok;
@@ -355,8 +268,8 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
     barrier();
     w.vertexCount = readUint(w.vertBase, n - 1) + readUint(w.blockVerts, n - 1);
     w.triangleCount = readUint(w.triBase, n - 1) + readUint(w.blockTris, n - 1);
-    for (auto [buffer, label] : {std::pair{&w.positions, "surface positions"},
-                                 std::pair{&w.normals, "surface normals"}})
+    for (auto [buffer, label] :
+         {std::pair{&w.positions, "surface positions"}, std::pair{&w.normals, "surface normals"}})
         if (auto ok = ensureBytes(*buffer, std::uint64_t(w.vertexCount) * 12, label, false); !ok)
             return ok;
     if (auto ok = ensureUints(w.triangles, 3 * std::uint64_t(w.triangleCount), "surface triangles");
@@ -430,8 +343,8 @@ Result<SurfaceReconstructor> SurfaceReconstructor::create() {
 
 /// The particles' box on the GPU (surface_bounds.comp): lo and hi, or InvalidArgument naming
 /// the first non-finite particle.
-Result<std::pair<glm::vec3, glm::vec3>> SurfaceReconstructor::Impl::bounds(
-    const gpu::Buffer& positions, std::uint32_t count) {
+Result<std::pair<glm::vec3, glm::vec3>>
+SurfaceReconstructor::Impl::bounds(const gpu::Buffer& positions, std::uint32_t count) {
     if (work.bounds.size() == 0) {
         auto created = gpu::Buffer::create(sizeof(sh::SurfaceBounds), "surface bounds");
         if (!created)
@@ -451,8 +364,7 @@ Result<std::pair<glm::vec3, glm::vec3>> SurfaceReconstructor::Impl::bounds(
     if (b.nonFinite > 0)
         return fail(ErrorCode::InvalidArgument,
                     "surface: particle " + std::to_string(b.firstNonFinite) + " is not finite" +
-                        (b.nonFinite > 1 ? " (and " + std::to_string(b.nonFinite - 1) +
-                                               " more)"
+                        (b.nonFinite > 1 ? " (and " + std::to_string(b.nonFinite - 1) + " more)"
                                          : std::string()));
     const auto value = [](std::uint32_t bits) {
         const std::uint32_t u = (bits & 0x80000000u) != 0 ? bits & 0x7fffffffu : ~bits;

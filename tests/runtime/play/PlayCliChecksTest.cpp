@@ -283,9 +283,9 @@ TEST(SluicePlaySurface, WritesOneClosedMeshPerRequestedStep) {
     // Without --quiet the summary says what a mesh cost, stage by stage, and so does the
     // statistics file (timings are left out of a --deterministic one).
     const fs::path stats = dir / "stats.json";
-    const auto timed = play(dir, {(kAssets / "martin-moyce.json").string(), "--headless",
-                                  "--steps", "2", "--surface-mesh", (dir / "timed").string(),
-                                  "--stats-json", stats.string()});
+    const auto timed =
+        play(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "2",
+                   "--surface-mesh", (dir / "timed").string(), "--stats-json", stats.string()});
     ASSERT_EQ(timed.code, 0) << shown(timed);
     EXPECT_NE(timed.out.find("surface meshes: 3, median "), std::string::npos) << timed.out;
     EXPECT_NE(timed.out.find("surface stages, median ms:  bounds "), std::string::npos)

@@ -255,7 +255,8 @@ TEST_F(SurfaceMeshTest, NoParticlesGiveAnEmptyMeshAndBadInputIsRefused) {
     o.centreSmoothing = NAN;
     refused(o, one, "centre smoothing");
     refused(defaults(), {glm::vec3(0.0f), glm::vec3(NAN, 0.0f, 0.0f)}, "particle 1 is not finite");
-    refused(anisotropic(), {glm::vec3(0.0f), glm::vec3(NAN, 0.0f, 0.0f)}, "particle 1 is not finite");
+    refused(anisotropic(), {glm::vec3(0.0f), glm::vec3(NAN, 0.0f, 0.0f)},
+            "particle 1 is not finite");
     refused(defaults(), {glm::vec3(0.0f), glm::vec3(1e3f)}, "use a larger cell size");
 }
 
