@@ -63,6 +63,7 @@ Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::
     settings.surface = *surface;
     settings.computeSmallSpheres = !o.rasterSpheres;
     settings.drawDomainBox = !o.noDomainBox;
+    settings.meshAnisotropic = o.surfaceAnisotropic;
     return {};
 }
 
@@ -256,8 +257,8 @@ void addRunOptions(CLI::App& app, PlayOptions& o) {
                    "Surface mesh: iso value, a share of the field inside the fluid (default 0.5)")
         ->check(format::cli::numberIn(0.01, 3.99));
     app.add_flag("--surface-anisotropic", o.surfaceAnisotropic,
-                 "Surface mesh: anisotropic kernels, flat across surfaces and thin sheets "
-                 "(docs/surfaces.md)");
+                 "Surface meshes, exported and drawn (--surface mesh): anisotropic kernels, "
+                 "flat across surfaces and thin sheets (docs/surfaces.md)");
     app.add_option("--dump-every", o.dumpEvery, "Write a PLY file every K steps (default 1)")
         ->check(format::cli::countAtLeast(1, kMaxSteps, "steps"));
     app.add_flag("--deterministic", o.deterministic,

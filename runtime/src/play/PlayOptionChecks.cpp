@@ -37,7 +37,7 @@ constexpr OptionUse kOptionUses[] = {
     {"--surface-every", true, false, false},
     {"--surface-cell", true, false, false},
     {"--surface-iso", true, false, false},
-    {"--surface-anisotropic", true, false, false},
+    {"--surface-anisotropic", true, true, true},
     {"--check", true, false, false},
     {"--quiet", true, true, false},
     {"--warmup", false, false, true},
@@ -78,8 +78,7 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
     if (mode == PlayMode::Headless && given("--dump-every") && o.plyDir.empty())
         out.push_back(unusedOption("--dump-every", "without --dump-ply"));
     if (mode == PlayMode::Headless && o.surfaceDir.empty())
-        for (const char* name :
-             {"--surface-every", "--surface-cell", "--surface-iso", "--surface-anisotropic"})
+        for (const char* name : {"--surface-every", "--surface-cell", "--surface-iso"})
             if (given(name))
                 out.push_back(unusedOption(name, "without --surface-mesh"));
     if (mode != PlayMode::Bench && given("--every") && !o.capture.frames())
@@ -99,6 +98,14 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
          {"--size", "--colour", "--surface", "--zoom", "--raster-spheres", "--no-domain-box"})
         if (given(name) && !renders)
             out.push_back(unusedOption(name, renderWhy));
+    // Anisotropic kernels shape the exported meshes and the drawn mesh mode (which M reaches
+    // in the window).
+    const bool drawsMesh = renders && (mode == PlayMode::Window || o.surface == "mesh");
+    if (given("--surface-anisotropic") && o.surfaceDir.empty() && !drawsMesh)
+        out.push_back(unusedOption("--surface-anisotropic",
+                                   mode == PlayMode::Bench
+                                       ? "with --bench without --bench-frames and --surface mesh"
+                                       : "without --surface-mesh or --surface mesh"));
 }
 
 /// --bodies-csv for a scene without dynamic bodies would write only the header.

@@ -191,7 +191,8 @@ INSTANTIATE_TEST_SUITE_P(
                       "--surface-every does nothing without --surface-mesh [unused-option]"},
         OptionMistake{"surfaceAnisotropicWithoutSurfaceMesh",
                       {"--headless", "--steps", "1", "--surface-anisotropic"},
-                      "--surface-anisotropic does nothing without --surface-mesh [unused-option]"},
+                      "--surface-anisotropic does nothing without --surface-mesh or --surface "
+                      "mesh [unused-option]"},
         OptionMistake{"bodiesCsvWithoutBodies",
                       {"--headless", "--steps", "1", "--bodies-csv", "b.csv"},
                       "--bodies-csv does nothing for a scene without dynamic bodies"},
