@@ -25,17 +25,18 @@ layout(std430, binding = kBindStats) buffer Stats {
 layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 
-// Adds round(value) to the 64-bit two's-complement integer in words (lo, lo + 1). Integer adds
-// commute, so the total is the same whatever order the particles add in (--deterministic).
+// Adds round(value) to the sum whose positive part starts at word lo (shared/Bodies.h): its
+// magnitude to the positive or the negative 64-bit part, the high word only on a carry.
+// Integer adds commute, so the total is the same whatever order the particles add in.
 void addFixed(uint lo, float value) {
     int v = int(round(clamp(value, -2.0e9, 2.0e9)));
     if (v == 0)
         return;
-    uint old = atomicAdd(bodySums[lo], uint(v));
-    uint carry = old + uint(v) < old ? 1u : 0u;
-    uint high = (v < 0 ? 0xffffffffu : 0u) + carry;
-    if (high != 0u)
-        atomicAdd(bodySums[lo + 1u], high);
+    uint word = v > 0 ? lo : lo + kBodySumNegative;
+    uint magnitude = uint(abs(v));
+    uint old = atomicAdd(bodySums[word], magnitude);
+    if (old + magnitude < old)
+        atomicAdd(bodySums[word + 1u], 1u);
 }
 
 // Body b pushed a particle by dx, which ends at x: the body takes the opposite impulse

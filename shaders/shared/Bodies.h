@@ -16,31 +16,36 @@ SLUICE_CONST uint kBodyGroupSize = 512;
 /// GpuCollider::body of a collider that is not a dynamic body.
 SLUICE_CONST uint kNoBody = 0xffffffffu;
 /// Fixed-point words per body in the reaction sums (kBindBodySums): four vector sums of three
-/// components, each component a 64-bit two's-complement integer in a low and a high word, so
-/// integer adds from any number of particles in any order give the same total:
+/// components, each component two unsigned 64-bit integers (low word, high word), the sum of
+/// its positive terms' magnitudes and that of its negative terms', so integer adds from any
+/// number of particles in any order give the same total, and an add carries into a high word
+/// only when the low word wraps (a two's-complement sum would carry every negative term's sign
+/// into it: twice the atomics, which were most of the reactions' cost, docs/bodies.md):
 ///
-///   word  0  6         12        18        24    32
+///   word  0      12       24          36            48    64
 ///         | push | moment | held push | held moment | spare |
 ///
 /// `push` is the sum of the corrections dx the body gave particles [GpuBody::sumScale units of
 /// m], `moment` the sum of (x - c) x dx [momentScale units of m^2]; the held pair the same for
 /// the collision pushes a wall undid (the body takes only what stops it moving into the
 /// particles the wall holds, docs/bodies.md). Read and write them through bodySumWord.
-SLUICE_CONST uint kBodySumWords = 32;
+SLUICE_CONST uint kBodySumWords = 64;
 SLUICE_CONST uint kBodySumPush = 0;
-SLUICE_CONST uint kBodySumMoment = 6;
-SLUICE_CONST uint kBodySumHeldPush = 12;
-SLUICE_CONST uint kBodySumHeldMoment = 18;
+SLUICE_CONST uint kBodySumMoment = 12;
+SLUICE_CONST uint kBodySumHeldPush = 24;
+SLUICE_CONST uint kBodySumHeldMoment = 36;
 /// Words of a body's sums in use; the rest up to kBodySumWords are spare.
-SLUICE_CONST uint kBodySumUsed = 24;
+SLUICE_CONST uint kBodySumUsed = 48;
 /// Contact sample points of one body at most.
 SLUICE_CONST uint kMaxBodySamples = 2048;
 
 /// The low word of component `axis` (0 x, 1 y, 2 z) of body `body`'s sum that starts at word
-/// `sum` (kBodySumPush, ...); the high word follows it.
+/// `sum` (kBodySumPush, ...): the positive part's low and high words, then the negative part's
+/// (kBodySumNegative words on).
 SLUICE_FUNC uint bodySumWord(uint body, uint sum, uint axis) {
-    return body * kBodySumWords + sum + 2u * axis;
+    return body * kBodySumWords + sum + 4u * axis;
 }
+SLUICE_CONST uint kBodySumNegative = 2;
 
 SLUICE_CONST uint kBindBodies = 22;     ///< GpuBody[]
 SLUICE_CONST uint kBindBodySums = 23;   ///< uint[kBodySumWords] per body
@@ -99,12 +104,12 @@ SLUICE_BODY_AT(friction, 184);
 SLUICE_BODY_AT(boundRadius, 192);
 SLUICE_BODY_AT(contacts, 200);
 static_assert(sizeof(sluice::shared::GpuBody) == 208, "std430 size of GpuBody");
-static_assert(sluice::shared::kBodySumMoment == sluice::shared::kBodySumPush + 6 &&
-                  sluice::shared::kBodySumHeldPush == sluice::shared::kBodySumMoment + 6 &&
-                  sluice::shared::kBodySumHeldMoment == sluice::shared::kBodySumHeldPush + 6 &&
-                  sluice::shared::kBodySumUsed == sluice::shared::kBodySumHeldMoment + 6 &&
+static_assert(sluice::shared::kBodySumMoment == sluice::shared::kBodySumPush + 12 &&
+                  sluice::shared::kBodySumHeldPush == sluice::shared::kBodySumMoment + 12 &&
+                  sluice::shared::kBodySumHeldMoment == sluice::shared::kBodySumHeldPush + 12 &&
+                  sluice::shared::kBodySumUsed == sluice::shared::kBodySumHeldMoment + 12 &&
                   sluice::shared::kBodySumUsed <= sluice::shared::kBodySumWords,
-              "the body sums: four vectors of three 64-bit components, back to back");
+              "the body sums: four vectors of three components, each two 64-bit magnitudes");
 static_assert(sluice::shared::kBodyGroupSize % sluice::shared::kBodyLocalSize == 0,
               "the body pass's GPU work group holds every body with the same share of lanes");
 #undef SLUICE_BODY_AT

@@ -29,13 +29,14 @@ mat3 worldInvInertia(uint o, vec4 q) {
     return r * mat3(bodies[o].invInertia) * transpose(r);
 }
 
-// Component `axis` of body b's fixed-point sum that starts at word `sum` (shared/Bodies.h), a
-// 64-bit two's-complement integer, as a double.
+// Component `axis` of body b's fixed-point sum that starts at word `sum` (shared/Bodies.h):
+// its positive part less its negative part, as a double (exact below 2^53).
 double sumAt(uint b, uint sum, uint axis) {
     uint lo = bodySumWord(b, sum, axis);
-    uint hi = bodySums[lo + 1u];
-    double high = hi >= 0x80000000u ? double(hi) - 4294967296.0 : double(hi);
-    return high * 4294967296.0 + double(bodySums[lo]);
+    double positive = double(bodySums[lo + 1u]) * 4294967296.0 + double(bodySums[lo]);
+    uint neg = lo + kBodySumNegative;
+    double negative = double(bodySums[neg + 1u]) * 4294967296.0 + double(bodySums[neg]);
+    return positive - negative;
 }
 
 // Body b's vector sum that starts at word `sum`.
