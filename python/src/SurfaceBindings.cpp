@@ -83,15 +83,9 @@ struct PyMesher {
             raise(mesh.error().code == ErrorCode::InvalidArgument ? Family::Argument
                                                                   : Family::Simulation,
                   mesh.error());
-        const rt::SurfaceTimings& t = mesh->timings;
         nb::dict timings;
-        for (const auto& [name, ms] : {std::pair{"bounds", t.bounds},
-                                       {"kernels", t.kernels},
-                                       {"blocks", t.blocks},
-                                       {"field", t.field},
-                                       {"contour", t.contour},
-                                       {"download", t.download}})
-            timings[name] = ms;
+        for (const auto& [name, member] : rt::kSurfaceStages)
+            timings[name] = mesh->timings.*member;
         return nb::make_tuple(rows<float>(mesh->vertices), rows<float>(mesh->normals),
                               rows<std::uint32_t>(mesh->triangles), timings);
     }

@@ -154,12 +154,6 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     return written;
 }
 
-/// The surface stages, in the order they run (SurfaceTimings; kernels: 0 unless anisotropic).
-constexpr std::pair<const char*, double SurfaceTimings::*> kSurfaceStages[] = {
-    {"bounds", &SurfaceTimings::bounds},   {"kernels", &SurfaceTimings::kernels},
-    {"blocks", &SurfaceTimings::blocks},   {"field", &SurfaceTimings::field},
-    {"contour", &SurfaceTimings::contour}, {"download", &SurfaceTimings::download}};
-
 /// The median over the run's surface meshes of each reconstruction stage [ms].
 nlohmann::json surfaceStageMedians(const HeadlessRun& run) {
     nlohmann::json out = nlohmann::json::object();

@@ -1,6 +1,7 @@
 // The checks on sluice-play's options before a run (PlayOptions.h).
 #include "play/PlayOptions.h"
 
+#include "sluice/rt/render/Renderer.h"
 #include "sluice/rt/surface/SurfaceMesh.h"
 
 namespace sluice::rt {
@@ -100,7 +101,8 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
             out.push_back(unusedOption(name, renderWhy));
     // Anisotropic kernels shape the exported meshes and the drawn mesh mode (which M reaches
     // in the window).
-    const bool drawsMesh = renders && (mode == PlayMode::Window || o.surface == "mesh");
+    const bool drawsMesh =
+        renders && (mode == PlayMode::Window || parseSurfaceMode(o.surface) == SurfaceMode::Mesh);
     if (given("--surface-anisotropic") && o.surfaceDir.empty() && !drawsMesh)
         out.push_back(unusedOption("--surface-anisotropic",
                                    mode == PlayMode::Bench

@@ -62,13 +62,15 @@ Result<void> ensureBytes(gpu::Buffer& buffer, std::uint64_t bytes, const char* l
     return {};
 }
 
-/// ensureBytes for `count` uints, zeroed; SizeOverflow past what a buffer may hold.
-Result<void> ensureUints(gpu::Buffer& buffer, std::uint64_t count, const char* label) {
+/// ensureBytes for `count` uints, zeroed unless a pass writes every one of them; SizeOverflow
+/// past what a buffer may hold.
+Result<void> ensureUints(gpu::Buffer& buffer, std::uint64_t count, const char* label,
+                         bool zeroed = true) {
     if (count > std::numeric_limits<std::uint32_t>::max() / 4)
         return fail(ErrorCode::SizeOverflow, std::string("surface: ") + label + " would hold " +
                                                  std::to_string(count) +
                                                  " entries, past the 2^30 a buffer may");
-    return ensureBytes(buffer, count * 4, label, true);
+    return ensureBytes(buffer, count * 4, label, zeroed);
 }
 
 std::uint32_t readUint(const gpu::Buffer& buffer, std::uint64_t index) {
@@ -156,11 +158,12 @@ Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions, s
     const auto start = Clock::now();
     if (auto ok = ensureUints(w.binCount, g.blockCount, "surface bin counts"); !ok)
         return ok;
-    if (auto ok = ensureUints(w.binStart, g.blockCount, "surface bin starts"); !ok)
+    // The scan, the fill and the kernels' pass write every entry of the other three.
+    if (auto ok = ensureUints(w.binStart, g.blockCount, "surface bin starts", false); !ok)
         return ok;
-    if (auto ok = ensureUints(w.binParticles, count, "surface bin particles"); !ok)
+    if (auto ok = ensureUints(w.binParticles, count, "surface bin particles", false); !ok)
         return ok;
-    if (auto ok = ensureUints(w.kernels, 16 * std::uint64_t(count), "surface kernels"); !ok)
+    if (auto ok = ensureUints(w.kernels, 16 * std::uint64_t(count), "surface kernels", false); !ok)
         return ok;
     if (auto ok = ensureScan(g.blockCount); !ok)
         return ok;

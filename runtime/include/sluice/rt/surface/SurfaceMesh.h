@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -29,6 +30,13 @@ struct SurfaceTimings {
     double contour = 0.0;
     double download = 0.0;
 };
+
+/// The stages' names, in the order they run, with their times: what the run summary,
+/// --stats-json and Python's SurfaceMesh.timings report.
+inline constexpr std::pair<const char*, double SurfaceTimings::*> kSurfaceStages[] = {
+    {"bounds", &SurfaceTimings::bounds},   {"kernels", &SurfaceTimings::kernels},
+    {"blocks", &SurfaceTimings::blocks},   {"field", &SurfaceTimings::field},
+    {"contour", &SurfaceTimings::contour}, {"download", &SurfaceTimings::download}};
 
 /// A triangle mesh: vertices with unit normals, counter-clockwise triangles seen from outside.
 struct SurfaceMesh {
