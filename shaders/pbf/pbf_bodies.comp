@@ -1,8 +1,12 @@
 // Dynamic bodies, once per substep after the solve (docs/bodies.md): the fluid's reaction from
 // the fixed-point sums, gravity, integration, contacts with the domain box, the static colliders
 // and the other bodies, then each body's collider record for the next substep. One work group
-// holds every body; each body has the same power-of-two number of invocations (lanes), which
-// split its contact points against the other bodies. Lane 0 of a body does the rest.
+// per body; its invocations (lanes) split its contact points, and their corrections are summed
+// in a fixed tree, so --deterministic stays byte-identical. Several dispatches make one pass
+// (Simulation::Impl::integrateBodies): the start (reaction, gravity, prediction), then one per
+// Jacobi sweep of the contacts, the bodies exchanging their poses through `steps`
+// (GpuBodyStep); the last sweep finishes. With one body the start and the sweeps share one
+// dispatch.
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
@@ -10,19 +14,17 @@
 #define PBF_WITH_BODIES 1
 #include "shared/PbfGlsl.h"
 
-// Invocations of the work group, chosen by Simulation (bodyGroupSize): kBodyGroupSize on a GPU;
-// kBodyLocalSize on a software renderer, which runs a group's invocations one after the other on
-// one CPU thread, where idle lanes cost time instead of saving it. SLUICE_BODY_SPLIT_POINTS is 1
-// when the group is larger than that: the lanes then split a body's points near the walls too.
-#ifndef SLUICE_BODY_GROUP_SIZE
-#define SLUICE_BODY_GROUP_SIZE kBodyGroupSize
-#define SLUICE_BODY_SPLIT_POINTS 1
+// Invocations of a body's work group, chosen by Simulation (bodyGroupSize): kBodyLanes on a
+// GPU, kBodyLanesSoftware on a software renderer.
+#ifndef SLUICE_BODY_LANES
+#define SLUICE_BODY_LANES kBodyLanes
 #endif
-const uint kGroupSize = SLUICE_BODY_GROUP_SIZE;
-layout(local_size_x = SLUICE_BODY_GROUP_SIZE) in;
+const uint kLanes = SLUICE_BODY_LANES;
+layout(local_size_x = SLUICE_BODY_LANES) in;
 
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 layout(std430, binding = kBindBodySamples) readonly buffer BodySamples { vec4 samples[]; };
+layout(std430, binding = kBindBodySteps) coherent buffer BodySteps { GpuBodyStep steps[]; };
 layout(std430, binding = kBindStats) buffer Stats { PbfStats stats; };
 
 // The mouse spring of the viewer (Simulation::setDrag): body dragBody (kNoBody: none) is pulled
@@ -36,64 +38,45 @@ uniform float dragOmega;
 // of a step starts them again, each adds its share.
 uniform uint firstSubstep;
 uniform float substepShare;
+// What this dispatch does: the start when withStart is 1, then the sweeps sweepBegin to
+// sweepEnd - 1 of kBodyContactSweeps (the last one finishes the substep).
+uniform uint withStart;
+uniform uint sweepBegin;
+uniform uint sweepEnd;
 
-// Jacobi sweeps over the bodies; inside a sweep each body visits its own points in order.
-const uint kContactSweeps = 4u;
+// Which of the two poses in `steps` holds every body's pose at the current sweep's start.
+uint gPoseFrom = 0u;
 
-// Every body's pose in the current sweep, for the others' contact tests.
-shared vec3 sPosition[kBodyLocalSize];
-shared vec4 sOrientation[kBodyLocalSize];
-// Each invocation's share of its body's corrections against other bodies in a sweep, summed
-// over the body's lanes in a fixed tree (so --deterministic stays byte-identical):
+vec3 posedPosition(uint o) { return steps[o].poses[gPoseFrom].position; }
+vec4 posedOrientation(uint o) { return steps[o].poses[gPoseFrom].orientation; }
+
+// Each lane's share of its body's corrections in a sweep, summed over the lanes in a fixed tree:
 // (sum of position steps, corrections), (sum of rotation steps, deepest), (sum of normals,
-// contacts); deepest and contacts are counted in the first sweep only.
-shared vec4 sPairStep[kGroupSize];
-shared vec4 sPairTurn[kGroupSize];
-shared vec4 sPairNormal[kGroupSize];
-// The contact points near a wall or a static collider, one bit each, for the sequential pass:
-// the body's lanes test a chunk of its points at once, its lane 0 then resolves the marked ones
-// in order and clears their words.
-#if SLUICE_BODY_SPLIT_POINTS
-const uint kCandidateWords = 1024u;
-shared uint sCandidates[kCandidateWords];
-#endif
-// What each body may touch in this sweep (Reach, packed by lane 0): wall bits, static mask.
-shared uvec2 sReach[kBodyLocalSize];
-
-// Invocations per body: the largest power of two that fits every body into the group.
-uint lanesPerBody() {
-#if !SLUICE_BODY_SPLIT_POINTS
-    // A software renderer runs a group's invocations a SIMD vector at a time: one invocation per
-    // body keeps the bodies side by side in one vector.
-    return 1u;
-#endif
-    uint lanes = kGroupSize;
-    while (lanes > 1u && lanes * max(P.bodyCount, 1u) > kGroupSize)
-        lanes >>= 1;
-    return lanes;
-}
+// contacts).
+shared vec4 sStep[kLanes];
+shared vec4 sTurn[kLanes];
+shared vec4 sNormal[kLanes];
+// The body's pose as its lead has advanced it in the sweep, and what it may touch in the sweep
+// (Reach, packed: wall bits, static mask).
+shared vec3 sPosition;
+shared vec4 sOrientation;
+shared uvec2 sReach;
 
 #include "shared/BodyContactsGlsl.h"
 
-// One body through the pass: its pose at the substep start (x0, q0), the pose and velocity
-// being integrated (x, q, v; w the angular velocity before the contacts), the fluid's force and
-// torque for the report, and what its contacts touched (counted in the first sweep).
-struct BodyStep {
+// One body through the start: its pose at the substep start (x0, q0), its velocity after the
+// fluid's reaction, gravity and the drag (v, w), and the fluid's force and torque.
+struct BodyStart {
     vec3 x0;
     vec4 q0;
-    vec3 x;
-    vec4 q;
     vec3 v;
     vec3 w;
     vec3 force;
     vec3 torque;
-    float deepest;
-    uint touching;
-    vec3 normalSum;
 };
 
 // The fluid's reaction: every particle the body pushed by dx gave it -m dx / dt; gravity.
-void takeFluidReaction(uint b, inout BodyStep s) {
+void takeFluidReaction(uint b, inout BodyStart s) {
     vec3 sumDx = sumOf(b, kBodySumPush) / bodies[b].sumScale;
     vec3 sumMoment = sumOf(b, kBodySumMoment) / bodies[b].momentScale;
     vec3 impulse = -P.particleMass * P.invDt * sumDx;
@@ -107,7 +90,7 @@ void takeFluidReaction(uint b, inout BodyStep s) {
 // The particles a wall held against the body: their pushes' reaction only stops the body moving
 // into them (along the reaction's direction), like a contact with no bounce; none of it pushes
 // the body away (docs/bodies.md).
-void takeHeldReaction(uint b, inout BodyStep s) {
+void takeHeldReaction(uint b, inout BodyStart s) {
     vec3 heldImpulse = -P.particleMass * P.invDt * sumOf(b, kBodySumHeldPush) / bodies[b].sumScale;
     vec3 heldAngular =
         -P.particleMass * P.invDt * sumOf(b, kBodySumHeldMoment) / bodies[b].momentScale;
@@ -123,7 +106,7 @@ void takeHeldReaction(uint b, inout BodyStep s) {
 }
 
 // The viewer's mouse spring, when it holds this body.
-void pullByDrag(uint b, inout BodyStep s) {
+void pullByDrag(uint b, inout BodyStart s) {
     if (b != dragBody)
         return;
     vec3 r = rotate(s.q0, bodies[b].scale * (dragAnchor - bodies[b].centerLocal));
@@ -139,127 +122,6 @@ void clearSums(uint b) {
     for (uint k = 0u; k < kBodySumWords; ++k)
         bodySums[b * kBodySumWords + k] = 0u;
 }
-
-// One sweep of the contacts against the other bodies: the lead publishes its pose, each lane
-// sums its share of the body's corrections (pairShare), the lanes' sums are added in a fixed tree
-// (so --deterministic stays byte-identical), and the lead applies their mean and packs what the
-// body may touch next (walls, static colliders). Every invocation calls it (barriers).
-void pairContacts(uint b, uint lane, uint lanes, bool live, bool lead, bool first,
-                  inout BodyStep s) {
-    uint t = gl_LocalInvocationIndex;
-    if (lead) {
-        sPosition[b] = s.x;
-        sOrientation[b] = s.q;
-    }
-    memoryBarrierShared();
-    barrier();
-    vec3 stepSum = vec3(0.0), turnSum = vec3(0.0), normals = vec3(0.0);
-    uint count = 0u, touched = 0u;
-    float deep = 0.0;
-    if (live) {
-        s.x = sPosition[b];
-        s.q = sOrientation[b];
-        pairShare(b, lane, lanes, s.x0, s.q0, s.x, s.q, first, stepSum, turnSum, count, deep,
-                  touched, normals);
-    }
-    sPairStep[t] = vec4(stepSum, float(count));
-    sPairTurn[t] = vec4(turnSum, deep);
-    sPairNormal[t] = vec4(normals, float(touched));
-    memoryBarrierShared();
-    barrier();
-    for (uint stride = lanes >> 1; stride > 0u; stride >>= 1) {
-        if (lane < stride) {
-            sPairStep[t] += sPairStep[t + stride];
-            sPairTurn[t] = vec4(sPairTurn[t].xyz + sPairTurn[t + stride].xyz,
-                                max(sPairTurn[t].w, sPairTurn[t + stride].w));
-            sPairNormal[t] += sPairNormal[t + stride];
-        }
-        memoryBarrierShared();
-        barrier();
-    }
-    if (!lead)
-        return;
-    float pairs = sPairStep[t].w;
-    if (pairs > 0.0) {
-        s.x += sPairStep[t].xyz / pairs;
-        s.q = normalize(s.q + 0.5 * quatMul(vec4(sPairTurn[t].xyz / pairs, 0.0), s.q));
-    }
-    if (first) {
-        s.deepest = max(s.deepest, sPairTurn[t].w);
-        s.touching += uint(sPairNormal[t].w);
-    }
-    s.normalSum += sPairNormal[t].xyz;
-    sReach[b] = packReach(reachOf(b, sPosition[b])); // from the sweep's starting pose
-}
-
-#if SLUICE_BODY_SPLIT_POINTS
-// The candidate words per body and the chunks of points the largest body needs, the same in
-// every invocation (the barriers need that); the words start cleared.
-void candidateLayout(out uint words, out uint chunks) {
-    words = min(kMaxBodySamples / 32u, kCandidateWords / max(P.bodyCount, 1u));
-    uint most = 0u;
-    for (uint o = 0u; o < P.bodyCount; ++o)
-        most = max(most, bodies[o].sampleCount);
-    chunks = (most + 32u * words - 1u) / (32u * words);
-    for (uint k = gl_LocalInvocationIndex; k < kCandidateWords; k += kGroupSize)
-        sCandidates[k] = 0u;
-}
-
-// The walls and static colliders, point by point in order from the lead: the lanes first mark, a
-// chunk at a time and at the pose the lead has reached, the points within half a spacing of one;
-// the lead resolves only those (a point farther off is met in a later sweep or substep). What
-// the body's sphere at the sweep's start cannot reach is skipped. Every invocation calls it.
-void wallAndStaticContacts(uint b, uint lane, uint lanes, bool live, bool lead, bool first,
-                           uint words, uint chunks, inout BodyStep s) {
-    for (uint chunk = 0u; chunk < chunks; ++chunk) {
-        if (lead) {
-            sPosition[b] = s.x;
-            sOrientation[b] = s.q;
-        }
-        memoryBarrierShared();
-        barrier();
-        Reach r = unpackReach(live ? sReach[b] : uvec2(0u));
-        bool reaches = live && reachesAnything(r);
-        uint firstPoint = chunk * 32u * words;
-        if (reaches) {
-            vec3 xc = sPosition[b];
-            vec4 qc = sOrientation[b];
-            uint endPoint = min(bodies[b].sampleCount, firstPoint + 32u * words);
-            for (uint p = firstPoint + lane; p < endPoint; p += lanes) {
-                if (nearWallOrStatic(r, xc + rotate(qc, armOf(b, p)), PBF_RADIUS)) {
-                    uint bit = p - firstPoint;
-                    atomicOr(sCandidates[b * words + bit / 32u], 1u << (bit % 32u));
-                }
-            }
-        }
-        memoryBarrierShared();
-        barrier();
-        if (lead && reaches) {
-            for (uint k = 0u; k < words; ++k) {
-                uint bits = sCandidates[b * words + k];
-                sCandidates[b * words + k] = 0u;
-                while (bits != 0u) {
-                    uint bit = uint(findLSB(bits));
-                    bits &= bits - 1u;
-                    wallsAndStatics(b, r, firstPoint + 32u * k + bit, s.x0, s.q0, s.x, s.q, first,
-                                    s.deepest, s.touching, s.normalSum);
-                }
-            }
-        }
-    }
-}
-#else
-// On a software renderer the lanes run in turn: the lead visits every point itself.
-void wallAndStaticContacts(uint b, bool lead, bool first, inout BodyStep s) {
-    if (!lead)
-        return;
-    Reach r = unpackReach(sReach[b]);
-    if (reachesAnything(r))
-        for (uint p = 0u; p < bodies[b].sampleCount; ++p)
-            wallsAndStatics(b, r, p, s.x0, s.q0, s.x, s.q, first, s.deepest, s.touching,
-                            s.normalSum);
-}
-#endif
 
 // Velocities from the pose change (position-based), then restitution along the mean contact
 // normal for impacts faster than what gravity adds in one substep; the body's record and its
@@ -277,74 +139,160 @@ bool bodyFault(vec3 x, vec4 q, vec3 v, vec3 w) {
     return any(lessThan(x, lo)) || any(greaterThan(x, hi));
 }
 
-void finish(uint b, BodyStep s) {
-    vec3 vNew = (s.x - s.x0) * P.invDt;
-    vec4 dq = quatMul(s.q, vec4(-s.q0.xyz, s.q0.w));
+void finish(uint b, GpuBodyStep work, vec3 x, vec4 q) {
+    vec3 x0 = work.startPosition;
+    vec4 q0 = work.startOrientation;
+    vec3 vNew = (x - x0) * P.invDt;
+    vec4 dq = quatMul(q, vec4(-q0.xyz, q0.w));
     vec3 wNew = 2.0 * P.invDt * (dq.w < 0.0 ? -dq.xyz : dq.xyz);
-    float nLen = length(s.normalSum);
-    if (s.touching > 0u && nLen > 0.0 && bodies[b].restitution > 0.0) {
-        vec3 n = s.normalSum / nLen;
-        float approach = dot(s.v, n);
+    float nLen = length(work.normalSum);
+    if (work.touching > 0u && nLen > 0.0 && bodies[b].restitution > 0.0) {
+        vec3 n = work.normalSum / nLen;
+        float approach = dot(work.velocity, n);
         if (-approach > 2.0 * length(P.gravity) * P.dt)
             vNew += n * (-bodies[b].restitution * approach - dot(vNew, n));
     }
-    if (bodyFault(s.x, s.q, vNew, wNew)) {
+    if (bodyFault(x, q, vNew, wNew)) {
         // Put back where the substep found it, at rest, and counted (--check fails on it), as
         // a particle that goes non-finite is.
-        s.x = s.x0;
-        s.q = s.q0;
+        x = x0;
+        q = q0;
         vNew = wNew = vec3(0.0);
         atomicAdd(stats.bodyFaults, 1u);
     }
     GpuBody body = bodies[b];
-    body.position = s.x;
-    body.orientation = s.q;
+    body.position = x;
+    body.orientation = q;
     body.linearVelocity = vNew;
     body.angularVelocity = wNew;
-    body.force = (firstSubstep != 0u ? vec3(0.0) : body.force) + substepShare * s.force;
-    body.torque = (firstSubstep != 0u ? vec3(0.0) : body.torque) + substepShare * s.torque;
-    body.contactDepth = s.deepest;
-    body.contacts = s.touching;
+    body.force = (firstSubstep != 0u ? vec3(0.0) : body.force) + substepShare * work.force;
+    body.torque = (firstSubstep != 0u ? vec3(0.0) : body.torque) + substepShare * work.torque;
+    body.contactDepth = work.deepest;
+    body.contacts = work.touching;
     bodies[b] = body;
-    writeCollider(body, s.x0, s.q0);
+    writeCollider(body, x0, q0);
 }
 
-void main() {
-    uint lanes = lanesPerBody();
-    uint b = gl_LocalInvocationIndex / lanes, lane = gl_LocalInvocationIndex % lanes;
-    bool live = b < P.bodyCount;
-    bool lead = live && lane == 0u;
-    BodyStep s;
-    s.x0 = live ? bodies[b].position : vec3(0.0);
-    s.q0 = live ? bodies[b].orientation : vec4(0.0, 0.0, 0.0, 1.0);
-    s.x = vec3(0.0);
-    s.q = s.q0;
-    s.v = s.w = s.force = s.torque = s.normalSum = vec3(0.0);
-    s.deepest = 0.0;
-    s.touching = 0u;
-    if (lead) {
-        takeFluidReaction(b, s);
-        takeHeldReaction(b, s);
-        pullByDrag(b, s);
-        clearSums(b);
-        s.x = s.x0 + P.dt * s.v;
-        s.q = normalize(s.q0 + 0.5 * P.dt * quatMul(vec4(s.w, 0.0), s.q0));
-    }
-#if SLUICE_BODY_SPLIT_POINTS
-    uint words, chunks;
-    candidateLayout(words, chunks);
-#endif
-    for (uint sweep = 0u; sweep < kContactSweeps; ++sweep) {
-        bool first = sweep == 0u;
-        pairContacts(b, lane, lanes, live, lead, first, s);
-#if SLUICE_BODY_SPLIT_POINTS
-        wallAndStaticContacts(b, lane, lanes, live, lead, first, words, chunks, s);
-#else
-        wallAndStaticContacts(b, lead, first, s);
-#endif
+// The start, by the body's lead: the fluid's reaction, gravity, the drag, and the predicted pose
+// (poses[0], which the first sweep reads).
+void startBody(uint b) {
+    BodyStart s;
+    s.x0 = bodies[b].position;
+    s.q0 = bodies[b].orientation;
+    takeFluidReaction(b, s);
+    takeHeldReaction(b, s);
+    pullByDrag(b, s);
+    clearSums(b);
+    GpuBodyStep work;
+    work.poses[0].position = s.x0 + P.dt * s.v;
+    work.poses[0].pad0 = 0.0;
+    work.poses[0].orientation = normalize(s.q0 + 0.5 * P.dt * quatMul(vec4(s.w, 0.0), s.q0));
+    work.poses[1] = work.poses[0];
+    work.startPosition = s.x0;
+    work.deepest = 0.0;
+    work.startOrientation = s.q0;
+    work.velocity = s.v;
+    work.touching = 0u;
+    work.force = s.force;
+    work.pad1 = 0.0;
+    work.torque = s.torque;
+    work.pad2 = 0.0;
+    work.normalSum = vec3(0.0);
+    work.pad3 = 0.0;
+    steps[b] = work;
+}
+
+// The lanes' shares added in a fixed tree (the same order every run); lane 0 ends with the
+// totals in sStep[0], sTurn[0] and sNormal[0]. Every invocation calls it (barriers).
+void sumLanes(uint lane, vec3 stepSum, vec3 turnSum, uint count, float deepest, vec3 normals,
+              uint touching) {
+    sStep[lane] = vec4(stepSum, float(count));
+    sTurn[lane] = vec4(turnSum, deepest);
+    sNormal[lane] = vec4(normals, float(touching));
+    memoryBarrierShared();
+    barrier();
+    for (uint stride = kLanes >> 1; stride > 0u; stride >>= 1) {
+        if (lane < stride) {
+            sStep[lane] += sStep[lane + stride];
+            sTurn[lane] = vec4(sTurn[lane].xyz + sTurn[lane + stride].xyz,
+                               max(sTurn[lane].w, sTurn[lane + stride].w));
+            sNormal[lane] += sNormal[lane + stride];
+        }
         memoryBarrierShared();
         barrier();
     }
-    if (lead)
-        finish(b, s);
+}
+
+// The lead moves the body by the mean of the summed corrections (Jacobi with averaging: every
+// contact's correction is computed at the same pose, so the body takes their mean, not their
+// sum) and keeps what its contacts touched (counted in the first sweep).
+void applySums(bool first, inout vec3 x, inout vec4 q, inout GpuBodyStep work) {
+    float contacts = sStep[0].w;
+    if (contacts > 0.0) {
+        x += sStep[0].xyz / contacts;
+        q = normalize(q + 0.5 * quatMul(vec4(sTurn[0].xyz / contacts, 0.0), q));
+    }
+    if (first) {
+        work.deepest = max(work.deepest, sTurn[0].w);
+        work.touching += uint(sNormal[0].w);
+    }
+    work.normalSum += sNormal[0].xyz;
+}
+
+// One Jacobi sweep of body b's contacts: against the other bodies at their poses of the sweep's
+// start (a pair splits each correction by the bodies' inverse masses; the other body moves its
+// share when it tests its own points), then against the walls and static colliders at the pose
+// the pairs left, so their friction acts on what the pairs left. Every invocation calls it.
+void sweepContacts(uint b, uint lane, uint sweep) {
+    bool lead = lane == 0u, first = sweep == 0u;
+    gPoseFrom = sweep & 1u;
+    vec3 x0 = steps[b].startPosition;
+    vec4 q0 = steps[b].startOrientation;
+    vec3 x = posedPosition(b);
+    vec4 q = posedOrientation(b);
+    vec3 stepSum, turnSum, normals;
+    uint count, touching;
+    float deepest;
+    pairShare(b, lane, kLanes, x0, q0, x, q, first, stepSum, turnSum, count, deepest, touching,
+              normals);
+    sumLanes(lane, stepSum, turnSum, count, deepest, normals, touching);
+    GpuBodyStep work;
+    if (lead) {
+        work = steps[b];
+        applySums(first, x, q, work);
+        sPosition = x;
+        sOrientation = q;
+        sReach = packReach(reachOf(b, posedPosition(b))); // from the sweep's starting pose
+    }
+    memoryBarrierShared();
+    barrier();
+    x = sPosition;
+    q = sOrientation;
+    wallAndStaticShare(b, unpackReach(sReach), lane, kLanes, x0, q0, x, q, first, stepSum,
+                       turnSum, count, deepest, touching, normals);
+    sumLanes(lane, stepSum, turnSum, count, deepest, normals, touching);
+    if (lead) {
+        applySums(first, x, q, work);
+        work.poses[gPoseFrom ^ 1u].position = x;
+        work.poses[gPoseFrom ^ 1u].orientation = q;
+        steps[b] = work;
+        if (sweep + 1u == kBodyContactSweeps)
+            finish(b, work, x, q);
+    }
+    // A next sweep in this dispatch (one body) reads what the lead wrote.
+    memoryBarrierBuffer();
+    barrier();
+}
+
+void main() {
+    // One work group per body: the dispatch launches exactly P.bodyCount groups.
+    uint b = gl_WorkGroupID.x, lane = gl_LocalInvocationIndex;
+    if (withStart != 0u) {
+        if (lane == 0u)
+            startBody(b);
+        memoryBarrierBuffer();
+        barrier();
+    }
+    for (uint sweep = sweepBegin; sweep < sweepEnd; ++sweep)
+        sweepContacts(b, lane, sweep);
 }

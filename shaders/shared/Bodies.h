@@ -7,12 +7,20 @@
 
 SLUICE_SHARED_BEGIN
 
-/// Bodies one body pass holds at most: one work group holds every body (a scene has at most 64
-/// colliders), so body-body contacts exchange poses through shared memory.
-SLUICE_CONST uint kBodyLocalSize = 64;
-/// Invocations of the body pass's work group on a GPU: each body gets the same power-of-two
-/// share of them (8 with 64 bodies, all 512 with one), which split its contact points.
-SLUICE_CONST uint kBodyGroupSize = 512;
+/// Bodies one body pass holds at most (a scene has at most 64 colliders, each may be a body).
+SLUICE_CONST uint kMaxBodies = 64;
+/// Invocations of a body's work group in the body pass (pbf_bodies.comp, one work group per
+/// body), which split its contact points: kBodyLanes on a GPU, kBodyLanesSoftware on a software
+/// renderer, which runs a group's invocations a SIMD vector at a time on one CPU thread (one
+/// vector of 8; the groups spread over the threads). SimulationOptions::bodyGroupSize may pick
+/// any power of two from kBodyLanesMin to kBodyLanesMax.
+SLUICE_CONST uint kBodyLanes = 128;
+SLUICE_CONST uint kBodyLanesSoftware = 8;
+SLUICE_CONST uint kBodyLanesMin = 8;
+SLUICE_CONST uint kBodyLanesMax = 512;
+/// Jacobi sweeps of the contacts a substep, one dispatch each (with more than one body): the
+/// bodies exchange their poses through kBindBodySteps between sweeps.
+SLUICE_CONST uint kBodyContactSweeps = 4;
 /// GpuCollider::body of a collider that is not a dynamic body.
 SLUICE_CONST uint kNoBody = 0xffffffffu;
 /// Fixed-point words per body in the reaction sums (kBindBodySums): four vector sums of three
@@ -47,9 +55,10 @@ SLUICE_FUNC uint bodySumWord(uint body, uint sum, uint axis) {
 }
 SLUICE_CONST uint kBodySumNegative = 2;
 
-SLUICE_CONST uint kBindBodies = 22;     ///< GpuBody[]
-SLUICE_CONST uint kBindBodySums = 23;   ///< uint[kBodySumWords] per body
+SLUICE_CONST uint kBindBodies = 22;      ///< GpuBody[]
+SLUICE_CONST uint kBindBodySums = 23;    ///< uint[kBodySumWords] per body
 SLUICE_CONST uint kBindBodySamples = 24; ///< vec4 contact points, body-local [asset units]
+SLUICE_CONST uint kBindBodySteps = 25;   ///< GpuBodyStep[]: the body pass's state between sweeps
 
 /// One dynamic body. The solver reads its pose through its GpuCollider record, which the body
 /// pass rewrites after every substep. std430; offsets [bytes] on the left are checked below.
@@ -78,6 +87,32 @@ struct GpuBody {
     /* 200 */ uint contacts;        ///< contact points that touched something, last substep
     /* 204 */ uint pad0;
 };
+
+/// A body's pose in the body pass: centre of mass [m] and orientation.
+struct GpuBodyPose {
+    /*   0 */ vec3 position;
+    /*  12 */ float pad0;
+    /*  16 */ vec4 orientation;
+};
+
+/// A body between the dispatches of one body pass (pbf_bodies.comp): written by the start, read
+/// and advanced by each contact sweep. Sweep k reads poses[k % 2] (every body's pose at the
+/// sweep's start) and writes its own body's poses[(k + 1) % 2], so no body reads a pose another
+/// is writing.
+struct GpuBodyStep {
+    /*   0 */ GpuBodyPose poses[2];
+    /*  64 */ vec3 startPosition;   ///< pose at the substep start
+    /*  76 */ float deepest;        ///< deepest contact of the first sweep [m]
+    /*  80 */ vec4 startOrientation;
+    /*  96 */ vec3 velocity;        ///< after reaction and gravity, before contacts [m/s]
+    /* 108 */ uint touching;        ///< contacts of the first sweep
+    /* 112 */ vec3 force;           ///< the fluid's force this substep [N]
+    /* 124 */ float pad1;
+    /* 128 */ vec3 torque;          ///< the fluid's torque this substep [N m]
+    /* 140 */ float pad2;
+    /* 144 */ vec3 normalSum;       ///< sum of the contacts' normals over the sweeps
+    /* 156 */ float pad3;
+};
 // clang-format on
 
 SLUICE_SHARED_END
@@ -85,7 +120,8 @@ SLUICE_SHARED_END
 #ifdef __cplusplus
 #include <cstddef>
 #define SLUICE_BODY_AT(field, offset)                                                              \
-    static_assert(offsetof(sluice::shared::GpuBody, field) == (offset), "std430 offset of " #field)
+    static_assert(offsetof(sluice::shared::GpuBody, field) == (offset), "std430 offset "           \
+                                                                        "of " #field)
 SLUICE_BODY_AT(invMass, 12);
 SLUICE_BODY_AT(orientation, 16);
 SLUICE_BODY_AT(linearVelocity, 32);
@@ -110,8 +146,17 @@ static_assert(sluice::shared::kBodySumMoment == sluice::shared::kBodySumPush + 1
                   sluice::shared::kBodySumUsed == sluice::shared::kBodySumHeldMoment + 12 &&
                   sluice::shared::kBodySumUsed <= sluice::shared::kBodySumWords,
               "the body sums: four vectors of three components, each two 64-bit magnitudes");
-static_assert(sluice::shared::kBodyGroupSize % sluice::shared::kBodyLocalSize == 0,
-              "the body pass's GPU work group holds every body with the same share of lanes");
+static_assert(sizeof(sluice::shared::GpuBodyPose) == 32, "std430 size of GpuBodyPose");
+static_assert(offsetof(sluice::shared::GpuBodyStep, startPosition) == 64 &&
+                  offsetof(sluice::shared::GpuBodyStep, velocity) == 96 &&
+                  offsetof(sluice::shared::GpuBodyStep, force) == 112 &&
+                  offsetof(sluice::shared::GpuBodyStep, normalSum) == 144 &&
+                  sizeof(sluice::shared::GpuBodyStep) == 160,
+              "std430 layout of GpuBodyStep");
+static_assert((sluice::shared::kBodyLanes & (sluice::shared::kBodyLanes - 1)) == 0 &&
+                  (sluice::shared::kBodyLanesSoftware & (sluice::shared::kBodyLanesSoftware - 1)) ==
+                      0,
+              "a body's lanes are summed in a tree: a power of two");
 #undef SLUICE_BODY_AT
 #endif
 

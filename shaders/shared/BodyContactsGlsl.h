@@ -1,9 +1,10 @@
 // GLSL only: the rigid-body math and the contact tests of the body pass (pbf_bodies.comp,
 // docs/bodies.md): quaternions, inertia, a contact's correction (Mueller et al. 2020), the
-// pairs' shares, and the walls and static colliders point by point. Include it after the pass's
-// declarations it reads: the body records and colliders (PBF_WITH_BODIES, PBF_WITH_COLLIDERS,
-// shared/PbfGlsl.h), the contact points `samples`, the reaction sums `bodySums`, and the shared
-// poses of the sweep `sPosition` and `sOrientation`.
+// shares of a body's corrections against the other bodies and against the walls and static
+// colliders. Include it after the pass's declarations it reads: the body records and colliders
+// (PBF_WITH_BODIES, PBF_WITH_COLLIDERS, shared/PbfGlsl.h), the contact points `samples`, the
+// reaction sums `bodySums`, and every body's pose at the sweep's start, `posedPosition(o)` and
+// `posedOrientation(o)`.
 #ifndef SLUICE_SHARED_BODY_CONTACTS_GLSL_H
 #define SLUICE_SHARED_BODY_CONTACTS_GLSL_H
 
@@ -81,23 +82,11 @@ void correction(uint b, vec3 x, vec4 q, vec3 arm, vec3 pStart, vec3 n, float dep
     turn = invI * cross(r, p);
 }
 
-// One contact of body b resolved at once (Gauss-Seidel): its point at arm r (world) from the
-// centre is `depth` inside something whose surface normal there is n; `share` of the correction
-// is the body's. Pushes out along n and, within the Coulomb cone, removes the point's tangential
-// motion since the substep start (slip); position-level, so velocities follow from the pose.
-void resolve(uint b, inout vec3 x, inout vec4 q, vec3 arm, vec3 pStart, vec3 n, float depth,
-             float share) {
-    vec3 dx, turn;
-    correction(b, x, q, arm, pStart, n, depth, share, dx, turn);
-    x += dx;
-    q = normalize(q + 0.5 * quatMul(vec4(turn, 0.0), q));
-}
-
-// phi [m] and outward normal of body o, posed at (sPosition[o], sOrientation[o]), at world w.
+// phi [m] and outward normal of body o, at its pose of the sweep's start, at world w.
 float bodyDistance(uint o, vec3 w, out vec3 normal) {
-    vec4 qo = sOrientation[o];
+    vec4 qo = posedOrientation(o);
     float s = bodies[o].scale;
-    vec3 local = rotate(vec4(-qo.xyz, qo.w), w - sPosition[o]) / s + bodies[o].centerLocal;
+    vec3 local = rotate(vec4(-qo.xyz, qo.w), w - posedPosition(o)) / s + bodies[o].centerLocal;
     float phi;
     vec3 grad;
     sampleCollider(bodies[o].collider, local, phi, grad);
@@ -119,7 +108,7 @@ bool mayTouch(uint c, vec3 x, float reach) {
 // Lane `lane` of `lanes`'s share of body b's corrections against the other bodies in one
 // sweep: its points lane, lane + lanes, ... tested against the bodies whose bounding spheres
 // meet this one's, at their poses of this sweep's start. The corrections are summed, not
-// applied: the sweep averages them over all the body's points (sPairStep).
+// applied: the sweep averages them over all the body's contacts.
 void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, bool first,
                out vec3 stepSum, out vec3 turnSum, out uint count, out float deepest,
                out uint touching, out vec3 normalSum) {
@@ -133,7 +122,7 @@ void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, 
     float reach = body.boundRadius;
     uint bodyMask = 0u, bodyMaskHigh = 0u; // bit o: body o's sphere meets this one's
     for (uint o = 0u; o < P.bodyCount; ++o) {
-        vec3 d = sPosition[o] - x;
+        vec3 d = posedPosition(o) - x;
         float r = reach + bodies[o].boundRadius;
         if (o != b && dot(d, d) < r * r) {
             if (o < 32u)
@@ -149,37 +138,42 @@ void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, 
         vec3 arm = armOf(b, s);
         vec3 pStart = x0 + rotate(q0, arm);
         vec3 w = x + rotate(q, arm);
-        for (uint o = 0u; o < P.bodyCount; ++o) {
-            bool near = o < 32u ? (bodyMask & (1u << o)) != 0u
-                                : (bodyMaskHigh & (1u << (o - 32u))) != 0u;
-            if (!near)
-                continue;
-            vec3 toOther = w - sPosition[o];
-            if (dot(toOther, toOther) >= bodies[o].boundRadius * bodies[o].boundRadius)
-                continue;
-            vec3 n;
-            float phi = bodyDistance(o, w, n);
-            float len = length(n);
-            if (!(phi < 0.0) || !(len > 0.0))
-                continue;
-            n /= len;
-            // The pair splits the correction by their inverse masses at the point; the other
-            // body moves its share when it tests its own points against this one.
-            float mine = inverseMassAt(b, invI, w - x, n);
-            float theirs = inverseMassAt(o, worldInvInertia(o, sOrientation[o]), toOther, n);
-            if (first) {
-                deepest = max(deepest, -phi);
-                ++touching;
+        // Only the bodies in the mask, in ascending order (the sums' order is fixed).
+        uvec2 nearBodies = uvec2(bodyMask, bodyMaskHigh);
+        for (uint word = 0u; word < 2u; ++word) {
+            uint bits = nearBodies[word];
+            while (bits != 0u) {
+                uint o = 32u * word + uint(findLSB(bits));
+                bits &= bits - 1u;
+                vec3 toOther = w - posedPosition(o);
+                if (dot(toOther, toOther) >= bodies[o].boundRadius * bodies[o].boundRadius)
+                    continue;
+                vec3 n;
+                float phi = bodyDistance(o, w, n);
+                float len = length(n);
+                if (!(phi < 0.0) || !(len > 0.0))
+                    continue;
+                n /= len;
+                // The pair splits the correction by their inverse masses at the point; the
+                // other body moves its share when it tests its own points against this one.
+                float mine = inverseMassAt(b, invI, w - x, n);
+                float theirs =
+                    inverseMassAt(o, worldInvInertia(o, posedOrientation(o)), toOther, n);
+                if (first) {
+                    deepest = max(deepest, -phi);
+                    ++touching;
+                }
+                normalSum += n;
+                // Against another body the corrections of the sweep are averaged, not
+                // chained: each point would otherwise see the depth the previous one left and
+                // take its share of that again, and both bodies together would move the whole
+                // depth each.
+                vec3 dx, turn;
+                correction(b, x, q, arm, pStart, n, -phi, mine / (mine + theirs), dx, turn);
+                stepSum += dx;
+                turnSum += turn;
+                ++count;
             }
-            normalSum += n;
-            // Against another body the corrections of the sweep are averaged, not chained:
-            // each point would otherwise see the depth the previous one left and take its
-            // share of that again, and both bodies together would move the whole depth each.
-            vec3 dx, turn;
-            correction(b, x, q, arm, pStart, n, -phi, mine / (mine + theirs), dx, turn);
-            stepSum += dx;
-            turnSum += turn;
-            ++count;
         }
     }
 }
@@ -229,64 +223,64 @@ bool staticInReach(Reach r, uint c) {
     return colliders[c].body == kNoBody && (c >= 32u || (r.staticMask & (1u << c)) != 0u);
 }
 
-// Whether body b's contact point at world w is within `margin` of a wall or a static collider
-// it may touch: the points the sequential pass below visits.
-bool nearWallOrStatic(Reach r, vec3 w, float margin) {
-    for (int a = 0; a < 3; ++a) {
-        vec2 beyond = wallDepths(a, w);
-        if ((r.wallLo[a] && beyond.x > -margin) || (r.wallHi[a] && beyond.y > -margin))
-            return true;
-    }
-    for (uint c = 0u; c < P.colliderCount; ++c) {
-        if (!staticInReach(r, c))
-            continue;
-        vec3 n;
-        if (colliderDistance(c, w, n) < margin)
-            return true;
-    }
-    return false;
-}
-
-// Body b's contact point s against the domain box and the static colliders, resolved at once
-// (Gauss-Seidel), so their friction acts on what the pairs left.
-void wallsAndStatics(uint b, Reach r, uint s, vec3 x0, vec4 q0, inout vec3 x, inout vec4 q,
-                     bool first, inout float deepest, inout uint touching,
-                     inout vec3 normalSum) {
-    vec3 arm = armOf(b, s);
-    vec3 pStart = x0 + rotate(q0, arm);
-    for (int a = 0; a < 3; ++a) {
-        if (!r.wallLo[a] && !r.wallHi[a])
-            continue;
-        vec2 beyond = wallDepths(a, x + rotate(q, arm));
-        float below = beyond.x, above = beyond.y;
-        vec3 axis = vec3(0.0);
-        axis[a] = 1.0;
-        if (below > 0.0 || above > 0.0) {
-            float depth = max(below, above);
-            vec3 n = below > 0.0 ? axis : -axis;
+// Lane `lane` of `lanes`'s share of body b's corrections against the domain's walls and the
+// static colliders its sphere may reach (r), all at the same pose (x, q): summed, not applied,
+// like the pairs' (Jacobi; the sweep averages them over the contacts).
+void wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q,
+                        bool first, out vec3 stepSum, out vec3 turnSum, out uint count,
+                        out float deepest, out uint touching, out vec3 normalSum) {
+    stepSum = vec3(0.0);
+    turnSum = vec3(0.0);
+    normalSum = vec3(0.0);
+    count = 0u;
+    touching = 0u;
+    deepest = 0.0;
+    if (!reachesAnything(r))
+        return;
+    for (uint s = lane; s < bodies[b].sampleCount; s += lanes) {
+        vec3 arm = armOf(b, s);
+        vec3 pStart = x0 + rotate(q0, arm);
+        vec3 w = x + rotate(q, arm);
+        for (int a = 0; a < 3; ++a) {
+            if (!r.wallLo[a] && !r.wallHi[a])
+                continue;
+            vec2 beyond = wallDepths(a, w);
+            if (!(beyond.x > 0.0) && !(beyond.y > 0.0))
+                continue;
+            float depth = max(beyond.x, beyond.y);
+            vec3 n = vec3(0.0);
+            n[a] = beyond.x > 0.0 ? 1.0 : -1.0;
             if (first) {
                 deepest = max(deepest, depth);
                 ++touching;
             }
             normalSum += n;
-            resolve(b, x, q, arm, pStart, n, depth, 1.0);
+            vec3 dx, turn;
+            correction(b, x, q, arm, pStart, n, depth, 1.0, dx, turn);
+            stepSum += dx;
+            turnSum += turn;
+            ++count;
         }
-    }
-    for (uint c = 0u; c < P.colliderCount; ++c) {
-        if (!staticInReach(r, c))
-            continue;
-        vec3 w = x + rotate(q, arm);
-        vec3 n;
-        float phi = colliderDistance(c, w, n);
-        float len = length(n);
-        if (!(phi < 0.0) || !(len > 0.0))
-            continue;
-        if (first) {
-            deepest = max(deepest, -phi);
-            ++touching;
+        for (uint c = 0u; c < P.colliderCount; ++c) {
+            if (!staticInReach(r, c))
+                continue;
+            vec3 n;
+            float phi = colliderDistance(c, w, n);
+            float len = length(n);
+            if (!(phi < 0.0) || !(len > 0.0))
+                continue;
+            n /= len;
+            if (first) {
+                deepest = max(deepest, -phi);
+                ++touching;
+            }
+            normalSum += n;
+            vec3 dx, turn;
+            correction(b, x, q, arm, pStart, n, -phi, 1.0, dx, turn);
+            stepSum += dx;
+            turnSum += turn;
+            ++count;
         }
-        normalSum += n / len;
-        resolve(b, x, q, arm, pStart, n / len, -phi, 1.0);
     }
 }
 

@@ -14,10 +14,11 @@ Result<void> checkOptions(const format::Scene& scene, const SimulationOptions& o
                         " neighbour lanes; give 0 (chosen for the renderer and the scene), 1, 2, "
                         "4, 8, 16 or 32");
     if (const std::uint32_t g = options.bodyGroupSize;
-        g != 0 && (g < shared::kBodyLocalSize || g > shared::kBodyGroupSize || (g & (g - 1)) != 0))
+        g != 0 && (g < shared::kBodyLanesMin || g > shared::kBodyLanesMax || (g & (g - 1)) != 0))
         return fail(ErrorCode::InvalidArgument,
-                    scene.path + ": a body pass of " + std::to_string(g) +
-                        " invocations; give 0 (chosen for the renderer), 64, 128, 256 or 512");
+                    scene.path + ": a body work group of " + std::to_string(g) +
+                        " invocations; give 0 (chosen for the renderer), 8, 16, 32, 64, 128, 256 "
+                        "or 512");
     return {};
 }
 

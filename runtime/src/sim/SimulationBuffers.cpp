@@ -67,6 +67,9 @@ Result<void> Simulation::Impl::allocate() {
          "body sums"},
         {&bodySamples, std::max<std::uint64_t>(1, bodySetup.samples.size()) * v4,
          "body contact points"},
+        {&bodySteps,
+         std::max<std::uint64_t>(1, bodySetup.records.size()) * sizeof(shared::GpuBodyStep),
+         "body pass state"},
         {&solveArgs, solveArgsBytes(maxIterations), "solve dispatch args"},
     };
     std::uint64_t total = 0;
@@ -279,14 +282,13 @@ Result<void> Simulation::Impl::compilePasses() {
     const std::span<const gpu::ShaderDefine> defines =
         anySparse(colliderAssets) ? std::span<const gpu::ShaderDefine>(sparseDefine)
                                   : std::span<const gpu::ShaderDefine>();
-    // The body pass's work group (pbf_bodies.comp): kBodyGroupSize invocations on a GPU,
-    // kBodyLocalSize on a software renderer, which runs a group's invocations in turn on one
-    // CPU thread; past one invocation per body, the lanes also split the points near walls.
+    // A body's work group in the body pass (pbf_bodies.comp): kBodyLanes invocations on a GPU,
+    // kBodyLanesSoftware on a software renderer, which runs a group's invocations a SIMD vector
+    // at a time on one CPU thread.
     const std::uint32_t group =
         options.bodyGroupSize != 0 ? options.bodyGroupSize : bodyGroupSize();
     std::vector<gpu::ShaderDefine> bodyDefines(defines.begin(), defines.end());
-    bodyDefines.push_back({"SLUICE_BODY_GROUP_SIZE", std::to_string(group)});
-    bodyDefines.push_back({"SLUICE_BODY_SPLIT_POINTS", group > shared::kBodyLocalSize ? "1" : "0"});
+    bodyDefines.push_back({"SLUICE_BODY_LANES", std::to_string(group)});
     std::vector<gpu::ShaderDefine> scatterDefines(defines.begin(), defines.end());
     scatterDefines.push_back({"PBF_SCATTER_REORDER", "1"});
     // The neighbour passes split each particle over its lanes; predict sizes their dispatches.

@@ -33,7 +33,7 @@
 
 namespace sluice::rt {
 
-static_assert(shared::kBodyLocalSize == format::kMaxSceneColliders,
+static_assert(shared::kMaxBodies == format::kMaxSceneColliders,
               "one body pass holds every dynamic body a scene may have");
 
 inline constexpr std::uint64_t kMaxGroupsPerDispatch = shared::kPbfMaxGroupsPerDispatch;
@@ -83,9 +83,9 @@ inline bool softwareRenderer() {
     return false;
 }
 
-// Invocations of the body pass's work group for the current context.
+// Invocations of a body's work group in the body pass for the current context.
 inline std::uint32_t bodyGroupSize() {
-    return softwareRenderer() ? shared::kBodyLocalSize : shared::kBodyGroupSize;
+    return softwareRenderer() ? shared::kBodyLanesSoftware : shared::kBodyLanes;
 }
 
 // Invocations per particle of the neighbour passes for `capacity` particles on this context.
@@ -131,7 +131,8 @@ struct Simulation::Impl {
     gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
     gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
     gpu::Buffer colliderBuf, sdfBuf, params;
-    gpu::Buffer bodyBuf, bodySums, bodySamples; // GpuBody[], fixed-point sums, contact points
+    // GpuBody[], fixed-point sums, contact points, the body pass's state between its dispatches
+    gpu::Buffer bodyBuf, bodySums, bodySamples, bodySteps;
     gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
     std::uint32_t solveChunks = 1;
     std::optional<shared::PbfParams> uploadedParams; // what the parameter block holds

@@ -88,6 +88,7 @@ void Simulation::Impl::bindSharedBuffers() const {
         {&bodyBuf, shared::kBindBodies},
         {&bodySums, shared::kBindBodySums},
         {&bodySamples, shared::kBindBodySamples},
+        {&bodySteps, shared::kBindBodySteps},
         {&solveArgs, shared::kBindSolveArgs}};
     for (const auto& [buffer, binding] : storage)
         buffer->bindStorage(binding);
@@ -195,7 +196,8 @@ void Simulation::Impl::applyVorticityAndXsph() {
 
 // After step 7, the body pass (docs/bodies.md, "The body pass"): the bodies take the fluid's
 // reaction, move, meet each other and the walls, and rewrite their collider records; one work
-// group for all of them.
+// group per body. The start and each Jacobi sweep of the contacts are a dispatch of their own,
+// the bodies exchanging poses between them; one body needs no exchange, so it takes one.
 void Simulation::Impl::integrateBodies() {
     begin(Pass::Bodies);
     bodies.set("dragBody", drag ? drag->body : shared::kNoBody);
@@ -205,9 +207,22 @@ void Simulation::Impl::integrateBodies() {
     bodies.set("firstSubstep", substepInStep == 0 ? 1u : 0u);
     bodies.set("substepShare", 1.0f / float(std::max(1u, scene.simulation.substeps)));
     bodies.use();
-    glDispatchCompute(1, 1, 1);
-    ++commands.dispatches;
-    barrier();
+    const auto run = [&](std::uint32_t withStart, std::uint32_t sweepBegin,
+                         std::uint32_t sweepEnd) {
+        bodies.set("withStart", withStart);
+        bodies.set("sweepBegin", sweepBegin);
+        bodies.set("sweepEnd", sweepEnd);
+        glDispatchCompute(bodyCount, 1, 1);
+        ++commands.dispatches;
+        barrier();
+    };
+    if (bodyCount == 1) {
+        run(1, 0, shared::kBodyContactSweeps);
+    } else {
+        run(1, 0, 0);
+        for (std::uint32_t sweep = 0; sweep < shared::kBodyContactSweeps; ++sweep)
+            run(0, sweep, sweep + 1);
+    }
     end(Pass::Bodies);
 }
 

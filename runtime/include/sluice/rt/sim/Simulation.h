@@ -29,10 +29,10 @@ struct SimulationOptions {
     /// Time every pass group with GL timer queries (read back without stalling): for --bench,
     /// sluice-play's statistics and the viewer's profiler; a game leaves them off.
     bool timers = false;
-    /// Invocations of the body pass's work group (docs/bodies.md): 0 picks for the renderer,
-    /// 64 on a software one (one invocation per body) and 512 on a GPU (a body's contact points
-    /// split over its share of them); 64, 128, 256 or 512 force a layout, as the tests do to run
-    /// the GPU's on llvmpipe.
+    /// Invocations of each body's work group in the body pass (docs/bodies.md), which split its
+    /// contact points: 0 picks for the renderer, 8 on a software one (one SIMD vector) and 128 on
+    /// a GPU; a power of two from 8 to 512 forces a layout, as the tests do to run the GPU's on
+    /// llvmpipe.
     std::uint32_t bodyGroupSize = 0;
     /// Invocations per particle in the neighbour passes (lambda, delta, vorticity,
     /// confinement), which split its candidates and add their sums in a fixed order: 0 picks 1
