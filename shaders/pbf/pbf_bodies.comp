@@ -204,11 +204,10 @@ void startBody(uint b) {
 
 // The lanes' shares added in a fixed tree (the same order every run); lane 0 ends with the
 // totals in sStep[0], sTurn[0] and sNormal[0]. Every invocation calls it (barriers).
-void sumLanes(uint lane, vec3 stepSum, vec3 turnSum, uint count, float deepest, vec3 normals,
-              uint touching) {
-    sStep[lane] = vec4(stepSum, float(count));
-    sTurn[lane] = vec4(turnSum, deepest);
-    sNormal[lane] = vec4(normals, float(touching));
+void sumLanes(uint lane, ContactSums sums) {
+    sStep[lane] = vec4(sums.step, float(sums.count));
+    sTurn[lane] = vec4(sums.turn, sums.deepest);
+    sNormal[lane] = vec4(sums.normals, float(sums.touching));
     memoryBarrierShared();
     barrier();
     for (uint stride = kLanes >> 1; stride > 0u; stride >>= 1) {
@@ -250,12 +249,7 @@ void sweepContacts(uint b, uint lane, uint sweep) {
     vec4 q0 = steps[b].startOrientation;
     vec3 x = posedPosition(b);
     vec4 q = posedOrientation(b);
-    vec3 stepSum, turnSum, normals;
-    uint count, touching;
-    float deepest;
-    pairShare(b, lane, kLanes, x0, q0, x, q, first, stepSum, turnSum, count, deepest, touching,
-              normals);
-    sumLanes(lane, stepSum, turnSum, count, deepest, normals, touching);
+    sumLanes(lane, pairShare(b, lane, kLanes, x0, q0, x, q, first));
     GpuBodyStep work;
     if (lead) {
         work = steps[b];
@@ -268,9 +262,7 @@ void sweepContacts(uint b, uint lane, uint sweep) {
     barrier();
     x = sPosition;
     q = sOrientation;
-    wallAndStaticShare(b, unpackReach(sReach), lane, kLanes, x0, q0, x, q, first, stepSum,
-                       turnSum, count, deepest, touching, normals);
-    sumLanes(lane, stepSum, turnSum, count, deepest, normals, touching);
+    sumLanes(lane, wallAndStaticShare(b, unpackReach(sReach), lane, kLanes, x0, q0, x, q, first));
     if (lead) {
         applySums(first, x, q, work);
         work.poses[gPoseFrom ^ 1u].position = x;

@@ -105,19 +105,45 @@ bool mayTouch(uint c, vec3 x, float reach) {
     return colliderDistance(c, x, n) <= reach;
 }
 
+// What one lane's contacts of a body found in a sweep: the sums of their position and rotation
+// steps, their count, the deepest, how many touched (counted in the first sweep only) and the
+// sum of their normals.
+struct ContactSums {
+    vec3 step;
+    vec3 turn;
+    uint count;
+    float deepest;
+    uint touching;
+    vec3 normals;
+};
+
+ContactSums noContacts() {
+    return ContactSums(vec3(0.0), vec3(0.0), 0u, 0.0, 0u, vec3(0.0));
+}
+
+// Adds one contact of body b, at arm `arm` from the centre (x, q), `depth` inside something whose
+// unit normal there is n, of which the body takes `share` of the correction.
+void addContact(inout ContactSums sums, uint b, vec3 x, vec4 q, vec3 arm, vec3 pStart, vec3 n,
+                float depth, float share, bool first) {
+    if (first) {
+        sums.deepest = max(sums.deepest, depth);
+        ++sums.touching;
+    }
+    sums.normals += n;
+    vec3 dx, turn;
+    correction(b, x, q, arm, pStart, n, depth, share, dx, turn);
+    sums.step += dx;
+    sums.turn += turn;
+    ++sums.count;
+}
+
 // Lane `lane` of `lanes`'s share of body b's corrections against the other bodies in one
 // sweep: its points lane, lane + lanes, ... tested against the bodies whose bounding spheres
 // meet this one's, at their poses of this sweep's start. The corrections are summed, not
 // applied: the sweep averages them over all the body's contacts.
-void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, bool first,
-               out vec3 stepSum, out vec3 turnSum, out uint count, out float deepest,
-               out uint touching, out vec3 normalSum) {
-    stepSum = vec3(0.0);
-    turnSum = vec3(0.0);
-    normalSum = vec3(0.0);
-    count = 0u;
-    touching = 0u;
-    deepest = 0.0;
+ContactSums pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q,
+                      bool first) {
+    ContactSums sums = noContacts();
     GpuBody body = bodies[b];
     float reach = body.boundRadius;
     uint bodyMask = 0u, bodyMaskHigh = 0u; // bit o: body o's sphere meets this one's
@@ -132,7 +158,7 @@ void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, 
         }
     }
     if (bodyMask == 0u && bodyMaskHigh == 0u)
-        return;
+        return sums;
     mat3 invI = worldInvInertia(b, q);
     for (uint s = lane; s < body.sampleCount; s += lanes) {
         vec3 arm = armOf(b, s);
@@ -159,23 +185,15 @@ void pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q, 
                 float mine = inverseMassAt(b, invI, w - x, n);
                 float theirs =
                     inverseMassAt(o, worldInvInertia(o, posedOrientation(o)), toOther, n);
-                if (first) {
-                    deepest = max(deepest, -phi);
-                    ++touching;
-                }
-                normalSum += n;
                 // Against another body the corrections of the sweep are averaged, not
                 // chained: each point would otherwise see the depth the previous one left and
                 // take its share of that again, and both bodies together would move the whole
                 // depth each.
-                vec3 dx, turn;
-                correction(b, x, q, arm, pStart, n, -phi, mine / (mine + theirs), dx, turn);
-                stepSum += dx;
-                turnSum += turn;
-                ++count;
+                addContact(sums, b, x, q, arm, pStart, n, -phi, mine / (mine + theirs), first);
             }
         }
     }
+    return sums;
 }
 
 // What body b's bounding sphere, centred at `xStart`, may touch in this sweep: the domain's
@@ -226,17 +244,11 @@ bool staticInReach(Reach r, uint c) {
 // Lane `lane` of `lanes`'s share of body b's corrections against the domain's walls and the
 // static colliders its sphere may reach (r), all at the same pose (x, q): summed, not applied,
 // like the pairs' (Jacobi; the sweep averages them over the contacts).
-void wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, vec4 q,
-                        bool first, out vec3 stepSum, out vec3 turnSum, out uint count,
-                        out float deepest, out uint touching, out vec3 normalSum) {
-    stepSum = vec3(0.0);
-    turnSum = vec3(0.0);
-    normalSum = vec3(0.0);
-    count = 0u;
-    touching = 0u;
-    deepest = 0.0;
+ContactSums wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x,
+                               vec4 q, bool first) {
+    ContactSums sums = noContacts();
     if (!reachesAnything(r))
-        return;
+        return sums;
     for (uint s = lane; s < bodies[b].sampleCount; s += lanes) {
         vec3 arm = armOf(b, s);
         vec3 pStart = x0 + rotate(q0, arm);
@@ -247,19 +259,9 @@ void wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, vec4 q0
             vec2 beyond = wallDepths(a, w);
             if (!(beyond.x > 0.0) && !(beyond.y > 0.0))
                 continue;
-            float depth = max(beyond.x, beyond.y);
             vec3 n = vec3(0.0);
             n[a] = beyond.x > 0.0 ? 1.0 : -1.0;
-            if (first) {
-                deepest = max(deepest, depth);
-                ++touching;
-            }
-            normalSum += n;
-            vec3 dx, turn;
-            correction(b, x, q, arm, pStart, n, depth, 1.0, dx, turn);
-            stepSum += dx;
-            turnSum += turn;
-            ++count;
+            addContact(sums, b, x, q, arm, pStart, n, max(beyond.x, beyond.y), 1.0, first);
         }
         for (uint c = 0u; c < P.colliderCount; ++c) {
             if (!staticInReach(r, c))
@@ -269,19 +271,10 @@ void wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, vec4 q0
             float len = length(n);
             if (!(phi < 0.0) || !(len > 0.0))
                 continue;
-            n /= len;
-            if (first) {
-                deepest = max(deepest, -phi);
-                ++touching;
-            }
-            normalSum += n;
-            vec3 dx, turn;
-            correction(b, x, q, arm, pStart, n, -phi, 1.0, dx, turn);
-            stepSum += dx;
-            turnSum += turn;
-            ++count;
+            addContact(sums, b, x, q, arm, pStart, n / len, -phi, 1.0, first);
         }
     }
+    return sums;
 }
 
 // Collider record of body b at its new pose, with `motion` from its pose at the substep start.
