@@ -182,15 +182,18 @@ void main() {
     if (!allFinite(x))
         x = xi;
     // The walls and static colliders push along their boundary volume's gradient with the
-    // particle's own lambda, as a body does (without a reaction: they do not move).
-    float share = 0.0;
-    vec3 slope = vec3(0.0);
-    addWallBoundary(xi, share, slope);
-    addColliderBoundary(xi, share, slope);
-    vec3 solidPush = li * slope;
-    if (allFinite(solidPush))
-        x += solidPush;
-    x = pushByBodies(xi, li, x);
+    // particle's own lambda, as a body does (without a reaction: they do not move). A particle
+    // that is not compressed has lambda 0: no solid pushes it, so their fields are not sampled.
+    if (li != 0.0) {
+        float share = 0.0;
+        vec3 slope = vec3(0.0);
+        addWallBoundary(xi, share, slope);
+        addColliderBoundary(xi, share, slope);
+        vec3 solidPush = li * slope;
+        if (allFinite(solidPush))
+            x += solidPush;
+        x = pushByBodies(xi, li, x);
+    }
     if (!allFinite(x))
         x = xi;
     x = collide(x, pos[i].xyz);
