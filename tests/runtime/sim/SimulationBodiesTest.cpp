@@ -7,6 +7,7 @@
 #include <cstring>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -443,6 +444,61 @@ TEST_F(SimulationBodies, TheGpuWorkGroupLayoutGivesTheSameContactsAsTheSoftwareO
     }
     // The tilted box settled flat on the pedestal: its centre half a side above the top face.
     EXPECT_NEAR(gpu[3].position.y, 1.5 * kSide, 0.25 * kSpacing);
+}
+
+// A cube as dense as the water released at rest with its centre at `y` in water 16 spacings
+// deep (a tank 4 spacings wider than the cube on every side), `seconds` played deterministic;
+// how far its centre strayed from where it started at most [m], and where it ended.
+struct Strayed {
+    double farthest = 0.0;
+    double end = 0.0;
+    Health health;
+    bool bodyFinite = true;
+};
+
+Strayed releaseNeutral(float y, bool solids, float seconds) {
+    const float tank = kSide + 8 * kSpacing;
+    format::Scene scene = tankScene(glm::vec2(tank), 16 * kSpacing, 0.5f);
+    scene.simulation.solidBoundary = solids;
+    scene.colliders.push_back(cubeBody(glm::vec3(0.5f * tank, y, 0.5f * tank), 1.0f));
+    SimulationOptions options;
+    options.deterministic = true;
+    auto sim = Simulation::create(scene, {cubeAsset(kSide)}, options);
+    EXPECT_TRUE(sim) << sim.error().message();
+    if (!sim)
+        return {};
+    Strayed out;
+    const double start = sim->bodies().at(0).position.y;
+    for (int step = 0; step < int(std::lround(60 * seconds)); ++step) {
+        sim->step();
+        out.health.add(sim->readStats());
+        const BodyState body = sim->bodies().at(0);
+        out.bodyFinite = out.bodyFinite && finite(body);
+        out.farthest = std::max(out.farthest, std::abs(double(body.position.y) - start));
+        out.end = body.position.y;
+    }
+    return out;
+}
+
+TEST_F(SimulationBodies, ABodyAsDenseAsTheWaterStaysWhereItIsReleased) {
+    // Issue 25: at 1.0 it neither rises nor sinks more than one particle spacing in 3 s,
+    // anywhere in the water column: with one water layer under it, in the middle, and with one
+    // layer over it. With "solids" every wall adds its boundary volume, so the water keeps its
+    // height and its pressure at the floor (docs/pbf.md, "Boundary volume").
+    const float depth = 16 * kSpacing;
+    const std::pair<const char*, float> releases[] = {{"low", kSpacing + 0.5f * kSide},
+                                                      {"middle", 0.5f * depth},
+                                                      {"high", depth - kSpacing - 0.5f * kSide}};
+    for (const auto& [where, y] : releases) {
+        const Strayed s = releaseNeutral(y, true, 3.0f);
+        std::printf("neutral cube released %s (centre %.3f m): ends at %.4f m, at most %.2f "
+                    "spacings from its start in 3 s\n",
+                    where, y, s.end, s.farthest / kSpacing);
+        EXPECT_LT(s.farthest, kSpacing) << where;
+        EXPECT_EQ(s.health.nonFinite, 0u) << where;
+        EXPECT_EQ(s.health.inside, 0u) << where;
+        EXPECT_TRUE(s.bodyFinite) << where;
+    }
 }
 
 // A tilted box dropped onto the floor of an empty domain, with or without a second box resting
