@@ -446,38 +446,51 @@ TEST_F(SimulationBodies, TheGpuWorkGroupLayoutGivesTheSameContactsAsTheSoftwareO
     EXPECT_NEAR(gpu[3].position.y, 1.5 * kSide, 0.25 * kSpacing);
 }
 
-// A cube as dense as the water released at rest with its centre at `y` in water 16 spacings
-// deep (a tank 4 spacings wider than the cube on every side), `seconds` played deterministic;
-// how far its centre strayed from where it started at most [m], and where it ended.
-struct Strayed {
+// A cube `ratio` times the water's density released at rest with its centre at `y` over water
+// 16 spacings (two cube sizes) deep, in a tank 4 spacings wider than the cube on every side,
+// `seconds` played deterministic: how far its centre strayed from its start at most [m], the
+// lowest it went, its mean submerged share over the last second, and its state at the end.
+struct Released {
     double farthest = 0.0;
-    double end = 0.0;
+    double lowest = 0.0;
+    double lastSecondShare = 0.0;
+    BodyState body;
     Health health;
     bool bodyFinite = true;
 };
 
-Strayed releaseNeutral(float y, bool solids, float seconds) {
+Released releaseCube(float ratio, float y, bool solids, float seconds) {
     const float tank = kSide + 8 * kSpacing;
-    format::Scene scene = tankScene(glm::vec2(tank), 16 * kSpacing, 0.5f);
+    format::Scene scene = tankScene(glm::vec2(tank), 16 * kSpacing, 1.0f);
     scene.simulation.solidBoundary = solids;
-    scene.colliders.push_back(cubeBody(glm::vec3(0.5f * tank, y, 0.5f * tank), 1.0f));
+    scene.colliders.push_back(cubeBody(glm::vec3(0.5f * tank, y, 0.5f * tank), ratio));
     SimulationOptions options;
     options.deterministic = true;
     auto sim = Simulation::create(scene, {cubeAsset(kSide)}, options);
     EXPECT_TRUE(sim) << sim.error().message();
     if (!sim)
         return {};
-    Strayed out;
+    Released out;
     const double start = sim->bodies().at(0).position.y;
-    for (int step = 0; step < int(std::lround(60 * seconds)); ++step) {
+    out.lowest = start;
+    const int steps = int(std::lround(60 * seconds));
+    for (int step = 0; step < steps; ++step) {
         sim->step();
         out.health.add(sim->readStats());
-        const BodyState body = sim->bodies().at(0);
-        out.bodyFinite = out.bodyFinite && finite(body);
-        out.farthest = std::max(out.farthest, std::abs(double(body.position.y) - start));
-        out.end = body.position.y;
+        out.body = sim->bodies().at(0);
+        out.bodyFinite = out.bodyFinite && finite(out.body);
+        out.farthest = std::max(out.farthest, std::abs(double(out.body.position.y) - start));
+        out.lowest = std::min(out.lowest, double(out.body.position.y));
+        if (step >= steps - 60)
+            out.lastSecondShare += out.body.submergedShare / 60.0;
     }
     return out;
+}
+
+void expectHealthy(const Released& r, const char* what) {
+    EXPECT_EQ(r.health.nonFinite, 0u) << what;
+    EXPECT_EQ(r.health.inside, 0u) << what;
+    EXPECT_TRUE(r.bodyFinite) << what;
 }
 
 TEST_F(SimulationBodies, ABodyAsDenseAsTheWaterStaysWhereItIsReleased) {
@@ -490,15 +503,33 @@ TEST_F(SimulationBodies, ABodyAsDenseAsTheWaterStaysWhereItIsReleased) {
                                                       {"middle", 0.5f * depth},
                                                       {"high", depth - kSpacing - 0.5f * kSide}};
     for (const auto& [where, y] : releases) {
-        const Strayed s = releaseNeutral(y, true, 3.0f);
+        const Released r = releaseCube(1.0f, y, true, 3.0f);
         std::printf("neutral cube released %s (centre %.3f m): ends at %.4f m, at most %.2f "
                     "spacings from its start in 3 s\n",
-                    where, y, s.end, s.farthest / kSpacing);
-        EXPECT_LT(s.farthest, kSpacing) << where;
-        EXPECT_EQ(s.health.nonFinite, 0u) << where;
-        EXPECT_EQ(s.health.inside, 0u) << where;
-        EXPECT_TRUE(s.bodyFinite) << where;
+                    where, y, r.body.position.y, r.farthest / kSpacing);
+        EXPECT_LT(r.farthest, kSpacing) << where;
+        expectHealthy(r, where);
     }
+}
+
+TEST_F(SimulationBodies, ALightBodyDroppedIntoDeepWaterComesBackUpAndFloats) {
+    // Issue 25: 0.5 dropped from 0.3 m above the water into water two cube sizes deep plunges,
+    // comes back up and floats at its draft, touching nothing (a rock at half the water's
+    // density dropped into shallow water used to stay on the floor). The default boundary
+    // model.
+    const float depth = 16 * kSpacing;
+    const float start = depth + 0.3f + 0.5f * kSide;
+    const Released r = releaseCube(0.5f, start, false, 3.0f);
+    std::printf("cube at 0.5 dropped from 0.3 m: lowest centre %.4f m, ends at %.4f m, submerged "
+                "share %.3f over the last second, %u contacts\n",
+                r.lowest, r.body.position.y, r.lastSecondShare, r.body.contacts);
+    EXPECT_LT(r.lowest, r.body.position.y - kSpacing) << "it plunged deeper than it floats";
+    // Floating: the water rose by the displaced volume over the tank's floor, about 0.01 m; a
+    // floating cube at 0.5 has its centre there.
+    EXPECT_GT(r.body.position.y, depth - 0.25 * kSide) << "it came back up";
+    EXPECT_NEAR(r.lastSecondShare, 0.5, 0.1);
+    EXPECT_EQ(r.body.contacts, 0u);
+    expectHealthy(r, "dropped");
 }
 
 // A tilted box dropped onto the floor of an empty domain, with or without a second box resting
