@@ -120,8 +120,7 @@ SLUICE_SHARED_END
 #ifdef __cplusplus
 #include <cstddef>
 #define SLUICE_BODY_AT(field, offset)                                                              \
-    static_assert(offsetof(sluice::shared::GpuBody, field) == (offset), "std430 offset "           \
-                                                                        "of " #field)
+    static_assert(offsetof(sluice::shared::GpuBody, field) == (offset), "std430 offset of " #field)
 SLUICE_BODY_AT(invMass, 12);
 SLUICE_BODY_AT(orientation, 16);
 SLUICE_BODY_AT(linearVelocity, 32);
