@@ -75,10 +75,11 @@ struct BodyStart {
     vec3 torque;
 };
 
-// The fluid's reaction: every particle the body pushed by dx gave it -m dx / dt; gravity.
-void takeFluidReaction(uint b, inout BodyStart s) {
-    vec3 sumDx = sumOf(b, kBodySumPush) / bodies[b].sumScale;
-    vec3 sumMoment = sumOf(b, kBodySumMoment) / bodies[b].momentScale;
+// The fluid's reaction: every particle the body pushed by dx gave it -m dx / dt, and the water
+// sealed under its contacts as much (sealedDx, sealedMoment); gravity.
+void takeFluidReaction(uint b, vec3 sealedDx, vec3 sealedMoment, inout BodyStart s) {
+    vec3 sumDx = sumOf(b, kBodySumPush) / bodies[b].sumScale + sealedDx;
+    vec3 sumMoment = sumOf(b, kBodySumMoment) / bodies[b].momentScale + sealedMoment;
     vec3 impulse = -P.particleMass * P.invDt * sumDx;
     vec3 angularImpulse = -P.particleMass * P.invDt * sumMoment;
     s.force = impulse * P.invDt;
@@ -173,13 +174,14 @@ void finish(uint b, GpuBodyStep work, vec3 x, vec4 q) {
     writeCollider(body, x0, q0);
 }
 
-// The start, by the body's lead: the fluid's reaction, gravity, the drag, and the predicted pose
-// (poses[0], which the first sweep reads).
-void startBody(uint b) {
+// The start, by the body's lead: the fluid's reaction (with the sealed contacts' share, summed
+// over the lanes), gravity, the drag, and the predicted pose (poses[0], which the first sweep
+// reads).
+void startBody(uint b, vec3 sealedDx, vec3 sealedMoment) {
     BodyStart s;
     s.x0 = bodies[b].position;
     s.q0 = bodies[b].orientation;
-    takeFluidReaction(b, s);
+    takeFluidReaction(b, sealedDx, sealedMoment, s);
     takeHeldReaction(b, s);
     pullByDrag(b, s);
     clearSums(b);
@@ -200,6 +202,41 @@ void startBody(uint b) {
     work.normalSum = vec3(0.0);
     work.pad3 = 0.0;
     steps[b] = work;
+}
+
+// Sealed contacts (docs/bodies.md): the water that pushed along a wall or a static collider
+// within h of it pushed `rim` [m] in all over the body's sides near the solid; the body's points
+// facing the solid within h should get as much per area from the water between. What the water
+// there gave (the under sum) is topped up to that, along its direction, so a body resting on
+// the floor with no water under it feels the pressure beside it, and one with a layer under it
+// no less. The lanes' shares are added in a fixed tree; every invocation calls it (barriers),
+// and each ends with the top-up (sealedDx, as a particle's dx) and its moment about the centre
+// of mass.
+void sealedReaction(uint b, uint lane, float rim, out vec3 sealedDx, out vec3 sealedMoment) {
+    SealedSums sums = sealedShare(b, lane, kLanes, bodies[b].position, bodies[b].orientation);
+    sStep[lane] = vec4(sums.sealed, sums.sideArea);
+    sTurn[lane] = vec4(sums.turn, 0.0);
+    memoryBarrierShared();
+    barrier();
+    for (uint stride = kLanes >> 1; stride > 0u; stride >>= 1) {
+        if (lane < stride) {
+            sStep[lane] += sStep[lane + stride];
+            sTurn[lane] += sTurn[lane + stride];
+        }
+        memoryBarrierShared();
+        barrier();
+    }
+    sealedDx = vec3(0.0);
+    sealedMoment = vec3(0.0);
+    vec3 expected = sStep[0].w > 0.0 ? rim / sStep[0].w * sStep[0].xyz : vec3(0.0);
+    float expectedLength = length(expected);
+    if (!(expectedLength > 0.0))
+        return;
+    vec3 along = expected / expectedLength;
+    vec3 under = sumOf(b, kBodySumUnder) / bodies[b].sumScale;
+    float topUp = max(0.0, expectedLength - dot(under, along)) / expectedLength;
+    sealedDx = topUp * expected;
+    sealedMoment = topUp * rim / sStep[0].w * sTurn[0].xyz;
 }
 
 // The lanes' shares added in a fixed tree (the same order every run); lane 0 ends with the
@@ -280,8 +317,16 @@ void main() {
     // One work group per body: the dispatch launches exactly P.bodyCount groups.
     uint b = gl_WorkGroupID.x, lane = gl_LocalInvocationIndex;
     if (withStart != 0u) {
+        // The rim's sum is the same for every lane, so the lanes skip the sealed contacts and
+        // their barriers together when no water pushed along a solid.
+        float rim = float(sumAt(b, kBodySumRim, 0u)) / bodies[b].sumScale;
+        vec3 sealedDx = vec3(0.0), sealedMoment = vec3(0.0);
+        if (rim > 0.0)
+            sealedReaction(b, lane, rim, sealedDx, sealedMoment);
+        memoryBarrierBuffer();
+        barrier(); // every lane has read the rim's sums before the lead clears them
         if (lane == 0u)
-            startBody(b);
+            startBody(b, sealedDx, sealedMoment);
         memoryBarrierBuffer();
         barrier();
     }

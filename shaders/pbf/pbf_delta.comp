@@ -53,8 +53,34 @@ void addSums(uint b, bool held, vec3 x, vec3 dx) {
         addFixed(bodySumWord(b, moment, axis), m[axis]);
 }
 
+// Whether this particle is in the water where a body meets a wall or a static collider (within
+// h + r of the solid, the body pass's rimBand; tested once, at the first reaction), and that
+// solid's normal.
+bool rimTested = false;
+bool inRim = false;
+vec3 rimNormal = vec3(0.0);
+vec3 rimX = vec3(0.0); // x*_i, where the test is made
+
+// Body b pushed a particle by dx: the body takes the reaction. A push on the water within h + r
+// of a wall or a static collider (the rim) is also summed by its direction (docs/bodies.md,
+// "Sealed contacts"): along the solid, its length into the rim sum (the pressure beside the
+// body, per area of its sides near the solid); across it, into the under sum (what the water
+// between the body and the solid gives). The body pass tops the second up to the first.
 void addReaction(uint b, vec3 x, vec3 dx) {
     addSums(b, false, x, dx);
+    if (!rimTested) {
+        rimTested = true;
+        inRim = nearestSolidWithin(rimX, PBF_H + PBF_RADIUS, rimNormal) < PBF_H + PBF_RADIUS;
+    }
+    float len = length(dx);
+    if (!inRim || !(len > 0.0))
+        return;
+    if (abs(dot(dx, rimNormal)) < 0.5 * len) {
+        addFixed(bodySumWord(b, kBodySumRim, 0u), len * bodies[b].sumScale);
+    } else {
+        for (uint axis = 0u; axis < 3u; ++axis)
+            addFixed(bodySumWord(b, kBodySumUnder, axis), dx[axis] * bodies[b].sumScale);
+    }
 }
 
 // The body whose collision push-out (collide) moved this particle in this pass, and the sum of
@@ -170,6 +196,7 @@ void main() {
         return; // one lane: no barriers below
 #endif
     vec3 xi = live ? pred[i].xyz : vec3(0.0);
+    rimX = xi;
     float li = live ? pred[i].w : 0.0;
     vec3 dp = live ? densityCorrection(i, xi, li) : vec3(0.0);
     dp = pbfLaneSum(vec4(dp, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)

@@ -30,20 +30,27 @@ SLUICE_CONST uint kNoBody = 0xffffffffu;
 /// only when the low word wraps (a two's-complement sum would carry every negative term's sign
 /// into it: twice the atomics, which were most of the reactions' cost, docs/bodies.md):
 ///
-///   word  0      12       24          36            48    64
-///         | push | moment | held push | held moment | spare |
+///   word  0      12       24          36            48    52      64
+///         | push | moment | held push | held moment | rim | under |
 ///
 /// `push` is the sum of the corrections dx the body gave particles [GpuBody::sumScale units of
 /// m], `moment` the sum of (x - c) x dx [momentScale units of m^2]; the held pair the same for
 /// the collision pushes a wall undid (the body takes only what stops it moving into the
 /// particles the wall holds, docs/bodies.md). Read and write them through bodySumWord.
+/// `rim` is one scalar in the same form (component 0 of a sum at word 48): the lengths of the
+/// pushes along a wall or a static collider the body gave the water within h of it [sumScale
+/// units of m], the pressure there; `under` the sum of the rest of those pushes, the ones
+/// across the solid, from the water between the body and the solid [sumScale units of m]. The
+/// body pass tops the second up to the first's pressure (docs/bodies.md, "Sealed contacts").
 SLUICE_CONST uint kBodySumWords = 64;
 SLUICE_CONST uint kBodySumPush = 0;
 SLUICE_CONST uint kBodySumMoment = 12;
 SLUICE_CONST uint kBodySumHeldPush = 24;
 SLUICE_CONST uint kBodySumHeldMoment = 36;
+SLUICE_CONST uint kBodySumRim = 48;
+SLUICE_CONST uint kBodySumUnder = 52;
 /// Words of a body's sums in use; the rest up to kBodySumWords are spare.
-SLUICE_CONST uint kBodySumUsed = 48;
+SLUICE_CONST uint kBodySumUsed = 64;
 /// Contact sample points of one body at most.
 SLUICE_CONST uint kMaxBodySamples = 2048;
 
@@ -142,9 +149,11 @@ static_assert(sizeof(sluice::shared::GpuBody) == 208, "std430 size of GpuBody");
 static_assert(sluice::shared::kBodySumMoment == sluice::shared::kBodySumPush + 12 &&
                   sluice::shared::kBodySumHeldPush == sluice::shared::kBodySumMoment + 12 &&
                   sluice::shared::kBodySumHeldMoment == sluice::shared::kBodySumHeldPush + 12 &&
-                  sluice::shared::kBodySumUsed == sluice::shared::kBodySumHeldMoment + 12 &&
+                  sluice::shared::kBodySumRim == sluice::shared::kBodySumHeldMoment + 12 &&
+                  sluice::shared::kBodySumUnder == sluice::shared::kBodySumRim + 4 &&
+                  sluice::shared::kBodySumUsed == sluice::shared::kBodySumUnder + 12 &&
                   sluice::shared::kBodySumUsed <= sluice::shared::kBodySumWords,
-              "the body sums: four vectors of three components, each two 64-bit magnitudes");
+              "the body sums: four vectors of three components and a scalar, each two 64-bit magnitudes");
 static_assert(sizeof(sluice::shared::GpuBodyPose) == 32, "std430 size of GpuBodyPose");
 static_assert(offsetof(sluice::shared::GpuBodyStep, startPosition) == 64 &&
                   offsetof(sluice::shared::GpuBodyStep, velocity) == 96 &&

@@ -277,6 +277,56 @@ ContactSums wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, 
     return sums;
 }
 
+// How far from a wall or a static collider [m] the water counts as the rim of a body meeting it
+// (docs/bodies.md, "Sealed contacts"): a particle's kernel reaches the solid, and a particle
+// under a body's face within h of the solid is in it.
+float rimBand() {
+    return PBF_H + PBF_RADIUS;
+}
+
+// What lane `lane` of `lanes` finds of body b's sealed contacts at its pose of the substep start
+// (x0, q0), over its points lane, lane + lanes, ... (docs/bodies.md, "Sealed contacts"):
+// - `sealed`: the sum of area * (n . m) m over the points within h of a wall or a static
+//   collider whose outward normal n faces it (more than 120 degrees from the solid's normal m),
+//   the water's push across the solid, and `turn` the sum of their moments (p - c) x ...;
+// - `sideArea`: the area of the points within the rim band of a solid whose normal runs along
+//   it (within 30 degrees of its plane): the sides the rim's water pushes.
+struct SealedSums {
+    vec3 sealed;
+    vec3 turn;
+    float sideArea;
+};
+
+SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0) {
+    SealedSums sums = SealedSums(vec3(0.0), vec3(0.0), 0.0);
+    float areaScale = bodies[b].scale * bodies[b].scale;
+    for (uint s = lane; s < bodies[b].sampleCount; s += lanes) {
+        vec4 point = samples[bodies[b].sampleOffset + s];
+        vec3 arm = rotate(q0, armOf(b, s));
+        vec3 solidNormal;
+        float gap = nearestSolidWithin(x0 + arm, rimBand(), solidNormal);
+        if (!(gap < rimBand()))
+            continue;
+        float phi;
+        vec3 grad;
+        sampleCollider(bodies[b].collider, point.xyz, phi, grad);
+        float len = length(grad);
+        if (!(len > 0.0))
+            continue;
+        vec3 normal = rotate(q0, grad / len);
+        float facing = dot(normal, solidNormal);
+        float area = point.w * areaScale;
+        if (facing < -0.5 && gap < PBF_H) {
+            vec3 push = area * facing * solidNormal;
+            sums.sealed += push;
+            sums.turn += cross(arm, push);
+        } else if (abs(facing) < 0.5) {
+            sums.sideArea += area;
+        }
+    }
+    return sums;
+}
+
 // Collider record of body b at its new pose, with `motion` from its pose at the substep start.
 void writeCollider(GpuBody body, vec3 x0, vec4 q0) {
     float s = body.scale;

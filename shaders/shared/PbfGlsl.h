@@ -420,6 +420,42 @@ bool bodyBoundary(uint b, vec3 x, out float phi, out vec3 normal) {
     normal /= len;
     return true;
 }
+
+// How far world point x lies from the nearest domain wall's face (r beyond the box the centres
+// are kept in) or static collider's surface, when nearer than `limit` (else `limit`), and that
+// solid's unit normal out of it. The body pass and the sealed contacts' rim (docs/bodies.md,
+// "Sealed contacts") use it.
+float nearestSolidWithin(vec3 x, float limit, out vec3 normal) {
+    float gap = limit;
+    normal = vec3(0.0);
+    if (P.hasDomain != 0u) {
+        vec3 below = x - P.domainMin + PBF_RADIUS, above = P.domainMax - x + PBF_RADIUS;
+        for (int a = 0; a < 3; ++a) {
+            if (below[a] < gap) {
+                gap = below[a];
+                normal = vec3(0.0);
+                normal[a] = 1.0;
+            }
+            if (above[a] < gap) {
+                gap = above[a];
+                normal = vec3(0.0);
+                normal[a] = -1.0;
+            }
+        }
+    }
+    for (uint c = 0u; c < P.colliderCount; ++c) {
+        if (colliders[c].body != kNoBody)
+            continue;
+        vec3 n;
+        float phi = colliderDistance(c, x, n);
+        float len = length(n);
+        if (phi < gap && len > 0.0) {
+            gap = phi;
+            normal = n / len;
+        }
+    }
+    return gap;
+}
 #endif // PBF_WITH_BODIES
 
 vec3 clampToDomain(vec3 x) {

@@ -137,6 +137,8 @@ glm::vec3 ReferencePbf::applyCorrection(std::size_t i, glm::vec3 dp, glm::vec3 x
                                         float t1) {
     const float r = m_c.radius;
     const glm::vec3 xi = m_predicted[i];
+    const double band = double(m_c.h) + double(m_c.radius);
+    m_inRim = !m_bodies.empty() && nearestSolidWithin(xi, band, t1, m_rimNormal) < band;
     glm::vec3 x = xi + dp;
     if (!isFinite(x))
         x = xi; // a non-finite correction is dropped (step 4.4)
@@ -160,6 +162,7 @@ glm::vec3 ReferencePbf::applyCorrection(std::size_t i, glm::vec3 dp, glm::vec3 x
             continue;
         x += push;
         addReaction(b, x, push);
+        addRim(b, push);
     }
     if (!isFinite(x))
         x = xi;
@@ -222,12 +225,111 @@ void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1, Pus
         // where it started, since dx x dx = 0, up to rounding).
         if (body) {
             addReaction(*body, x, x - xBefore);
+            addRim(*body, x - xBefore);
             if (pushed.body == kNoBody || pushed.body == c.body) {
                 pushed.body = c.body;
                 pushed.sum += x - xBefore;
             }
         }
     }
+}
+
+// docs/bodies.md, "Sealed contacts": how far x lies from the nearest domain wall's face or
+// static collider's surface (at t1) when nearer than `limit` (else `limit`), and that solid's
+// unit normal out of it.
+double ReferencePbf::nearestSolidWithin(glm::vec3 x, double limit, float t1,
+                                        glm::dvec3& normal) const {
+    double gap = limit;
+    normal = glm::dvec3(0.0);
+    if (m_hasDomain)
+        for (int a = 0; a < 3; ++a) {
+            const double below = double(x[a]) - double(m_domainMin[a]);
+            const double above = double(m_domainMax[a]) - double(x[a]);
+            if (below < gap) {
+                gap = below;
+                normal = glm::dvec3(0.0);
+                normal[a] = 1.0;
+            }
+            if (above < gap) {
+                gap = above;
+                normal = glm::dvec3(0.0);
+                normal[a] = -1.0;
+            }
+        }
+    for (const Collider& c : m_colliders) {
+        if (c.body != kNoBody)
+            continue;
+        const rt::ColliderPose now = rt::colliderPose(c.placement, t1);
+        const glm::dvec3 q(now.toLocal(x));
+        const double phi = double(now.scale) * double(c.sampler.value(q));
+        const glm::dvec3 grad(now.rotation * glm::vec3(c.sampler.gradient(q)));
+        if (phi < gap && glm::length(grad) > 0.0) {
+            gap = phi;
+            normal = glm::normalize(grad);
+        }
+    }
+    return gap;
+}
+
+// A push of the body on a particle of the rim (within h + r of a solid at x*_i): along the solid
+// (within 60 degrees of its plane), its length into the body's rim sum; across it, into the
+// under sum.
+void ReferencePbf::addRim(Body& body, glm::vec3 dx) {
+    const double len = glm::length(glm::dvec3(dx));
+    if (!m_inRim || !(len > 0.0))
+        return;
+    if (std::abs(glm::dot(glm::dvec3(dx), m_rimNormal)) < 0.5 * len)
+        body.rimPush += len;
+    else
+        body.underDx += glm::dvec3(dx);
+}
+
+// The body's points within h of a wall or a static collider facing it (normals more than 120
+// degrees apart) should get across the solid, per area (times the cosine), what the rim pushed
+// in all over the area of the body's sides within h + r of a solid (normals within 30 degrees
+// of its plane); what the water between gave (the under sum) is topped up to that along its
+// direction, and the top-up added to the body's sums like the particles' pushes.
+void ReferencePbf::addSealedContacts(Body& body, float t1) {
+    if (!(body.rimPush > 0.0))
+        return;
+    const double h = double(m_c.h);
+    const double band = h + double(m_c.radius);
+    const format::SdfSampler& sampler = m_colliders[body.collider].sampler;
+    const double scale = body.pose.scale;
+    glm::dvec3 sealed(0.0), turn(0.0);
+    double sideArea = 0.0;
+    for (const glm::vec4& point : body.contactPoints) {
+        const glm::vec3 w = body.pose.toWorld(glm::vec3(point));
+        glm::dvec3 solidNormal;
+        const double gap = nearestSolidWithin(w, band, t1, solidNormal);
+        if (!(gap < band))
+            continue;
+        const glm::dvec3 grad(body.pose.rotation *
+                              glm::vec3(sampler.gradient(glm::dvec3(glm::vec3(point)))));
+        if (!(glm::length(grad) > 0.0))
+            continue;
+        const glm::dvec3 normal = glm::normalize(grad);
+        const double facing = glm::dot(normal, solidNormal);
+        const double area = double(point.w) * scale * scale;
+        if (facing < -0.5 && gap < h) {
+            const glm::dvec3 push = area * facing * solidNormal;
+            sealed += push;
+            turn += glm::cross(glm::dvec3(w) - glm::dvec3(body.centerOfMass), push);
+        } else if (std::abs(facing) < 0.5) {
+            sideArea += area;
+        }
+    }
+    if (!(sideArea > 0.0))
+        return;
+    const glm::dvec3 expected = body.rimPush / sideArea * sealed;
+    const double expectedLength = glm::length(expected);
+    if (!(expectedLength > 0.0))
+        return;
+    const double topUp =
+        std::max(0.0, expectedLength - glm::dot(body.underDx, expected / expectedLength)) /
+        expectedLength;
+    body.sumDx += topUp * expected;
+    body.sumMoment += topUp * body.rimPush / sideArea * turn;
 }
 
 } // namespace sluice::ref

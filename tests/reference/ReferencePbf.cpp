@@ -43,6 +43,7 @@ ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceColl
             body.centerOfMass = c.centerOfMass;
             body.mass = c.mass;
             body.velocity = glm::dvec3(c.linearVelocity);
+            body.contactPoints = c.contactPoints;
             m_bodies.push_back(body);
         }
         m_colliders.push_back(collider);
@@ -172,6 +173,7 @@ void ReferencePbf::startBodyStep() {
         b.force = glm::dvec3(0.0);
         b.torque = glm::dvec3(0.0);
         b.heldForce = glm::dvec3(0.0);
+        b.sealedForce = glm::dvec3(0.0);
     }
 }
 
@@ -181,7 +183,11 @@ void ReferencePbf::startBodyStep() {
 void ReferencePbf::finishBodySubstep(double share) {
     const double m = m_c.mass;
     const double dt = m_c.dt;
+    const float t1 = timeAt(m_substepIndex + 1);
     for (Body& b : m_bodies) {
+        const glm::dvec3 before = b.sumDx;
+        addSealedContacts(b, t1);
+        b.sealedForce += share * (-m * (b.sumDx - before) / (dt * dt));
         b.force += share * (-m * b.sumDx / (dt * dt));
         b.torque += share * (-m * b.sumMoment / (dt * dt));
         // The held particles' reaction: only the part that stops the body moving into them,
@@ -201,6 +207,8 @@ void ReferencePbf::finishBodySubstep(double share) {
         b.sumMoment = glm::dvec3(0.0);
         b.heldDx = glm::dvec3(0.0);
         b.heldMoment = glm::dvec3(0.0);
+        b.rimPush = 0.0;
+        b.underDx = glm::dvec3(0.0);
     }
 }
 
@@ -236,6 +244,11 @@ glm::dvec3 ReferencePbf::bodyTorque(std::size_t b) const {
 glm::dvec3 ReferencePbf::bodyHeldForce(std::size_t b) const {
     SLUICE_ASSERT(b < m_bodies.size(), "ReferencePbf::bodyHeldForce: no such body");
     return m_bodies[b].heldForce;
+}
+
+glm::dvec3 ReferencePbf::bodySealedForce(std::size_t b) const {
+    SLUICE_ASSERT(b < m_bodies.size(), "ReferencePbf::bodySealedForce: no such body");
+    return m_bodies[b].sealedForce;
 }
 
 void ReferencePbf::buildNeighbours() {

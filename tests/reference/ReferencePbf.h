@@ -37,6 +37,11 @@ struct ReferenceCollider {
     /// wall"); a mass of 0 takes none of it.
     double mass = 0.0;
     glm::vec3 linearVelocity{0.0f};
+    /// Bodies only: its contact points in the asset frame [asset units], `w` the area each
+    /// stands for [asset units^2] (what rt::surfacePoints gives the GPU). The points sealed
+    /// against a wall or a static collider take the water's pressure there (docs/bodies.md,
+    /// "Sealed contacts"); none, no sealed contacts.
+    std::vector<glm::vec4> contactPoints;
 };
 
 /// Runs the PBF step of docs/pbf.md on the CPU, one particle at a time, as the contract the GPU
@@ -120,6 +125,9 @@ public:
     /// The force the particles a domain wall held against body b would have given it, before
     /// the share that only stops the body (of the last step(), as bodyForce) [N].
     glm::dvec3 bodyHeldForce(std::size_t b) const;
+    /// The part of bodyForce(b) that the water sealed under body b's contacts gave it
+    /// (docs/bodies.md, "Sealed contacts") [N].
+    glm::dvec3 bodySealedForce(std::size_t b) const;
 
     /// Particles of the blocks left out because their centre started inside a body.
     std::uint32_t particlesRemovedAtSpawn() const { return m_removedAtSpawn; }
@@ -145,6 +153,10 @@ private:
         glm::dvec3 heldDx{0.0};    // the collision pushes a domain wall undid [m]
         glm::dvec3 heldMoment{0.0}; // [m^2]
         glm::dvec3 heldForce{0.0}; // of heldDx, before the share [N]
+        std::vector<glm::vec4> contactPoints; // asset frame; w: area [asset units^2]
+        double rimPush = 0.0; // lengths of its pushes along a solid within h of it [m]
+        glm::dvec3 underDx{0.0}; // its pushes across a solid within h of it [m]
+        glm::dvec3 sealedForce{0.0}; // of the sealed contacts, in force [N]
         glm::dvec3 force{0.0};     // of the last substep, or the mean over the last step [N]
         glm::dvec3 torque{0.0};    // [N m]
     };
@@ -158,6 +170,9 @@ private:
     float boundaryShare(float phi) const;
     float boundaryShareSlope(float phi) const;
     void addSolidBoundary(glm::vec3 x, float t1, float& boundary, glm::vec3& gradient) const;
+    double nearestSolidWithin(glm::vec3 x, double limit, float t1, glm::dvec3& normal) const;
+    void addRim(Body& body, glm::vec3 dx);
+    void addSealedContacts(Body& body, float t1);
     void addReaction(Body& body, glm::vec3 x, glm::vec3 dx);
     void addHeld(Body& body, glm::vec3 x, glm::vec3 dx);
     void startBodyStep();
@@ -189,6 +204,8 @@ private:
     rt::EmitterSchedule m_schedule;
     std::uint32_t m_nextId = 0;
     std::uint64_t m_substepIndex = 0;
+    bool m_inRim = false;           // the particle being corrected is within h of a solid
+    glm::dvec3 m_rimNormal{0.0};    // and that solid's normal
 
     std::vector<rt::ParticleState> m_particles;
     std::vector<glm::vec3> m_predicted;          // x*

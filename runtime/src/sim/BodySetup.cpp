@@ -109,7 +109,7 @@ Result<void> checkBodies(const format::Scene& scene,
     return {};
 }
 
-std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double gap) {
+std::vector<glm::vec4> surfacePoints(const format::ColliderAsset& asset, double gap) {
     const format::SdfSampler sampler(asset);
     const format::ColliderMeta& m = asset.meta;
     const double band = 0.75 * m.voxelSize;
@@ -130,7 +130,7 @@ std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double 
             onSurface.emplace_back(p);
     });
     for (;; gap *= 1.25) {
-        std::vector<glm::vec3> kept;
+        std::vector<glm::vec4> kept;
         std::unordered_set<std::uint64_t> cells;
         for (const glm::vec3& p : onSurface) {
             // Cells from the grid's corner; points lie inside the grid box (bakes pad it).
@@ -138,12 +138,23 @@ std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double 
                 glm::clamp(glm::floor((glm::dvec3(p) - m.origin) / gap), 0.0, 2097151.0);
             const std::uint64_t key =
                 std::uint64_t(c.x) | (std::uint64_t(c.y) << 21) | (std::uint64_t(c.z) << 42);
-            if (cells.insert(key).second)
-                kept.push_back(p);
+            if (!cells.insert(key).second)
+                continue;
+            const glm::dvec3 g = sampler.gradient(glm::dvec3(p));
+            const double l1 = std::abs(g.x) + std::abs(g.y) + std::abs(g.z);
+            const double len = glm::length(g);
+            const double area = l1 > 0.0 ? gap * gap * len / l1 : gap * gap;
+            kept.emplace_back(p, float(area));
         }
         if (kept.size() <= shared::kMaxBodySamples)
             return kept;
     }
+}
+
+std::vector<glm::vec4> bodyContactPoints(const format::ColliderAsset& asset, double scale,
+                                         const PbfConstants& k) {
+    // About one particle spacing apart (what the fluid resolves), at most one per voxel.
+    return surfacePoints(asset, std::max(asset.meta.voxelSize, double(2.0f * k.radius) / scale));
 }
 
 Result<BodySetup> setUpBodies(const format::Scene& scene,
@@ -162,13 +173,10 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
         const format::DynamicBody& d = *sc.dynamic;
         const double s = sc.scale;
 
-        // Contact points about one particle spacing apart (what the fluid resolves), at most
-        // one per voxel.
-        const double gap = std::max(asset.meta.voxelSize, double(2.0f * k.radius) / s);
-        const std::vector<glm::vec3> points = surfacePoints(asset, gap);
+        const std::vector<glm::vec4> points = bodyContactPoints(asset, s, k);
         double reach = 0.0;
-        for (const glm::vec3& p : points)
-            reach = std::max(reach, glm::length(glm::dvec3(p) - mass->centerLocal));
+        for (const glm::vec4& p : points)
+            reach = std::max(reach, glm::length(glm::dvec3(glm::vec3(p)) - mass->centerLocal));
 
         const ColliderPose start = colliderPose(sc, 0.0f);
         shared::GpuBody b{};
@@ -190,8 +198,7 @@ Result<BodySetup> setUpBodies(const format::Scene& scene,
         b.sampleCount = std::uint32_t(points.size());
         b.friction = d.friction;
         b.restitution = d.restitution;
-        for (const glm::vec3& p : points)
-            out.samples.emplace_back(p, 0.0f);
+        out.samples.insert(out.samples.end(), points.begin(), points.end());
         out.bodyOfCollider[c] = std::uint32_t(out.records.size());
         out.records.push_back(b);
         out.volumes.push_back(mass->volume);

@@ -19,7 +19,7 @@ namespace sluice::rt {
 /// Every dynamic collider of a scene, ready for the GPU.
 struct BodySetup {
     std::vector<shared::GpuBody> records;      ///< one per dynamic collider, in scene order
-    std::vector<glm::vec4> samples;            ///< contact points, body-local [asset units]
+    std::vector<glm::vec4> samples; ///< contact points, body-local [asset units]; w: area [units^2]
     std::vector<std::uint32_t> bodyOfCollider; ///< body index per collider, or kNoBody
     std::vector<double> volumes;               ///< each body's volume [m^3]
     std::vector<bool> fromMesh; ///< mass properties from the mesh (true) or the field (false)
@@ -45,8 +45,15 @@ Result<double> bodyDensity(const format::Scene& scene, std::size_t c,
 
 /// Points on the zero level set of `asset`, about `gap` apart [asset units], in grid order:
 /// grid points near the surface moved onto it along the gradient, one per gap-sized cell. At
-/// most kMaxBodySamples (the gap grows until they fit).
-std::vector<glm::vec3> surfacePoints(const format::ColliderAsset& asset, double gap);
+/// most kMaxBodySamples (the gap grows until they fit). `w` is the surface area a point stands
+/// for [asset units^2]: a plane of unit normal n crosses gap-sized cells at (|n_x| + |n_y| +
+/// |n_z|) per gap^2 of its area, so gap^2 / |n|_1.
+std::vector<glm::vec4> surfacePoints(const format::ColliderAsset& asset, double gap);
+
+/// The contact points of a body of `asset` placed at `scale`: surfacePoints about one particle
+/// spacing apart in the world (2 k.radius), at most one per voxel.
+std::vector<glm::vec4> bodyContactPoints(const format::ColliderAsset& asset, double scale,
+                                         const PbfConstants& k);
 
 /// Removes the particles whose centre lies inside a dynamic body at its start pose; returns
 /// how many.

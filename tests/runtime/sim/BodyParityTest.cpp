@@ -12,6 +12,7 @@
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "sim/ParticleCompare.h"
+#include "sim/BodySetup.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -60,17 +61,21 @@ void addBox(BodyScene& b, glm::dvec3 lo, glm::dvec3 hi, glm::vec3 translation, g
 }
 
 // The reference's colliders: the scene's, each body held at the pose and centre of mass the GPU
-// starts it at.
+// starts it at, with the GPU's contact points.
 std::vector<ref::ReferenceCollider> referenceColliders(const BodyScene& b,
                                                        const std::vector<BodyState>& bodies) {
+    const PbfConstants k = deriveConstants(b.scene.simulation);
     std::vector<ref::ReferenceCollider> out;
     for (std::size_t c = 0; c < b.assets.size(); ++c)
         out.push_back({&b.assets[c], b.scene.colliders[c]});
     for (const BodyState& body : bodies) {
-        out[body.collider].centerOfMass = body.position;
-        out[body.collider].bodyPose = body.pose;
-        out[body.collider].mass = body.mass;
-        out[body.collider].linearVelocity = body.linearVelocity;
+        ref::ReferenceCollider& c = out[body.collider];
+        c.centerOfMass = body.position;
+        c.bodyPose = body.pose;
+        c.mass = body.mass;
+        c.linearVelocity = body.linearVelocity;
+        c.contactPoints =
+            bodyContactPoints(b.assets[body.collider], b.scene.colliders[body.collider].scale, k);
     }
     return out;
 }
@@ -193,6 +198,36 @@ TEST_F(BodyParity, ABodyPressingWaterIntoAWallMatchesTheCpuReference) {
     std::printf("held force on the reference: %.4f N\n", p.held);
     EXPECT_GT(p.held, 0.1) << "the wall must hold particles against the box";
     expectParity(p, b);
+}
+
+TEST_F(BodyParity, ABodySealedOnTheFloorMatchesTheCpuReference) {
+    BodyScene b = tankWithFloor();
+    // An 8 x 4 x 8 cm box in the middle of the tank, its bottom 4 mm above the floor under 12 cm
+    // of water: no particle fits under it, so the water beside it at the floor gives its bottom
+    // that pressure (docs/bodies.md, "Sealed contacts").
+    addBox(b, {-0.04, -0.02, -0.04}, {0.04, 0.02, 0.04}, glm::vec3(0.16f, 0.024f, 0.16f),
+           glm::vec3(0.0f), 1.0f, 0.0f);
+    SimulationOptions options;
+    options.deterministic = true;
+    auto gpu = Simulation::create(b.scene, b.assets, options);
+    ASSERT_TRUE(gpu) << gpu.error().message();
+    ref::ReferencePbf cpu(b.scene, referenceColliders(b, gpu->bodies()));
+    gpu->step();
+    cpu.substep();
+    const glm::dvec3 sealed = cpu.bodySealedForce(0);
+    const glm::dvec3 fGpu(gpu->bodies().at(0).force), fCpu = cpu.bodyForce(0);
+    const double particles = maxPositionDifference(gpu->downloadParticles(), cpu.particles());
+    std::printf("sealed force on the reference (%.5f, %.5f, %.5f) N; the fluid's force GPU "
+                "(%.5f, %.5f, %.5f) CPU (%.5f, %.5f, %.5f) N; particles %.3g h apart\n",
+                sealed.x, sealed.y, sealed.z, fGpu.x, fGpu.y, fGpu.z, fCpu.x, fCpu.y, fCpu.z,
+                particles / b.scene.simulation.kernelRadius);
+    EXPECT_GT(sealed.y, 1.0) << "the sealed bottom is pushed up";
+    EXPECT_LT(std::abs(sealed.x) + std::abs(sealed.z), 1e-3 * sealed.y) << "across the floor";
+    // The particles of this scene already differ by about 1e-3 h after the substep with or
+    // without the sealed contacts (measured on llvmpipe: 1.1e-3 h, the other scenes 2e-6 h; the
+    // cause is not found yet), so the forces are held to 5 % of the sealed push: without the
+    // push on the GPU they would differ by all of it. Measured: 2.4 %.
+    EXPECT_LT(glm::length(fGpu - fCpu), 0.05 * glm::length(sealed));
 }
 
 } // namespace

@@ -454,6 +454,7 @@ struct Released {
     double farthest = 0.0;
     double lowest = 0.0;
     double lastSecondShare = 0.0;
+    double draft = 0.0; ///< share of the cube under the water's level, mean of six frames
     BodyState body;
     Health health;
     bool bodyFinite = true;
@@ -481,8 +482,17 @@ Released releaseCube(float ratio, float y, bool solids, float seconds) {
         out.bodyFinite = out.bodyFinite && finite(out.body);
         out.farthest = std::max(out.farthest, std::abs(double(out.body.position.y) - start));
         out.lowest = std::min(out.lowest, double(out.body.position.y));
-        if (step >= steps - 60)
+        if (step >= steps - 60) {
             out.lastSecondShare += out.body.submergedShare / 60.0;
+            // The geometric draft against the hydrostatic level (as playCube's), every 10th frame.
+            if (step % 10 == 0) {
+                const double level = waterLevel(sim->downloadParticles(), out.body.position,
+                                                0.6 * kSide, glm::vec2(tank),
+                                                sim->constants().volume,
+                                                lowestPoint(out.body, kSide));
+                out.draft += submergedShare(out.body, kSide, level) / 6.0;
+            }
+        }
     }
     return out;
 }
@@ -530,6 +540,29 @@ TEST_F(SimulationBodies, ALightBodyDroppedIntoDeepWaterComesBackUpAndFloats) {
     EXPECT_NEAR(r.lastSecondShare, 0.5, 0.1);
     EXPECT_EQ(r.body.contacts, 0u);
     expectHealthy(r, "dropped");
+}
+
+TEST_F(SimulationBodies, ALightBodyRestingOnTheFloorRisesAndAHeavyOneStaysDown) {
+    // Issue 25: cubes resting flat on the floor of the filled tank from the start, no water
+    // under them (a crate placed before the room floods). The water meeting the floor around
+    // each gives its sealed bottom the pressure there (docs/bodies.md, "Sealed contacts"): 0.3,
+    // 0.5 and 0.7 rise and float at their draft, 1.2 stays down. Before, all four stayed on the
+    // floor, the fluid's force on them 0.
+    const float resting = 0.5f * kSide;
+    for (float ratio : {0.3f, 0.5f, 0.7f, 1.2f}) {
+        const Released r = releaseCube(ratio, resting, false, 4.0f);
+        std::printf("cube at %.1f resting on the floor: ends at %.4f m (highest %.4f m above its "
+                    "start), draft %.3f over the last second, %u contacts\n",
+                    ratio, r.body.position.y, r.farthest, r.draft, r.body.contacts);
+        if (ratio < 1.0f) {
+            EXPECT_GT(r.body.position.y, resting + 4 * kSpacing) << ratio << " must rise";
+            EXPECT_NEAR(r.draft, ratio, 0.05) << ratio << " floats at its draft";
+            EXPECT_EQ(r.body.contacts, 0u) << ratio;
+        } else {
+            EXPECT_LT(r.farthest, 0.25 * kSpacing) << ratio << " stays on the floor";
+        }
+        expectHealthy(r, "resting on the floor");
+    }
 }
 
 // A tilted box dropped onto the floor of an empty domain, with or without a second box resting
