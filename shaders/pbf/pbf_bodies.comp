@@ -215,20 +215,25 @@ void startBody(uint b, vec3 sealedDx, vec3 sealedMoment) {
 void sealedReaction(uint b, uint lane, float rim, out vec3 sealedDx, out vec3 sealedMoment) {
     SealedSums sums = sealedShare(b, lane, kLanes, bodies[b].position, bodies[b].orientation);
     sStep[lane] = vec4(sums.sealed, sums.sideArea);
-    sTurn[lane] = vec4(sums.turn, 0.0);
+    sTurn[lane] = vec4(sums.turn, sums.lowest);
     memoryBarrierShared();
     barrier();
     for (uint stride = kLanes >> 1; stride > 0u; stride >>= 1) {
         if (lane < stride) {
             sStep[lane] += sStep[lane + stride];
-            sTurn[lane] += sTurn[lane + stride];
+            sTurn[lane] = vec4(sTurn[lane].xyz + sTurn[lane + stride].xyz,
+                               min(sTurn[lane].w, sTurn[lane + stride].w));
         }
         memoryBarrierShared();
         barrier();
     }
     sealedDx = vec3(0.0);
     sealedMoment = vec3(0.0);
-    vec3 expected = sStep[0].w > 0.0 ? rim / sStep[0].w * sStep[0].xyz : vec3(0.0);
+    // The rim's water beside the gap under the body pressed no side: its sides cover the band
+    // from the lowest gap up, the rim's water all of it.
+    float band = rimBand();
+    float sideArea = sStep[0].w * band / max(band - sTurn[0].w, 1e-3 * band);
+    vec3 expected = sStep[0].w > 0.0 ? rim / sideArea * sStep[0].xyz : vec3(0.0);
     float expectedLength = length(expected);
     if (!(expectedLength > 0.0))
         return;
@@ -236,7 +241,7 @@ void sealedReaction(uint b, uint lane, float rim, out vec3 sealedDx, out vec3 se
     vec3 under = sumOf(b, kBodySumUnder) / bodies[b].sumScale;
     float topUp = max(0.0, expectedLength - dot(under, along)) / expectedLength;
     sealedDx = topUp * expected;
-    sealedMoment = topUp * rim / sStep[0].w * sTurn[0].xyz;
+    sealedMoment = topUp * rim / sideArea * sTurn[0].xyz;
 }
 
 // The lanes' shares added in a fixed tree (the same order every run); lane 0 ends with the

@@ -290,15 +290,18 @@ float rimBand() {
 //   collider whose outward normal n faces it (more than 120 degrees from the solid's normal m),
 //   the water's push across the solid, and `turn` the sum of their moments (p - c) x ...;
 // - `sideArea`: the area of the points within the rim band of a solid whose normal runs along
-//   it (within 30 degrees of its plane): the sides the rim's water pushes.
+//   it (within 30 degrees of its plane): the sides the rim's water pushes;
+// - `lowest`: the smallest gap of the facing points (the rim band when none): the rim's water
+//   beside that gap presses no side of the body.
 struct SealedSums {
     vec3 sealed;
     vec3 turn;
     float sideArea;
+    float lowest;
 };
 
 SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0) {
-    SealedSums sums = SealedSums(vec3(0.0), vec3(0.0), 0.0);
+    SealedSums sums = SealedSums(vec3(0.0), vec3(0.0), 0.0, rimBand());
     float areaScale = bodies[b].scale * bodies[b].scale;
     for (uint s = lane; s < bodies[b].sampleCount; s += lanes) {
         vec4 point = samples[bodies[b].sampleOffset + s];
@@ -320,6 +323,7 @@ SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0) {
             vec3 push = area * facing * solidNormal;
             sums.sealed += push;
             sums.turn += cross(arm, push);
+            sums.lowest = min(sums.lowest, max(gap, 0.0));
         } else if (abs(facing) < 0.5) {
             sums.sideArea += area;
         }

@@ -287,8 +287,9 @@ void ReferencePbf::addRim(Body& body, glm::vec3 dx) {
 // The body's points within h of a wall or a static collider facing it (normals more than 120
 // degrees apart) should get across the solid, per area (times the cosine), what the rim pushed
 // in all over the area of the body's sides within h + r of a solid (normals within 30 degrees
-// of its plane); what the water between gave (the under sum) is topped up to that along its
-// direction, and the top-up added to the body's sums like the particles' pushes.
+// of its plane, counted as covering the band from the lowest facing gap up); what the water
+// between gave (the under sum) is topped up to that along its direction, and the top-up added
+// to the body's sums like the particles' pushes.
 void ReferencePbf::addSealedContacts(Body& body, float t1) {
     if (!(body.rimPush > 0.0))
         return;
@@ -297,7 +298,7 @@ void ReferencePbf::addSealedContacts(Body& body, float t1) {
     const format::SdfSampler& sampler = m_colliders[body.collider].sampler;
     const double scale = body.pose.scale;
     glm::dvec3 sealed(0.0), turn(0.0);
-    double sideArea = 0.0;
+    double sideArea = 0.0, lowest = band;
     for (const glm::vec4& point : body.contactPoints) {
         const glm::vec3 w = body.pose.toWorld(glm::vec3(point));
         glm::dvec3 solidNormal;
@@ -315,12 +316,16 @@ void ReferencePbf::addSealedContacts(Body& body, float t1) {
             const glm::dvec3 push = area * facing * solidNormal;
             sealed += push;
             turn += glm::cross(glm::dvec3(w) - glm::dvec3(body.centerOfMass), push);
+            lowest = std::min(lowest, std::max(gap, 0.0));
         } else if (std::abs(facing) < 0.5) {
             sideArea += area;
         }
     }
     if (!(sideArea > 0.0))
         return;
+    // The rim's water beside the gap under the body pressed no side: the sides cover the band
+    // from the lowest gap up.
+    sideArea *= band / std::max(band - lowest, 1e-3 * band);
     const glm::dvec3 expected = body.rimPush / sideArea * sealed;
     const double expectedLength = glm::length(expected);
     if (!(expectedLength > 0.0))
