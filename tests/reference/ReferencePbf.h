@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "sluice/format/asset/ColliderAsset.h"
-#include "sluice/format/scene/Scene.h"
 #include "sluice/format/asset/SdfSampler.h"
+#include "sluice/format/scene/Scene.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::ref {
@@ -147,18 +147,18 @@ private:
         rt::ColliderPose pose;
         glm::vec3 centerOfMass{0.0f};
         double mass = 0.0;
-        glm::dvec3 velocity{0.0};  // at the substep start [m/s]
-        glm::dvec3 sumDx{0.0};     // sum dx of the current substep [m]
-        glm::dvec3 sumMoment{0.0}; // sum (x - c) x dx of the current substep [m^2]
-        glm::dvec3 heldDx{0.0};    // the collision pushes a domain wall undid [m]
-        glm::dvec3 heldMoment{0.0}; // [m^2]
-        glm::dvec3 heldForce{0.0}; // of heldDx, before the share [N]
+        glm::dvec3 velocity{0.0};             // at the substep start [m/s]
+        glm::dvec3 sumDx{0.0};                // sum dx of the current substep [m]
+        glm::dvec3 sumMoment{0.0};            // sum (x - c) x dx of the current substep [m^2]
+        glm::dvec3 heldDx{0.0};               // the collision pushes a domain wall undid [m]
+        glm::dvec3 heldMoment{0.0};           // [m^2]
+        glm::dvec3 heldForce{0.0};            // of heldDx, before the share [N]
         std::vector<glm::vec4> contactPoints; // asset frame; w: area [asset units^2]
-        double rimPush = 0.0; // lengths of its pushes along a solid within h of it [m]
-        glm::dvec3 underDx{0.0}; // its pushes across a solid within h of it [m]
+        double rimPush = 0.0;        // its pushes along a solid within h + r of it, lengths [m]
+        glm::dvec3 underDx{0.0};     // its pushes across a solid within h + r of it [m]
         glm::dvec3 sealedForce{0.0}; // of the sealed contacts, in force [N]
-        glm::dvec3 force{0.0};     // of the last substep, or the mean over the last step [N]
-        glm::dvec3 torque{0.0};    // [N m]
+        glm::dvec3 force{0.0};       // of the last substep, or the mean over the last step [N]
+        glm::dvec3 torque{0.0};      // [N m]
     };
 
     float timeAt(std::uint64_t substepIndex) const;
@@ -204,8 +204,8 @@ private:
     rt::EmitterSchedule m_schedule;
     std::uint32_t m_nextId = 0;
     std::uint64_t m_substepIndex = 0;
-    bool m_inRim = false;           // the particle being corrected is within h of a solid
-    glm::dvec3 m_rimNormal{0.0};    // and that solid's normal
+    bool m_inRim = false;        // the particle being corrected is within h + r of a solid
+    glm::dvec3 m_rimNormal{0.0}; // and that solid's normal
 
     std::vector<rt::ParticleState> m_particles;
     std::vector<glm::vec3> m_predicted;          // x*

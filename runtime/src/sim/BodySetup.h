@@ -10,15 +10,15 @@
 
 #include "shared/Bodies.h"
 #include "sluice/format/asset/ColliderAsset.h"
-#include "sluice/format/support/Result.h"
 #include "sluice/format/scene/Scene.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 
 /// Every dynamic collider of a scene, ready for the GPU.
 struct BodySetup {
-    std::vector<shared::GpuBody> records;      ///< one per dynamic collider, in scene order
+    std::vector<shared::GpuBody> records; ///< one per dynamic collider, in scene order
     std::vector<glm::vec4> samples; ///< contact points, body-local [asset units]; w: area [units^2]
     std::vector<std::uint32_t> bodyOfCollider; ///< body index per collider, or kNoBody
     std::vector<double> volumes;               ///< each body's volume [m^3]

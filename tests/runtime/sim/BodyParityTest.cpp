@@ -11,8 +11,8 @@
 #include "GpuTest.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
-#include "sim/ParticleCompare.h"
 #include "sim/BodySetup.h"
+#include "sim/ParticleCompare.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
