@@ -9,6 +9,7 @@
 #include <string>
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -77,6 +78,36 @@ std::filesystem::path uniqueTempName(const std::filesystem::path& target) {
     name.append("-");
     name.append(std::to_string(s_rng() & 0xFFFFFFFFu));
     return target.parent_path() / name;
+}
+
+/// The writer's process id in a name uniqueTempName gave for `target`, or 0 if `name` is not
+/// one.
+pid_t tempNameWriter(const std::string& name, const std::filesystem::path& target) {
+    const std::string prefix = "." + target.filename().string() + ".tmp-";
+    if (name.compare(0, prefix.size(), prefix) != 0)
+        return 0;
+    pid_t pid = 0;
+    std::size_t i = prefix.size();
+    for (; i < name.size() && name[i] >= '0' && name[i] <= '9' && pid < (1 << 24); ++i)
+        pid = pid * 10 + (name[i] - '0');
+    return i < name.size() && name[i] == '-' ? pid : 0;
+}
+
+/// Removes the temporary files of `path` that writers no longer running left behind: a writer
+/// killed between naming its complete file and renaming it, or (without O_TMPFILE) while
+/// writing. A name whose process still runs, this one included, is left alone: it may be a
+/// write in flight. Best effort: a folder that cannot be read is left as it is.
+void removeStaleTemporaries(const std::filesystem::path& path) {
+    const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+    std::error_code ec;
+    std::filesystem::directory_iterator it(folder, ec);
+    for (; !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+        const pid_t writer = tempNameWriter(it->path().filename().string(), path);
+        if (writer <= 0 || writer == ::getpid())
+            continue;
+        if (::kill(writer, 0) != 0 && errno == ESRCH)
+            ::unlink(it->path().c_str());
+    }
 }
 
 /// Makes a rename in `path`'s folder durable. Best effort: the data is already in place.
@@ -151,8 +182,11 @@ Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const 
         return fail(ErrorCode::InvalidArgument,
                     path.string() + ": not a file path (it names no file)");
 
-    if (std::optional<Result<void>> done = writeUnnamedThenRename(path, bytes))
+    if (std::optional<Result<void>> done = writeUnnamedThenRename(path, bytes)) {
+        if (done->ok())
+            removeStaleTemporaries(path);
         return std::move(*done);
+    }
 
     // No unnamed files here: a named temporary file, which a writer killed mid-write leaves
     // behind. O_EXCL makes the name ours alone; retry on the (unlikely) collision.
@@ -184,7 +218,10 @@ Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const 
         return abandon("write failed", err);
     if (::fsync(file.get()) != 0)
         return abandon("fsync failed", errno);
-    return closeAndReplace(file, temp, path);
+    Result<void> replaced = closeAndReplace(file, temp, path);
+    if (replaced.ok())
+        removeStaleTemporaries(path);
+    return replaced;
 }
 
 Result<std::vector<std::byte>> readFileBytes(const std::filesystem::path& path,

@@ -1,4 +1,5 @@
 // Atomic file replacement: success replaces whole, failure leaves the old file and no litter.
+#include <algorithm>
 #include <csignal>
 #include <fstream>
 #include <iterator>
@@ -8,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "asset/AssetTestUtil.h"
@@ -120,6 +122,50 @@ TEST(AtomicFile, ConcurrentWritersLeaveOneWholeVersion) {
     const std::string content = contentOf(path);
     EXPECT_TRUE(content == std::string(50000, 'a') || content == std::string(70000, 'b'));
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.bin"});
+}
+
+TEST(AtomicFile, ASuccessfulWriteRemovesTheTemporaryFilesOfWritersNoLongerRunning) {
+    // A writer killed between naming its complete file and the rename leaves
+    // ".<name>.tmp-<pid>-...". The next write of that name removes it once its process is gone,
+    // and leaves alone the files of running writers, of other names and of other patterns.
+    TempDir dir;
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0)
+        ::_exit(0);
+    ASSERT_EQ(::waitpid(child, nullptr, 0), child); // reaped: its pid names no process now
+    const std::string dead = std::to_string(child), live = std::to_string(::getppid());
+    const std::vector<std::string> kept = {".out.bin.tmp-" + live + "-0-7",   // still running
+                                           ".other.bin.tmp-" + dead + "-0-7", // another file's
+                                           ".out.bin.tmp-x" + dead + "-0-7",  // not a pid
+                                           "out.bin.tmp-" + dead + "-0-7"};   // not hidden
+    for (const std::string& name : kept)
+        std::ofstream(dir / name) << "kept";
+    std::ofstream(dir / (".out.bin.tmp-" + dead + "-3-12345")) << "left by a killed writer";
+    std::ofstream(dir / "out.bin") << "previous";
+
+    ASSERT_TRUE(writeFileAtomic(dir / "out.bin", bytesOf("new")).ok());
+    std::vector<std::string> expected = kept;
+    expected.push_back("out.bin");
+    std::sort(expected.begin(), expected.end());
+    std::vector<std::string> entries = dir.entries();
+    std::sort(entries.begin(), entries.end());
+    EXPECT_EQ(entries, expected);
+    EXPECT_EQ(contentOf(dir / "out.bin"), "new");
+}
+
+TEST(AtomicFile, AFailedWriteRemovesNothing) {
+    TempDir dir;
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0)
+        ::_exit(0);
+    ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+    const std::string stale = ".out.bin.tmp-" + std::to_string(child) + "-0-1";
+    std::ofstream(dir / stale) << "left by a killed writer";
+    std::filesystem::create_directory(dir / "out.bin"); // the target is a folder: the write fails
+    EXPECT_FALSE(writeFileAtomic(dir / "out.bin", bytesOf("new")).ok());
+    EXPECT_TRUE(std::filesystem::exists(dir / stale));
 }
 
 TEST(AtomicFile, ReadFileBytesReturnsTheWholeFile) {
