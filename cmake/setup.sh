@@ -57,7 +57,8 @@ if [ "$mode" = fuzz ]; then
   fuzz_preset=${SLUICE_FUZZ_PRESET:-fuzz}
   cmake --preset "$fuzz_preset" >/dev/null
   cmake --build --preset "$fuzz_preset" -j "$jobs"
-  exec bash tests/fuzz/run.sh --build "build/$fuzz_preset" --seconds "${SLUICE_FUZZ_SECONDS:-60}"
+  exec bash tests/fuzz/run.sh --build "build/$fuzz_preset" --seconds "${SLUICE_FUZZ_SECONDS:-60}" \
+    --jobs "${SLUICE_FUZZ_JOBS:-1}"
 fi
 cmake --preset "$preset" >/dev/null
 cmake --build --preset "$preset" -j "$jobs"

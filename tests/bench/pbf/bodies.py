@@ -9,6 +9,10 @@ run's (the boundary volume in the lambda and delta passes and the reaction sums)
 pass itself, both from the same run. Results: docs/results/pbf_bodies_<machine>.json.
 
     python3 tests/bench/pbf/bodies.py --build build/dev --repeat 3
+
+With --resting the crates start on the floor under the water (--density 1200: they stay there),
+so the sealed contacts work every substep: their cost is the step against the same scene on a
+build without them.
 """
 
 import json
@@ -29,7 +33,7 @@ DOMAIN = {"min": [-0.37, 0.0, -0.22], "max": [0.37, 0.6, 0.22]}
 CRATE = 0.12  # [m] side of assets/crate.obj
 
 
-def make_scene(bodies, spacing):
+def make_scene(bodies, spacing, resting=False, density=500):
     colliders = []
     if bodies:
         k = math.ceil(math.sqrt(bodies))
@@ -38,9 +42,11 @@ def make_scene(bodies, spacing):
         for i in range(bodies):
             x = -0.35 + (i % k + 0.5) * cell_x
             z = -0.21 + (i // k + 0.5) * cell_z
+            # Just above the water, or resting on the floor under it (their bottoms sealed
+            # against the floor: docs/bodies.md, "Sealed contacts").
+            y = 0.5 * size if resting else POOL["max"][1] + 0.6 * size + 0.01
             colliders.append({"asset": "crate.slc", "scale": size / CRATE,
-                              "translation": [x, POOL["max"][1] + 0.6 * size + 0.01, z],
-                              "dynamic": {"density": 500}})
+                              "translation": [x, y, z], "dynamic": {"density": density}})
     return {"version": 1, "name": f"bodies-{bodies}",
             "simulation": {"spacing": spacing},
             "fluid": [{"box": POOL}],
@@ -51,14 +57,17 @@ def make_scene(bodies, spacing):
 def main():
     a, play, assets = sweep.parse_bench_args(
         __doc__, [("--bodies", dict(default="0,1,16,64")),
-                  ("--spacing", dict(type=float, default=0.02))],
+                  ("--spacing", dict(type=float, default=0.02)),
+                  ("--resting", dict(action="store_true",
+                                     help="crates start on the pool's floor, under the water")),
+                  ("--density", dict(type=float, default=500.0, help="the crates' [kg/m^3]"))],
         warmup=30, steps=10, repeat=3, repeat_help="runs per body count, interleaved",
         results_name="pbf_bodies")
     counts = [int(c) for c in a.bodies.split(",")]
     runs = []
     for rep in range(a.repeat):
         for n in counts:
-            scene = make_scene(n, a.spacing)
+            scene = make_scene(n, a.spacing, a.resting, a.density)
             path = os.path.join(assets, f"bench-bodies-{n}.json")
             with open(path, "w") as f:
                 json.dump(scene, f, indent=4)
@@ -92,6 +101,7 @@ def main():
     doc = {"what": "sluice-play --bench with dynamic bodies (tests/bench/pbf/bodies.py)",
            "date": sweep.utc_now(),
            "machineName": a.machine, "machine": sweep.machine_info(),
+           "resting": a.resting, "density": a.density,
            "warmup": a.warmup, "steps": a.steps, "runs": runs, "summary": summary}
     sweep.write_results(a.out, doc)
     return 0

@@ -1,5 +1,6 @@
 // Dynamic bodies in the GPU solver (docs/bodies.md): Archimedes' draft, sinking and rising,
-// momentum exchange, contacts, robustness and determinism, on llvmpipe-sized scenes.
+// momentum exchange, contacts, robustness and determinism, on llvmpipe-sized scenes. Bodies
+// released in deep water or resting on the floor are in BodyReleaseTest.cpp.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -12,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "BodyTank.h"
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
 #include "sluice/rt/sim/Simulation.h"
@@ -20,114 +22,9 @@ namespace sluice::rt {
 namespace {
 
 using gpu::test::GpuTest;
+using namespace bodytest;
 
 class SimulationBodies : public GpuTest {};
-
-constexpr float kSpacing = 0.02f;
-
-// A tank of `tank` (x, z) [m] holding water `depth` deep, open above up to `height`.
-format::Scene tankScene(glm::vec2 tank, float depth, float height, std::uint32_t substeps = 4) {
-    format::Scene scene;
-    scene.path = "tank.json";
-    scene.name = "tank";
-    const glm::uvec3 counts(std::uint32_t(std::lround(tank.x / kSpacing)),
-                            std::uint32_t(std::lround(depth / kSpacing)),
-                            std::uint32_t(std::lround(tank.y / kSpacing)));
-    scene.simulation = testscene::defaultParams(kSpacing, substeps, counts.x * counts.y * counts.z);
-    scene.simulation.targetDensityError = 0.005f;
-    format::FluidBlock block;
-    block.min = glm::vec3(0.0f);
-    block.max = glm::vec3(counts) * kSpacing;
-    scene.blocks.push_back(block);
-    scene.domainMin = glm::vec3(0.0f);
-    scene.domainMax = glm::vec3(tank.x, height, tank.y);
-    return scene;
-}
-
-// A dynamic collider centred at `centre`, `ratio` times the water's density.
-format::SceneCollider cubeBody(glm::vec3 centre, float ratio) {
-    format::SceneCollider c;
-    c.asset = "cube.slc";
-    c.translation = centre;
-    format::DynamicBody d;
-    d.density = ratio * 1000.0f;
-    c.dynamic = d;
-    return c;
-}
-
-format::ColliderAsset cubeAsset(float side) {
-    const double h = 0.5 * side;
-    return testscene::boxColliderAsset(glm::dvec3(-h), glm::dvec3(h), 0.25 * kSpacing);
-}
-
-// Height of the water surface away from the body, by mass: hydrostatic pressure at height y
-// is the weight of the water above it, so the surface Archimedes' law refers to is
-// y + (volume m / rho0 of the particles above y) / (their floor area). Measured above `below`
-// (the body's lowest point), over the columns farther than `clear` [m] horizontally from
-// `centre` and two spacings from the walls (the wall layers sit closer than the rest spacing).
-// The top particles' heights are not that surface: PBF's surface layer sits closer than the
-// rest spacing too.
-double waterLevel(const std::vector<ParticleState>& particles, glm::vec3 centre, double clear,
-                  glm::vec2 tank, double particleVolume, double below) {
-    const double margin = 2.0 * kSpacing;
-    std::uint64_t above = 0;
-    for (const ParticleState& p : particles) {
-        const glm::vec2 d(p.position.x - centre.x, p.position.z - centre.z);
-        if (std::max(std::abs(d.x), std::abs(d.y)) < clear || p.position.x < margin ||
-            p.position.z < margin || p.position.x > tank.x - margin ||
-            p.position.z > tank.y - margin || p.position.y < below)
-            continue;
-        ++above;
-    }
-    const double area =
-        (double(tank.x) - 2.0 * margin) * (double(tank.y) - 2.0 * margin) - 4.0 * clear * clear;
-    return below + double(above) * particleVolume / area;
-}
-
-// Lowest point of the cube of side `side` at the body's pose.
-double lowestPoint(const BodyState& body, float side) {
-    double lowest = 1e30;
-    for (int c = 0; c < 8; ++c) {
-        const glm::vec3 corner = (glm::vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1) - 0.5f) * side;
-        lowest = std::min(lowest, double(body.pose.toWorld(corner).y));
-    }
-    return lowest;
-}
-
-// Share of the cube's volume below height `level`: 24^3 points inside it at its pose.
-double submergedShare(const BodyState& body, float side, double level) {
-    const int n = 24;
-    int below = 0;
-    for (int k = 0; k < n; ++k)
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const glm::vec3 local =
-                    (glm::vec3(i, j, k) + 0.5f) / float(n) * side - glm::vec3(0.5f * side);
-                if (body.pose.toWorld(local).y < level)
-                    ++below;
-            }
-    return double(below) / double(n * n * n);
-}
-
-// Robustness figures over a whole run: the worst step.
-struct Health {
-    std::uint32_t inside = 0;    ///< particles with phi < -r/2 in some collider or body
-    std::uint32_t nonFinite = 0; ///< particles reset because they went non-finite
-    void add(const StepStats& stats) {
-        inside = std::max(inside, stats.insideColliders);
-        nonFinite = std::max(nonFinite, stats.nonFinite);
-    }
-};
-
-bool finite(const BodyState& b) {
-    const float values[] = {b.position.x,        b.position.y,        b.position.z,
-                            b.linearVelocity.x,  b.linearVelocity.y,  b.linearVelocity.z,
-                            b.angularVelocity.x, b.angularVelocity.y, b.angularVelocity.z,
-                            b.orientation.x,     b.orientation.y,     b.orientation.z,
-                            b.orientation.w};
-    return std::all_of(std::begin(values), std::end(values),
-                       [](float v) { return std::isfinite(v); });
-}
 
 struct Settled {
     double share = 0.0; ///< submerged share, mean of six frames over the last second
@@ -204,21 +101,31 @@ void expectHealthy(const Settled& s) {
     EXPECT_TRUE(s.bodyFinite);
 }
 
-const float kSide = 8 * kSpacing; // the smallest cube the issue allows: 8 spacings wide
-
 // Start with the cube 0.1 of its height higher than Archimedes' draft, so it has to settle.
 float startHeight(float ratio) {
     return kDepth + kSide * (0.5f - (ratio - 0.1f));
 }
 
-TEST_F(SimulationBodies, CubesFloatAtTheDraftArchimedesGives) {
-    for (float ratio : {0.25f, 0.5f, 0.75f}) {
-        const Settled s = playCube(ratio, kSide, startHeight(ratio), 3.0f);
-        EXPECT_NEAR(s.share, ratio, 0.05) << "density ratio " << ratio;
-        EXPECT_LT(s.verticalRms, 0.02) << "density ratio " << ratio;
-        EXPECT_EQ(s.body.contacts, 0u) << "a floating cube touches nothing";
-        expectHealthy(s);
-    }
+// A cube released 0.1 of its height above its draft settles at Archimedes' draft, at rest,
+// touching nothing.
+void expectFloatsAtTheDraft(float ratio) {
+    const Settled s = playCube(ratio, kSide, startHeight(ratio), 3.0f);
+    EXPECT_NEAR(s.share, ratio, 0.05) << "density ratio " << ratio;
+    EXPECT_LT(s.verticalRms, 0.02) << "density ratio " << ratio;
+    EXPECT_EQ(s.body.contacts, 0u) << "a floating cube touches nothing";
+    expectHealthy(s);
+}
+
+TEST_F(SimulationBodies, CubesFloatAtTheDraftArchimedesGivesAtAQuarter) {
+    expectFloatsAtTheDraft(0.25f);
+}
+
+TEST_F(SimulationBodies, CubesFloatAtTheDraftArchimedesGivesAtAHalf) {
+    expectFloatsAtTheDraft(0.5f);
+}
+
+TEST_F(SimulationBodies, CubesFloatAtTheDraftArchimedesGivesAtThreeQuarters) {
+    expectFloatsAtTheDraft(0.75f);
 }
 
 TEST_F(SimulationBodies, ABodyATenthLighterThanWaterFloatsAndOneATenthHeavierSinks) {
@@ -444,129 +351,6 @@ TEST_F(SimulationBodies, TheGpuWorkGroupLayoutGivesTheSameContactsAsTheSoftwareO
     }
     // The tilted box settled flat on the pedestal: its centre half a side above the top face.
     EXPECT_NEAR(gpu[3].position.y, 1.5 * kSide, 0.25 * kSpacing);
-}
-
-// A cube `ratio` times the water's density released at rest with its centre at `y` over water
-// 16 spacings (two cube sizes) deep, in a tank 4 spacings wider than the cube on every side,
-// `seconds` played deterministic: how far its centre strayed from its start at most [m], the
-// lowest it went, its mean submerged share over the last second, and its state at the end.
-struct Released {
-    double farthest = 0.0;
-    double lowest = 0.0;
-    double lastSecondShare = 0.0;
-    double draft = 0.0; ///< share of the cube under the water's level, mean of six frames
-    BodyState body;
-    Health health;
-    bool bodyFinite = true;
-};
-
-Released releaseCube(float ratio, float y, bool solids, float seconds) {
-    const float tank = kSide + 8 * kSpacing;
-    format::Scene scene = tankScene(glm::vec2(tank), 16 * kSpacing, 1.0f);
-    scene.simulation.solidBoundary = solids;
-    scene.colliders.push_back(cubeBody(glm::vec3(0.5f * tank, y, 0.5f * tank), ratio));
-    SimulationOptions options;
-    options.deterministic = true;
-    auto sim = Simulation::create(scene, {cubeAsset(kSide)}, options);
-    EXPECT_TRUE(sim) << sim.error().message();
-    if (!sim)
-        return {};
-    Released out;
-    const double start = sim->bodies().at(0).position.y;
-    out.lowest = start;
-    const int steps = int(std::lround(60 * seconds));
-    for (int step = 0; step < steps; ++step) {
-        sim->step();
-        out.health.add(sim->readStats());
-        out.body = sim->bodies().at(0);
-        out.bodyFinite = out.bodyFinite && finite(out.body);
-        out.farthest = std::max(out.farthest, std::abs(double(out.body.position.y) - start));
-        out.lowest = std::min(out.lowest, double(out.body.position.y));
-        if (step >= steps - 60) {
-            out.lastSecondShare += out.body.submergedShare / 60.0;
-            // The geometric draft against the hydrostatic level (as playCube's), every 10th frame.
-            if (step % 10 == 0) {
-                const double level = waterLevel(
-                    sim->downloadParticles(), out.body.position, 0.6 * kSide, glm::vec2(tank),
-                    sim->constants().volume, lowestPoint(out.body, kSide));
-                out.draft += submergedShare(out.body, kSide, level) / 6.0;
-            }
-        }
-    }
-    return out;
-}
-
-void expectHealthy(const Released& r, const char* what) {
-    EXPECT_EQ(r.health.nonFinite, 0u) << what;
-    EXPECT_EQ(r.health.inside, 0u) << what;
-    EXPECT_TRUE(r.bodyFinite) << what;
-}
-
-TEST_F(SimulationBodies, ABodyAsDenseAsTheWaterStaysWhereItIsReleased) {
-    // Issue 25: at 1.0 it neither rises nor sinks more than one particle spacing in 3 s,
-    // anywhere in the water column: with one water layer under it, in the middle, and with one
-    // layer over it. With "solids" every wall adds its boundary volume, so the water keeps its
-    // height and its pressure at the floor (docs/pbf.md, "Boundary volume").
-    const float depth = 16 * kSpacing;
-    const std::pair<const char*, float> releases[] = {{"low", kSpacing + 0.5f * kSide},
-                                                      {"middle", 0.5f * depth},
-                                                      {"high", depth - kSpacing - 0.5f * kSide}};
-    for (const auto& [where, y] : releases) {
-        const Released r = releaseCube(1.0f, y, true, 3.0f);
-        std::printf("neutral cube released %s (centre %.3f m): ends at %.4f m, at most %.2f "
-                    "spacings from its start in 3 s\n",
-                    where, y, r.body.position.y, r.farthest / kSpacing);
-        EXPECT_LT(r.farthest, kSpacing) << where;
-        expectHealthy(r, where);
-    }
-}
-
-TEST_F(SimulationBodies, ALightBodyDroppedIntoDeepWaterComesBackUpAndFloats) {
-    // Issue 25: 0.5 dropped from 0.3 m above the water into water two cube sizes deep plunges,
-    // comes back up and floats at its draft, touching nothing (a rock at half the water's
-    // density dropped into shallow water used to stay on the floor). The default boundary
-    // model.
-    const float depth = 16 * kSpacing;
-    const float start = depth + 0.3f + 0.5f * kSide;
-    const Released r = releaseCube(0.5f, start, false, 3.0f);
-    std::printf("cube at 0.5 dropped from 0.3 m: lowest centre %.4f m, ends at %.4f m, submerged "
-                "share %.3f over the last second, %u contacts\n",
-                r.lowest, r.body.position.y, r.lastSecondShare, r.body.contacts);
-    EXPECT_LT(r.lowest, r.body.position.y - kSpacing) << "it plunged deeper than it floats";
-    // Floating: the water rose by the displaced volume over the tank's floor, about 0.01 m; a
-    // floating cube at 0.5 has its centre there.
-    EXPECT_GT(r.body.position.y, depth - 0.25 * kSide) << "it came back up";
-    EXPECT_NEAR(r.lastSecondShare, 0.5, 0.1);
-    EXPECT_EQ(r.body.contacts, 0u);
-    expectHealthy(r, "dropped");
-}
-
-TEST_F(SimulationBodies, ALightBodyRestingOnTheFloorRisesAndAHeavyOneStaysDown) {
-    // Issue 25: cubes resting flat on the floor of the filled tank from the start, no water
-    // under them (a crate placed before the room floods). The water meeting the floor around
-    // each gives its sealed bottom the pressure there (docs/bodies.md, "Sealed contacts"): 0.5
-    // rises and floats, touching nothing, the fluid carrying its weight; 1.2 stays down, on at
-    // most one trapped water layer (as the heavy-body test allows). Before, both stayed on the
-    // floor, the fluid's force on them 0. (0.7 leaves the floor but stops on the first water
-    // layer under it: docs/bodies.md, "Known limits".)
-    const float resting = 0.5f * kSide;
-    for (float ratio : {0.5f, 1.2f}) {
-        const Released r = releaseCube(ratio, resting, false, 3.0f);
-        std::printf("cube at %.1f resting on the floor: ends at %.4f m (at most %.4f m from its "
-                    "start), lowest face %.4f m, share %.3f by force and %.3f by draft over the "
-                    "last second, %u contacts\n",
-                    ratio, r.body.position.y, r.farthest, lowestPoint(r.body, kSide),
-                    r.lastSecondShare, r.draft, r.body.contacts);
-        if (ratio < 1.0f) {
-            EXPECT_GT(r.body.position.y, resting + 4 * kSpacing) << ratio << " must rise";
-            EXPECT_NEAR(r.lastSecondShare, ratio, 0.1) << ratio << " floats";
-            EXPECT_EQ(r.body.contacts, 0u) << ratio;
-        } else {
-            EXPECT_LT(lowestPoint(r.body, kSide), kSpacing) << ratio << " stays down";
-            EXPECT_LT(r.farthest, kSpacing) << ratio << " never rose a water layer";
-        }
-        expectHealthy(r, "resting on the floor");
-    }
 }
 
 // A tilted box dropped onto the floor of an empty domain, with or without a second box resting

@@ -1,0 +1,157 @@
+// Cubes released in deep water or resting on the tank's floor (issue 25, docs/bodies.md): as
+// dense as the water they stay where they are put, light ones come up and float, heavy ones
+// stay down. Each case plays 3 s of a 4k-particle tank on llvmpipe.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "BodyTank.h"
+#include "GpuTest.h"
+#include "sluice/rt/sim/Simulation.h"
+
+namespace sluice::rt {
+namespace {
+
+using gpu::test::GpuTest;
+using namespace bodytest;
+
+class BodyReleases : public GpuTest {};
+
+constexpr float kDeep = 16 * kSpacing; // the water's depth in releaseCube's tank
+
+// A cube `ratio` times the water's density released at rest with its centre at `y` over water
+// 16 spacings (two cube sizes) deep, in a tank 4 spacings wider than the cube on every side,
+// `seconds` played deterministic: how far its centre strayed from its start at most [m], the
+// lowest it went, its mean submerged share over the last second, and its state at the end.
+struct Released {
+    double farthest = 0.0;
+    double lowest = 0.0;
+    double lastSecondShare = 0.0;
+    double draft = 0.0; ///< share of the cube under the water's level, mean of six frames
+    BodyState body;
+    Health health;
+    bool bodyFinite = true;
+};
+
+Released releaseCube(float ratio, float y, bool solids, float seconds) {
+    const float tank = kSide + 8 * kSpacing;
+    format::Scene scene = tankScene(glm::vec2(tank), kDeep, 1.0f);
+    scene.simulation.solidBoundary = solids;
+    scene.colliders.push_back(cubeBody(glm::vec3(0.5f * tank, y, 0.5f * tank), ratio));
+    SimulationOptions options;
+    options.deterministic = true;
+    auto sim = Simulation::create(scene, {cubeAsset(kSide)}, options);
+    EXPECT_TRUE(sim) << sim.error().message();
+    if (!sim)
+        return {};
+    Released out;
+    const double start = sim->bodies().at(0).position.y;
+    out.lowest = start;
+    const int steps = int(std::lround(60 * seconds));
+    for (int step = 0; step < steps; ++step) {
+        sim->step();
+        out.health.add(sim->readStats());
+        out.body = sim->bodies().at(0);
+        out.bodyFinite = out.bodyFinite && finite(out.body);
+        out.farthest = std::max(out.farthest, std::abs(double(out.body.position.y) - start));
+        out.lowest = std::min(out.lowest, double(out.body.position.y));
+        if (step >= steps - 60) {
+            out.lastSecondShare += out.body.submergedShare / 60.0;
+            // The geometric draft against the hydrostatic level (as playCube's), every 10th frame.
+            if (step % 10 == 0) {
+                const double level = waterLevel(
+                    sim->downloadParticles(), out.body.position, 0.6 * kSide, glm::vec2(tank),
+                    sim->constants().volume, lowestPoint(out.body, kSide));
+                out.draft += submergedShare(out.body, kSide, level) / 6.0;
+            }
+        }
+    }
+    return out;
+}
+
+void expectHealthy(const Released& r, const char* what) {
+    EXPECT_EQ(r.health.nonFinite, 0u) << what;
+    EXPECT_EQ(r.health.inside, 0u) << what;
+    EXPECT_TRUE(r.bodyFinite) << what;
+}
+
+// Issue 25: at 1.0 a cube neither rises nor sinks more than one particle spacing in 3 s,
+// anywhere in the water column: with one water layer under it, in the middle, and with one layer
+// over it. With "solids" every wall adds its boundary volume, so the water keeps its height and
+// its pressure at the floor (docs/pbf.md, "Boundary volume").
+void expectNeutralStays(const char* where, float y) {
+    const Released r = releaseCube(1.0f, y, true, 3.0f);
+    std::printf("neutral cube released %s (centre %.3f m): ends at %.4f m, at most %.2f "
+                "spacings from its start in 3 s\n",
+                where, y, r.body.position.y, r.farthest / kSpacing);
+    EXPECT_LT(r.farthest, kSpacing) << where;
+    expectHealthy(r, where);
+}
+
+TEST_F(BodyReleases, ABodyAsDenseAsTheWaterStaysWhereItIsReleasedOneLayerOverTheFloor) {
+    expectNeutralStays("low", kSpacing + 0.5f * kSide);
+}
+
+TEST_F(BodyReleases, ABodyAsDenseAsTheWaterStaysWhereItIsReleasedInTheMiddle) {
+    expectNeutralStays("middle", 0.5f * kDeep);
+}
+
+TEST_F(BodyReleases, ABodyAsDenseAsTheWaterStaysWhereItIsReleasedOneLayerUnderTheSurface) {
+    expectNeutralStays("high", kDeep - kSpacing - 0.5f * kSide);
+}
+
+TEST_F(BodyReleases, ALightBodyDroppedIntoDeepWaterComesBackUpAndFloats) {
+    // Issue 25: 0.5 dropped from 0.3 m above the water into water two cube sizes deep plunges,
+    // comes back up and floats at its draft, touching nothing (a rock at half the water's
+    // density dropped into shallow water used to stay on the floor). The default boundary
+    // model.
+    const float start = kDeep + 0.3f + 0.5f * kSide;
+    const Released r = releaseCube(0.5f, start, false, 3.0f);
+    std::printf("cube at 0.5 dropped from 0.3 m: lowest centre %.4f m, ends at %.4f m, submerged "
+                "share %.3f over the last second, %u contacts\n",
+                r.lowest, r.body.position.y, r.lastSecondShare, r.body.contacts);
+    EXPECT_LT(r.lowest, r.body.position.y - kSpacing) << "it plunged deeper than it floats";
+    // Floating: the water rose by the displaced volume over the tank's floor, about 0.01 m; a
+    // floating cube at 0.5 has its centre there.
+    EXPECT_GT(r.body.position.y, kDeep - 0.25 * kSide) << "it came back up";
+    EXPECT_NEAR(r.lastSecondShare, 0.5, 0.1);
+    EXPECT_EQ(r.body.contacts, 0u);
+    expectHealthy(r, "dropped");
+}
+
+// Issue 25: cubes resting flat on the floor of the filled tank from the start, no water under
+// them (a crate placed before the room floods). The water meeting the floor around each gives
+// its sealed bottom the pressure there (docs/bodies.md, "Sealed contacts"). Before, every such
+// cube stayed on the floor, the fluid's force on it 0.
+Released restOnTheFloor(float ratio) {
+    const float resting = 0.5f * kSide;
+    const Released r = releaseCube(ratio, resting, false, 3.0f);
+    std::printf("cube at %.1f resting on the floor: ends at %.4f m (at most %.4f m from its "
+                "start), lowest face %.4f m, share %.3f by force and %.3f by draft over the "
+                "last second, %u contacts\n",
+                ratio, r.body.position.y, r.farthest, lowestPoint(r.body, kSide), r.lastSecondShare,
+                r.draft, r.body.contacts);
+    expectHealthy(r, "resting on the floor");
+    return r;
+}
+
+TEST_F(BodyReleases, ALightBodyRestingOnTheFloorRisesAndFloats) {
+    // 0.5 rises and floats, touching nothing, the fluid carrying its weight. (0.7 leaves the
+    // floor but stops on the first water layer under it: docs/bodies.md, "Known limits".)
+    const Released r = restOnTheFloor(0.5f);
+    EXPECT_GT(r.body.position.y, 0.5f * kSide + 4 * kSpacing) << "it must rise";
+    EXPECT_NEAR(r.lastSecondShare, 0.5, 0.1) << "it floats";
+    EXPECT_EQ(r.body.contacts, 0u);
+}
+
+TEST_F(BodyReleases, AHeavyBodyRestingOnTheFloorStaysDown) {
+    // 1.2 stays down, on at most one trapped water layer (as the heavy-body test allows).
+    const Released r = restOnTheFloor(1.2f);
+    EXPECT_LT(lowestPoint(r.body, kSide), kSpacing) << "it stays down";
+    EXPECT_LT(r.farthest, kSpacing) << "it never rose a water layer";
+}
+
+} // namespace
+} // namespace sluice::rt
