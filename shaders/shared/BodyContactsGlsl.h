@@ -214,8 +214,9 @@ Reach reachOf(uint b, vec3 xStart) {
         r.wallHi = greaterThan(xStart + reach, P.domainMax + PBF_RADIUS);
     }
     r.staticMask = 0u;
-    for (uint c = 0u; c < min(P.colliderCount, 32u); ++c)
-        if (colliders[c].body == kNoBody && mayTouch(c, xStart, reach))
+    uint statics = P.staticColliders, c = 0u;
+    while (statics != 0u && nextStaticCollider(statics, c))
+        if (mayTouch(c, xStart, reach))
             r.staticMask |= 1u << c;
     return r;
 }
@@ -235,10 +236,6 @@ Reach unpackReach(uvec2 bits) {
 
 bool reachesAnything(Reach r) {
     return any(r.wallLo) || any(r.wallHi) || r.staticMask != 0u || P.colliderCount > 32u;
-}
-
-bool staticInReach(Reach r, uint c) {
-    return colliders[c].body == kNoBody && (c >= 32u || (r.staticMask & (1u << c)) != 0u);
 }
 
 // Lane `lane` of `lanes`'s share of body b's corrections against the domain's walls and the
@@ -263,9 +260,8 @@ ContactSums wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, 
             n[a] = beyond.x > 0.0 ? 1.0 : -1.0;
             addContact(sums, b, x, q, arm, pStart, n, max(beyond.x, beyond.y), 1.0, first);
         }
-        for (uint c = 0u; c < P.colliderCount; ++c) {
-            if (!staticInReach(r, c))
-                continue;
+        uint mask = r.staticMask, c = 0u;
+        while (nextStaticCollider(mask, c)) {
             vec3 n;
             float phi = colliderDistance(c, w, n);
             float len = length(n);

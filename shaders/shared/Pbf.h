@@ -114,7 +114,7 @@ struct PbfParams {
     /* 176 */ uint bodyCount;      ///< GpuBody records bound
     /* 180 */ float particleMass;  ///< m [kg]: a correction dx of a particle is m dx / dt of impulse
     /* 184 */ float boundaryScale; ///< calibration of the bodies' boundary volume (docs/bodies.md)
-    /* 188 */ uint pad3;
+    /* 188 */ uint staticColliders; ///< bit c set: collider c (< 32) is no body (PbfGlsl.h)
 };
 
 /// One collider on the GPU: its placement at the end of the substep and its grid. std430.
@@ -222,7 +222,7 @@ SLUICE_PBF_AT(PbfParams, denseGrid, 172);
 SLUICE_PBF_AT(PbfParams, bodyCount, 176);
 SLUICE_PBF_AT(PbfParams, particleMass, 180);
 SLUICE_PBF_AT(PbfParams, boundaryScale, 184);
-SLUICE_PBF_AT(PbfParams, pad3, 188);
+SLUICE_PBF_AT(PbfParams, staticColliders, 188);
 static_assert(sizeof(sluice::shared::PbfParams) == 192, "std140/std430 size of PbfParams");
 SLUICE_PBF_AT(GpuCollider, rotation, 64);
 SLUICE_PBF_AT(GpuCollider, motion, 128);

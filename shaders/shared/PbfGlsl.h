@@ -380,6 +380,25 @@ vec3 collide(vec3 x, vec3 xOld) {
     return x;
 }
 
+// Steps c to the next static or kinematic collider (no body): first the set bits of `mask`
+// (P.staticColliders, or a subset of it), then each collider past the 32nd that is no body.
+// Start with c = 0; false when there is none left. A loop over all colliders that skipped the
+// bodies with `continue` cost about as much as sampling them: llvmpipe runs a skipped trip's SDF
+// sample anyway, its lanes masked off (the body pass with 64 crates took 136-185 ms that way
+// and 47-51 ms this way: docs/bodies.md, "Sealed contacts"). This takes one trip per static
+// collider and none per body.
+bool nextStaticCollider(inout uint mask, inout uint c) {
+    if (mask != 0u) {
+        c = uint(findLSB(mask));
+        mask &= mask - 1u;
+        return true;
+    }
+    c = max(c + 1u, 32u);
+    while (c < P.colliderCount && colliders[c].body != kNoBody)
+        ++c;
+    return c < P.colliderCount;
+}
+
 // Static and kinematic colliders as boundary volume (docs/pbf.md, "Boundary volume"): the
 // share of a flat boundary at the collider's phi, from the surface the push-out keeps centres
 // r away from, so a particle resting on it sees the calibrated share. Adds the share to
@@ -387,9 +406,8 @@ vec3 collide(vec3 x, vec3 xOld) {
 void addColliderBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
     if (P.solidBoundary == 0u)
         return;
-    for (uint c = 0u; c < P.colliderCount; ++c) {
-        if (colliders[c].body != kNoBody)
-            continue;
+    uint mask = P.staticColliders, c = 0u;
+    while (nextStaticCollider(mask, c)) {
         vec3 normal;
         float phi = colliderDistance(c, x, normal);
         float len = length(normal);
@@ -443,9 +461,8 @@ float nearestSolidWithin(vec3 x, float limit, out vec3 normal) {
             }
         }
     }
-    for (uint c = 0u; c < P.colliderCount; ++c) {
-        if (colliders[c].body != kNoBody)
-            continue;
+    uint mask = P.staticColliders, c = 0u;
+    while (nextStaticCollider(mask, c)) {
         vec3 n;
         float phi = colliderDistance(c, x, n);
         float len = length(n);

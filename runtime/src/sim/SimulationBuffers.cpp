@@ -202,6 +202,10 @@ void Simulation::Impl::uploadParams() {
     p.particleCount = count;
     p.hashMask = tableSize - 1;
     p.colliderCount = std::uint32_t(colliderRecords.size());
+    p.staticColliders = 0;
+    for (std::size_t c = 0; c < std::min<std::size_t>(colliderRecords.size(), 32); ++c)
+        if (colliderRecords[c].body == shared::kNoBody)
+            p.staticColliders |= 1u << c;
     p.minIterations = s.minIterations;
     p.solveChunks = solveChunks;
     p.activeBuckets = activeBuckets();
