@@ -13,8 +13,8 @@
 #include <unistd.h>
 
 #include "asset/AssetTestUtil.h"
-#include "support/TempDir.h"
 #include "sluice/format/support/AtomicFile.h"
+#include "support/TempDir.h"
 
 namespace sluice::test {
 namespace {
@@ -124,16 +124,23 @@ TEST(AtomicFile, ConcurrentWritersLeaveOneWholeVersion) {
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.bin"});
 }
 
+/// The pid of a child that has exited and been reaped: it names no process now. 0 on failure.
+pid_t reapedChild() {
+    const pid_t child = ::fork();
+    if (child == 0)
+        ::_exit(0);
+    if (child < 0 || ::waitpid(child, nullptr, 0) != child)
+        return 0;
+    return child;
+}
+
 TEST(AtomicFile, ASuccessfulWriteRemovesTheTemporaryFilesOfWritersNoLongerRunning) {
     // A writer killed between naming its complete file and the rename leaves
     // ".<name>.tmp-<pid>-...". The next write of that name removes it once its process is gone,
     // and leaves alone the files of running writers, of other names and of other patterns.
     TempDir dir;
-    const pid_t child = ::fork();
-    ASSERT_GE(child, 0);
-    if (child == 0)
-        ::_exit(0);
-    ASSERT_EQ(::waitpid(child, nullptr, 0), child); // reaped: its pid names no process now
+    const pid_t child = reapedChild();
+    ASSERT_GT(child, 0);
     const std::string dead = std::to_string(child), live = std::to_string(::getppid());
     const std::vector<std::string> kept = {".out.bin.tmp-" + live + "-0-7",   // still running
                                            ".other.bin.tmp-" + dead + "-0-7", // another file's
@@ -156,11 +163,8 @@ TEST(AtomicFile, ASuccessfulWriteRemovesTheTemporaryFilesOfWritersNoLongerRunnin
 
 TEST(AtomicFile, AFailedWriteRemovesNothing) {
     TempDir dir;
-    const pid_t child = ::fork();
-    ASSERT_GE(child, 0);
-    if (child == 0)
-        ::_exit(0);
-    ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+    const pid_t child = reapedChild();
+    ASSERT_GT(child, 0);
     const std::string stale = ".out.bin.tmp-" + std::to_string(child) + "-0-1";
     std::ofstream(dir / stale) << "left by a killed writer";
     std::filesystem::create_directory(dir / "out.bin"); // the target is a folder: the write fails

@@ -34,13 +34,7 @@ TEST_F(BodyStaticColliders, ABodyRestsOnAStaticColliderListedPastThe32nd) {
         filler.translation = glm::vec3(0.02f + 0.018f * float(i), 0.05f * kSide, 0.38f);
         scene.colliders.push_back(filler);
     }
-    format::SceneCollider pedestal;
-    pedestal.asset = "cube.slc";
-    pedestal.translation = glm::vec3(0.45f, 0.5f * kSide, 0.2f);
-    scene.colliders.push_back(pedestal);
-    format::SceneCollider top = cubeBody(glm::vec3(0.45f, 1.5f * kSide + 0.005f, 0.2f), 0.8f);
-    top.rotationDegrees = glm::vec3(0.0f, 0.0f, 5.0f);
-    scene.colliders.push_back(top);
+    addPedestalAndTiltedBox(scene);
     std::vector<format::ColliderAsset> assets(scene.colliders.size(), cubeAsset(kSide));
     auto sim = Simulation::create(scene, std::move(assets));
     ASSERT_TRUE(sim) << sim.error().message();

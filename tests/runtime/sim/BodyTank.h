@@ -53,6 +53,18 @@ inline format::ColliderAsset cubeAsset(float side) {
     return testscene::boxColliderAsset(glm::dvec3(-h), glm::dvec3(h), 0.25 * kSpacing);
 }
 
+// A static cube of side kSide on the floor at (0.45, 0.2) and, above it, a body at 0.8 tilted
+// 5 degrees, so it rocks onto the pedestal's top face and settles (centre 1.5 kSide up).
+inline void addPedestalAndTiltedBox(format::Scene& scene) {
+    format::SceneCollider pedestal;
+    pedestal.asset = "cube.slc";
+    pedestal.translation = glm::vec3(0.45f, 0.5f * kSide, 0.2f);
+    scene.colliders.push_back(pedestal);
+    format::SceneCollider top = cubeBody(glm::vec3(0.45f, 1.5f * kSide + 0.005f, 0.2f), 0.8f);
+    top.rotationDegrees = glm::vec3(0.0f, 0.0f, 5.0f);
+    scene.colliders.push_back(top);
+}
+
 // Height of the water surface away from the body, by mass: hydrostatic pressure at height y
 // is the weight of the water above it, so the surface Archimedes' law refers to is
 // y + (volume m / rho0 of the particles above y) / (their floor area). Measured above `below`

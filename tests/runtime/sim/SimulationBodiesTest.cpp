@@ -306,14 +306,7 @@ std::vector<BodyState> playContacts(std::uint32_t groupSize, int steps) {
     scene.domainMax = glm::vec3(0.6f, 0.5f, 0.4f);
     for (int i = 0; i < 3; ++i)
         scene.colliders.push_back(cubeBody(glm::vec3(0.2f, (0.5f + float(i)) * kSide, 0.2f), 0.8f));
-    format::SceneCollider pedestal;
-    pedestal.asset = "cube.slc";
-    pedestal.translation = glm::vec3(0.45f, 0.5f * kSide, 0.2f);
-    scene.colliders.push_back(pedestal);
-    // Tilted a little, so it rocks onto the pedestal's top face and settles.
-    format::SceneCollider top = cubeBody(glm::vec3(0.45f, 1.5f * kSide + 0.005f, 0.2f), 0.8f);
-    top.rotationDegrees = glm::vec3(0.0f, 0.0f, 5.0f);
-    scene.colliders.push_back(top);
+    addPedestalAndTiltedBox(scene);
     std::vector<format::ColliderAsset> assets(5, cubeAsset(kSide));
     SimulationOptions options;
     options.bodyGroupSize = groupSize;
