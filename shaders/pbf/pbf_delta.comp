@@ -54,10 +54,12 @@ void addSums(uint b, bool held, vec3 x, vec3 dx) {
 }
 
 // Whether this particle is in the water where a body meets a wall or a static collider (within
-// h + r of the solid, the body pass's rimBand), and that solid's normal: tested at x*_i, once
-// per particle at the start of the pass (main).
+// h + r of the solid, the body pass's rimBand; tested once, at the first reaction), and that
+// solid's normal.
+bool rimTested = false;
 bool inRim = false;
 vec3 rimNormal = vec3(0.0);
+vec3 rimX = vec3(0.0); // x*_i, where the test is made
 
 // Body b pushed a particle by dx: the body takes the reaction. A push on the water within h + r
 // of a wall or a static collider (the rim) is also summed by its direction (docs/bodies.md,
@@ -66,6 +68,10 @@ vec3 rimNormal = vec3(0.0);
 // between the body and the solid gives). The body pass tops the second up to the first.
 void addReaction(uint b, vec3 x, vec3 dx) {
     addSums(b, false, x, dx);
+    if (!rimTested) {
+        rimTested = true;
+        inRim = nearestSolidWithin(rimX, PBF_H + PBF_RADIUS, rimNormal) < PBF_H + PBF_RADIUS;
+    }
     float len = length(dx);
     if (!inRim || !(len > 0.0))
         return;
@@ -190,13 +196,12 @@ void main() {
         return; // one lane: no barriers below
 #endif
     vec3 xi = live ? pred[i].xyz : vec3(0.0);
+    rimX = xi;
     float li = live ? pred[i].w : 0.0;
     vec3 dp = live ? densityCorrection(i, xi, li) : vec3(0.0);
     dp = pbfLaneSum(vec4(dp, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)
     if (!live || pbfLane != 0u)
         return;
-    if (P.bodyCount > 0u)
-        inRim = nearestSolidWithin(xi, PBF_H + PBF_RADIUS, rimNormal) < PBF_H + PBF_RADIUS;
     // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
     // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
     // pbf_velocity.comp counts what still goes wrong.

@@ -80,6 +80,11 @@ std::filesystem::path uniqueTempName(const std::filesystem::path& target) {
     return target.parent_path() / name;
 }
 
+/// The folder `path` is in ("." for a bare file name).
+std::filesystem::path folderOf(const std::filesystem::path& path) {
+    return path.parent_path().empty() ? "." : path.parent_path();
+}
+
 /// The writer's process id in a name uniqueTempName gave for `target`, or 0 if `name` is not
 /// one.
 pid_t tempNameWriter(const std::string& name, const std::filesystem::path& target) {
@@ -98,7 +103,7 @@ pid_t tempNameWriter(const std::string& name, const std::filesystem::path& targe
 /// writing. A name whose process still runs, this one included, is left alone: it may be a
 /// write in flight. Best effort: a folder that cannot be read is left as it is.
 void removeStaleTemporaries(const std::filesystem::path& path) {
-    const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+    const std::filesystem::path folder = folderOf(path);
     std::error_code ec;
     std::filesystem::directory_iterator it(folder, ec);
     for (; !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
@@ -112,7 +117,7 @@ void removeStaleTemporaries(const std::filesystem::path& path) {
 
 /// Makes a rename in `path`'s folder durable. Best effort: the data is already in place.
 void syncFolder(const std::filesystem::path& path) {
-    const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+    const std::filesystem::path folder = folderOf(path);
     const int dirFd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dirFd >= 0) {
         ::fsync(dirFd);
@@ -121,8 +126,8 @@ void syncFolder(const std::filesystem::path& path) {
 }
 
 /// The last steps of both ways of writing: closes `file` (its bytes are written and fsync'd),
-/// renames `temp` over `path` and makes the rename durable. On failure `temp` is removed and
-/// `path` is as it was.
+/// renames `temp` over `path`, makes the rename durable and removes what killed writers of
+/// `path` left. On failure `temp` is removed and `path` is as it was.
 Result<void> closeAndReplace(Fd& file, const std::filesystem::path& temp,
                              const std::filesystem::path& path) {
     if (file.close() != 0) {
@@ -138,6 +143,7 @@ Result<void> closeAndReplace(Fd& file, const std::filesystem::path& temp,
                                        " (the previous file, if any, is unchanged)");
     }
     syncFolder(path);
+    removeStaleTemporaries(path);
     return {};
 }
 
@@ -148,7 +154,7 @@ Result<void> closeAndReplace(Fd& file, const std::filesystem::path& temp,
 /// has no O_TMPFILE, or /proc is missing for the link: the caller writes a named file then.
 std::optional<Result<void>> writeUnnamedThenRename(const std::filesystem::path& path,
                                                    std::span<const std::byte> bytes) {
-    const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+    const std::filesystem::path folder = folderOf(path);
     const int fd = ::open(folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
     if (fd < 0)
         return std::nullopt;
@@ -182,11 +188,8 @@ Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const 
         return fail(ErrorCode::InvalidArgument,
                     path.string() + ": not a file path (it names no file)");
 
-    if (std::optional<Result<void>> done = writeUnnamedThenRename(path, bytes)) {
-        if (done->ok())
-            removeStaleTemporaries(path);
+    if (std::optional<Result<void>> done = writeUnnamedThenRename(path, bytes))
         return std::move(*done);
-    }
 
     // No unnamed files here: a named temporary file, which a writer killed mid-write leaves
     // behind. O_EXCL makes the name ours alone; retry on the (unlikely) collision.
@@ -218,10 +221,7 @@ Result<void> writeFileAtomic(const std::filesystem::path& path, std::span<const 
         return abandon("write failed", err);
     if (::fsync(file.get()) != 0)
         return abandon("fsync failed", errno);
-    Result<void> replaced = closeAndReplace(file, temp, path);
-    if (replaced.ok())
-        removeStaleTemporaries(path);
-    return replaced;
+    return closeAndReplace(file, temp, path);
 }
 
 Result<std::vector<std::byte>> readFileBytes(const std::filesystem::path& path,
