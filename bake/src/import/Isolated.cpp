@@ -6,8 +6,10 @@
 #include <csignal>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <dlfcn.h>
@@ -16,6 +18,8 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <oneapi/tbb/global_control.h>
 
 #include "sluice/bake/jobs/PhaseLog.h"
 #include "sluice/format/support/Sanitizers.h"
@@ -160,20 +164,53 @@ std::string describeDeath(int status) {
     return "stopped without an answer";
 }
 
+/// The threads of this process (1 where /proc cannot tell).
+std::size_t threadCount() {
+    std::error_code ec;
+    std::size_t count = 0;
+    for (std::filesystem::directory_iterator it("/proc/self/task", ec), end; !ec && it != end;
+         it.increment(ec))
+        ++count;
+    return std::max<std::size_t>(count, 1);
+}
+
 /// fork() copies only the calling thread. A thread that holds a lock of the memory allocator
-/// at that instant leaves the child deadlocked in its first allocation. OpenVDB links
-/// log4cplus, whose library starts a pool of worker threads as it is loaded, so every
-/// sluice-bake is multithreaded from its first instruction; under ASan (GCC 12's allocator has
-/// no fork handlers) about one import in 150 hung for good when a pool thread was still
-/// starting up (found by CI). Nothing of ours logs through log4cplus: stop its pool, once,
-/// before the first fork. Looked up at run time, so builds without log4cplus need nothing.
-void stopLog4cplusThreadPool() {
+/// (or of AddressSanitizer's thread registry, while it starts or ends) at that instant leaves
+/// the child deadlocked in its first allocation; GCC 12's ASan allocator has no fork handlers.
+/// Two libraries start threads of their own in sluice-bake:
+/// - OpenVDB links log4cplus, whose library starts a pool of worker threads as it is loaded, so
+///   every sluice-bake is multithreaded from its first instruction (about one import in 150
+///   hung for good under ASan, found by CI). Nothing of ours logs through log4cplus: its pool
+///   is stopped, once. Looked up at run time, so builds without log4cplus need nothing.
+/// - TBB starts workers on the first parallel algorithm (OpenVDB reading a .vdb, the CGAL
+///   path) and keeps them: `validate grid.vdb mesh.obj` forked beside them, and CI saw one such
+///   validate hang until the test's timeout. Their scheduler is finalized before each fork,
+///   which joins them; the next parallel algorithm starts new ones.
+/// Then the threads still exiting (log4cplus's pool does not wait for its own) get time to go:
+/// until one thread is left, the count has stood still for 20 ms (threads that stay, such as
+/// an embedder's: a Python interpreter's BLAS pool), or a second has passed. The import's
+/// timeout is what remains between a child forked beside such threads and a hang.
+void stopLibraryThreads() {
     static std::once_flag once;
     std::call_once(once, [] {
         using Shutdown = void (*)();
         if (void* symbol = ::dlsym(RTLD_DEFAULT, "_ZN9log4cplus18shutdownThreadPoolEv"))
             reinterpret_cast<Shutdown>(symbol)();
     });
+    tbb::task_scheduler_handle scheduler{tbb::attach{}};
+    (void)tbb::finalize(scheduler, std::nothrow); // false while another thread runs TBB work
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    Clock::time_point changed = start;
+    std::size_t threads = threadCount();
+    while (threads > 1 && Clock::now() - start < std::chrono::seconds(1) &&
+           Clock::now() - changed < std::chrono::milliseconds(20)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        if (const std::size_t now = threadCount(); now != threads) {
+            threads = now;
+            changed = Clock::now();
+        }
+    }
 }
 
 /// What the child wrote before it closed its end of the pipe or ran out of time.
@@ -252,13 +289,13 @@ Result<TriangleSoup> childResult(const std::string& what, const IsolationLimits&
 } // namespace
 
 void prepareForFork() {
-    stopLog4cplusThreadPool();
+    stopLibraryThreads();
 }
 
 Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits& limits,
                                  const std::function<Result<TriangleSoup>()>& work,
                                  const std::function<void()>& meanwhile, IsolationReport* report) {
-    stopLog4cplusThreadPool();
+    stopLibraryThreads();
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0)
         return fail(ErrorCode::Io, what + ": cannot create a pipe for the import process (" +

@@ -1,14 +1,18 @@
 // The isolated importer: answers cross the pipe exactly; crashes, hangs and throws become errors.
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <filesystem>
 #include <new>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <unistd.h>
 
 #include "TestMeshes.h"
 #include "sluice/bake/import/Isolated.h"
@@ -26,6 +30,13 @@ IsolationLimits quick() {
     return limits;
 }
 
+/// The threads of process `pid`, from /proc.
+std::size_t threadsOf(pid_t pid) {
+    const std::filesystem::path tasks = "/proc/" + std::to_string(pid) + "/task";
+    return std::size_t(std::distance(std::filesystem::directory_iterator(tasks),
+                                     std::filesystem::directory_iterator()));
+}
+
 } // namespace
 
 TEST(Isolated, ReturnsTheChildsSoupBitForBit) {
@@ -40,6 +51,27 @@ TEST(Isolated, ReturnsTheChildsSoupBitForBit) {
             EXPECT_EQ(std::bit_cast<std::uint64_t>(got->positions[i][a]),
                       std::bit_cast<std::uint64_t>(soup.positions[i][a]));
     EXPECT_EQ(got->triangles, soup.triangles);
+}
+
+TEST(Isolated, ForksFromAProcessWhoseLibraryThreadsHaveStopped) {
+    // A thread running at the fork may hold the allocator's lock, and the child then hangs in
+    // its first allocation (CI: a validate of a .vdb, whose reader had started TBB's workers).
+    if (std::thread::hardware_concurrency() < 2)
+        GTEST_SKIP() << "one CPU: TBB starts no worker thread to stop";
+    std::atomic<long> sum{0};
+    tbb::parallel_for(0, 1 << 16, [&](int i) { sum += i; });
+    ASSERT_GT(threadsOf(::getpid()), 1u) << "TBB kept no worker: nothing here to stop";
+    const pid_t parent = ::getpid();
+    Result<TriangleSoup> got = runIsolated("threads", quick(), [parent] {
+        TriangleSoup soup; // one position per thread the parent has while this child runs
+        soup.positions.resize(threadsOf(parent));
+        return Result(soup);
+    });
+    ASSERT_TRUE(got.ok()) << got.error().message();
+    EXPECT_EQ(got->positions.size(), 1u);
+    // TBB works again afterwards, with workers of its own.
+    tbb::parallel_for(0, 1 << 16, [&](int i) { sum -= i; });
+    EXPECT_EQ(sum.load(), 0);
 }
 
 TEST(Isolated, CarriesASoupLargerThanAPipeBuffer) {

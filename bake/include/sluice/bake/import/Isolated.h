@@ -35,9 +35,11 @@ Result<TriangleSoup> runIsolated(const std::string& what, const IsolationLimits&
                                  const std::function<void()>& meanwhile = {},
                                  IsolationReport* report = nullptr);
 
-/// Stops the worker threads that libraries load with (log4cplus, through OpenVDB), as
-/// runIsolated does before its first fork. For embedders whose process forks on its own (a
-/// Python process pool): called once early, the forked children inherit no half-copied pool.
+/// Stops the worker threads that libraries start (log4cplus's pool, loaded with OpenVDB; TBB's
+/// workers, which the next parallel algorithm starts again), as runIsolated does before each
+/// fork, and gives threads still exiting time to go. For embedders whose process forks
+/// on its own (a Python process pool): called before forking, the children inherit no thread
+/// that was holding a lock.
 void prepareForFork();
 
 } // namespace sluice::bake
