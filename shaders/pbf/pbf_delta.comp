@@ -144,8 +144,12 @@ vec3 densityCorrection(uint i, vec3 xi, float li) {
 
 // Each body's boundary volume pushes along its normal with the particle's own lambda (lambda_i
 // times the gradient lambda summed); the body takes the reaction.
-vec3 pushByBodies(vec3 xi, float li, vec3 x) {
-    for (uint b = 0u; b < P.bodyCount; ++b) {
+vec3 pushByBodies(vec3 xi, float li, vec3 x, uvec2 near) {
+    uint c;
+    while (nextCollider(near, c)) {
+        uint b = colliders[c].body;
+        if (b == kNoBody)
+            continue;
         float phi;
         vec3 normal;
         if (!bodyBoundary(b, xi, phi, normal))
@@ -206,6 +210,7 @@ void main() {
     // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
     // pbf_velocity.comp counts what still goes wrong.
     vec3 x = xi + PBF_VOLUME * dp;
+    vec3 x0 = predStart[i].xyz; // where the substep's collider mask was taken
     if (!allFinite(x))
         x = xi;
     // The walls and static colliders push along their boundary volume's gradient with the
@@ -219,11 +224,11 @@ void main() {
         vec3 solidPush = li * slope;
         if (allFinite(solidPush))
             x += solidPush;
-        x = pushByBodies(xi, li, x);
+        x = pushByBodies(xi, li, x, collidersNearNow(i, xi, x0));
     }
     if (!allFinite(x))
         x = xi;
-    x = collide(x, pos[i].xyz);
+    x = collide(x, pos[i].xyz, collidersNearNow(i, x, x0));
     if (!allFinite(x))
         x = xi;
     vec3 clamped = clampToDomain(x);

@@ -121,7 +121,19 @@ void main() {
         float boundary = 0.0;
         addWallBoundary(xi, boundary, gradSum);
         addColliderBoundary(xi, boundary, gradSum);
-        for (uint b = 0u; b < P.bodyCount; ++b) {
+        // The colliders near this particle: found here in iteration 0, from the substep start
+        // (a scene without bodies has no mask to keep).
+        uvec2 near = uvec2(0u);
+        if (P.bodyCount > 0u) {
+            near = k == 0u ? collidersWithinReach(xi) : collidersNearNow(i, xi, predStart[i].xyz);
+            if (k == 0u)
+                collidersNear[i] = near;
+        }
+        uint solid;
+        while (nextCollider(near, solid)) {
+            uint b = colliders[solid].body;
+            if (b == kNoBody)
+                continue;
             float phi;
             vec3 normal;
             if (!bodyBoundary(b, xi, phi, normal))

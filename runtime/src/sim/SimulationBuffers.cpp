@@ -53,6 +53,7 @@ Result<void> Simulation::Impl::allocate() {
         {&sortedToOld, n * u, "sortedToOld"},
         {&cellCount, tableSize * u, "cellCount"},
         {&neighbourMask, n * shared::kNeighbourMaskWords * u, "neighbour mask"},
+        {&collidersNear, (bodySetup.records.empty() ? 1 : n) * 2 * u, "colliders near"},
         {&cellStart, (tableSize + 1) * u, "cellStart"},
         {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats), "stats"},
         {&colliderBuf,
@@ -78,9 +79,11 @@ Result<void> Simulation::Impl::allocate() {
     gpuBytes = total;
     // Per particle of capacity: the particle arrays (7 vec4, 5 uint; the vorticity omega lives
     // in the idle position buffer, applyVorticityAndXsph), the neighbour mask and the hash
-    // table's cellCount + cellStart, spread over the capacity and rounded up.
+    // table's cellCount + cellStart, spread over the capacity and rounded up; with bodies, the
+    // mask of the colliders near each particle.
     bytesPerParticle = 7 * v4 + 5 * u + shared::kNeighbourMaskWords * u +
-                       (u * (2 * std::uint64_t(tableSize) + 1) + n - 1) / n;
+                       (u * (2 * std::uint64_t(tableSize) + 1) + n - 1) / n +
+                       (bodySetup.records.empty() ? 0 : 2 * u);
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {

@@ -130,6 +130,7 @@ struct Simulation::Impl {
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
     gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
     gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
+    gpu::Buffer collidersNear; // uvec2 per particle of capacity: its substep's collider mask
     gpu::Buffer colliderBuf, sdfBuf, params;
     // GpuBody[], fixed-point sums, contact points, the body pass's state between its dispatches
     gpu::Buffer bodyBuf, bodySums, bodySamples, bodySteps;

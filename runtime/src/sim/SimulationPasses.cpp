@@ -85,6 +85,7 @@ void Simulation::Impl::bindSharedBuffers() const {
         {&rank, shared::kBindRank},
         {&sortedToOld, shared::kBindSortedToOld},
         {&neighbourMask, shared::kBindNeighbourMask},
+        {&collidersNear, shared::kBindCollidersNear},
         {&bodyBuf, shared::kBindBodies},
         {&bodySums, shared::kBindBodySums},
         {&bodySamples, shared::kBindBodySamples},
