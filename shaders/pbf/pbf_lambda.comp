@@ -5,6 +5,7 @@
 #define PBF_WITH_COLLIDERS 1
 #define PBF_WITH_BODIES 1
 #include "shared/PbfGlsl.h"
+#include "shared/CollidersNearGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 
@@ -78,6 +79,27 @@ uint searchAndRecord(uint i, vec3 xi, inout float density, inout vec3 gradSum,
     return neighbours;
 }
 
+// Each dynamic body's boundary volume at particle i, at xi in iteration k, added to `boundary`
+// and its slope to `gradient`: the bodies of the colliders near the particle, whose mask
+// iteration 0 takes from the substep start and keeps (a scene without bodies has none).
+void addBodyBoundary(uint i, uint k, vec3 xi, inout float boundary, inout vec3 gradient) {
+    if (P.bodyCount == 0u)
+        return;
+    uvec2 near = k == 0u ? collidersWithinReach(xi) : collidersNearNow(i, xi, predStart[i].xyz);
+    if (k == 0u)
+        collidersNear[i] = near;
+    uint solid;
+    while (nextCollider(near, solid)) {
+        uint b = colliders[solid].body;
+        float phi;
+        vec3 normal;
+        if (b == kNoBody || !bodyBoundary(b, xi, phi, normal))
+            continue;
+        boundary += boundaryShare(phi);
+        gradient += boundaryShareSlope(phi) * normal;
+    }
+}
+
 void main() {
     uint k = iteration;
     // An earlier iteration met the target: nothing more to do this substep. The same for the
@@ -121,26 +143,7 @@ void main() {
         float boundary = 0.0;
         addWallBoundary(xi, boundary, gradSum);
         addColliderBoundary(xi, boundary, gradSum);
-        // The colliders near this particle: found here in iteration 0, from the substep start
-        // (a scene without bodies has no mask to keep).
-        uvec2 near = uvec2(0u);
-        if (P.bodyCount > 0u) {
-            near = k == 0u ? collidersWithinReach(xi) : collidersNearNow(i, xi, predStart[i].xyz);
-            if (k == 0u)
-                collidersNear[i] = near;
-        }
-        uint solid;
-        while (nextCollider(near, solid)) {
-            uint b = colliders[solid].body;
-            if (b == kNoBody)
-                continue;
-            float phi;
-            vec3 normal;
-            if (!bodyBoundary(b, xi, phi, normal))
-                continue;
-            boundary += boundaryShare(phi);
-            gradSum += boundaryShareSlope(phi) * normal;
-        }
+        addBodyBoundary(i, k, xi, boundary, gradSum);
         c = max(PBF_VOLUME * density + boundary - 1.0, 0.0); // rho / rho0 - 1, compression only
         pred[i].w = -c / (gradSq + dot(gradSum, gradSum) + P.epsilon);
         vel[i].w = c; // kept for the statistics and for colouring by density error

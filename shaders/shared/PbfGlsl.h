@@ -339,27 +339,14 @@ float colliderDistance(uint c, vec3 x, out vec3 normal) {
     return colliders[c].scale * phiLocal;
 }
 
-// Every collider of the scene, as a mask for nextCollider.
-uvec2 allColliders() {
-    uint n = P.colliderCount;
-    return uvec2(n >= 32u ? 0xffffffffu : (1u << n) - 1u,
-                 n >= 64u ? 0xffffffffu : (n > 32u ? (1u << (n - 32u)) - 1u : 0u));
-}
-
-// Steps c to the next set bit of `bits` in ascending order, clearing it; false when none is left.
+// Steps c to the lowest set bit of `bits` (bit c of word c / 32), clearing it; false when none
+// is left.
 bool nextCollider(inout uvec2 bits, out uint c) {
-    c = 0u;
-    if (bits.x != 0u) {
-        c = uint(findLSB(bits.x));
-        bits.x &= bits.x - 1u;
-        return true;
-    }
-    if (bits.y != 0u) {
-        c = 32u + uint(findLSB(bits.y));
-        bits.y &= bits.y - 1u;
-        return true;
-    }
-    return false;
+    uint w = bits.x != 0u ? 0u : 1u;
+    c = 32u * w + uint(findLSB(bits[w]));
+    bool found = bits[w] != 0u;
+    bits[w] &= bits[w] - 1u;
+    return found;
 }
 
 // docs/pbf.md "Collision": push out to the particle radius along the SDF normal, then remove
@@ -499,39 +486,6 @@ float nearestSolidWithin(vec3 x, float limit, out vec3 normal) {
     }
     return gap;
 }
-// The colliders that may reach a particle during its substep's solve, bit c of uvec2 word
-// c / 32 (at most 64 colliders): every static and kinematic collider, and each body whose
-// bounding sphere lies within h + r + PBF_NEAR_MARGIN of the particle's substep start. Lambda
-// of iteration 0 writes it; every later use first checks that the particle is still within
-// PBF_NEAR_MARGIN of its start, so a body its kernel or radius reaches now is always in it,
-// and visiting its bits in order gives the same sums, in the same order, as the loop over all
-// colliders (docs/bodies.md, "Bodies near a particle"). With 64 crates that loop was most of
-// the solve on llvmpipe.
-layout(std430, binding = kBindCollidersNear) buffer CollidersNearBuf { uvec2 collidersNear[]; };
-#define PBF_NEAR_MARGIN PBF_H
-
-// The mask for a particle starting its substep at x0 (lambda of iteration 0 stores it).
-uvec2 collidersWithinReach(vec3 x0) {
-    uvec2 near = uvec2(0u);
-    for (uint c = 0u; c < P.colliderCount; ++c) {
-        uint b = colliders[c].body;
-        if (b == kNoBody || !bodyOutOfReach(b, x0, PBF_RADIUS + PBF_NEAR_MARGIN))
-            near[c >> 5u] |= 1u << (c & 31u);
-    }
-    return near;
-}
-
-// The stored mask of particle i, now at x after starting at x0; every collider if it moved
-// farther than the margin, or if the scene has no body (and so no mask: its buffer is one entry).
-uvec2 collidersNearNow(uint i, vec3 x, vec3 x0) {
-    if (P.bodyCount == 0u)
-        return allColliders();
-    vec3 moved = x - x0;
-    return dot(moved, moved) < PBF_NEAR_MARGIN * PBF_NEAR_MARGIN ? collidersNear[i]
-                                                                 : allColliders();
-}
-
-
 #endif // PBF_WITH_BODIES
 
 vec3 clampToDomain(vec3 x) {

@@ -1,0 +1,50 @@
+// GLSL only: the colliders near each particle of a substep (docs/bodies.md, "Bodies near a
+// particle"), for the solve's passes. Include it after shared/PbfGlsl.h with PBF_WITH_BODIES and
+// PBF_WITH_COLLIDERS (it reads the body and collider records and the parameter block).
+#ifndef SLUICE_SHARED_COLLIDERS_NEAR_GLSL_H
+#define SLUICE_SHARED_COLLIDERS_NEAR_GLSL_H
+
+#ifndef __cplusplus
+
+// The colliders that may reach a particle during its substep's solve, bit c of uvec2 word
+// c / 32 (at most 64 colliders): every static and kinematic collider, and each body whose
+// bounding sphere lies within h + r + PBF_NEAR_MARGIN of the particle's substep start. Lambda
+// of iteration 0 writes it; every later use first checks that the particle is still within
+// PBF_NEAR_MARGIN of its start, so a body its kernel or radius reaches now is always in it,
+// and visiting its bits in order gives the same sums, in the same order, as the loop over all
+// colliders (docs/bodies.md, "Bodies near a particle"). With 64 crates that loop was most of
+// the solve on llvmpipe.
+layout(std430, binding = kBindCollidersNear) buffer CollidersNearBuf { uvec2 collidersNear[]; };
+#define PBF_NEAR_MARGIN PBF_H
+
+// Every collider of the scene (at most 64), as a mask.
+uvec2 allColliders() {
+    uint n = P.colliderCount;
+    return uvec2(n >= 32u ? 0xffffffffu : (1u << n) - 1u,
+                 n >= 64u ? 0xffffffffu : (n > 32u ? (1u << (n - 32u)) - 1u : 0u));
+}
+
+// The mask for a particle starting its substep at x0 (lambda of iteration 0 stores it).
+uvec2 collidersWithinReach(vec3 x0) {
+    uvec2 near = uvec2(0u);
+    for (uint c = 0u; c < P.colliderCount; ++c) {
+        uint b = colliders[c].body;
+        if (b == kNoBody || !bodyOutOfReach(b, x0, PBF_RADIUS + PBF_NEAR_MARGIN))
+            near[c >> 5u] |= 1u << (c & 31u);
+    }
+    return near;
+}
+
+// The stored mask of particle i, now at x after starting at x0; every collider if it moved
+// farther than the margin, or if the scene has no body (and so no mask: its buffer is one entry).
+uvec2 collidersNearNow(uint i, vec3 x, vec3 x0) {
+    if (P.bodyCount == 0u)
+        return allColliders();
+    vec3 moved = x - x0;
+    return dot(moved, moved) < PBF_NEAR_MARGIN * PBF_NEAR_MARGIN ? collidersNear[i]
+                                                                 : allColliders();
+}
+
+#endif // !__cplusplus
+
+#endif // SLUICE_SHARED_COLLIDERS_NEAR_GLSL_H
