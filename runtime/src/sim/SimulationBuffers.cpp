@@ -38,6 +38,7 @@ Result<void> Simulation::Impl::allocate() {
                     scene.path + ": the colliders' grids take " + std::to_string(sdfBytes) +
                         " bytes, more than the 4 GiB the solver can address; coarsen them or "
                         "bake the large ones with `sluice-bake bake --sparse`");
+    const bool withBodies = !bodySetup.records.empty(); // the colliders-near mask is theirs
     const std::vector<Alloc> allocs = {
         {&pos[0], n * v4, "pos 0"},
         {&pos[1], n * v4, "pos 1"},
@@ -53,7 +54,7 @@ Result<void> Simulation::Impl::allocate() {
         {&sortedToOld, n * u, "sortedToOld"},
         {&cellCount, tableSize * u, "cellCount"},
         {&neighbourMask, n * shared::kNeighbourMaskWords * u, "neighbour mask"},
-        {&collidersNear, (bodySetup.records.empty() ? 1 : n) * 2 * u, "colliders near"},
+        {&collidersNear, (withBodies ? n : 1) * 2 * u, "colliders near"},
         {&cellStart, (tableSize + 1) * u, "cellStart"},
         {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats), "stats"},
         {&colliderBuf,
@@ -83,7 +84,7 @@ Result<void> Simulation::Impl::allocate() {
     // mask of the colliders near each particle.
     bytesPerParticle = 7 * v4 + 5 * u + shared::kNeighbourMaskWords * u +
                        (u * (2 * std::uint64_t(tableSize) + 1) + n - 1) / n +
-                       (bodySetup.records.empty() ? 0 : 2 * u);
+                       (withBodies ? 2 * u : 0);
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {
