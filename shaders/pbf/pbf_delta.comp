@@ -7,6 +7,7 @@
 #define PBF_BODY_REACTION collisionReaction
 void collisionReaction(uint b, vec3 x, vec3 dx);
 #include "shared/PbfGlsl.h"
+#include "shared/BoundaryVolumeGlsl.h"
 #include "shared/CollidersNearGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;

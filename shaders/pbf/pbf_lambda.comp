@@ -5,6 +5,7 @@
 #define PBF_WITH_COLLIDERS 1
 #define PBF_WITH_BODIES 1
 #include "shared/PbfGlsl.h"
+#include "shared/BoundaryVolumeGlsl.h"
 #include "shared/CollidersNearGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;

@@ -58,6 +58,11 @@ SLUICE_CONST uint kBindNeighbourMask = 21; ///< uint[kNeighbourMaskWords] per so
 // GpuCollider::gridKind: how its samples are stored in the SDF buffer.
 SLUICE_CONST uint kColliderDense = 0;  ///< float per grid point, x fastest
 SLUICE_CONST uint kColliderSparse = 1; ///< a NanoVDB float grid, at a 32-byte aligned offset
+// Volume maps of static colliders (docs/pbf.md, "Volume maps"; pbf_volume_map.comp).
+SLUICE_CONST uint kNoVolumeMap = 0xffffffffu; ///< GpuCollider::volumeMap of a collider without one
+SLUICE_CONST uint kVolumeMapSteps = 6;        ///< quadrature points per kernel radius, each way
+SLUICE_CONST uint kVolumeMapMaxPoints = 1u << 24; ///< a larger grid keeps the flat closed form
+SLUICE_CONST uint kBindVolumeMapOut = 27; ///< float[]: the SDF buffer again, written by the map pass
 // Prefix scan.
 SLUICE_CONST uint kBindScanData = 0;   ///< uint[] exclusive scan output
 SLUICE_CONST uint kBindScanSums = 1;   ///< uint[] one total per block
@@ -132,7 +137,9 @@ struct GpuCollider {
     /* 240 */ float friction;   ///< share of the tangential slip removed on contact, [0, 1]
     /* 244 */ uint body;      ///< its GpuBody when the collider is dynamic, else kNoBody
     /* 248 */ uint gridKind;  ///< kColliderDense or kColliderSparse
-    /* 252 */ uint pad2;
+    /* 252 */ uint volumeMap; ///< where its volume map starts in the SDF buffer [words]: one float
+                              ///< per grid point (dense layout), or kNoVolumeMap (PbfGlsl.h,
+                              ///< colliderVolumeCorrection; docs/pbf.md, "Volume maps")
 };
 // clang-format on
 
@@ -235,7 +242,7 @@ SLUICE_PBF_AT(GpuCollider, sdfOffset, 236);
 SLUICE_PBF_AT(GpuCollider, friction, 240);
 SLUICE_PBF_AT(GpuCollider, body, 244);
 SLUICE_PBF_AT(GpuCollider, gridKind, 248);
-SLUICE_PBF_AT(GpuCollider, pad2, 252);
+SLUICE_PBF_AT(GpuCollider, volumeMap, 252);
 static_assert(sizeof(sluice::shared::GpuCollider) == 256, "std430 size of GpuCollider");
 SLUICE_PBF_AT(PbfIterationStats, errorHi, 4);
 SLUICE_PBF_AT(PbfIterationStats, errorMaxBits, 8);

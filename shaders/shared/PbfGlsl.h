@@ -242,6 +242,23 @@ void colliderCorners(uint c, uvec3 b, out float v[8]) {
         v[k] = sdfAt(base, dims, b + uvec3(k & 1, (k >> 1) & 1, k >> 2));
 }
 
+// Trilinear interpolation in a cell with corners v[x + 2y + 4z] at t in [0, 1]^3, and its
+// gradient per cell width.
+float trilinearCell(float v[8], vec3 t, out vec3 grad) {
+    float v000 = v[0], v100 = v[1], v010 = v[2], v110 = v[3];
+    float v001 = v[4], v101 = v[5], v011 = v[6], v111 = v[7];
+    float c00 = mix(v000, v100, t.x), c10 = mix(v010, v110, t.x);
+    float c01 = mix(v001, v101, t.x), c11 = mix(v011, v111, t.x);
+    vec3 w0 = vec3(1.0) - t;
+    grad.x = w0.y * w0.z * (v100 - v000) + t.y * w0.z * (v110 - v010) +
+             w0.y * t.z * (v101 - v001) + t.y * t.z * (v111 - v011);
+    grad.y = w0.x * w0.z * (v010 - v000) + t.x * w0.z * (v110 - v100) +
+             w0.x * t.z * (v011 - v001) + t.x * t.z * (v111 - v101);
+    grad.z = w0.x * w0.y * (v001 - v000) + t.x * w0.y * (v101 - v100) +
+             w0.x * t.y * (v011 - v010) + t.x * t.y * (v111 - v110);
+    return mix(mix(c00, c10, t.y), mix(c01, c11, t.y), t.z);
+}
+
 // phi and its gradient in collider c's local frame, exactly format::SdfSampler's rule:
 // trilinear inside the grid box, phi(clamp(q)) + |q - clamp(q)| outside. A sparse collider
 // reads the same way, its samples outside the band being its tiles' (+-band, signed), where the
@@ -256,20 +273,9 @@ void sampleCollider(uint c, vec3 q, out float phi, out vec3 grad) {
     vec3 t = clamp(g - cellLo, 0.0, 1.0);
     float v[8];
     colliderCorners(c, uvec3(cellLo), v);
-    float v000 = v[0], v100 = v[1], v010 = v[2], v110 = v[3];
-    float v001 = v[4], v101 = v[5], v011 = v[6], v111 = v[7];
-    float c00 = mix(v000, v100, t.x), c10 = mix(v010, v110, t.x);
-    float c01 = mix(v001, v101, t.x), c11 = mix(v011, v111, t.x);
     vec3 out_ = q - qc;
     float outside = length(out_);
-    phi = mix(mix(c00, c10, t.y), mix(c01, c11, t.y), t.z) + outside;
-    vec3 w0 = vec3(1.0) - t;
-    grad.x = w0.y * w0.z * (v100 - v000) + t.y * w0.z * (v110 - v010) +
-             w0.y * t.z * (v101 - v001) + t.y * t.z * (v111 - v011);
-    grad.y = w0.x * w0.z * (v010 - v000) + t.x * w0.z * (v110 - v100) +
-             w0.x * t.z * (v011 - v001) + t.x * t.z * (v111 - v101);
-    grad.z = w0.x * w0.y * (v001 - v000) + t.x * w0.y * (v101 - v100) +
-             w0.x * t.y * (v011 - v010) + t.x * t.y * (v111 - v110);
+    phi = trilinearCell(v, t, grad) + outside;
     grad /= voxel;
     if (outside > 0.0) {
         // Outside the box the clamped axes lose their derivative; |q - c| adds its own.
@@ -297,36 +303,6 @@ float boundaryShareSlope(float phi) {
         return 0.0;
     float a = 1.0 - u * u;
     return -P.boundaryScale * (315.0 / 256.0) / PBF_H * (a * a) * (a * a);
-}
-
-// The domain's walls as boundary volume (docs/pbf.md, "Boundary volume"): each face is a flat
-// boundary r beyond the plane the particles' centres are clamped to, so a particle resting
-// against it (at r) sees the calibrated share. The two faces of an axis cover disjoint parts of
-// the support and add; the axes combine as independent cuts, 1 - (1 - f_x)(1 - f_y)(1 - f_z),
-// which is within 1.3 % of the exact share in an edge or a corner. Adds the walls' share to
-// `boundary` and its gradient (outward from the fluid, into the walls) to `gradient`.
-void addWallBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
-    if (P.hasDomain == 0u || P.solidBoundary == 0u)
-        return;
-    vec3 below = x - P.domainMin + PBF_RADIUS; // to the faces at the low ends of x, y and z
-    vec3 above = P.domainMax - x + PBF_RADIUS; // and at the high ends
-    if (all(greaterThanEqual(min(below, above), vec3(PBF_H))))
-        return;
-    vec3 open = vec3(1.0); // per axis, the share of the support in front of both faces
-    vec3 slope = vec3(0.0); // and its derivative along the axis
-    float k = P.boundaryScale;
-    for (int a = 0; a < 3; ++a) {
-        if (below[a] < PBF_H) {
-            open[a] -= boundaryShare(below[a]) / k;
-            slope[a] -= boundaryShareSlope(below[a]) / k;
-        }
-        if (above[a] < PBF_H) {
-            open[a] -= boundaryShare(above[a]) / k;
-            slope[a] += boundaryShareSlope(above[a]) / k;
-        }
-    }
-    boundary += k * (1.0 - open.x * open.y * open.z);
-    gradient -= k * slope * vec3(open.y * open.z, open.x * open.z, open.x * open.y);
 }
 
 // phi in world units and the world normal of collider c at world point x.
@@ -412,24 +388,6 @@ bool nextStaticCollider(inout uint mask, inout uint c) {
     return c < P.colliderCount;
 }
 
-// Static and kinematic colliders as boundary volume (docs/pbf.md, "Boundary volume"): the
-// share of a flat boundary at the collider's phi, from the surface the push-out keeps centres
-// r away from, so a particle resting on it sees the calibrated share. Adds the share to
-// `boundary` and its gradient to `gradient`. Dynamic bodies are summed per body by the passes.
-void addColliderBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
-    if (P.solidBoundary == 0u)
-        return;
-    uint mask = P.staticColliders, c = 0u;
-    while (nextStaticCollider(mask, c)) {
-        vec3 normal;
-        float phi = colliderDistance(c, x, normal);
-        float len = length(normal);
-        if (!(phi < PBF_H) || !(len > 0.0))
-            continue;
-        boundary += boundaryShare(phi);
-        gradient += boundaryShareSlope(phi) * (normal / len);
-    }
-}
 #endif // PBF_WITH_COLLIDERS
 
 #ifdef PBF_WITH_BODIES

@@ -64,7 +64,7 @@ const ShaderDefine kSparseBake{"SDF_SPARSE", "1"};
 const ShaderDefine kPointsBake{"SDF_POINTS", "1"};
 
 /// Every program the libraries build, with the define combinations their code uses:
-/// SelfTest.cpp, Simulation.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp, FluidStatsProbe.cpp,
+/// SelfTest.cpp, Simulation.cpp, VolumeMaps.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp, FluidStatsProbe.cpp,
 /// Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp, ColliderPass.cpp, SurfaceReconstructor.cpp
 /// and GpuBaker.cpp
 /// (compilePrograms).
@@ -89,6 +89,10 @@ std::vector<ProgramCase> allPrograms() {
         compute("PbfDeltaSparse", runtimeSource, "pbf_delta.comp", {kSparse}),
         compute("PbfStatsSparse", runtimeSource, "pbf_stats.comp", {kSparse}),
         compute("PbfBodiesSparse", runtimeSource, "pbf_bodies.comp", {kSparse}),
+        compute("PbfVolumeMap", runtimeSource, "pbf_volume_map.comp"),
+        compute("PbfVolumeMapSparse", runtimeSource, "pbf_volume_map.comp", {kSparse}),
+        compute("PbfBoundaryProbe", runtimeSource, "pbf_boundary_probe.comp"),
+        compute("PbfBoundaryProbeSparse", runtimeSource, "pbf_boundary_probe.comp", {kSparse}),
         compute("ColliderProbe", runtimeSource, "collider_probe.comp"),
         compute("ColliderProbeSparse", runtimeSource, "collider_probe.comp", {kSparse}),
         compute("ScanBlock", runtimeSource, "scan_block.comp"),

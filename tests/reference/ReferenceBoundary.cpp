@@ -72,10 +72,25 @@ void ReferencePbf::addSolidBoundary(glm::vec3 x, float t1, float& boundary,
             continue;
         const glm::vec3 grad = now.rotation * glm::vec3(c.sampler.gradient(glm::dvec3(q)));
         const float gradLength = glm::length(grad);
-        if (!(gradLength > 0.0f))
+        const bool mapped = !c.volumeMap.empty();
+        // docs/pbf.md, "Volume maps": with a map, a point on a ridge of the field (no gradient)
+        // outside the solid still gets its share, and the slope is the share's own gradient.
+        if (!(gradLength > 0.0f || (mapped && phi >= 0.0f)))
             continue;
-        boundary += boundaryShare(phi);
-        gradient += boundaryShareSlope(phi) * (grad / gradLength);
+        float share = boundaryShare(phi);
+        glm::vec3 slope =
+            gradLength > 0.0f ? boundaryShareSlope(phi) * (grad / gradLength) : glm::vec3(0.0f);
+        if (mapped) {
+            slope = boundaryShareSlope(phi) * grad;
+            glm::dvec3 mapGrad;
+            const double more = volumeCorrection(c, glm::dvec3(q), mapGrad);
+            share += m_c.boundaryScale * float(more);
+            slope += m_c.boundaryScale / now.scale * (now.rotation * glm::vec3(mapGrad));
+            if (!(share > 0.0f))
+                continue;
+        }
+        boundary += share;
+        gradient += slope;
     }
 }
 

@@ -35,6 +35,10 @@ ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceColl
     for (const ReferenceCollider& c : colliders) {
         SLUICE_ASSERT(c.asset != nullptr, "ReferencePbf: collider without an asset");
         Collider collider{c.placement, format::SdfSampler(*c.asset)};
+        collider.asset = c.asset;
+        if (m_params.solidBoundary && !c.placement.dynamic)
+            collider.volumeMap = buildVolumeMap(*c.asset, collider.sampler,
+                                                double(m_c.h) / double(c.placement.scale));
         if (c.placement.dynamic) {
             collider.body = std::uint32_t(m_bodies.size());
             Body body;

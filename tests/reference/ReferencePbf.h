@@ -139,6 +139,8 @@ private:
         format::SceneCollider placement;
         format::SdfSampler sampler;
         std::uint32_t body = kNoBody; // index into m_bodies, or kNoBody
+        const format::ColliderAsset* asset = nullptr;
+        std::vector<float> volumeMap; // static, with "solids": per grid point (docs/pbf.md)
     };
 
     /// A dynamic body: where it is held and its reaction sums.
@@ -168,6 +170,12 @@ private:
     void removeParticlesInBodies();
     bool bodyBoundary(const Body& body, glm::vec3 x, float& phi, glm::vec3& normal) const;
     float boundaryShare(float phi) const;
+    /// docs/pbf.md, "Volume maps": a static collider's map for the kernel support `support`
+    /// [asset units], one value per grid point; empty for a grid too large for one.
+    static std::vector<float> buildVolumeMap(const format::ColliderAsset& asset,
+                                             const format::SdfSampler& sampler, double support);
+    /// The map of c at local point q, trilinear; `grad` its gradient per asset unit.
+    double volumeCorrection(const Collider& c, glm::dvec3 q, glm::dvec3& grad) const;
     float boundaryShareSlope(float phi) const;
     void addSolidBoundary(glm::vec3 x, float t1, float& boundary, glm::vec3& gradient) const;
     double nearestSolidWithin(glm::vec3 x, double limit, float t1, glm::dvec3& normal) const;

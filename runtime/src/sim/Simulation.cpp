@@ -100,6 +100,8 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
         return ok.error();
 
     impl->uploadColliderGrids();
+    if (auto ok = impl->buildVolumeMaps(); !ok)
+        return ok.error();
 
     const std::size_t ring = 8 + 2 * std::size_t(std::max(1u, scene.simulation.substeps));
     for (std::size_t p = 0; p < std::size_t(Pass::Count); ++p)
@@ -155,6 +157,8 @@ Result<void> Simulation::setParameters(const format::SimulationParams& params) {
     s.maxIterations = p.maxIterations;
     s.scene.simulation = p;
     s.k = deriveConstants(p);
+    if (s.volumeMapsH != s.k.h) // the maps integrate over the kernel's support
+        return s.buildVolumeMaps();
     return {};
 }
 

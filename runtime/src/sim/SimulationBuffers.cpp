@@ -32,7 +32,7 @@ Result<void> Simulation::Impl::allocate() {
     };
     const std::uint64_t n = capacity;
     const std::uint64_t v4 = 16, u = 4;
-    const std::uint64_t sdfBytes = colliderDataBytes(colliderAssets);
+    const std::uint64_t sdfBytes = colliderDataBytes(colliderAssets) + volumeMapWords() * u;
     if (sdfBytes > 0xffffffffull) // GpuCollider::sdfOffset and PNanoVDB's addresses: 32 bits
         return fail(ErrorCode::GpuOutOfMemory,
                     scene.path + ": the colliders' grids take " + std::to_string(sdfBytes) +
@@ -131,6 +131,14 @@ void Simulation::Impl::uploadColliderGrids() {
         r.rotation = glm::mat4_cast(start.rotation);
         r.motion = glm::mat4(1.0f);
         r.scale = scene.colliders[c].scale;
+    }
+    // Volume maps after every grid (VolumeMaps.cpp builds them).
+    std::uint64_t mapOffset = colliderDataBytes(colliderAssets) / sizeof(float); // [words]
+    for (std::size_t c = 0; c < colliderRecords.size(); ++c) {
+        if (!wantsVolumeMap(c))
+            continue;
+        colliderRecords[c].volumeMap = std::uint32_t(mapOffset);
+        mapOffset += colliderAssets[c].pointCount();
     }
     colliderBuf.upload(colliderRecords);
     if (bodyCount > 0) {
@@ -286,10 +294,7 @@ Result<void> Simulation::Impl::compilePasses() {
         {&bodies, "pbf_bodies.comp"},
     };
     // NanoVDB's reader (shared/NanoVdbGlsl.h) is compiled in only when a collider needs it.
-    const std::array<gpu::ShaderDefine, 1> sparseDefine{{{"SLUICE_SPARSE_COLLIDERS", "1"}}};
-    const std::span<const gpu::ShaderDefine> defines =
-        anySparse(colliderAssets) ? std::span<const gpu::ShaderDefine>(sparseDefine)
-                                  : std::span<const gpu::ShaderDefine>();
+    const std::vector<gpu::ShaderDefine> defines = colliderDefines();
     // A body's work group in the body pass (pbf_bodies.comp): kBodyLanes invocations on a GPU,
     // kBodyLanesSoftware on a software renderer, which runs a group's invocations a SIMD vector
     // at a time on one CPU thread.

@@ -126,6 +126,8 @@ struct Simulation::Impl {
 
     gpu::Program predict, scatter, bucketSort, reorder, scatterReorder, lambda, delta, velocity,
         vorticity, confine, stats, bodies;
+    gpu::Program volumeMapPass, boundaryProbe; // compiled when first needed (VolumeMaps.cpp)
+    float volumeMapsH = 0.0f; // the kernel radius the volume maps were built for [m]
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
     gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
@@ -156,6 +158,15 @@ struct Simulation::Impl {
     /// outnumber the capacity.
     Result<void> fillBlocks();
     void uploadParams();
+    /// Whether collider c gets a volume map: static or kinematic, in a scene that starts with
+    /// "solids", its grid at most kVolumeMapMaxPoints points (VolumeMaps.cpp).
+    bool wantsVolumeMap(std::size_t c) const;
+    /// Words of the volume maps in the SDF buffer, after every grid.
+    std::uint64_t volumeMapWords() const;
+    /// Computes every volume map for the current h (pbf_volume_map.comp).
+    Result<void> buildVolumeMaps();
+    /// The step's compile defines (the sparse reader when a collider is sparse).
+    std::vector<gpu::ShaderDefine> colliderDefines() const;
     void uploadColliders(double t0, double t1);
     void append(const std::vector<ParticleState>& particles);
     /// One substep: the passes below, in the order of docs/pbf.md.

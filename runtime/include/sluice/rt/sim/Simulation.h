@@ -11,6 +11,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "sluice/format/asset/ColliderAsset.h"
 #include "sluice/format/support/Result.h"
@@ -234,6 +235,18 @@ public:
     /// meets, by sphere tracing each body's field at its current pose on the CPU; nullopt when
     /// it meets none. Reads the bodies back (a sync).
     std::optional<BodyHit> pickBody(glm::vec3 origin, glm::vec3 direction) const;
+
+    /// The boundary volume the domain's walls and the static and kinematic colliders add to a
+    /// particle's density at each world point [m], as the lambda pass adds it with
+    /// `"boundary": "solids"` (all zero with "bodies"): per point, w is the share (of rho / rho0)
+    /// and xyz its gradient [1/m]. The colliders at their pose of the last substep. Colliders
+    /// with a volume map (docs/pbf.md, "Volume maps") include it. One small dispatch and
+    /// readback (a sync).
+    Result<std::vector<glm::vec4>> solidBoundaryAt(const std::vector<glm::vec3>& points);
+
+    /// Static and kinematic colliders with a volume map (built when the scene starts with
+    /// `"boundary": "solids"` and rebuilt when kernelRadius changes).
+    std::uint32_t volumeMapCount() const;
 
     /// Particles of the fluid blocks left out at the start because their centre was inside a
     /// dynamic body.

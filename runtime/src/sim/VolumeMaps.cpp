@@ -1,0 +1,99 @@
+// Volume maps of static colliders (docs/pbf.md, "Volume maps"): which colliders get one, their
+// build on the GPU (pbf_volume_map.comp) when a scene loads and when h changes, and the boundary
+// probe (pbf_boundary_probe.comp) that reads the walls' and colliders' share at points.
+#include "sim/SimulationImpl.h"
+
+namespace sluice::rt {
+
+bool Simulation::Impl::wantsVolumeMap(std::size_t c) const {
+    return scene.simulation.solidBoundary && bodySetup.bodyOfCollider[c] == shared::kNoBody &&
+           colliderAssets[c].pointCount() <= shared::kVolumeMapMaxPoints;
+}
+
+std::uint64_t Simulation::Impl::volumeMapWords() const {
+    std::uint64_t words = 0;
+    for (std::size_t c = 0; c < colliderAssets.size(); ++c)
+        words += wantsVolumeMap(c) ? colliderAssets[c].pointCount() : 0;
+    return words;
+}
+
+std::vector<gpu::ShaderDefine> Simulation::Impl::colliderDefines() const {
+    if (anySparse(colliderAssets))
+        return {{"SLUICE_SPARSE_COLLIDERS", "1"}};
+    return {};
+}
+
+Result<void> Simulation::Impl::buildVolumeMaps() {
+    volumeMapsH = k.h;
+    std::vector<std::size_t> mapped;
+    for (std::size_t c = 0; c < colliderRecords.size(); ++c)
+        if (colliderRecords[c].volumeMap != shared::kNoVolumeMap)
+            mapped.push_back(c);
+    if (mapped.empty())
+        return {};
+    if (!volumeMapPass.id()) {
+        const std::vector<gpu::ShaderDefine> defines = colliderDefines();
+        auto program = gpu::Program::compute(
+            "pbf_volume_map.comp", shaders::shaderSource("pbf_volume_map.comp"), defines);
+        if (!program)
+            return program.error();
+        volumeMapPass = std::move(*program);
+    }
+    colliderBuf.bindStorage(shared::kBindColliders);
+    sdfBuf.bindStorage(shared::kBindSdf);
+    sdfBuf.bindStorage(shared::kBindVolumeMapOut);
+    for (std::size_t c : mapped) {
+        // The map is built in the collider's local units, at its scene scale.
+        volumeMapPass.set("uCollider", std::uint32_t(c));
+        volumeMapPass.set("uSupport", k.h / scene.colliders[c].scale);
+        const auto points = std::uint32_t(colliderAssets[c].pointCount());
+        commands.dispatches += volumeMapPass.dispatchChunked(
+            glm::uvec3(groupsFor(points), 1, 1), kMaxGroupsPerDispatch);
+    }
+    memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    return {};
+}
+
+std::uint32_t Simulation::volumeMapCount() const {
+    const Impl& s = *m_impl;
+    return std::uint32_t(std::count_if(
+        s.colliderRecords.begin(), s.colliderRecords.end(),
+        [](const shared::GpuCollider& r) { return r.volumeMap != shared::kNoVolumeMap; }));
+}
+
+Result<std::vector<glm::vec4>> Simulation::solidBoundaryAt(const std::vector<glm::vec3>& points) {
+    Impl& s = *m_impl;
+    if (points.empty())
+        return std::vector<glm::vec4>{};
+    if (!s.boundaryProbe.id()) {
+        const std::vector<gpu::ShaderDefine> defines = s.colliderDefines();
+        auto program = gpu::Program::compute(
+            "pbf_boundary_probe.comp", shaders::shaderSource("pbf_boundary_probe.comp"), defines);
+        if (!program)
+            return program.error();
+        s.boundaryProbe = std::move(*program);
+    }
+    std::vector<glm::vec4> in;
+    for (const glm::vec3& p : points)
+        in.emplace_back(p, 0.0f);
+    auto input = gpu::Buffer::createFrom(in, "boundary probe points");
+    if (!input)
+        return input.error();
+    auto output = gpu::Buffer::create(in.size() * sizeof(glm::vec4), "boundary probe shares");
+    if (!output)
+        return output.error();
+    s.uploadParams();
+    s.uploadColliders(s.time, s.time); // static colliders' records get their pose
+    s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
+    s.colliderBuf.bindStorage(shared::kBindColliders);
+    s.sdfBuf.bindStorage(shared::kBindSdf);
+    input->bindStorage(shared::kBindPosIn);
+    output->bindStorage(shared::kBindPosOut);
+    s.boundaryProbe.set("uCount", std::uint32_t(in.size()));
+    s.boundaryProbe.dispatchChunked(glm::uvec3(groupsFor(std::uint32_t(in.size())), 1, 1),
+                                    kMaxGroupsPerDispatch);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    return output->download<glm::vec4>();
+}
+
+} // namespace sluice::rt
