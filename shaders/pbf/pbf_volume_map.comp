@@ -4,7 +4,8 @@
 // flat closed form (BoundaryVolumeGlsl.h), which is exact on flat faces only; this makes edges,
 // corners and thin walls right. Both shares are the same quadrature (kVolumeMapSteps points per
 // support radius each way, a cell's volume fraction from phi at its centre), so its error on
-// flat faces cancels; points farther than uSupport from the surface get 0. One invocation per
+// flat faces cancels; points farther than uSupport outside the surface or two cells inside it,
+// and points where the field is a plane across the support, get 0. One invocation per
 // grid point; run once when a scene loads and again when h changes.
 #version 450 core
 
@@ -18,11 +19,61 @@ layout(std430, binding = kBindVolumeMapOut) writeonly buffer MapOut { float mapO
 
 uniform uint uCollider;
 uniform float uSupport; // h in the collider's local units [asset units]
+uniform uint uStride;   // quadrature cell in grid cells, or 0: support / kVolumeMapSteps
 
-// The volume map at local point q whose phi is phi and unit normal n.
-float volumeCorrection(uint c, vec3 q, float phi, vec3 n) {
-    const int steps = int(kVolumeMapSteps);
-    float d = uSupport / float(steps);
+// Whether local point q lies in collider c's grid box, where its field holds the geometry (past
+// it, sampleCollider extrapolates phi(clamp(q)) + |q - clamp(q)|, which is not the solid's).
+bool inGridBox(uint c, vec3 q) {
+    return all(greaterThanEqual(q, colliders[c].origin)) &&
+           all(lessThanEqual(q, colliders[c].boxMax));
+}
+
+// Whether the field around q is the plane of q's phi and normal n, as on a flat face: its
+// samples on a lattice of h / 2 over the support (in the grid box) within a hundredth of a
+// quadrature cell of the plane's. Most of a collider's band is flat, where the map is 0 and the full quadrature (about
+// 900 samples) is skipped; a feature that changes the share (an edge, a corner, the far side of
+// a thin wall within the support) moves the field off the plane at these points.
+bool flatAround(uint c, vec3 q, float phi, vec3 n) {
+    float step = 0.5 * uSupport;
+    float tolerance = 0.01 * uSupport / float(kVolumeMapSteps);
+    for (int k = -2; k <= 2; ++k)
+        for (int j = -2; j <= 2; ++j)
+            for (int i = -2; i <= 2; ++i) {
+                vec3 o = vec3(i, j, k) * step;
+                if (!(dot(o, o) < uSupport * uSupport))
+                    continue;
+                if (!inGridBox(c, q + o))
+                    continue;
+                float phiHere;
+                vec3 unused;
+                sampleCollider(c, q + o, phiHere, unused);
+                if (!(abs(phiHere - (phi + dot(n, o))) <= tolerance))
+                    return false;
+            }
+    return true;
+}
+
+// phi at grid point p of collider c (inside its grid).
+float colliderValueAt(uint c, ivec3 p) {
+#ifdef SLUICE_SPARSE_COLLIDERS
+    if (colliders[c].gridKind == kColliderSparse) {
+        pnanovdb_readaccessor_t acc = sparseAccessor(colliders[c].sdfOffset);
+        return sparseValue(acc, p);
+    }
+#endif
+    return sdfAt(colliders[c].sdfOffset, colliders[c].dims, uvec3(p));
+}
+
+// The volume map at grid point p (local point q) whose phi is phi and unit normal n. The
+// quadrature's cells are uStride grid cells wide when the grid is at least kVolumeMapSteps cells
+// per support radius (its values read as they are), else support / kVolumeMapSteps (the field
+// read trilinearly).
+float volumeCorrection(uint c, uvec3 p, vec3 q, float phi, vec3 n) {
+    float voxel = colliders[c].voxelSize;
+    bool onGrid = uStride > 0u;
+    float d = onGrid ? float(uStride) * voxel : uSupport / float(kVolumeMapSteps);
+    int steps = int(uSupport / d);
+    ivec3 dims = ivec3(colliders[c].dims);
     float weights = 0.0, solid = 0.0, plane = 0.0;
     for (int k = -steps; k <= steps; ++k)
         for (int j = -steps; j <= steps; ++j)
@@ -32,10 +83,19 @@ float volumeCorrection(uint c, vec3 q, float phi, vec3 n) {
                 if (!(a > 0.0))
                     continue;
                 float w = a * a * a;
-                float phiHere;
-                vec3 unused;
-                sampleCollider(c, q + o, phiHere, unused);
                 weights += w;
+                float phiHere;
+                if (onGrid) {
+                    ivec3 at = ivec3(p) + ivec3(i, j, k) * int(uStride);
+                    if (any(lessThan(at, ivec3(0))) || any(greaterThanEqual(at, dims)))
+                        continue; // past the grid the field is only extrapolated: taken as flat
+                    phiHere = colliderValueAt(c, at);
+                } else {
+                    if (!inGridBox(c, q + o))
+                        continue;
+                    vec3 unused;
+                    sampleCollider(c, q + o, phiHere, unused);
+                }
                 solid += w * clamp(0.5 - phiHere / d, 0.0, 1.0);
                 plane += w * clamp(0.5 - (phi + dot(n, o)) / d, 0.0, 1.0);
             }
@@ -58,7 +118,10 @@ void main() {
     // share there is the same whichever way the plane faces, up to the quadrature's error.
     vec3 n = len > 0.0 ? grad / len : vec3(0.0, 1.0, 0.0);
     float more = 0.0;
-    if (abs(phi) < uSupport)
-        more = volumeCorrection(c, q, phi, n);
+    // A particle is kept outside the solid, so the trilinear reads that matter reach at most a
+    // cell diagonal into it: deeper points keep 0.
+    bool read = phi > -2.0 * colliders[c].voxelSize;
+    if (read && phi < uSupport && !flatAround(c, q, phi, n))
+        more = volumeCorrection(c, p, q, phi, n);
     mapOut[colliders[c].volumeMap + i] = more;
 }

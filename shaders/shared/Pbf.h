@@ -60,7 +60,7 @@ SLUICE_CONST uint kColliderDense = 0;  ///< float per grid point, x fastest
 SLUICE_CONST uint kColliderSparse = 1; ///< a NanoVDB float grid, at a 32-byte aligned offset
 // Volume maps of static colliders (docs/pbf.md, "Volume maps"; pbf_volume_map.comp).
 SLUICE_CONST uint kNoVolumeMap = 0xffffffffu; ///< GpuCollider::volumeMap of a collider without one
-SLUICE_CONST uint kVolumeMapSteps = 6;        ///< quadrature points per kernel radius, each way
+SLUICE_CONST uint kVolumeMapSteps = 5;        ///< quadrature points per kernel radius, each way
 SLUICE_CONST uint kVolumeMapMaxPoints = 1u << 24; ///< a larger grid keeps the flat closed form
 SLUICE_CONST uint kBindVolumeMapOut = 27; ///< float[]: the SDF buffer again, written by the map pass
 // Prefix scan.

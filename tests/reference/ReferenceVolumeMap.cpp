@@ -11,29 +11,63 @@
 namespace sluice::ref {
 
 namespace {
-constexpr int kSteps = 6;                          // quadrature points per support radius, each way
+constexpr int kSteps = 5;                          // quadrature points per support radius, each way
 constexpr std::uint64_t kMaxPoints = 1ull << 24;   // a larger grid keeps the flat closed form
 
 // At local point q (phi, unit normal n): the poly6-weighted share of the support of radius
 // `support` the solid fills, less that of the flat boundary at phi along n, both by the same
 // quadrature (a cell's solid fraction from phi at its centre, clamped linear across the cell).
-double correctionAt(const format::SdfSampler& sampler, glm::dvec3 q, double phi, glm::dvec3 n,
-                    double support) {
-    const double d = support / kSteps;
+// Whether q lies in the grid box, where the field holds the geometry; past it the map takes the
+// solid as flat.
+bool inGridBox(const format::ColliderAsset& a, glm::dvec3 q) {
+    // A grid point on the box's face must count as in it, whatever the rounding of q.
+    const double e = 1e-9 * a.meta.voxelSize;
+    const glm::dvec3 hi = a.meta.origin + glm::dvec3(a.meta.dims - glm::uvec3(1)) * a.meta.voxelSize;
+    return glm::all(glm::greaterThanEqual(q, a.meta.origin - e)) &&
+           glm::all(glm::lessThanEqual(q, hi + e));
+}
+
+// The quadrature's cells are `stride` grid cells wide when the grid has at least kSteps cells
+// per support radius (the grid's values), else support / kSteps (the field read trilinearly).
+double correctionAt(const format::ColliderAsset& asset, const format::SdfSampler& sampler,
+                    glm::dvec3 q, double phi, glm::dvec3 n, double support) {
+    const double voxel = asset.meta.voxelSize;
+    const int stride = int(std::floor(support / (kSteps * voxel) + 1e-9));
+    const double d = stride > 0 ? stride * voxel : support / kSteps;
+    const int steps = int(float(support) / float(d)); // as the shader divides, in float
     double weights = 0.0, solid = 0.0, plane = 0.0;
-    for (int k = -kSteps; k <= kSteps; ++k)
-        for (int j = -kSteps; j <= kSteps; ++j)
-            for (int i = -kSteps; i <= kSteps; ++i) {
+    for (int k = -steps; k <= steps; ++k)
+        for (int j = -steps; j <= steps; ++j)
+            for (int i = -steps; i <= steps; ++i) {
                 const glm::dvec3 o = glm::dvec3(i, j, k) * d;
                 const double a = 1.0 - glm::dot(o, o) / (support * support);
                 if (!(a > 0.0))
                     continue;
                 const double w = a * a * a;
                 weights += w;
+                if (!inGridBox(asset, q + o))
+                    continue;
                 solid += w * std::clamp(0.5 - sampler.value(q + o) / d, 0.0, 1.0);
                 plane += w * std::clamp(0.5 - (phi + glm::dot(n, o)) / d, 0.0, 1.0);
             }
     return (solid - plane) / weights;
+}
+
+// Whether the field around q is the plane of phi and n: its samples on a lattice of h / 2 over
+// the support within a hundredth of a quadrature cell of the plane's (the map is 0 there).
+bool flatAround(const format::ColliderAsset& asset, const format::SdfSampler& sampler,
+                glm::dvec3 q, double phi, glm::dvec3 n, double support) {
+    const double step = 0.5 * support, tolerance = 0.01 * support / kSteps;
+    for (int k = -2; k <= 2; ++k)
+        for (int j = -2; j <= 2; ++j)
+            for (int i = -2; i <= 2; ++i) {
+                const glm::dvec3 o = glm::dvec3(i, j, k) * step;
+                if (!(glm::dot(o, o) < support * support) || !inGridBox(asset, q + o))
+                    continue;
+                if (!(std::abs(sampler.value(q + o) - (phi + glm::dot(n, o))) <= tolerance))
+                    return false;
+            }
+    return true;
 }
 } // namespace
 
@@ -49,14 +83,17 @@ std::vector<float> ReferencePbf::buildVolumeMap(const format::ColliderAsset& ass
             for (std::uint32_t x = 0; x < dims.x; ++x) {
                 const glm::dvec3 q = asset.meta.origin + glm::dvec3(x, y, z) * asset.meta.voxelSize;
                 const double phi = sampler.value(q);
-                if (!(std::abs(phi) < support))
+                // Particles stay outside: deeper than two cells into the solid keeps 0.
+                if (!(phi > -2.0 * asset.meta.voxelSize && phi < support))
                     continue;
                 const glm::dvec3 g = sampler.gradient(q);
                 const double len = glm::length(g);
                 // On a ridge of the field the plane may face any way (same quadrature error).
                 const glm::dvec3 n = len > 0.0 ? g / len : glm::dvec3(0.0, 1.0, 0.0);
+                if (flatAround(asset, sampler, q, phi, n, support))
+                    continue;
                 map[x + dims.x * (y + std::size_t(dims.y) * z)] =
-                    float(correctionAt(sampler, q, phi, n, support));
+                    float(correctionAt(asset, sampler, q, phi, n, support));
             }
     return map;
 }

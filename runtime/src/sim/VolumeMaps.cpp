@@ -23,6 +23,14 @@ std::vector<gpu::ShaderDefine> Simulation::Impl::colliderDefines() const {
     return {};
 }
 
+namespace {
+// The quadrature's cell in grid cells (pbf_volume_map.comp): the most that keeps at least
+// kVolumeMapSteps cells per support radius, or 0 when even one grid cell is coarser than that.
+std::uint32_t volumeMapStride(double support, double voxelSize) {
+    return std::uint32_t(std::floor(support / (shared::kVolumeMapSteps * voxelSize) + 1e-9));
+}
+} // namespace
+
 Result<void> Simulation::Impl::buildVolumeMaps() {
     volumeMapsH = k.h;
     std::vector<std::size_t> mapped;
@@ -45,7 +53,9 @@ Result<void> Simulation::Impl::buildVolumeMaps() {
     for (std::size_t c : mapped) {
         // The map is built in the collider's local units, at its scene scale.
         volumeMapPass.set("uCollider", std::uint32_t(c));
-        volumeMapPass.set("uSupport", k.h / scene.colliders[c].scale);
+        const double support = double(k.h) / double(scene.colliders[c].scale);
+        volumeMapPass.set("uSupport", float(support));
+        volumeMapPass.set("uStride", volumeMapStride(support, colliderAssets[c].meta.voxelSize));
         const auto points = std::uint32_t(colliderAssets[c].pointCount());
         commands.dispatches += volumeMapPass.dispatchChunked(
             glm::uvec3(groupsFor(points), 1, 1), kMaxGroupsPerDispatch);
