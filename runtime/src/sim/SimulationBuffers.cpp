@@ -32,7 +32,15 @@ Result<void> Simulation::Impl::allocate() {
     };
     const std::uint64_t n = capacity;
     const std::uint64_t v4 = 16, u = 4;
-    const std::uint64_t sdfBytes = colliderDataBytes(colliderAssets) + volumeMapWords() * u;
+    GLint64 maxSsbo = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
+    // Volume maps go after the grids in the same block; where they would not fit, the
+    // colliders keep the flat closed form (docs/pbf.md, "Volume maps").
+    const std::uint64_t gridBytes = colliderDataBytes(colliderAssets);
+    const std::uint64_t blockBytes =
+        std::min<std::uint64_t>(0xffffffffull, maxSsbo > 0 ? std::uint64_t(maxSsbo) : ~0ull);
+    volumeMapsFit = gridBytes + volumeMapWords() * u <= blockBytes;
+    const std::uint64_t sdfBytes = gridBytes + volumeMapWords() * u;
     if (sdfBytes > 0xffffffffull) // GpuCollider::sdfOffset and PNanoVDB's addresses: 32 bits
         return fail(ErrorCode::GpuOutOfMemory,
                     scene.path + ": the colliders' grids take " + std::to_string(sdfBytes) +
@@ -85,8 +93,6 @@ Result<void> Simulation::Impl::allocate() {
     bytesPerParticle = 7 * v4 + 5 * u + shared::kNeighbourMaskWords * u +
                        (u * (2 * std::uint64_t(tableSize) + 1) + n - 1) / n +
                        (withBodies ? 2 * u : 0);
-    GLint64 maxSsbo = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
     for (const Alloc& a : allocs) {
         if (maxSsbo > 0 && a.bytes > std::uint64_t(maxSsbo))
             return fail(ErrorCode::GpuOutOfMemory,

@@ -128,6 +128,7 @@ struct Simulation::Impl {
         vorticity, confine, stats, bodies;
     gpu::Program volumeMapPass, boundaryProbe; // compiled when first needed (VolumeMaps.cpp)
     float volumeMapsH = 0.0f; // the kernel radius the volume maps were built for [m]
+    bool volumeMapsFit = true; // false: they would not fit in the SDF buffer's storage block
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
     gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
@@ -159,7 +160,8 @@ struct Simulation::Impl {
     Result<void> fillBlocks();
     void uploadParams();
     /// Whether collider c gets a volume map: static or kinematic, in a scene that starts with
-    /// "solids", its grid at most kVolumeMapMaxPoints points (VolumeMaps.cpp).
+    /// "solids", its grid at most kVolumeMapMaxPoints points, every map fitting in the SDF
+    /// buffer's storage block with the grids (VolumeMaps.cpp).
     bool wantsVolumeMap(std::size_t c) const;
     /// Words of the volume maps in the SDF buffer, after every grid.
     std::uint64_t volumeMapWords() const;

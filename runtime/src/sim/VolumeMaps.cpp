@@ -6,7 +6,8 @@
 namespace sluice::rt {
 
 bool Simulation::Impl::wantsVolumeMap(std::size_t c) const {
-    return scene.simulation.solidBoundary && bodySetup.bodyOfCollider[c] == shared::kNoBody &&
+    return volumeMapsFit && scene.simulation.solidBoundary &&
+           bodySetup.bodyOfCollider[c] == shared::kNoBody &&
            colliderAssets[c].pointCount() <= shared::kVolumeMapMaxPoints;
 }
 

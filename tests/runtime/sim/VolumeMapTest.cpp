@@ -220,6 +220,38 @@ TEST_F(VolumeMap, ASceneStartedWithTheBodiesModelHasNone) {
     EXPECT_EQ((*shares)[0].w, 0.0f); // walls and colliders are not in the density
 }
 
+TEST_F(VolumeMap, MapsThatWouldNotFitTheGridsStorageBlockLeaveTheClosedForm) {
+    // Two boxes whose grids fill 60 % of the GL's largest storage block (128 MiB on llvmpipe):
+    // their maps would take as much again, so neither gets one and the scene still loads.
+    GLint64 block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    const double pointsEach = 0.3 * double(block) / sizeof(float);
+    if (pointsEach > 12.0e6)
+        GTEST_SKIP() << "storage blocks of " << block << " bytes: the grids would be too large";
+    const double side = std::cbrt(pointsEach);
+    format::Scene scene = testscene::emptyScene(kSpacing);
+    scene.simulation.solidBoundary = true;
+    std::vector<format::ColliderAsset> assets;
+    for (int b = 0; b < 2; ++b) {
+        const glm::dvec3 lo(2.0 * b, 0.0, 0.0), hi = lo + glm::dvec3(0.5);
+        assets.push_back(testscene::assetFromSdf(
+            glm::uvec3(glm::uint(side)), lo - glm::dvec3(0.1), 0.7 / side,
+            [lo, hi](const glm::dvec3& p) { return testasset::boxSdf(p, lo, hi); }));
+        format::SceneCollider box;
+        box.asset = "box.slc";
+        scene.colliders.push_back(box);
+    }
+    auto sim = Simulation::create(scene, std::move(assets));
+    ASSERT_TRUE(sim) << sim.error().detail;
+    EXPECT_EQ(sim->volumeMapCount(), 0u);
+    // The closed form on a convex edge: three times the exact share (the table of docs/pbf.md).
+    const float r = 0.5f * kSpacing;
+    auto shares = sim->solidBoundaryAt({glm::vec3(0.5f + r, 0.5f + r, 0.25f)});
+    ASSERT_TRUE(shares);
+    const double k = sim->constants().boundaryScale, h = sim->constants().h;
+    EXPECT_NEAR((*shares)[0].w, flatShare(std::sqrt(2.0) * r, h, k), 0.002);
+}
+
 // A block of water in a corner of the tank, where the maps carry most of the walls' share: one
 // step of the GPU solver against the CPU reference, which builds the same maps in double
 // (tests/reference/ReferenceVolumeMap.cpp). Without the reference's maps the particles differ by
