@@ -34,13 +34,7 @@ Result<void> Simulation::Impl::allocate() {
     const std::uint64_t v4 = 16, u = 4;
     GLint64 maxSsbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
-    // Volume maps go after the grids in the same block; where they would not fit, the
-    // colliders keep the flat closed form (docs/pbf.md, "Volume maps").
-    const std::uint64_t gridBytes = colliderDataBytes(colliderAssets);
-    const std::uint64_t blockBytes =
-        std::min<std::uint64_t>(0xffffffffull, maxSsbo > 0 ? std::uint64_t(maxSsbo) : ~0ull);
-    volumeMapsFit = gridBytes + volumeMapWords() * u <= blockBytes;
-    const std::uint64_t sdfBytes = gridBytes + volumeMapWords() * u;
+    const std::uint64_t sdfBytes = sdfBufferBytes(maxSsbo);
     if (sdfBytes > 0xffffffffull) // GpuCollider::sdfOffset and PNanoVDB's addresses: 32 bits
         return fail(ErrorCode::GpuOutOfMemory,
                     scene.path + ": the colliders' grids take " + std::to_string(sdfBytes) +

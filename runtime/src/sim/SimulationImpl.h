@@ -165,6 +165,9 @@ struct Simulation::Impl {
     bool wantsVolumeMap(std::size_t c) const;
     /// Words of the volume maps in the SDF buffer, after every grid.
     std::uint64_t volumeMapWords() const;
+    /// The SDF buffer's size [bytes]: every grid, then the volume maps if they fit in a storage
+    /// block of `maxBlockBytes` (and 4 GiB) with them; sets volumeMapsFit.
+    std::uint64_t sdfBufferBytes(std::int64_t maxBlockBytes);
     /// Computes every volume map for the current h (pbf_volume_map.comp).
     Result<void> buildVolumeMaps();
     /// The step's compile defines (the sparse reader when a collider is sparse).

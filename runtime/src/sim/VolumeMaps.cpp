@@ -18,6 +18,16 @@ std::uint64_t Simulation::Impl::volumeMapWords() const {
     return words;
 }
 
+std::uint64_t Simulation::Impl::sdfBufferBytes(std::int64_t maxBlockBytes) {
+    // Volume maps go after the grids in the same block; where they would not fit, the colliders
+    // keep the flat closed form (docs/pbf.md, "Volume maps").
+    const std::uint64_t grids = colliderDataBytes(colliderAssets);
+    const std::uint64_t block = std::min<std::uint64_t>(
+        0xffffffffull, maxBlockBytes > 0 ? std::uint64_t(maxBlockBytes) : ~0ull);
+    volumeMapsFit = grids + volumeMapWords() * sizeof(float) <= block;
+    return grids + volumeMapWords() * sizeof(float);
+}
+
 std::vector<gpu::ShaderDefine> Simulation::Impl::colliderDefines() const {
     if (anySparse(colliderAssets))
         return {{"SLUICE_SPARSE_COLLIDERS", "1"}};
