@@ -68,10 +68,10 @@ Result<void> Simulation::Impl::buildVolumeMaps() {
         volumeMapPass.set("uSupport", float(support));
         volumeMapPass.set("uStride", volumeMapStride(support, colliderAssets[c].meta.voxelSize));
         const auto points = std::uint32_t(colliderAssets[c].pointCount());
-        commands.dispatches += volumeMapPass.dispatchChunked(
-            glm::uvec3(groupsFor(points), 1, 1), kMaxGroupsPerDispatch);
+        // Not a step's command: commandCount() leaves it out.
+        volumeMapPass.dispatchChunked(glm::uvec3(groupsFor(points), 1, 1), kMaxGroupsPerDispatch);
     }
-    memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     return {};
 }
 
