@@ -167,3 +167,27 @@ def test_a_floating_box_reports_its_state_as_sluice_play_does(tmp_path: Path) ->
     assert box["mass"] == pytest.approx(500 * 0.12 ** 3, rel=1e-6)  # the mesh's exact volume
     assert box["centreOfMass"][1] < 0.12  # it fell towards the water
     assert box["linearVelocity"][1] < 0
+
+
+def test_the_solids_boundary_share_is_probed_where_walls_and_colliders_meet(scene: Path) -> None:
+    # With "solids" the domain's walls and the ball (2.5 cm radius) add boundary volume: a
+    # particle radius from the floor it is the flat share, in the domain's corner three walls'
+    # (the walls' product, docs/pbf.md), on the ball's top some (past its grid box, padded by 3
+    # voxels, its volume map does not reach: the flat closed form), far from everything none;
+    # with "bodies", none.
+    r = 0.01
+    points = [[0.0, -0.2 + r, 0.0], [-0.2 + r, -0.2 + r, -0.2 + r], [0.0, 0.025 + r, 0.0],
+              [0.0, 0.3, 0.0]]
+    solids = scene_dict("ball.slc")
+    solids["simulation"]["boundary"] = "solids"
+    sim = sluice.Simulation(solids, base_dir=scene.parent)
+    share, slope = sim.solid_boundary_at(points)
+    assert share.shape == (4,) and slope.shape == (4, 3)
+    floor, corner, ball, far = share
+    assert 0.15 < floor < 0.3  # the calibrated flat share at a particle radius
+    assert corner > 2.0 * floor
+    assert 0.1 < ball < 0.3
+    assert far == 0.0 and not slope[3].any()
+    assert slope[0, 1] < 0.0  # the floor's share falls going up
+    bodies = sluice.Simulation(scene_dict("ball.slc"), base_dir=scene.parent)
+    assert not bodies.solid_boundary_at(points)[0].any()
