@@ -86,6 +86,30 @@ Vec3Array vec3Array(const std::vector<rt::ParticleState>& particles, bool veloci
     return Vec3Array(data, {n, 3}, owner);
 }
 
+// The walls' and static colliders' boundary share at (N, 3) points: (shares (N,), gradients
+// (N, 3)), float32 (rt::Simulation::solidBoundaryAt).
+nb::tuple solidBoundaryAt(
+    PySimulation& s, nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pts) {
+    std::vector<glm::vec3> points(pts.shape(0));
+    for (std::size_t i = 0; i < points.size(); ++i)
+        points[i] = {pts(i, 0), pts(i, 1), pts(i, 2)};
+    auto probed = s.current().solidBoundaryAt(points);
+    if (!probed)
+        raise(Family::Simulation, probed.error());
+    const std::size_t n = probed->size();
+    auto* share = new float[n];
+    auto* slope = new float[n * 3];
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec4 v = (*probed)[i];
+        share[i] = v.w;
+        slope[3 * i] = v.x, slope[3 * i + 1] = v.y, slope[3 * i + 2] = v.z;
+    }
+    nb::capsule shareOwner(share, [](void* q) noexcept { delete[] static_cast<float*>(q); });
+    nb::capsule slopeOwner(slope, [](void* q) noexcept { delete[] static_cast<float*>(q); });
+    return nb::make_tuple(nb::ndarray<nb::numpy, float, nb::ndim<1>>(share, {n}, shareOwner),
+                          Vec3Array(slope, {n, 3}, slopeOwner));
+}
+
 void step(PySimulation& s, std::uint64_t n) {
     // One step at a time with the GIL released, checking for Ctrl-C between steps.
     for (std::uint64_t i = 0; i < n; ++i) {
@@ -224,33 +248,7 @@ void bindSimulation(nb::module_& m) {
                      vec3Array(p, false), vec3Array(p, true),
                      nb::ndarray<nb::numpy, std::uint32_t, nb::ndim<1>>(ids, {p.size()}, owner));
              })
-        .def(
-            "solid_boundary_at",
-            [](PySimulation& s,
-               nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pts) {
-                std::vector<glm::vec3> points(pts.shape(0));
-                for (std::size_t i = 0; i < points.size(); ++i)
-                    points[i] = {pts(i, 0), pts(i, 1), pts(i, 2)};
-                auto probed = s.current().solidBoundaryAt(points);
-                if (!probed)
-                    raise(Family::Simulation, probed.error());
-                const std::size_t n = probed->size();
-                auto* share = new float[n];
-                auto* slope = new float[n * 3];
-                for (std::size_t i = 0; i < n; ++i) {
-                    const glm::vec4 v = (*probed)[i];
-                    share[i] = v.w;
-                    slope[3 * i] = v.x, slope[3 * i + 1] = v.y, slope[3 * i + 2] = v.z;
-                }
-                nb::capsule shareOwner(
-                    share, [](void* q) noexcept { delete[] static_cast<float*>(q); });
-                return nb::make_tuple(
-                    nb::ndarray<nb::numpy, float, nb::ndim<1>>(share, {n}, shareOwner),
-                    Vec3Array(slope, {n, 3}, nb::capsule(slope, [](void* q) noexcept {
-                                  delete[] static_cast<float*>(q);
-                              })));
-            },
-            nb::arg("points"))
+        .def("solid_boundary_at", &solidBoundaryAt, nb::arg("points"))
         .def(
             "set_particles",
             [](PySimulation& s,
