@@ -86,6 +86,26 @@ Vec3Array vec3Array(const std::vector<rt::ParticleState>& particles, bool veloci
     return Vec3Array(data, {n, 3}, owner);
 }
 
+// Replaces the particles with (N, 3) positions and velocities and (N,) ids.
+void setParticles(PySimulation& s,
+                  nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
+                  nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> vel,
+                  nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> ids) {
+    const std::size_t n = pos.shape(0);
+    if (vel.shape(0) != n || ids.shape(0) != n)
+        throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
+                          "set_particles: positions, velocities and ids differ in "
+                          "length [InvalidArgument]");
+    std::vector<rt::ParticleState> p(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        p[i].position = {pos(i, 0), pos(i, 1), pos(i, 2)};
+        p[i].velocity = {vel(i, 0), vel(i, 1), vel(i, 2)};
+        p[i].id = ids(i);
+    }
+    if (Result<void> ok = s.current().setParticles(p); !ok)
+        raise(Family::Argument, ok.error());
+}
+
 // The walls' and static colliders' boundary share at (N, 3) points: (shares (N,), gradients
 // (N, 3)), float32 (rt::Simulation::solidBoundaryAt).
 nb::tuple solidBoundaryAt(
@@ -249,27 +269,8 @@ void bindSimulation(nb::module_& m) {
                      nb::ndarray<nb::numpy, std::uint32_t, nb::ndim<1>>(ids, {p.size()}, owner));
              })
         .def("solid_boundary_at", &solidBoundaryAt, nb::arg("points"))
-        .def(
-            "set_particles",
-            [](PySimulation& s,
-               nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
-               nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> vel,
-               nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> ids) {
-                const std::size_t n = pos.shape(0);
-                if (vel.shape(0) != n || ids.shape(0) != n)
-                    throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
-                                      "set_particles: positions, velocities and ids differ in "
-                                      "length [InvalidArgument]");
-                std::vector<rt::ParticleState> p(n);
-                for (std::size_t i = 0; i < n; ++i) {
-                    p[i].position = {pos(i, 0), pos(i, 1), pos(i, 2)};
-                    p[i].velocity = {vel(i, 0), vel(i, 1), vel(i, 2)};
-                    p[i].id = ids(i);
-                }
-                if (Result<void> ok = s.current().setParticles(p); !ok)
-                    raise(Family::Argument, ok.error());
-            },
-            nb::arg("positions"), nb::arg("velocities"), nb::arg("ids"))
+        .def("set_particles", &setParticles, nb::arg("positions"), nb::arg("velocities"),
+             nb::arg("ids"))
         .def_prop_ro("particle_count", [](PySimulation& s) { return s.sim->particleCount(); })
         .def_prop_ro("capacity", [](PySimulation& s) { return s.sim->capacity(); })
         .def_prop_ro("time", [](PySimulation& s) { return s.sim->time(); })

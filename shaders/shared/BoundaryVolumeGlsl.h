@@ -49,10 +49,8 @@ float colliderVolumeCorrection(uint c, vec3 q, out vec3 grad) {
     vec3 g = (q - lo) / voxel;
     vec3 cellLo = clamp(floor(g), vec3(0.0), vec3(dims) - 2.0);
     vec3 t = clamp(g - cellLo, 0.0, 1.0);
-    uvec3 b = uvec3(cellLo);
     float v[8];
-    for (int k = 0; k < 8; ++k)
-        v[k] = sdfAt(base, dims, b + uvec3(k & 1, (k >> 1) & 1, k >> 2));
+    denseCorners(base, dims, uvec3(cellLo), v);
     float value = trilinearCell(v, t, grad);
     grad /= voxel;
     return value;
@@ -68,8 +66,9 @@ void addColliderBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
         return;
     uint mask = P.staticColliders, c = 0u;
     while (nextStaticCollider(mask, c)) {
+        vec3 q = colliderLocal(c, x);
         vec3 normal;
-        float phi = colliderDistance(c, x, normal);
+        float phi = colliderDistanceAt(c, q, normal);
         float len = length(normal);
         bool mapped = colliders[c].volumeMap != kNoVolumeMap;
         // Without a gradient (the ridge of a concave edge's field, a sparse grid's inside tile)
@@ -82,7 +81,6 @@ void addColliderBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
             // The share's own gradient: the field's gradient, shorter than 1 near an edge, as
             // the map's values were taken against (pbf_volume_map.comp).
             slope = boundaryShareSlope(phi) * normal;
-            vec3 q = (colliders[c].worldToGrid * vec4(x, 1.0)).xyz;
             vec3 mapGrad;
             float more = colliderVolumeCorrection(c, q, mapGrad);
             share += P.boundaryScale * more;

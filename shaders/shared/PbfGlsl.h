@@ -224,6 +224,13 @@ float sdfAt(uint base, uvec3 dims, uvec3 p) {
     return uintBitsToFloat(sdfWords[base + p.x + dims.x * (p.y + dims.y * p.z)]);
 }
 
+// The eight values of a dense grid's cell with lower corner b, as v[x + 2y + 4z]: a collider's
+// samples, or its volume map's (BoundaryVolumeGlsl.h).
+void denseCorners(uint base, uvec3 dims, uvec3 b, out float v[8]) {
+    for (int k = 0; k < 8; ++k)
+        v[k] = sdfAt(base, dims, b + uvec3(k & 1, (k >> 1) & 1, k >> 2));
+}
+
 // The eight samples of collider c's cell with lower corner b, as v[x + 2y + 4z]: from the dense
 // grid, or through a NanoVDB read accessor for a sparse one (shared/NanoVdbGlsl.h).
 void colliderCorners(uint c, uvec3 b, out float v[8]) {
@@ -236,10 +243,7 @@ void colliderCorners(uint c, uvec3 b, out float v[8]) {
         return;
     }
 #endif
-    uvec3 dims = colliders[c].dims;
-    uint base = colliders[c].sdfOffset;
-    for (int k = 0; k < 8; ++k)
-        v[k] = sdfAt(base, dims, b + uvec3(k & 1, (k >> 1) & 1, k >> 2));
+    denseCorners(colliders[c].sdfOffset, colliders[c].dims, b, v);
 }
 
 // Trilinear interpolation in a cell with corners v[x + 2y + 4z] at t in [0, 1]^3, and its
@@ -305,14 +309,23 @@ float boundaryShareSlope(float phi) {
     return -P.boundaryScale * (315.0 / 256.0) / PBF_H * (a * a) * (a * a);
 }
 
-// phi in world units and the world normal of collider c at world point x.
-float colliderDistance(uint c, vec3 x, out vec3 normal) {
-    vec3 q = (colliders[c].worldToGrid * vec4(x, 1.0)).xyz;
+// World point x in collider c's local frame [asset units].
+vec3 colliderLocal(uint c, vec3 x) {
+    return (colliders[c].worldToGrid * vec4(x, 1.0)).xyz;
+}
+
+// phi in world units and the world normal of collider c at the point whose local position is q.
+float colliderDistanceAt(uint c, vec3 q, out vec3 normal) {
     float phiLocal;
     vec3 gradLocal;
     sampleCollider(c, q, phiLocal, gradLocal);
     normal = mat3(colliders[c].rotation) * gradLocal;
     return colliders[c].scale * phiLocal;
+}
+
+// phi in world units and the world normal of collider c at world point x.
+float colliderDistance(uint c, vec3 x, out vec3 normal) {
+    return colliderDistanceAt(c, colliderLocal(c, x), normal);
 }
 
 // Steps c to the lowest set bit of `bits` (bit c of word c / 32), clearing it; false when none

@@ -27,13 +27,9 @@ bool inGridBox(const format::ColliderAsset& a, glm::dvec3 q) {
            glm::all(glm::lessThanEqual(q, hi + e));
 }
 
-// The quadrature's cells are `stride` grid cells wide when the grid has at least kSteps cells
-// per support radius (the grid's values), else support / kSteps (the field read trilinearly).
+// The quadrature with cells d wide (quadratureCell).
 double correctionAt(const format::ColliderAsset& asset, const format::SdfSampler& sampler,
-                    glm::dvec3 q, double phi, glm::dvec3 n, double support) {
-    const double voxel = asset.meta.voxelSize;
-    const int stride = int(std::floor(support / (kSteps * voxel) + 1e-9));
-    const double d = stride > 0 ? stride * voxel : support / kSteps;
+                    glm::dvec3 q, double phi, glm::dvec3 n, double support, double d) {
     const int steps = int(float(support) / float(d)); // as the shader divides, in float
     double weights = 0.0, solid = 0.0, plane = 0.0;
     for (int k = -steps; k <= steps; ++k)
@@ -51,6 +47,13 @@ double correctionAt(const format::ColliderAsset& asset, const format::SdfSampler
                 plane += w * std::clamp(0.5 - (phi + glm::dot(n, o)) / d, 0.0, 1.0);
             }
     return (solid - plane) / weights;
+}
+
+// The quadrature's cell: a whole number of grid cells when the grid has at least kSteps cells
+// per support radius (the grid's values), else support / kSteps (the field read trilinearly).
+double quadratureCell(double support, double voxel) {
+    const int stride = int(std::floor(support / (kSteps * voxel) + 1e-9));
+    return stride > 0 ? stride * voxel : support / kSteps;
 }
 
 // Whether the field around q is the plane of phi and n: its samples on a lattice of h / 2 over
@@ -77,6 +80,7 @@ std::vector<float> ReferencePbf::buildVolumeMap(const format::ColliderAsset& ass
     if (asset.pointCount() > kMaxPoints)
         return {};
     const glm::uvec3 dims = asset.meta.dims;
+    const double d = quadratureCell(support, asset.meta.voxelSize);
     std::vector<float> map(asset.pointCount(), 0.0f);
     for (std::uint32_t z = 0; z < dims.z; ++z)
         for (std::uint32_t y = 0; y < dims.y; ++y)
@@ -93,7 +97,7 @@ std::vector<float> ReferencePbf::buildVolumeMap(const format::ColliderAsset& ass
                 if (flatAround(asset, sampler, q, phi, n, support))
                     continue;
                 map[x + dims.x * (y + std::size_t(dims.y) * z)] =
-                    float(correctionAt(asset, sampler, q, phi, n, support));
+                    float(correctionAt(asset, sampler, q, phi, n, support, d));
             }
     return map;
 }

@@ -24,8 +24,10 @@ std::uint64_t Simulation::Impl::sdfBufferBytes(std::int64_t maxBlockBytes) {
     const std::uint64_t grids = colliderDataBytes(colliderAssets);
     const std::uint64_t block = std::min<std::uint64_t>(
         0xffffffffull, maxBlockBytes > 0 ? std::uint64_t(maxBlockBytes) : ~0ull);
-    volumeMapsFit = grids + volumeMapWords() * sizeof(float) <= block;
-    return grids + volumeMapWords() * sizeof(float);
+    volumeMapsFit = true;
+    const std::uint64_t maps = volumeMapWords() * sizeof(float);
+    volumeMapsFit = grids + maps <= block;
+    return grids + (volumeMapsFit ? maps : 0);
 }
 
 std::vector<gpu::ShaderDefine> Simulation::Impl::colliderDefines() const {
