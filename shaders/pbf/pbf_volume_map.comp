@@ -6,7 +6,8 @@
 // support radius each way, a cell's volume fraction from phi at its centre), so its error on
 // flat faces cancels; points farther than uSupport outside the surface or two cells inside it,
 // and points where the field is a plane across the support, get 0. One invocation per
-// grid point; run once when a scene loads and again when h changes.
+// grid point (per voxel of each leaf of a sparse grid: the map is stored per leaf, as its
+// samples); run once when a scene loads and again when h changes.
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
@@ -20,6 +21,7 @@ layout(std430, binding = kBindVolumeMapOut) writeonly buffer MapOut { float mapO
 uniform uint uCollider;
 uniform float uSupport; // h in the collider's local units [asset units]
 uniform uint uStride;   // quadrature cell in grid cells, or 0: support / kVolumeMapSteps
+uniform uint uPoints;   // the map's points: the grid's, or 512 per leaf of a sparse grid
 
 // Whether local point q lies in collider c's grid box, where its field holds the geometry (past
 // it, sampleCollider extrapolates phi(clamp(q)) + |q - clamp(q)|, which is not the solid's).
@@ -33,9 +35,18 @@ bool inGridBox(uint c, vec3 q) {
 // quadrature cell of the plane's. Most of a collider's band is flat, where the map is 0 and the full quadrature (about
 // 900 samples) is skipped; a feature that changes the share (an edge, a corner, the far side of
 // a thin wall within the support) moves the field off the plane at these points.
-bool flatAround(uint c, vec3 q, float phi, vec3 n) {
+//
+// A probe where the sample and the plane are both at least `far` from the surface, on one side,
+// agrees whatever their values: the field is a distance, so neither the solid nor the plane
+// fills anything within far - d / 2 of it, which covers the lattice's cell around it (0.43
+// support) and the quadrature cell d (at most a fifth of it). That is what lets a sparse grid,
+// which holds phi only in its band (past it, +-background: `clip`), give the dense grid's map:
+// within a cell diagonal of the band's edge its trilinear samples are clipped, so far is at
+// most that, the band less a diagonal.
+bool flatAround(uint c, vec3 q, float phi, vec3 n, float clip) {
     float step = 0.5 * uSupport;
     float tolerance = 0.01 * uSupport / float(kVolumeMapSteps);
+    float far = min(0.6 * uSupport, clip - sqrt(3.0) * colliders[c].voxelSize);
     for (int k = -2; k <= 2; ++k)
         for (int j = -2; j <= 2; ++j)
             for (int i = -2; i <= 2; ++i) {
@@ -47,7 +58,9 @@ bool flatAround(uint c, vec3 q, float phi, vec3 n) {
                 float phiHere;
                 vec3 unused;
                 sampleCollider(c, q + o, phiHere, unused);
-                if (!(abs(phiHere - (phi + dot(n, o))) <= tolerance))
+                float planeHere = phi + dot(n, o);
+                bool beyondBand = min(phiHere, planeHere) >= far || max(phiHere, planeHere) <= -far;
+                if (!(abs(phiHere - planeHere) <= tolerance) && !beyondBand)
                     return false;
             }
     return true;
@@ -106,13 +119,32 @@ void main() {
     uint c = uCollider;
     uvec3 dims = colliders[c].dims;
     uint i = SLUICE_GLOBAL_ID.x;
-    if (i >= dims.x * dims.y * dims.z)
+    if (i >= uPoints)
         return;
-    uvec3 p = uvec3(i % dims.x, (i / dims.x) % dims.y, i / (dims.x * dims.y));
+    ivec3 at = ivec3(i % dims.x, (i / dims.x) % dims.y, i / (dims.x * dims.y));
+    float clip = uintBitsToFloat(0x7f800000u); // infinite: a dense grid holds phi everywhere
+#ifdef SLUICE_SPARSE_COLLIDERS
+    if (colliders[c].gridKind == kColliderSparse) {
+        // Point i is voxel i % 512 of leaf i / 512 (NanoVdbGlsl.h, sparseLeafSlot's order).
+        at = sparseLeafVoxel(colliders[c].sdfOffset, i / 512u, i % 512u);
+        clip = sparseBackground(colliders[c].sdfOffset);
+        if (any(lessThan(at, ivec3(0))) || any(greaterThanEqual(at, ivec3(dims)))) {
+            mapOut[colliders[c].volumeMap + i] = 0.0; // a leaf's voxel past the grid box
+            return;
+        }
+    }
+#endif
+    uvec3 p = uvec3(at);
     vec3 q = colliders[c].origin + vec3(p) * colliders[c].voxelSize;
-    float phi;
+    // phi and its gradient at the point from the cell above it (below it on the last plane),
+    // not from q's rounded grid coordinates: where the field has a kink (a concave edge's
+    // diagonal) the two sides' gradients differ, and a map must not depend on the rounding.
+    uvec3 cell = min(p, dims - 2u);
+    float v[8];
+    colliderCorners(c, cell, v);
     vec3 grad;
-    sampleCollider(c, q, phi, grad);
+    float phi = trilinearCell(v, vec3(p - cell), grad);
+    grad /= colliders[c].voxelSize;
     float len = length(grad);
     // On a ridge of the field (the diagonal of a concave edge) the gradient vanishes; the flat
     // share there is the same whichever way the plane faces, up to the quadrature's error.
@@ -121,7 +153,7 @@ void main() {
     // A particle is kept outside the solid, so the trilinear reads that matter reach at most a
     // cell diagonal into it: deeper points keep 0.
     bool read = phi > -2.0 * colliders[c].voxelSize;
-    if (read && phi < uSupport && !flatAround(c, q, phi, n))
+    if (read && phi < uSupport && !flatAround(c, q, phi, n, clip))
         more = volumeCorrection(c, p, q, phi, n);
     mapOut[colliders[c].volumeMap + i] = more;
 }

@@ -34,6 +34,27 @@ void addWallBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
     gradient -= k * slope * vec3(open.y * open.z, open.x * open.z, open.x * open.y);
 }
 
+// The eight values of collider c's volume map (from word `base`) in the cell with lower corner
+// b, as v[x + 2y + 4z]: one per grid point of a dense grid; one per voxel of each leaf of a
+// sparse one, in the tree's leaf order, 0 where a point is in no leaf (a tile: deep inside, or
+// farther out than the band, where the map holds nothing).
+void volumeMapCorners(uint c, uint base, uvec3 b, out float v[8]) {
+#ifdef SLUICE_SPARSE_COLLIDERS
+    if (colliders[c].gridKind == kColliderSparse) {
+        uint grid = colliders[c].sdfOffset;
+        pnanovdb_readaccessor_t acc = sparseAccessor(grid);
+        for (int k = 0; k < 8; ++k) {
+            uint slot;
+            bool stored = sparseLeafSlot(acc, grid, ivec3(b) + ivec3(k & 1, (k >> 1) & 1, k >> 2),
+                                         slot);
+            v[k] = stored ? uintBitsToFloat(sdfWords[base + slot]) : 0.0;
+        }
+        return;
+    }
+#endif
+    denseCorners(base, colliders[c].dims, b, v);
+}
+
 // What collider c's volume map adds at local point q (docs/pbf.md, "Volume maps"): the share of
 // the support the collider's solid really fills less the share of the flat boundary at q's phi,
 // trilinear on the collider's grid, 0 outside its grid box and for a collider without a map.
@@ -50,7 +71,7 @@ float colliderVolumeCorrection(uint c, vec3 q, out vec3 grad) {
     vec3 cellLo = clamp(floor(g), vec3(0.0), vec3(dims) - 2.0);
     vec3 t = clamp(g - cellLo, 0.0, 1.0);
     float v[8];
-    denseCorners(base, dims, uvec3(cellLo), v);
+    volumeMapCorners(c, base, uvec3(cellLo), v);
     float value = trilinearCell(v, t, grad);
     grad /= voxel;
     return value;

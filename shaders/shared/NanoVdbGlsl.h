@@ -35,6 +35,56 @@ float sparseValue(inout pnanovdb_readaccessor_t acc, ivec3 ijk) {
     return pnanovdb_read_float(buf, address);
 }
 
+/// The background |phi| of the grid at `byteOffset`: what its tiles and its leaves' voxels past
+/// the band hold (negative inside).
+float sparseBackground(uint byteOffset) {
+    pnanovdb_buf_t buf;
+    pnanovdb_grid_handle_t grid;
+    grid.address.byte_offset = byteOffset;
+    pnanovdb_root_handle_t root = pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, grid));
+    return pnanovdb_read_float(
+        buf, pnanovdb_address_offset(root.address, PNANOVDB_GRID_TYPE_GET(PNANOVDB_GRID_TYPE_FLOAT,
+                                                                          root_off_background)));
+}
+
+/// Leaf n (in the tree's order) of the grid at `byteOffset`.
+pnanovdb_leaf_handle_t sparseLeaf(uint byteOffset, uint n) {
+    pnanovdb_buf_t buf;
+    pnanovdb_grid_handle_t grid;
+    grid.address.byte_offset = byteOffset;
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(buf, grid);
+    pnanovdb_leaf_handle_t leaf;
+    leaf.address =
+        pnanovdb_address_offset64(tree.address, pnanovdb_tree_get_node_offset_leaf(buf, tree));
+    leaf.address.byte_offset += n * PNANOVDB_GRID_TYPE_GET(PNANOVDB_GRID_TYPE_FLOAT, leaf_size);
+    return leaf;
+}
+
+/// The index of voxel n (64 x + 8 y + z within the 8^3 block, NanoVDB's order) of leaf `leaf`.
+ivec3 sparseLeafVoxel(uint byteOffset, uint leaf, uint n) {
+    pnanovdb_buf_t buf;
+    ivec3 origin = pnanovdb_leaf_get_bbox_min(buf, sparseLeaf(byteOffset, leaf)) & ivec3(~7);
+    return origin + ivec3(n >> 6u, (n >> 3u) & 7u, n & 7u);
+}
+
+/// Where voxel ijk lies among all leaves' voxels, leaf * 512 + its place in the leaf, as a
+/// per-leaf channel stores it (a volume map, BoundaryVolumeGlsl.h); false when ijk is in no leaf
+/// (a tile or the background).
+bool sparseLeafSlot(inout pnanovdb_readaccessor_t acc, uint byteOffset, ivec3 ijk, out uint slot) {
+    pnanovdb_buf_t buf;
+    uint level;
+    pnanovdb_readaccessor_get_value_address_and_level(PNANOVDB_GRID_TYPE_FLOAT, buf, acc, ijk,
+                                                      level);
+    slot = 0u;
+    if (level != 0u)
+        return false;
+    uint first = sparseLeaf(byteOffset, 0u).address.byte_offset;
+    uint leaf = (acc.leaf.address.byte_offset - first) /
+                PNANOVDB_GRID_TYPE_GET(PNANOVDB_GRID_TYPE_FLOAT, leaf_size);
+    slot = leaf * 512u + pnanovdb_leaf_coord_to_offset(ijk);
+    return true;
+}
+
 #endif // !__cplusplus && SLUICE_SPARSE_COLLIDERS
 
 #endif // SLUICE_SHARED_NANOVDB_GLSL_H

@@ -138,8 +138,9 @@ struct GpuCollider {
     /* 244 */ uint body;      ///< its GpuBody when the collider is dynamic, else kNoBody
     /* 248 */ uint gridKind;  ///< kColliderDense or kColliderSparse
     /* 252 */ uint volumeMap; ///< where its volume map starts in the SDF buffer [words]: one float
-                              ///< per grid point (dense layout), or kNoVolumeMap (PbfGlsl.h,
-                              ///< colliderVolumeCorrection; docs/pbf.md, "Volume maps")
+                              ///< per grid point (dense layout) or per voxel of each leaf (sparse,
+                              ///< 512 a leaf in the tree's order), or kNoVolumeMap
+                              ///< (BoundaryVolumeGlsl.h; docs/pbf.md, "Volume maps")
 };
 // clang-format on
 

@@ -36,6 +36,14 @@ float ReferencePbf::boundaryShareSlope(float phi) const {
 // centres are clamped to; the faces of an axis add, the axes combine as independent cuts,
 // 1 - (1 - f_x)(1 - f_y)(1 - f_z). A collider adds the flat share at its phi. Adds the share
 // to `boundary` and its gradient to `gradient`, in the solver's order of operations.
+glm::vec4 ReferencePbf::solidBoundaryAt(glm::vec3 x) const {
+    float boundary = 0.0f;
+    glm::vec3 gradient(0.0f);
+    if (m_params.solidBoundary)
+        addSolidBoundary(x, time(), boundary, gradient);
+    return {gradient, boundary};
+}
+
 void ReferencePbf::addSolidBoundary(glm::vec3 x, float t1, float& boundary,
                                     glm::vec3& gradient) const {
     if (!m_params.solidBoundary)

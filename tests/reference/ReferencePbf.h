@@ -109,6 +109,9 @@ public:
     /// min over colliders of the signed distance at `x` [m], posed at time `t` [s] (bodies at
     /// their held pose, from their zero level set); +inf without colliders.
     float colliderDistance(glm::vec3 x, float t) const;
+    /// The walls' and static colliders' boundary share at `x` now (w) and its gradient (xyz),
+    /// as rt::Simulation::solidBoundaryAt gives it ("solids"; 0 otherwise).
+    glm::vec4 solidBoundaryAt(glm::vec3 x) const;
 
     /// Dynamic bodies, in scene order of their colliders.
     std::size_t bodyCount() const { return m_bodies.size(); }

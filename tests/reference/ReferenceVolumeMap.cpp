@@ -2,8 +2,11 @@
 // rule as pbf_volume_map.comp, in double, written from the docs.
 #include "ReferencePbf.h"
 
+#include "sluice/format/asset/GridSamples.h"
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -58,47 +61,73 @@ double quadratureCell(double support, double voxel) {
 
 // Whether the field around q is the plane of phi and n: its samples on a lattice of h / 2 over
 // the support within a hundredth of a quadrature cell of the plane's (the map is 0 there).
+// A probe where the sample and the plane are both at least `far` from the surface on one side
+// agrees (neither fills anything near it): 0.6 support, or less for a sparse asset, whose
+// samples within a cell diagonal of its band's edge (bandWidth voxels) are clipped.
 bool flatAround(const format::ColliderAsset& asset, const format::SdfSampler& sampler,
                 glm::dvec3 q, double phi, glm::dvec3 n, double support) {
     const double step = 0.5 * support, tolerance = 0.01 * support / kSteps;
+    const double voxel = asset.meta.voxelSize;
+    const float clip = asset.sparse() ? float((asset.meta.bandWidth - std::sqrt(3.0)) * voxel)
+                                      : std::numeric_limits<float>::infinity();
+    const double far = std::min(float(0.6 * support), clip);
     for (int k = -2; k <= 2; ++k)
         for (int j = -2; j <= 2; ++j)
             for (int i = -2; i <= 2; ++i) {
                 const glm::dvec3 o = glm::dvec3(i, j, k) * step;
                 if (!(glm::dot(o, o) < support * support) || !inGridBox(asset, q + o))
                     continue;
-                if (!(std::abs(sampler.value(q + o) - (phi + glm::dot(n, o))) <= tolerance))
+                const double here = sampler.value(q + o), plane = phi + glm::dot(n, o);
+                const bool beyondBand =
+                    std::min(here, plane) >= far || std::max(here, plane) <= -far;
+                if (!(std::abs(here - plane) <= tolerance) && !beyondBand)
                     return false;
             }
     return true;
+}
+
+// Calls visit(x, y, z) for each grid point the map holds: every grid point of a dense asset,
+// every leaf voxel in the grid box of a sparse one (the GPU stores those per leaf; the
+// reference keeps one array over the grid, 0 at the points in no leaf).
+template <class Visit> void forEachMapPoint(const format::ColliderAsset& asset, Visit&& visit) {
+    format::forEachStoredSample(asset, [&](glm::uvec3 p, float) { visit(p.x, p.y, p.z); });
 }
 } // namespace
 
 std::vector<float> ReferencePbf::buildVolumeMap(const format::ColliderAsset& asset,
                                                 const format::SdfSampler& sampler,
                                                 double support) {
-    if (asset.pointCount() > kMaxPoints)
+    const std::uint64_t points =
+        asset.sparse() ? 512ull * format::sparseLeafCount(asset) : asset.pointCount();
+    if (points > kMaxPoints)
         return {};
     const glm::uvec3 dims = asset.meta.dims;
     const double d = quadratureCell(support, asset.meta.voxelSize);
     std::vector<float> map(asset.pointCount(), 0.0f);
-    for (std::uint32_t z = 0; z < dims.z; ++z)
-        for (std::uint32_t y = 0; y < dims.y; ++y)
-            for (std::uint32_t x = 0; x < dims.x; ++x) {
-                const glm::dvec3 q = asset.meta.origin + glm::dvec3(x, y, z) * asset.meta.voxelSize;
-                const double phi = sampler.value(q);
-                // Particles stay outside: deeper than two cells into the solid keeps 0.
-                if (!(phi > -2.0 * asset.meta.voxelSize && phi < support))
-                    continue;
-                const glm::dvec3 g = sampler.gradient(q);
-                const double len = glm::length(g);
-                // On a ridge of the field the plane may face any way (same quadrature error).
-                const glm::dvec3 n = len > 0.0 ? g / len : glm::dvec3(0.0, 1.0, 0.0);
-                if (flatAround(asset, sampler, q, phi, n, support))
-                    continue;
-                map[x + dims.x * (y + std::size_t(dims.y) * z)] =
-                    float(correctionAt(asset, sampler, q, phi, n, support, d));
-            }
+    forEachMapPoint(asset, [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+        const glm::dvec3 q = asset.meta.origin + glm::dvec3(x, y, z) * asset.meta.voxelSize;
+        const double phi = sampler.value(q);
+        // The gradient from the cell above the point (below it on the last plane), as the
+        // shader takes it, whatever the rounding of q: at the cell's corner, the differences
+        // along its three edges from the point.
+        glm::dvec3 g(0.0);
+        for (int a = 0; a < 3; ++a) {
+            const double into = glm::uvec3(x, y, z)[a] + 1 >= dims[a] ? -1.0 : 1.0;
+            glm::dvec3 step(0.0);
+            step[a] = into * asset.meta.voxelSize;
+            g[a] = (double(sampler.value(q + step)) - phi) * into / asset.meta.voxelSize;
+        }
+        // Particles stay outside: deeper than two cells into the solid keeps 0.
+        if (!(phi > -2.0 * asset.meta.voxelSize && phi < support))
+            return;
+        const double len = glm::length(g);
+        // On a ridge of the field the plane may face any way (same quadrature error).
+        const glm::dvec3 n = len > 0.0 ? g / len : glm::dvec3(0.0, 1.0, 0.0);
+        if (flatAround(asset, sampler, q, phi, n, support))
+            return;
+        map[x + dims.x * (y + std::size_t(dims.y) * z)] =
+            float(correctionAt(asset, sampler, q, phi, n, support, d));
+    });
     return map;
 }
 

@@ -7,14 +7,23 @@
 
 namespace sluice::format {
 
+namespace {
+const nanovdb::NanoTree<float>& treeOf(const ColliderAsset& asset) {
+    SLUICE_ASSERT(asset.grid.size() >= sizeof(nanovdb::GridData) + sizeof(nanovdb::TreeData<3>),
+                  "sparseLeaves: sparse asset without a grid");
+    return reinterpret_cast<const nanovdb::NanoGrid<float>*>(asset.grid.data())->tree();
+}
+} // namespace
+
+std::uint32_t sparseLeafCount(const ColliderAsset& asset) {
+    return asset.sparse() ? treeOf(asset).nodeCount(0) : 0;
+}
+
 std::vector<SparseLeaf> sparseLeaves(const ColliderAsset& asset) {
     std::vector<SparseLeaf> out;
     if (!asset.sparse())
         return out;
-    SLUICE_ASSERT(asset.grid.size() >= sizeof(nanovdb::GridData) + sizeof(nanovdb::TreeData<3>),
-                  "sparseLeaves: sparse asset without a grid");
-    const auto* grid = reinterpret_cast<const nanovdb::NanoGrid<float>*>(asset.grid.data());
-    const nanovdb::NanoTree<float>& tree = grid->tree();
+    const nanovdb::NanoTree<float>& tree = treeOf(asset);
     const std::uint32_t count = tree.nodeCount(0);
     out.reserve(count);
     const nanovdb::NanoLeaf<float>* leaf = tree.getFirstNode<0>();

@@ -138,7 +138,7 @@ void Simulation::Impl::uploadColliderGrids() {
         if (!wantsVolumeMap(c))
             continue;
         colliderRecords[c].volumeMap = std::uint32_t(mapOffset);
-        mapOffset += colliderAssets[c].pointCount();
+        mapOffset += volumeMapPoints(c);
     }
     colliderBuf.upload(colliderRecords);
     if (bodyCount > 0) {

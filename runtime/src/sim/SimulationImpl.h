@@ -160,9 +160,12 @@ struct Simulation::Impl {
     Result<void> fillBlocks();
     void uploadParams();
     /// Whether collider c gets a volume map: static or kinematic, in a scene that starts with
-    /// "solids", its grid at most kVolumeMapMaxPoints points, every map fitting in the SDF
+    /// "solids", its map at most kVolumeMapMaxPoints points, every map fitting in the SDF
     /// buffer's storage block with the grids (VolumeMaps.cpp).
     bool wantsVolumeMap(std::size_t c) const;
+    /// Points of collider c's volume map: one per grid point of a dense grid, 512 per leaf of a
+    /// sparse one (its band's voxels, stored per leaf).
+    std::uint64_t volumeMapPoints(std::size_t c) const;
     /// Words of the volume maps in the SDF buffer, after every grid.
     std::uint64_t volumeMapWords() const;
     /// The SDF buffer's size [bytes]: every grid, then the volume maps if they fit in a storage

@@ -3,18 +3,25 @@
 // probe (pbf_boundary_probe.comp) that reads the walls' and colliders' share at points.
 #include "sim/SimulationImpl.h"
 
+#include "sluice/format/asset/GridSamples.h"
+
 namespace sluice::rt {
+
+std::uint64_t Simulation::Impl::volumeMapPoints(std::size_t c) const {
+    const format::ColliderAsset& asset = colliderAssets[c];
+    return asset.sparse() ? 512ull * format::sparseLeafCount(asset) : asset.pointCount();
+}
 
 bool Simulation::Impl::wantsVolumeMap(std::size_t c) const {
     return volumeMapsFit && scene.simulation.solidBoundary &&
            bodySetup.bodyOfCollider[c] == shared::kNoBody &&
-           colliderAssets[c].pointCount() <= shared::kVolumeMapMaxPoints;
+           volumeMapPoints(c) <= shared::kVolumeMapMaxPoints;
 }
 
 std::uint64_t Simulation::Impl::volumeMapWords() const {
     std::uint64_t words = 0;
     for (std::size_t c = 0; c < colliderAssets.size(); ++c)
-        words += wantsVolumeMap(c) ? colliderAssets[c].pointCount() : 0;
+        words += wantsVolumeMap(c) ? volumeMapPoints(c) : 0;
     return words;
 }
 
@@ -69,7 +76,8 @@ Result<void> Simulation::Impl::buildVolumeMaps() {
         const double support = double(k.h) / double(scene.colliders[c].scale);
         volumeMapPass.set("uSupport", float(support));
         volumeMapPass.set("uStride", volumeMapStride(support, colliderAssets[c].meta.voxelSize));
-        const auto points = std::uint32_t(colliderAssets[c].pointCount());
+        const auto points = std::uint32_t(volumeMapPoints(c));
+        volumeMapPass.set("uPoints", points);
         // Not a step's command: commandCount() leaves it out.
         volumeMapPass.dispatchChunked(glm::uvec3(groupsFor(points), 1, 1), kMaxGroupsPerDispatch);
     }

@@ -3,6 +3,7 @@
 // catches the water it pours, with no particle inside it and none non-finite.
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -12,7 +13,9 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
+#include "ParticleCompare.h"
 #include "ProgramRun.h"
+#include "ReferencePbf.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/asset/SdfSampler.h"
@@ -117,6 +120,97 @@ TEST_F(SparseScene, WithTheSolidsBoundaryTheSparseTankStillPlaysTheDenseRunBitFo
     EXPECT_EQ(denseAndSparseDiffer("sparse-scene-tank-solids", 8, true), 0u);
 }
 
+// The boundary share ("solids") at points of the tank's inside corner at (-0.37, 0.03, -0.22)
+// and along its floor's edge, 0 to 6 cm from the walls every 5 mm, from the tank baked dense and
+// sparse (band 8 voxels) on one grid: both get a volume map, and the sparse one (per leaf) gives
+// the dense one's values where a particle can be.
+TEST_F(SparseScene, TheSparseTanksVolumeMapGivesTheDenseOnesShares) {
+    const fs::path dir = tempDir("sparse-scene-tank-map");
+    bakeTank(dir, "dense.slc", {"--padding", "9"});
+    bakeTank(dir, "sparse.slc", {"--sparse", "--band", "8"});
+    std::vector<glm::vec3> points;
+    for (int k = 0; k <= 12; ++k)
+        for (int j = 0; j <= 12; ++j)
+            for (int i = 0; i <= 12; ++i) {
+                points.emplace_back(-0.365f + 0.005f * i, 0.035f + 0.005f * j,
+                                    -0.215f + 0.005f * k);
+                points.emplace_back(0.1f + 0.005f * i, 0.035f + 0.005f * j, -0.215f + 0.005f * k);
+            }
+    std::vector<std::vector<glm::vec4>> shares;
+    for (const char* asset : {"dense.slc", "sparse.slc"}) {
+        format::Scene scene = dropScene(dir, asset);
+        scene.simulation.solidBoundary = true;
+        auto colliders = loadSceneColliders(scene);
+        ASSERT_TRUE(colliders) << colliders.error().message();
+        auto sim = Simulation::create(scene, std::move(*colliders));
+        ASSERT_TRUE(sim) << sim.error().message();
+        EXPECT_EQ(sim->volumeMapCount(), 1u) << asset;
+        auto at = sim->solidBoundaryAt(points);
+        ASSERT_TRUE(at) << at.error().message();
+        shares.push_back(std::move(*at));
+    }
+    double worst = 0.0, corner = 0.0;
+    for (std::size_t n = 0; n < points.size(); ++n) {
+        worst = std::max(worst, double(std::abs(shares[1][n].w - shares[0][n].w)));
+        corner = std::max(corner, double(shares[0][n].w));
+    }
+    std::printf("  dense share up to %.4f; sparse against dense: max |difference| %.3g\n", corner,
+                worst);
+    EXPECT_GT(corner, 0.3); // the corner's three walls: the map is in the probes' reach
+    EXPECT_EQ(worst, 0.0); // the same quadrature of the same values
+}
+
+// A block of water in the sparse tank's corner, where its volume map carries most of the walls'
+// share: one step of the GPU solver against the CPU reference, which builds the sparse map in
+// double by the same rule (tests/reference/ReferenceVolumeMap.cpp, at the leaves' voxels).
+TEST_F(SparseScene, WaterInTheSparseTanksCornerMatchesTheCpuReference) {
+    const fs::path dir = tempDir("sparse-scene-tank-parity");
+    bakeTank(dir, "sparse.slc", {"--sparse", "--band", "8"});
+    format::Scene scene = dropScene(dir, "sparse.slc");
+    scene.simulation.solidBoundary = true;
+    scene.blocks.clear();
+    format::FluidBlock block;
+    block.min = glm::vec3(-0.37f, 0.03f, -0.22f);
+    block.max = glm::vec3(-0.25f, 0.13f, -0.10f);
+    scene.blocks.push_back(block);
+    scene.simulation.capacity = 6 * 5 * 6;
+    auto colliders = loadSceneColliders(scene);
+    ASSERT_TRUE(colliders) << colliders.error().message();
+    ASSERT_TRUE((*colliders)[0].sparse());
+    std::vector<ref::ReferenceCollider> refColliders{{&(*colliders)[0], scene.colliders[0]}};
+    ref::ReferencePbf cpu(scene, refColliders);
+    SimulationOptions options;
+    options.deterministic = true;
+    auto gpu = Simulation::create(scene, *colliders, options);
+    ASSERT_TRUE(gpu) << gpu.error().message();
+    ASSERT_EQ(gpu->volumeMapCount(), 1u);
+    ASSERT_EQ(gpu->particleCount(), 180u);
+    ASSERT_EQ(cpu.particles().size(), 180u);
+    // The share itself, at points across the corner every 2.5 mm (the map's ridge along each
+    // edge's diagonal included, where the field's gradient vanishes).
+    std::vector<glm::vec3> points;
+    for (int k = 0; k < 16; ++k)
+        for (int j = 0; j < 16; ++j)
+            for (int i = 0; i < 16; ++i)
+                points.emplace_back(-0.3675f + 0.0025f * i, 0.0325f + 0.0025f * j,
+                                    -0.2175f + 0.0025f * k);
+    auto shares = gpu->solidBoundaryAt(points);
+    ASSERT_TRUE(shares) << shares.error().message();
+    double worst = 0.0;
+    for (std::size_t n = 0; n < points.size(); ++n)
+        worst = std::max(worst,
+                         double(std::abs((*shares)[n].w - cpu.solidBoundaryAt(points[n]).w)));
+    std::printf("  share: max |gpu - cpu| = %.3g\n", worst);
+    EXPECT_LT(worst, 1e-5);
+    gpu->step();
+    cpu.step();
+    const double h = scene.simulation.kernelRadius;
+    const double afterOne = test::maxPositionDifference(gpu->downloadParticles(), cpu.particles());
+    std::printf("  after one step: max |x_gpu - x_cpu| = %.3g h\n", afterOne / h);
+    EXPECT_LT(afterOne, 1e-4 * h);
+    EXPECT_NEAR(gpu->readStats().avgDensityError, cpu.stats().avgDensityError, 1e-4);
+}
+
 TEST_F(SparseScene, ALargerKernelRadiusIsRefusedWhenADynamicBodysBandCannotHoldIt) {
     // The committed sparse sphere (band 2 voxels of 0.05 m, radius 0.2 m) as a body, with the
     // mass properties a closed mesh's bake stores. At 6 mm spacing and h = 12 mm its boundary
@@ -163,7 +257,6 @@ TEST_F(SparseScene, TheLevelScaleTerrainCatchesThePouredWaterWithNoneInsideIt) {
     ASSERT_TRUE(scene) << scene.error().message();
     auto colliders = loadSceneColliders(*scene);
     ASSERT_TRUE(colliders) << colliders.error().message();
-    ASSERT_TRUE((*colliders)[0].sparse());
     const format::ColliderAsset terrain = (*colliders)[0];
     // A dense grid of the terrain's resolution would not fit one storage block on llvmpipe.
     EXPECT_GT(terrain.pointCount(), 33554432u);

@@ -21,6 +21,9 @@ struct SparseLeaf {
 /// its grid must have passed checkNanoVdbGrid, as readAsset and the bakers guarantee.
 std::vector<SparseLeaf> sparseLeaves(const ColliderAsset& asset);
 
+/// The number of leaves of a sparse asset's tree (0 for a dense one), under the same condition.
+std::uint32_t sparseLeafCount(const ColliderAsset& asset);
+
 /// Calls visit(glm::uvec3 ijk, float phi) for every sample the asset stores: every grid point
 /// of a dense asset; every leaf voxel of a sparse one inside the grid box (the band, and the
 /// leaves' other voxels). A sparse asset's tiles and background, whose |phi| is the band's, are
