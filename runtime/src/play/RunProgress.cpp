@@ -1,11 +1,15 @@
-// The progress line and the slow-run estimate.
+// The progress line and the slow-run and slow-load estimates.
 #include "play/RunProgress.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include <unistd.h>
+
+#include "shared/Pbf.h"
+#include "sluice/format/asset/GridSamples.h"
 
 namespace sluice::rt {
 namespace {
@@ -15,6 +19,14 @@ namespace {
 // 2-vCPU AMD EPYC (docs/performance.md, "What a run costs on llvmpipe"). A run's wall time is
 // about this x particles x substeps x steps / cores.
 constexpr double kLlvmpipeCoreMicrosPerParticleSubstep = 13.0;
+
+// [ns] CPU time per nominal read of a volume map's quadrature on llvmpipe (2-vCPU AMD EPYC,
+// 2026-11-28, docs/performance.md "Volume maps at load"): tank.slc (dense, 514,596 points at
+// 5.3 cells per h) built in 2.1 s wall, 12.8 ns; terrain.slc (sparse, 14.3 M leaf voxels at 6
+// cells per h) in about 517 s, 80 ns. How many points a map skips as flat or too deep varies
+// with the shape, so this is the order of the wait, not a prediction to the second.
+constexpr double kLlvmpipeCoreNanosPerDenseMapRead = 13.0;
+constexpr double kLlvmpipeCoreNanosPerSparseMapRead = 80.0;
 
 } // namespace
 
@@ -89,6 +101,45 @@ std::optional<std::string> slowRunWarning(const std::string& renderer, std::uint
            " steps of " + std::to_string(substeps) +
            " substeps); fewer --steps or particles, or a GPU, make "
            "it shorter";
+}
+
+VolumeMapWork volumeMapWork(const format::Scene& scene,
+                            const std::vector<format::ColliderAsset>& colliders) {
+    VolumeMapWork work;
+    if (!scene.simulation.solidBoundary)
+        return work;
+    const double h = scene.simulation.kernelRadius; // set by readScene
+    for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
+        const format::ColliderAsset& asset = colliders[c];
+        if (scene.colliders[c].dynamic)
+            continue;
+        const std::uint64_t points =
+            asset.sparse() ? 512ull * format::sparseLeafCount(asset) : asset.pointCount();
+        if (points > shared::kVolumeMapMaxPoints)
+            continue;
+        const double cells = h / (double(scene.colliders[c].scale) * asset.meta.voxelSize);
+        const double reads = double(points) * 4.0 / 3.0 * std::numbers::pi * cells * cells * cells;
+        work.points += points;
+        (asset.sparse() ? work.sparseReads : work.denseReads) += reads;
+    }
+    return work;
+}
+
+std::optional<std::string> slowLoadWarning(const std::string& renderer, const VolumeMapWork& work,
+                                           unsigned cores) {
+    if (!isSoftwareRenderer(renderer))
+        return std::nullopt;
+    const double seconds = 1e-9 *
+                           (kLlvmpipeCoreNanosPerDenseMapRead * work.denseReads +
+                            kLlvmpipeCoreNanosPerSparseMapRead * work.sparseReads) /
+                           double(std::max(cores, 1u));
+    if (seconds <= kSlowLoadSeconds)
+        return std::nullopt;
+    return "building the volume maps of \"boundary\": \"solids\" (" +
+           std::to_string(work.points) + " grid points) would take about " +
+           formatDuration(seconds) + " on " + renderer + " (software OpenGL on " +
+           std::to_string(cores) + " CPU cores) before the first step; a GPU, a coarser bake or " +
+           "\"boundary\": \"bodies\" make it shorter";
 }
 
 } // namespace sluice::rt

@@ -6,6 +6,10 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/format/scene/Scene.h"
 
 namespace sluice::rt {
 
@@ -48,5 +52,29 @@ inline constexpr double kSlowRunSeconds = 180.0;
 std::optional<std::string> slowRunWarning(const std::string& renderer, std::uint64_t particles,
                                           std::uint64_t substeps, std::uint64_t steps,
                                           unsigned cores);
+
+/// Above this many seconds, the volume maps a scene builds when it loads on a software renderer
+/// are warned about before they are built (the load says nothing while it works).
+inline constexpr double kSlowLoadSeconds = 30.0;
+
+/// The volume maps a scene builds at load ("boundary": "solids"; docs/pbf.md, "Volume maps"):
+/// their points, and the quadrature's nominal reads (points x the support ball in grid cells),
+/// dense and sparse grids apart (a sparse read goes through NanoVDB's accessor).
+struct VolumeMapWork {
+    std::uint64_t points = 0;
+    double denseReads = 0.0;
+    double sparseReads = 0.0;
+};
+
+/// What the scene's static and kinematic colliders' maps would be (none without "solids"; a map
+/// over kVolumeMapMaxPoints is not built). Colliders as loadSceneColliders gives them.
+VolumeMapWork volumeMapWork(const format::Scene& scene,
+                            const std::vector<format::ColliderAsset>& colliders);
+
+/// The warning for building `work` on `renderer` with `cores` CPU cores when its estimated time
+/// passes kSlowLoadSeconds; nothing on a GPU or for less. The cost per read was measured on
+/// llvmpipe (docs/performance.md, "Volume maps at load").
+std::optional<std::string> slowLoadWarning(const std::string& renderer, const VolumeMapWork& work,
+                                           unsigned cores);
 
 } // namespace sluice::rt

@@ -1,11 +1,14 @@
 // What a run prints and writes beside its statistics, without a GL context: the body
 // trajectory table's columns and quoting, the durations of the progress line, and when a run is
 // warned about as slow.
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "sluice/format/asset/AssetIO.h"
 
 #include "play/BodiesCsv.h"
 #include "play/RunProgress.h"
@@ -123,6 +126,41 @@ TEST(RunProgress, OnlyASoftwareRendererRunOfMinutesIsWarnedAbout) {
     EXPECT_FALSE(slowRunWarning("NVIDIA H200/PCIe/SSE2", 4725, 4, 6000, 2));
     // More cores share the work: 64 cores bring it under the limit.
     EXPECT_FALSE(slowRunWarning(llvmpipe, 4725, 4, 6000, 64));
+}
+
+TEST(RunOutputsText, VolumeMapsThatWouldTakeLongOnASoftwareRendererAreWarnedAboutBeforeTheLoad) {
+    const std::string llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
+    auto tank = format::readAsset(std::filesystem::path(SLUICE_BUILD_ASSETS_DIR) / "tank.slc");
+    ASSERT_TRUE(tank) << tank.error().message();
+    format::Scene scene;
+    scene.simulation.spacing = 0.02f;
+    scene.simulation.kernelRadius = 0.04f;
+    format::SceneCollider collider;
+    collider.asset = "tank.slc";
+    scene.colliders.push_back(collider);
+    const std::vector<format::ColliderAsset> assets{*tank};
+    // The default "bodies" builds none.
+    EXPECT_EQ(volumeMapWork(scene, assets).points, 0u);
+    scene.simulation.solidBoundary = true;
+    const VolumeMapWork work = volumeMapWork(scene, assets);
+    EXPECT_EQ(work.points, 514596u); // the tank's grid
+    // h = 5.33 of its 7.5 mm cells: a support ball of 635 cells a point.
+    EXPECT_NEAR(work.denseReads / double(work.points), 635.5, 0.5);
+    EXPECT_EQ(work.sparseReads, 0.0);
+    // Measured: 2.1 s on two cores. No warning, nor on a GPU.
+    EXPECT_FALSE(slowLoadWarning(llvmpipe, work, 2));
+    // At half the voxel size (8 times the points and the cells of a ball): about 2 min.
+    VolumeMapWork finer = work;
+    finer.points *= 8;
+    finer.denseReads *= 64;
+    const auto warning = slowLoadWarning(llvmpipe, finer, 2);
+    ASSERT_TRUE(warning);
+    EXPECT_NE(warning->find("4116768 grid points"), std::string::npos) << *warning;
+    EXPECT_NE(warning->find("llvmpipe"), std::string::npos) << *warning;
+    EXPECT_FALSE(slowLoadWarning("NVIDIA H200/PCIe/SSE2", finer, 2));
+    // A dynamic body keeps the closed form: nothing to build.
+    scene.colliders[0].dynamic = format::DynamicBody{};
+    EXPECT_EQ(volumeMapWork(scene, assets).points, 0u);
 }
 
 } // namespace
