@@ -11,6 +11,37 @@
 
 namespace sluice::ref {
 
+namespace {
+// The gradient of the trilinear field at local point p, in the cell the GPU's float arithmetic
+// puts p in (shared/PbfGlsl.h, sampleCollider), the values and the derivative in double. A body's
+// contact points lie on its grid's planes, where the cells on either side give different
+// gradients (an edge point's normal is the face's on one side, the other face's on the other),
+// and double arithmetic may round to the other cell.
+glm::dvec3 gradientInTheGpusCell(const format::SdfSampler& sampler, glm::vec3 p) {
+    const format::ColliderMeta& m = sampler.asset().meta;
+    const glm::vec3 lo(m.origin);
+    const float voxel = float(m.voxelSize);
+    const glm::vec3 g = (glm::clamp(p, lo, glm::vec3(sampler.boxMax())) - lo) / voxel;
+    const glm::vec3 cell = glm::clamp(glm::floor(g), glm::vec3(0.0f), glm::vec3(m.dims) - 2.0f);
+    const glm::dvec3 t = glm::clamp(glm::dvec3(g - cell), 0.0, 1.0);
+    double v[2][2][2];
+    for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+            for (int c = 0; c < 2; ++c)
+                v[a][b][c] = sampler.value(m.origin + (glm::dvec3(cell) + glm::dvec3(a, b, c)) *
+                                                          m.voxelSize);
+    const double wx[2] = {1.0 - t.x, t.x}, wy[2] = {1.0 - t.y, t.y}, wz[2] = {1.0 - t.z, t.z};
+    glm::dvec3 grad(0.0);
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+            grad.x += wy[i] * wz[j] * (v[1][i][j] - v[0][i][j]);
+            grad.y += wx[i] * wz[j] * (v[i][1][j] - v[i][0][j]);
+            grad.z += wx[i] * wy[j] * (v[i][j][1] - v[i][j][0]);
+        }
+    return grad / m.voxelSize;
+}
+} // namespace
+
 // docs/bodies.md, "Boundary volume": the part of the poly6 support behind a flat boundary at
 // distance phi, B(phi) = k (1/2 - 315/256 F(u)), F(u) = u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9,
 // u = phi / h clamped to [-1, 1]. Evaluated in double, stored as float like the solver's.
@@ -329,7 +360,7 @@ void ReferencePbf::addSealedContacts(Body& body, float t1) {
         if (!(gap < band))
             continue;
         const glm::dvec3 grad(body.pose.rotation *
-                              glm::vec3(sampler.gradient(glm::dvec3(glm::vec3(point)))));
+                              glm::vec3(gradientInTheGpusCell(sampler, glm::vec3(point))));
         if (!(glm::length(grad) > 0.0))
             continue;
         const glm::dvec3 normal = glm::normalize(grad);
