@@ -12,6 +12,7 @@
 #include <Python.h>
 
 #include "Errors.h"
+#include "play/RunProgress.h"
 #include "play/StatsReport.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/scene/SimulationLimits.h"
@@ -63,6 +64,8 @@ std::unique_ptr<PySimulation> create(Result<format::Scene> scene, bool determini
     if (!context)
         raise(Family::Simulation, context.error());
     out->context.emplace(std::move(*context));
+    if (auto warning = rt::slowLoadWarning(*scene, *colliders))
+        nb::module_::import_("warnings").attr("warn")(*warning);
     rt::SimulationOptions options;
     options.deterministic = deterministic;
     Result<rt::Simulation> sim = rt::Simulation::create(*scene, std::move(*colliders), options);

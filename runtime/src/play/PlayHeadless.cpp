@@ -75,8 +75,7 @@ Result<HeadlessRun> startRun(const HeadlessOptions& o, const format::Scene& scen
             return started.error();
         capture.emplace(std::move(*started));
     }
-    if (auto warning = slowLoadWarning(context.info().renderer, volumeMapWork(scene, colliders),
-                                       std::thread::hardware_concurrency()))
+    if (auto warning = slowLoadWarning(scene, colliders))
         std::cerr << "sluice-play: warning [slow-load]: " << *warning << std::endl;
     SimulationOptions simOptions;
     simOptions.deterministic = o.deterministic;

@@ -6,7 +6,11 @@
 #include <cstdio>
 #include <numbers>
 
+#include <thread>
+
 #include <unistd.h>
+
+#include "sluice/gpu/Gl.h"
 
 #include "shared/Pbf.h"
 #include "sluice/format/asset/GridSamples.h"
@@ -117,8 +121,14 @@ VolumeMapWork volumeMapWork(const format::Scene& scene,
             asset.sparse() ? 512ull * format::sparseLeafCount(asset) : asset.pointCount();
         if (points > shared::kVolumeMapMaxPoints)
             continue;
+        // The quadrature's cells per h (pbf_volume_map.comp): a whole number of grid cells, each
+        // one read, when the grid has at least kVolumeMapSteps per h; else kVolumeMapSteps
+        // cells, each a trilinear read of 8 values.
         const double cells = h / (double(scene.colliders[c].scale) * asset.meta.voxelSize);
-        const double reads = double(points) * 4.0 / 3.0 * std::numbers::pi * cells * cells * cells;
+        const double stride = std::floor(cells / shared::kVolumeMapSteps + 1e-9);
+        const double perH = stride > 0.0 ? cells / stride : double(shared::kVolumeMapSteps);
+        const double reads = double(points) * 4.0 / 3.0 * std::numbers::pi * perH * perH * perH *
+                             (stride > 0.0 ? 1.0 : 8.0);
         work.points += points;
         (asset.sparse() ? work.sparseReads : work.denseReads) += reads;
     }
@@ -140,6 +150,15 @@ std::optional<std::string> slowLoadWarning(const std::string& renderer, const Vo
            formatDuration(seconds) + " on " + renderer + " (software OpenGL on " +
            std::to_string(cores) + " CPU cores) before the first step; a GPU, a coarser bake or " +
            "\"boundary\": \"bodies\" make it shorter";
+}
+
+std::optional<std::string> slowLoadWarning(const format::Scene& scene,
+                                           const std::vector<format::ColliderAsset>& colliders) {
+    const VolumeMapWork work = volumeMapWork(scene, colliders);
+    if (work.points == 0)
+        return std::nullopt;
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    return slowLoadWarning(renderer ? renderer : "", work, std::thread::hardware_concurrency());
 }
 
 } // namespace sluice::rt

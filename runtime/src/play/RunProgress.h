@@ -58,7 +58,7 @@ std::optional<std::string> slowRunWarning(const std::string& renderer, std::uint
 inline constexpr double kSlowLoadSeconds = 30.0;
 
 /// The volume maps a scene builds at load ("boundary": "solids"; docs/pbf.md, "Volume maps"):
-/// their points, and the quadrature's nominal reads (points x the support ball in grid cells),
+/// their points, and the quadrature's nominal reads (points x the support ball in its cells),
 /// dense and sparse grids apart (a sparse read goes through NanoVDB's accessor).
 struct VolumeMapWork {
     std::uint64_t points = 0;
@@ -76,5 +76,11 @@ VolumeMapWork volumeMapWork(const format::Scene& scene,
 /// llvmpipe (docs/performance.md, "Volume maps at load").
 std::optional<std::string> slowLoadWarning(const std::string& renderer, const VolumeMapWork& work,
                                            unsigned cores);
+
+/// slowLoadWarning for `scene` and its colliders on the current GL context's renderer, with the
+/// machine's cores: what sluice-play (headless and the window) and Python's Simulation say before
+/// they build a scene.
+std::optional<std::string> slowLoadWarning(const format::Scene& scene,
+                                           const std::vector<format::ColliderAsset>& colliders);
 
 } // namespace sluice::rt

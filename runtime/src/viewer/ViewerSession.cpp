@@ -3,6 +3,9 @@
 #include "viewer/ViewerSession.h"
 
 #include <algorithm>
+#include <iostream>
+
+#include "play/RunProgress.h"
 
 #include "sluice/format/support/Assert.h"
 #include "sluice/format/scene/SceneIO.h"
@@ -17,6 +20,8 @@ Result<ViewerSession> ViewerSession::open(const std::string& scenePath, bool det
     auto colliders = loadSceneColliders(*scene);
     if (!colliders)
         return colliders.error();
+    if (auto warning = slowLoadWarning(*scene, *colliders))
+        std::cerr << "sluice-play: warning [slow-load]: " << *warning << std::endl;
     SimulationOptions options;
     options.deterministic = deterministic;
     options.timers = true; // the panel's profiler

@@ -158,6 +158,12 @@ TEST(RunOutputsText, VolumeMapsThatWouldTakeLongOnASoftwareRendererAreWarnedAbou
     EXPECT_NE(warning->find("4116768 grid points"), std::string::npos) << *warning;
     EXPECT_NE(warning->find("llvmpipe"), std::string::npos) << *warning;
     EXPECT_FALSE(slowLoadWarning("NVIDIA H200/PCIe/SSE2", finer, 2));
+    // At h = 20 cm (27 cells) the quadrature reads every fifth grid value: as many reads again.
+    scene.simulation.kernelRadius = 0.2f;
+    EXPECT_NEAR(volumeMapWork(scene, assets).denseReads / double(work.points), 635.5, 0.5);
+    // At h = 2 cm (2.7 cells) it reads the field trilinearly at h / 5: 8 x 524 values a point.
+    scene.simulation.kernelRadius = 0.02f;
+    EXPECT_NEAR(volumeMapWork(scene, assets).denseReads / double(work.points), 8 * 523.6, 1.0);
     // A dynamic body keeps the closed form: nothing to build.
     scene.colliders[0].dynamic = format::DynamicBody{};
     EXPECT_EQ(volumeMapWork(scene, assets).points, 0u);
