@@ -30,6 +30,35 @@ bool inGridBox(uint c, vec3 q) {
            all(lessThanEqual(q, colliders[c].boxMax));
 }
 
+#ifdef SLUICE_SPARSE_COLLIDERS
+// One read accessor for all of a point's samples of a sparse grid: its cached leaf serves the
+// next sample in the same leaf (a fresh accessor a read walked the tree from its root for each
+// of the quadrature's ~900 reads).
+pnanovdb_readaccessor_t gAcc;
+bool gSparse = false;
+#endif
+
+// phi at collider c's local point q, as sampleCollider (inside the grid box), a sparse grid's
+// samples through the point's accessor.
+float sampleAround(uint c, vec3 q) {
+#ifdef SLUICE_SPARSE_COLLIDERS
+    if (gSparse) {
+        vec3 g = (q - colliders[c].origin) / colliders[c].voxelSize;
+        vec3 cellLo = clamp(floor(g), vec3(0.0), vec3(colliders[c].dims) - 2.0);
+        vec3 t = clamp(g - cellLo, 0.0, 1.0);
+        float v[8];
+        for (int k = 0; k < 8; ++k)
+            v[k] = sparseValue(gAcc, ivec3(cellLo) + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+        vec3 unused;
+        return trilinearCell(v, t, unused);
+    }
+#endif
+    float phi;
+    vec3 unused;
+    sampleCollider(c, q, phi, unused);
+    return phi;
+}
+
 // Whether the field around q is the plane of q's phi and normal n, as on a flat face: its
 // samples on a lattice of h / 2 over the support (in the grid box) within a hundredth of a
 // quadrature cell of the plane's. Most of a collider's band is flat, where the map is 0 and the full quadrature (about
@@ -55,9 +84,7 @@ bool flatAround(uint c, vec3 q, float phi, vec3 n, float clip) {
                     continue;
                 if (!inGridBox(c, q + o))
                     continue;
-                float phiHere;
-                vec3 unused;
-                sampleCollider(c, q + o, phiHere, unused);
+                float phiHere = sampleAround(c, q + o);
                 float planeHere = phi + dot(n, o);
                 bool beyondBand = min(phiHere, planeHere) >= far || max(phiHere, planeHere) <= -far;
                 if (!(abs(phiHere - planeHere) <= tolerance) && !beyondBand)
@@ -69,10 +96,8 @@ bool flatAround(uint c, vec3 q, float phi, vec3 n, float clip) {
 // phi at grid point p of collider c (inside its grid).
 float colliderValueAt(uint c, ivec3 p) {
 #ifdef SLUICE_SPARSE_COLLIDERS
-    if (colliders[c].gridKind == kColliderSparse) {
-        pnanovdb_readaccessor_t acc = sparseAccessor(colliders[c].sdfOffset);
-        return sparseValue(acc, p);
-    }
+    if (gSparse)
+        return sparseValue(gAcc, p);
 #endif
     return sdfAt(colliders[c].sdfOffset, colliders[c].dims, uvec3(p));
 }
@@ -106,8 +131,7 @@ float volumeCorrection(uint c, uvec3 p, vec3 q, float phi, vec3 n) {
                 } else {
                     if (!inGridBox(c, q + o))
                         continue;
-                    vec3 unused;
-                    sampleCollider(c, q + o, phiHere, unused);
+                    phiHere = sampleAround(c, q + o);
                 }
                 solid += w * clamp(0.5 - phiHere / d, 0.0, 1.0);
                 plane += w * clamp(0.5 - (phi + dot(n, o)) / d, 0.0, 1.0);
@@ -153,7 +177,14 @@ void main() {
     // A particle is kept outside the solid, so the trilinear reads that matter reach at most a
     // cell diagonal into it: deeper points keep 0.
     bool read = phi > -2.0 * colliders[c].voxelSize;
-    if (read && phi < uSupport && !flatAround(c, q, phi, n, clip))
-        more = volumeCorrection(c, p, q, phi, n);
+    if (read && phi < uSupport) {
+#ifdef SLUICE_SPARSE_COLLIDERS
+        gSparse = colliders[c].gridKind == kColliderSparse;
+        if (gSparse)
+            gAcc = sparseAccessor(colliders[c].sdfOffset);
+#endif
+        if (!flatAround(c, q, phi, n, clip))
+            more = volumeCorrection(c, p, q, phi, n);
+    }
     mapOut[colliders[c].volumeMap + i] = more;
 }
