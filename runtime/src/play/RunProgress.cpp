@@ -27,10 +27,11 @@ constexpr double kLlvmpipeCoreMicrosPerParticleSubstep = 13.0;
 // [ns] CPU time per nominal read of a volume map's quadrature on llvmpipe (2-vCPU AMD EPYC,
 // 2026-11-28, docs/performance.md "Volume maps at load"): tank.slc (dense, 514,596 points at
 // 5.3 cells per h) built in 2.1 s wall, 12.8 ns; terrain.slc (sparse, 14.3 M leaf voxels at 6
-// cells per h) in about 517 s, 80 ns. How many points a map skips as flat or too deep varies
-// with the shape, so this is the order of the wait, not a prediction to the second.
+// cells per h) in about 347 s, 54 ns (the same tank baked sparse: 0.73 M leaf voxels in about
+// 11.5 s, 49 ns). How many points a map skips as flat or too deep varies with the shape, so this
+// is the order of the wait, not a prediction to the second.
 constexpr double kLlvmpipeCoreNanosPerDenseMapRead = 13.0;
-constexpr double kLlvmpipeCoreNanosPerSparseMapRead = 80.0;
+constexpr double kLlvmpipeCoreNanosPerSparseMapRead = 54.0;
 
 } // namespace
 
