@@ -47,8 +47,7 @@ float sampleAround(uint c, vec3 q) {
         vec3 cellLo = clamp(floor(g), vec3(0.0), vec3(colliders[c].dims) - 2.0);
         vec3 t = clamp(g - cellLo, 0.0, 1.0);
         float v[8];
-        for (int k = 0; k < 8; ++k)
-            v[k] = sparseValue(gAcc, ivec3(cellLo) + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+        sparseCorners(gAcc, ivec3(cellLo), v);
         vec3 unused;
         return trilinearCell(v, t, unused);
     }
@@ -86,7 +85,8 @@ bool flatAround(uint c, vec3 q, float phi, vec3 n, float clip) {
                     continue;
                 float phiHere = sampleAround(c, q + o);
                 float planeHere = phi + dot(n, o);
-                bool beyondBand = min(phiHere, planeHere) >= far || max(phiHere, planeHere) <= -far;
+                bool beyondBand =
+                    min(phiHere, planeHere) >= far || max(phiHere, planeHere) <= -far;
                 if (!(abs(phiHere - planeHere) <= tolerance) && !beyondBand)
                     return false;
             }

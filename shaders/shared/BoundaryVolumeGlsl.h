@@ -43,10 +43,11 @@ void volumeMapCorners(uint c, uint base, uvec3 b, out float v[8]) {
     if (colliders[c].gridKind == kColliderSparse) {
         uint grid = colliders[c].sdfOffset;
         pnanovdb_readaccessor_t acc = sparseAccessor(grid);
+        uint firstLeaf = sparseLeaf(grid, 0u).address.byte_offset;
         for (int k = 0; k < 8; ++k) {
             uint slot;
-            bool stored = sparseLeafSlot(acc, grid, ivec3(b) + ivec3(k & 1, (k >> 1) & 1, k >> 2),
-                                         slot);
+            bool stored = sparseLeafSlot(
+                acc, firstLeaf, ivec3(b) + ivec3(k & 1, (k >> 1) & 1, k >> 2), slot);
             v[k] = stored ? uintBitsToFloat(sdfWords[base + slot]) : 0.0;
         }
         return;

@@ -67,10 +67,16 @@ ivec3 sparseLeafVoxel(uint byteOffset, uint leaf, uint n) {
     return origin + ivec3(n >> 6u, (n >> 3u) & 7u, n & 7u);
 }
 
+/// The eight values of the cell with lower corner b, as v[x + 2y + 4z], through `acc`.
+void sparseCorners(inout pnanovdb_readaccessor_t acc, ivec3 b, out float v[8]) {
+    for (int k = 0; k < 8; ++k)
+        v[k] = sparseValue(acc, b + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+}
+
 /// Where voxel ijk lies among all leaves' voxels, leaf * 512 + its place in the leaf, as a
 /// per-leaf channel stores it (a volume map, BoundaryVolumeGlsl.h); false when ijk is in no leaf
-/// (a tile or the background).
-bool sparseLeafSlot(inout pnanovdb_readaccessor_t acc, uint byteOffset, ivec3 ijk, out uint slot) {
+/// (a tile or the background). `firstLeaf`: sparseLeaf(grid, 0u).address.byte_offset.
+bool sparseLeafSlot(inout pnanovdb_readaccessor_t acc, uint firstLeaf, ivec3 ijk, out uint slot) {
     pnanovdb_buf_t buf;
     uint level;
     pnanovdb_readaccessor_get_value_address_and_level(PNANOVDB_GRID_TYPE_FLOAT, buf, acc, ijk,
@@ -78,8 +84,7 @@ bool sparseLeafSlot(inout pnanovdb_readaccessor_t acc, uint byteOffset, ivec3 ij
     slot = 0u;
     if (level != 0u)
         return false;
-    uint first = sparseLeaf(byteOffset, 0u).address.byte_offset;
-    uint leaf = (acc.leaf.address.byte_offset - first) /
+    uint leaf = (acc.leaf.address.byte_offset - firstLeaf) /
                 PNANOVDB_GRID_TYPE_GET(PNANOVDB_GRID_TYPE_FLOAT, leaf_size);
     slot = leaf * 512u + pnanovdb_leaf_coord_to_offset(ijk);
     return true;

@@ -237,9 +237,7 @@ void colliderCorners(uint c, uvec3 b, out float v[8]) {
 #ifdef SLUICE_SPARSE_COLLIDERS
     if (colliders[c].gridKind == kColliderSparse) {
         pnanovdb_readaccessor_t acc = sparseAccessor(colliders[c].sdfOffset);
-        ivec3 ib = ivec3(b);
-        for (int k = 0; k < 8; ++k)
-            v[k] = sparseValue(acc, ib + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+        sparseCorners(acc, ivec3(b), v);
         return;
     }
 #endif

@@ -5,15 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
-
 #include <thread>
 
 #include <unistd.h>
 
+#include "sim/VolumeMapSize.h"
 #include "sluice/gpu/Gl.h"
-
-#include "shared/Pbf.h"
-#include "sluice/format/asset/GridSamples.h"
 
 namespace sluice::rt {
 namespace {
@@ -118,15 +115,14 @@ VolumeMapWork volumeMapWork(const format::Scene& scene,
         const format::ColliderAsset& asset = colliders[c];
         if (scene.colliders[c].dynamic)
             continue;
-        const std::uint64_t points =
-            asset.sparse() ? 512ull * format::sparseLeafCount(asset) : asset.pointCount();
+        const std::uint64_t points = volumeMapPoints(asset);
         if (points > shared::kVolumeMapMaxPoints)
             continue;
-        // The quadrature's cells per h (pbf_volume_map.comp): a whole number of grid cells, each
-        // one read, when the grid has at least kVolumeMapSteps per h; else kVolumeMapSteps
-        // cells, each a trilinear read of 8 values.
-        const double cells = h / (double(scene.colliders[c].scale) * asset.meta.voxelSize);
-        const double stride = std::floor(cells / shared::kVolumeMapSteps + 1e-9);
+        // The quadrature's cells per h: every stride-th grid value, one read each, or
+        // kVolumeMapSteps cells, each a trilinear read of 8 values.
+        const double support = h / double(scene.colliders[c].scale);
+        const double stride = volumeMapStride(support, asset.meta.voxelSize);
+        const double cells = support / asset.meta.voxelSize;
         const double perH = stride > 0.0 ? cells / stride : double(shared::kVolumeMapSteps);
         const double reads = double(points) * 4.0 / 3.0 * std::numbers::pi * perH * perH * perH *
                              (stride > 0.0 ? 1.0 : 8.0);

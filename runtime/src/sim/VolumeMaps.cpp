@@ -3,13 +3,12 @@
 // probe (pbf_boundary_probe.comp) that reads the walls' and colliders' share at points.
 #include "sim/SimulationImpl.h"
 
-#include "sluice/format/asset/GridSamples.h"
+#include "sim/VolumeMapSize.h"
 
 namespace sluice::rt {
 
 std::uint64_t Simulation::Impl::volumeMapPoints(std::size_t c) const {
-    const format::ColliderAsset& asset = colliderAssets[c];
-    return asset.sparse() ? 512ull * format::sparseLeafCount(asset) : asset.pointCount();
+    return rt::volumeMapPoints(colliderAssets[c]);
 }
 
 bool Simulation::Impl::wantsVolumeMap(std::size_t c) const {
@@ -42,14 +41,6 @@ std::vector<gpu::ShaderDefine> Simulation::Impl::colliderDefines() const {
         return {{"SLUICE_SPARSE_COLLIDERS", "1"}};
     return {};
 }
-
-namespace {
-// The quadrature's cell in grid cells (pbf_volume_map.comp): the most that keeps at least
-// kVolumeMapSteps cells per support radius, or 0 when even one grid cell is coarser than that.
-std::uint32_t volumeMapStride(double support, double voxelSize) {
-    return std::uint32_t(std::floor(support / (shared::kVolumeMapSteps * voxelSize) + 1e-9));
-}
-} // namespace
 
 Result<void> Simulation::Impl::buildVolumeMaps() {
     volumeMapsH = k.h;
