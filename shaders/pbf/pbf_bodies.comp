@@ -229,10 +229,16 @@ void sealedReaction(uint b, uint lane, float rim, out vec3 sealedDx, out vec3 se
     }
     sealedDx = vec3(0.0);
     sealedMoment = vec3(0.0);
-    // The rim's water beside the gap under the body pressed no side: its sides cover the band
-    // from the lowest gap up, the rim's water all of it.
-    float band = rimBand();
-    float sideArea = sStep[0].w * band / max(band - sTurn[0].w, 1e-3 * band);
+    // With "solids" the rim's pressure is taken as it is. Without the walls' boundary volume
+    // ("bodies"), where the layer at a wall packs, it lifted a cube a tenth heavier than water
+    // off one water layer (docs/bodies.md, "Sealed contacts"): there the sides count as
+    // covering the band from the lowest gap up, the rim's water all of it, which fades the
+    // top-up as the gap opens.
+    float sideArea = sStep[0].w;
+    if (P.solidBoundary == 0u) {
+        float band = rimBand();
+        sideArea = sStep[0].w * band / max(band - sTurn[0].w, 1e-3 * band);
+    }
     vec3 expected = sStep[0].w > 0.0 ? rim / sideArea * sStep[0].xyz : vec3(0.0);
     float expectedLength = length(expected);
     if (!(expectedLength > 0.0))

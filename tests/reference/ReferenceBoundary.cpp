@@ -377,9 +377,11 @@ void ReferencePbf::addSealedContacts(Body& body, float t1) {
     }
     if (!(sideArea > 0.0))
         return;
-    // The rim's water beside the gap under the body pressed no side: the sides cover the band
-    // from the lowest gap up.
-    sideArea *= band / std::max(band - lowest, 1e-3 * band);
+    // Without the walls' boundary volume the sides count as covering the band from the lowest
+    // gap up (the top-up fades as the gap opens); with "solids" the rim's pressure is taken as
+    // it is.
+    if (!m_params.solidBoundary)
+        sideArea *= band / std::max(band - lowest, 1e-3 * band);
     const glm::dvec3 expected = body.rimPush / sideArea * sealed;
     const double expectedLength = glm::length(expected);
     if (!(expectedLength > 0.0))

@@ -159,14 +159,16 @@ struct Simulation::Impl {
     /// outnumber the capacity.
     Result<void> fillBlocks();
     void uploadParams();
-    /// Whether collider c gets a volume map: static or kinematic, in a scene that starts with
-    /// "solids", its map at most kVolumeMapMaxPoints points, every map fitting in the SDF
-    /// buffer's storage block with the grids (VolumeMaps.cpp).
+    /// Whether collider c is one to map: static or kinematic, in a scene that starts with
+    /// "solids", its map at most kVolumeMapMaxPoints points (VolumeMaps.cpp).
+    bool mapsCollider(std::size_t c) const;
+    /// Whether collider c gets a volume map: mapsCollider, and every map fitting in the SDF
+    /// buffer's storage block with the grids (volumeMapsFit).
     bool wantsVolumeMap(std::size_t c) const;
     /// Points of collider c's volume map: one per grid point of a dense grid, 512 per leaf of a
     /// sparse one (its band's voxels, stored per leaf).
     std::uint64_t volumeMapPoints(std::size_t c) const;
-    /// Words of the volume maps in the SDF buffer, after every grid.
+    /// Words of the volume maps of the colliders to map, after every grid in the SDF buffer.
     std::uint64_t volumeMapWords() const;
     /// The SDF buffer's size [bytes]: every grid, then the volume maps if they fit in a storage
     /// block of `maxBlockBytes` (and 4 GiB) with them; sets volumeMapsFit.

@@ -11,16 +11,19 @@ std::uint64_t Simulation::Impl::volumeMapPoints(std::size_t c) const {
     return rt::volumeMapPoints(colliderAssets[c]);
 }
 
-bool Simulation::Impl::wantsVolumeMap(std::size_t c) const {
-    return volumeMapsFit && scene.simulation.solidBoundary &&
-           bodySetup.bodyOfCollider[c] == shared::kNoBody &&
+bool Simulation::Impl::mapsCollider(std::size_t c) const {
+    return scene.simulation.solidBoundary && bodySetup.bodyOfCollider[c] == shared::kNoBody &&
            volumeMapPoints(c) <= shared::kVolumeMapMaxPoints;
+}
+
+bool Simulation::Impl::wantsVolumeMap(std::size_t c) const {
+    return volumeMapsFit && mapsCollider(c);
 }
 
 std::uint64_t Simulation::Impl::volumeMapWords() const {
     std::uint64_t words = 0;
     for (std::size_t c = 0; c < colliderAssets.size(); ++c)
-        words += wantsVolumeMap(c) ? volumeMapPoints(c) : 0;
+        words += mapsCollider(c) ? volumeMapPoints(c) : 0;
     return words;
 }
 
@@ -30,7 +33,6 @@ std::uint64_t Simulation::Impl::sdfBufferBytes(std::int64_t maxBlockBytes) {
     const std::uint64_t grids = colliderDataBytes(colliderAssets);
     const std::uint64_t block = std::min<std::uint64_t>(
         0xffffffffull, maxBlockBytes > 0 ? std::uint64_t(maxBlockBytes) : ~0ull);
-    volumeMapsFit = true;
     const std::uint64_t maps = volumeMapWords() * sizeof(float);
     volumeMapsFit = grids + maps <= block;
     return grids + (volumeMapsFit ? maps : 0);
