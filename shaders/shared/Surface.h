@@ -37,7 +37,7 @@ SLUICE_CONST uint kSurfBindSampleCode = 10; ///< uint per stored sample: its cro
                                             ///< (bits 0-6) and its cell's inside corners (8-15)
 SLUICE_CONST uint kSurfBindPositions = 11;  ///< float x3 per vertex: its position [m]
 SLUICE_CONST uint kSurfBindTriangles = 12;  ///< uint x3 per triangle
-SLUICE_CONST uint kSurfBindTriangleTable = 13; ///< uint x12 per cell case (KuhnTable.h)
+SLUICE_CONST uint kSurfBindTriangleTable = 13; ///< uint x5 per cell case, then counts (CubeTable.h)
 SLUICE_CONST uint kSurfBindBounds = 14;        ///< SurfaceBounds (surface_bounds.comp)
 SLUICE_CONST uint kSurfBindNormals = 15; ///< float x3 per vertex: its unit outward normal
 // Anisotropic kernels only (surface_bin_*.comp, surface_anisotropy.comp):
@@ -51,8 +51,8 @@ SLUICE_CONST uint kSurfBindKernels = 19;      ///< vec4 x4 per particle: Surface
 SLUICE_CONST float kSurfaceAnisotropyRatio = 4.0;
 /// Particles with fewer neighbours within the support (themselves included) keep the sphere.
 SLUICE_CONST uint kSurfaceAnisotropyMinNeighbours = 8;
-/// Triangles a cell has at most (two in each of its six Kuhn tetrahedra).
-SLUICE_CONST uint kSurfaceCellTrianglesMax = 12;
+/// Triangles a cell has at most (marching cubes, CubeTable.h).
+SLUICE_CONST uint kSurfaceCellTrianglesMax = 5;
 
 
 /// The particles' box and non-finite ones (surface_bounds.comp). lo and hi hold floats as

@@ -74,45 +74,73 @@ uint sampleSlot(ivec3 s) {
     return blockSlot[index] * kSurfaceBlockSamples + laneOf(s - b * int(kSurfaceBlockSide));
 }
 
-uint sampleValue(ivec3 s) {
-    uint slot = sampleSlot(s);
-    return slot == 0xffffffffu ? 0u : field[slot];
-}
-
 // Corner c of a cell (bit 0: +x, bit 1: +y, bit 2: +z).
 ivec3 cornerOffset(uint c) {
     return ivec3(int(c & 1u), int((c >> 1u) & 1u), int((c >> 2u) & 1u));
 }
 
-// Triangles of the cell whose lowest corner is s: over its six Kuhn tetrahedra (0, e_a,
-// e_a + e_b, 7 for every order a, b, c of the axes), one for a tetrahedron with one or three
-// corners inside, two for one with two.
-const uint kTetCorners[24] = uint[24](0u, 1u, 3u, 7u,  0u, 1u, 5u, 7u,  0u, 2u, 3u, 7u,
-                                      0u, 2u, 6u, 7u,  0u, 4u, 5u, 7u,  0u, 4u, 6u, 7u);
+// The cell triangle table (runtime/src/surface/CubeTable.h): kSurfaceCellTrianglesMax entries
+// per inside pattern, then each pattern's triangle count.
+layout(std430, binding = kSurfBindTriangleTable) readonly buffer TriangleTable {
+    uint triangleTable[];
+};
 
 uint cellTriangles(uint insideMask) {
-    uint count = 0u;
-    for (uint t = 0u; t < 6u; ++t) {
-        uint k = 0u;
-        for (uint v = 0u; v < 4u; ++v)
-            k += (insideMask >> kTetCorners[4u * t + v]) & 1u;
-        count += k == 2u ? 2u : (k == 1u || k == 3u ? 1u : 0u);
-    }
-    return count;
+    return triangleTable[256u * kSurfaceCellTrianglesMax + insideMask];
 }
 
 // The per-block passes read a block's samples and a border around them from shared memory:
 // local coordinates -1 .. 9 on each axis (the cells' +1 corners and the gradients' +-1 reach),
-// loaded once per block instead of looked up through the block map for every use.
+// loaded once per block instead of looked up through the block map for every use; and, per
+// row of the tile along x, which of its samples are inside (bit tx).
 const int kTileSide = 11;
 shared uint tile[kTileSide * kTileSide * kTileSide];
+shared uint tileInsideRow[kTileSide * kTileSide];
+
+// The first sample of block b where it is stored, or 0xffffffff where it is not (or is past
+// the grid).
+uint storedBlockBase(ivec3 b) {
+    if (any(lessThan(b, ivec3(0))) || any(greaterThanEqual(b, uBlocks)))
+        return 0xffffffffu;
+    uint index = blockIndex(b);
+    return blockFlag[index] == 0u ? 0xffffffffu : blockSlot[index] * kSurfaceBlockSamples;
+}
+
+// The block offset (-1, 0 or 1) of local coordinate l in -1 .. 9.
+int blockStep(int l) {
+    return l < 0 ? -1 : (l >= int(kSurfaceBlockSide) ? 1 : 0);
+}
+
+// A row of the tile along x, tile row r = ty + kTileSide tz: its three blocks looked up once,
+// not once per sample.
+void loadTileRow(ivec3 blockOrigin, uint r) {
+    int side = int(kSurfaceBlockSide);
+    ivec3 l = ivec3(-1, int(r % uint(kTileSide)) - 1, int(r / uint(kTileSide)) - 1);
+    ivec3 b = blockOrigin / side + ivec3(0, blockStep(l.y), blockStep(l.z));
+    ivec3 s = blockOrigin + l;
+    bool rowInGrid = s.y >= 0 && s.y < uSamples.y && s.z >= 0 && s.z < uSamples.z;
+    uint below = storedBlockBase(b - ivec3(1, 0, 0));
+    uint here = storedBlockBase(b);
+    uint above = storedBlockBase(b + ivec3(1, 0, 0));
+    uint within = laneOf(ivec3(0, l.y - side * blockStep(l.y), l.z - side * blockStep(l.z)));
+    uint inside = 0u;
+    for (int tx = 0; tx < kTileSide; ++tx) {
+        int x = tx - 1;
+        int step = blockStep(x);
+        uint base = step < 0 ? below : (step > 0 ? above : here);
+        int sx = blockOrigin.x + x;
+        uint value = 0u;
+        if (rowInGrid && base != 0xffffffffu && sx >= 0 && sx < uSamples.x)
+            value = field[base + within + uint(x - side * step)];
+        tile[uint(tx) + uint(kTileSide) * r] = value;
+        inside |= value > uIsoFixed ? 1u << uint(tx) : 0u;
+    }
+    tileInsideRow[r] = inside;
+}
 
 void loadTile(ivec3 blockOrigin, uint lane) {
-    for (uint i = lane; i < uint(kTileSide * kTileSide * kTileSide); i += kSurfaceBlockRows) {
-        ivec3 local = ivec3(int(i % uint(kTileSide)), int((i / uint(kTileSide)) % uint(kTileSide)),
-                            int(i / uint(kTileSide * kTileSide))) - 1;
-        tile[i] = sampleValue(blockOrigin + local);
-    }
+    for (uint r = lane; r < uint(kTileSide * kTileSide); r += kSurfaceBlockRows)
+        loadTileRow(blockOrigin, r);
     barrier();
 }
 
@@ -121,26 +149,23 @@ uint tileValue(ivec3 local) {
     return tile[t.x + kTileSide * (t.y + kTileSide * t.z)];
 }
 
-bool tileInside(ivec3 local) {
-    return tileValue(local) > uIsoFixed;
+// The inside bits of the tile's row through local (0, y, z), bit x + 1 for local x.
+uint tileInsideBits(int y, int z) {
+    return tileInsideRow[(y + 1) + kTileSide * (z + 1)];
 }
 
-// crossingEdges and cellInsideMask of the sample at `local` in the loaded tile.
-uint tileCrossingEdges(ivec3 local) {
-    bool inside = tileInside(local);
-    uint mask = 0u;
-    for (uint d = 1u; d < 8u; ++d)
-        if (tileInside(local + cornerOffset(d)) != inside)
-            mask |= 1u << (d - 1u);
-    return mask;
-}
-
-uint tileCellInsideMask(ivec3 local) {
-    uint mask = 0u;
-    for (uint c = 0u; c < 8u; ++c)
-        if (tileInside(local + cornerOffset(c)))
-            mask |= 1u << c;
-    return mask;
+// The codes of the row of samples (0 .. 7, y, z) of the loaded tile, from its inside bits:
+// for sample x, its crossing edges along +x, +y and +z (bits 0, 1 and 3: bit d - 1 for the
+// corner offset d) and, from bit 8, the inside corners of the cell it is the lowest corner of
+// (bit c for corner c).
+uint tileSampleCode(int x, uint here, uint up, uint front, uint both) {
+    uint tx = uint(x + 1);
+    uint inside = (here >> tx) & 1u;
+    uint edges = (inside ^ ((here >> (tx + 1u)) & 1u)) | ((inside ^ ((up >> tx) & 1u)) << 1u) |
+                 ((inside ^ ((front >> tx) & 1u)) << 3u);
+    uint cell = ((here >> tx) & 3u) | (((up >> tx) & 3u) << 2u) | (((front >> tx) & 3u) << 4u) |
+                (((both >> tx) & 3u) << 6u);
+    return edges | (cell << 8u);
 }
 
 // Work-group exclusive scan of one uint per row (kSurfaceBlockRows invocations); `total` gets

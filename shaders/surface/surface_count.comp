@@ -27,18 +27,22 @@ void main() {
     loadTile(origin, row); // its barrier also publishes the zeroed sums
     uint verts = 0u;
     uint tris = 0u;
-    for (uint x = 0u; x < kSurfaceBlockSide; ++x) {
-        uint i = row * kSurfaceBlockSide + x;
-        ivec3 local = laneCoord(i);
+    int y = int(row % kSurfaceBlockSide);
+    int z = int(row / kSurfaceBlockSide);
+    uint here = tileInsideBits(y, z);
+    uint up = tileInsideBits(y + 1, z);
+    uint front = tileInsideBits(y, z + 1);
+    uint both = tileInsideBits(y + 1, z + 1);
+    bool rowInGrid = origin.y + y < uSamples.y && origin.z + z < uSamples.z;
+    for (int x = 0; x < int(kSurfaceBlockSide); ++x) {
         uint code = 0u;
-        if (all(lessThan(origin + local, uSamples))) {
-            uint edges = tileCrossingEdges(local);
-            uint cell = tileCellInsideMask(local);
-            verts += bitCount(edges);
-            tris += cellTriangles(cell);
-            code = edges | (cell << 8u);
+        if (rowInGrid && origin.x + x < uSamples.x) {
+            code = tileSampleCode(x, here, up, front, both);
+            uint cell = code >> 8u;
+            verts += bitCount(code & 0xffu);
+            tris += cell == 0u || cell == 0xffu ? 0u : cellTriangles(cell);
         }
-        sampleCode[slot * kSurfaceBlockSamples + i] = code;
+        sampleCode[slot * kSurfaceBlockSamples + row * kSurfaceBlockSide + uint(x)] = code;
     }
     if (verts != 0u)
         atomicAdd(groupVerts, verts);

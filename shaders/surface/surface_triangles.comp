@@ -1,5 +1,5 @@
-// Per stored block: the triangles of each cell whose lowest corner it holds, over the cell's
-// six Kuhn tetrahedra, at its block's base plus a scan over its rows, in a fixed order (one
+// Per stored block: the triangles of each cell whose lowest corner it holds (marching cubes,
+// the cell triangle table), at its block's base plus a scan over its rows, in a fixed order (one
 // invocation per row of samples). A vertex
 // is found by the edge it lies on. Each triangle faces out of the fluid (down the field).
 #version 450 core
@@ -13,9 +13,6 @@ layout(std430, binding = kSurfBindTriBase) readonly buffer TriBase { uint triBas
 layout(std430, binding = kSurfBindSampleVert) readonly buffer SampleVert { uint sampleVert[]; };
 layout(std430, binding = kSurfBindSampleCode) readonly buffer SampleCode { uint sampleCode[]; };
 layout(std430, binding = kSurfBindTriangles) writeonly buffer Triangles { uint triangles[]; };
-layout(std430, binding = kSurfBindTriangleTable) readonly buffer TriangleTable {
-    uint triangleTable[];
-};
 
 uint gSlot;     // the block's slot
 ivec3 gLocal;  // the cell's lowest corner in the block
@@ -43,8 +40,8 @@ uint codedVertex(ivec3 s, uint edge) {
 }
 
 // The triangles of the cell at s (lowest corner) whose inside corners are `inside`, from the
-// cell triangle table (runtime/src/surface/KuhnTable.h: the six Kuhn tetrahedra in a fixed
-// order, each triangle facing out of the fluid).
+// cell triangle table (runtime/src/surface/CubeTable.h: each triangle facing out of the
+// fluid).
 void emitCell(uint base, ivec3 s, uint inside) {
     for (uint k = 0u; k < kSurfaceCellTrianglesMax; ++k) {
         uint t = triangleTable[inside * kSurfaceCellTrianglesMax + k];

@@ -16,7 +16,7 @@
 #include "sim/PrefixScan.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "surface/KuhnTable.h"
+#include "surface/CubeTable.h"
 #include "surface/SurfaceGrid.h"
 
 namespace sluice::rt {
@@ -258,6 +258,7 @@ Result<void> SurfaceReconstructor::Impl::contour(Work& w) {
         if (auto ok = ensureUints(*targets[i], i < 4 ? n : samples, labels[i]); !ok)
             return ok;
     const glm::uvec3 groups(n, 1, 1);
+    triangleTable.bindStorage(sh::kSurfBindTriangleTable);
     w.blockVerts.bindStorage(sh::kSurfBindBlockVerts);
     w.blockTris.bindStorage(sh::kSurfBindBlockTris);
     w.sampleCode.bindStorage(sh::kSurfBindSampleCode);
