@@ -45,6 +45,7 @@ SLUICE_CONST uint kSurfBindBinCount = 16;     ///< uint per block of the grid: i
 SLUICE_CONST uint kSurfBindBinStart = 17;     ///< uint per block: exclusive scan of the counts
 SLUICE_CONST uint kSurfBindBinParticles = 18; ///< uint per particle: indices, block by block
 SLUICE_CONST uint kSurfBindKernels = 19;      ///< vec4 x4 per particle: SurfaceKernel's layout
+SLUICE_CONST uint kSurfBindBinPoints = 20;    ///< vec4 per particle: positions, block by block
 /// Anisotropic kernels (Yu & Turk 2013): the largest ratio of a kernel's longest axis to its
 /// shortest (their k_r). With the sphere's volume, no axis is longer than cbrt(ratio^2)
 /// supports (a line of particles).

@@ -17,6 +17,7 @@ layout(std430, binding = kSurfBindBinStart) readonly buffer BinStart { uint binS
 layout(std430, binding = kSurfBindBinParticles) readonly buffer BinParticles {
     uint binParticles[];
 };
+layout(std430, binding = kSurfBindBinPoints) readonly buffer BinPoints { vec4 binPoints[]; };
 
 uniform float uCentreSmoothing; // Yu & Turk's lambda: 0 keeps the particle, 1 the mean
 uniform uint uBinCount;         // blocks in the grid (binStart's length)
@@ -63,10 +64,12 @@ void symmetricEigen(inout mat3 a, out mat3 v) {
 }
 
 void main() {
-    uint i = SLUICE_GLOBAL_ID.x;
-    if (i >= uCount)
+    // In the bins' order: the invocations of a group share their blocks' runs.
+    uint slot = SLUICE_GLOBAL_ID.x;
+    if (slot >= uCount)
         return;
-    vec3 p = points[i].xyz;
+    uint i = binParticles[slot];
+    vec3 p = binPoints[slot].xyz;
     float invH = 1.0 / uSupport;
     // The blocks the support's box overlaps (8 on average where the block is twice the
     // support, not 27).
@@ -83,7 +86,7 @@ void main() {
                 uint b = blockIndex(ivec3(bx, by, bz));
                 uint end = b + 1u < uBinCount ? binStart[b + 1u] : uCount;
                 for (uint k = binStart[b]; k < end; ++k) {
-                    vec3 d = (points[binParticles[k]].xyz - p) * invH;
+                    vec3 d = (binPoints[k].xyz - p) * invH;
                     float r2 = dot(d, d);
                     if (r2 >= 1.0)
                         continue;

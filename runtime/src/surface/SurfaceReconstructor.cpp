@@ -97,8 +97,8 @@ struct Work {
     gpu::Buffer flags, slots, active, field;
     gpu::Buffer blockVerts, blockTris, vertBase, triBase, sampleVert, sampleCode;
     gpu::Buffer positions, normals, triangles;
-    gpu::Buffer bounds;                                    ///< shared::SurfaceBounds
-    gpu::Buffer binCount, binStart, binParticles, kernels; ///< anisotropic kernels only
+    gpu::Buffer bounds;                                               ///< shared::SurfaceBounds
+    gpu::Buffer binCount, binStart, binParticles, binPoints, kernels; ///< anisotropic only
     std::uint32_t activeBlocks = 0;
     std::uint32_t vertexCount = 0;
     std::uint32_t triangleCount = 0;
@@ -163,6 +163,9 @@ Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions, s
         return ok;
     if (auto ok = ensureUints(w.binParticles, count, "surface bin particles", false); !ok)
         return ok;
+    if (auto ok = ensureUints(w.binPoints, 4 * std::uint64_t(count), "surface bin points", false);
+        !ok)
+        return ok;
     if (auto ok = ensureUints(w.kernels, 16 * std::uint64_t(count), "surface kernels", false); !ok)
         return ok;
     if (auto ok = ensureScan(g.blockCount); !ok)
@@ -179,6 +182,7 @@ Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions, s
     w.binCount.bindStorage(sh::kSurfBindBinCount);
     w.binStart.bindStorage(sh::kSurfBindBinStart);
     w.binParticles.bindStorage(sh::kSurfBindBinParticles);
+    w.binPoints.bindStorage(sh::kSurfBindBinPoints);
     w.kernels.bindStorage(sh::kSurfBindKernels);
     pass(BinFill).set("uCount", count);
     pass(BinFill).dispatchChunked(groups, kMaxGroupsPerDispatch);
