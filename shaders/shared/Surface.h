@@ -34,7 +34,8 @@ SLUICE_CONST uint kSurfBindVertBase = 7;    ///< uint per stored block: first ve
 SLUICE_CONST uint kSurfBindTriBase = 8;     ///< uint per stored block: first triangle (scanned)
 SLUICE_CONST uint kSurfBindSampleVert = 9;  ///< uint per stored sample: its first vertex
 SLUICE_CONST uint kSurfBindSampleCode = 10; ///< uint per stored sample: its crossing edges
-                                            ///< (bits 0-6) and its cell's inside corners (8-15)
+                                            ///< (bits 0, 1, 3: +x, +y, +z, bit d - 1 for the
+                                            ///< corner offset d) and its cell's corners (8-15)
 SLUICE_CONST uint kSurfBindPositions = 11;  ///< float x3 per vertex: its position [m]
 SLUICE_CONST uint kSurfBindTriangles = 12;  ///< uint x3 per triangle
 SLUICE_CONST uint kSurfBindTriangleTable = 13; ///< uint x5 per cell case, then counts (CubeTable.h)
@@ -45,7 +46,7 @@ SLUICE_CONST uint kSurfBindBinCount = 16;     ///< uint per block of the grid: i
 SLUICE_CONST uint kSurfBindBinStart = 17;     ///< uint per block: exclusive scan of the counts
 SLUICE_CONST uint kSurfBindBinParticles = 18; ///< uint per particle: indices, block by block
 SLUICE_CONST uint kSurfBindKernels = 19;      ///< vec4 x4 per particle: SurfaceKernel's layout
-SLUICE_CONST uint kSurfBindBinPoints = 20;    ///< vec4 per particle: positions, block by block
+SLUICE_CONST uint kSurfBindBinPoints = 20;    ///< vec4 per particle: positions [m], by block
 /// Anisotropic kernels (Yu & Turk 2013): the largest ratio of a kernel's longest axis to its
 /// shortest (their k_r). With the sphere's volume, no axis is longer than cbrt(ratio^2)
 /// supports (a line of particles).

@@ -1,5 +1,5 @@
-// GLSL side of the surface passes: the grid's uniforms, the buffers, and the sample lookup
-// through the block map (0 outside the stored blocks).
+// GLSL side of the surface passes: the grid's uniforms, the buffers, the sample lookup through
+// the block map, and the per-block shared tile.
 #ifndef SLUICE_SHARED_SURFACE_GLSL_H
 #define SLUICE_SHARED_SURFACE_GLSL_H
 

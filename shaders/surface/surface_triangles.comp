@@ -1,7 +1,7 @@
 // Per stored block: the triangles of each cell whose lowest corner it holds (marching cubes,
 // the cell triangle table), at its block's base plus a scan over its rows, in a fixed order (one
-// invocation per row of samples). A vertex
-// is found by the edge it lies on. Each triangle faces out of the fluid (down the field).
+// invocation per row of samples). A vertex is found by the edge it lies on. Each triangle faces
+// out of the fluid (down the field).
 #version 450 core
 
 #include "shared/SurfaceGlsl.h"

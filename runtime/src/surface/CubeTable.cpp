@@ -50,6 +50,7 @@ std::vector<Face> cellFaces() {
         const std::uint32_t b = (a + 1) % 3, c = (a + 2) % 3;
         for (std::uint32_t side = 0; side < 2; ++side) {
             Face f{};
+            f.outward = glm::vec3(0.0f);
             const std::uint32_t uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
             for (int i = 0; i < 4; ++i)
                 f.cycle[i] = (side << a) | (uv[i][0] << b) | (uv[i][1] << c);
@@ -147,8 +148,9 @@ CellTriangleTable build() {
                 next.erase(e);
                 e = to;
             }
-            SLUICE_ASSERT(polygon.size() >= 3 && triangulate(polygon, triangles),
-                          "CubeTable: a polygon without a manifold split");
+            SLUICE_ASSERT(polygon.size() >= 3, "CubeTable: a polygon of under three edges");
+            const bool split = triangulate(polygon, triangles);
+            SLUICE_ASSERT(split, "CubeTable: a polygon without a manifold split");
         }
         SLUICE_ASSERT(triangles.size() <= kCellTrianglesMax, "CubeTable: too many triangles");
         for (std::size_t k = 0; k < triangles.size(); ++k)

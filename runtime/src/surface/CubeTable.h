@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace sluice::rt {
@@ -20,6 +21,8 @@ inline constexpr std::size_t kCellTrianglesMax = 5;
 /// seen from outside; an edge is its lower corner (bits 0-2) and the axis bit to its upper one
 /// (bits 3-5: 1, 2 or 4). Bit 31 marks a triangle.
 using CellTriangleTable = std::array<std::uint32_t, 256 * kCellTrianglesMax + 256>;
+
+/// The table, built on first use (CubeTable.cpp).
 const CellTriangleTable& cellTriangleTable();
 
 } // namespace sluice::rt

@@ -3,7 +3,7 @@
 
 Both reconstruct the fluid surface of the same (N, 3) float positions: Sluice with
 ``sluice.reconstruct_surface`` (docs/surfaces.md: poly6 colour field of support 4 r on a sparse
-grid of cell r, contoured over Kuhn tetrahedra at iso 0.5, on the GPU: llvmpipe here, in a
+grid of cell r, contoured by marching cubes at iso 0.5, on the GPU: llvmpipe here, in a
 headless context made for the call, which the time includes), splashsurf (pip install
 pysplashsurf) with ``reconstruction_pipeline`` at its documented settings for SPH data of the
 same particle radius r: smoothing length 2 r (support 4 r, the same as Sluice's), cube size r

@@ -131,7 +131,8 @@ void expectClosedManifold(const SurfaceMesh& mesh, long euler) {
 
 /// The mesh the cell triangle table gives over a grid of inside (true) and outside samples,
 /// on the CPU: one vertex at the middle of every crossed edge, shared by the cells round it.
-SurfaceMesh tableMesh(const std::vector<bool>& inside, int n) {
+SurfaceMesh tableMesh(const std::vector<bool>& inside, int n,
+                      std::set<std::uint32_t>* cases = nullptr) {
     const auto at = [&](glm::ivec3 s) { return bool(inside[s.x + n * (s.y + n * s.z)]); };
     const auto offset = [](std::uint32_t c) { return glm::ivec3(c & 1u, (c >> 1) & 1u, c >> 2); };
     SurfaceMesh mesh;
@@ -144,6 +145,8 @@ SurfaceMesh tableMesh(const std::vector<bool>& inside, int n) {
                 std::uint32_t mask = 0;
                 for (std::uint32_t c = 0; c < 8; ++c)
                     mask |= std::uint32_t(at(s + offset(c))) << c;
+                if (cases)
+                    cases->insert(mask);
                 std::uint32_t count = 0;
                 for (std::size_t k = 0; k < kCellTrianglesMax; ++k) {
                     const std::uint32_t t = table[mask * kCellTrianglesMax + k];
@@ -182,6 +185,7 @@ TEST(CubeTable, GivesClosedManifoldOutwardMeshesOnRandomGrids) {
     std::mt19937 random(7);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     std::size_t triangles = 0;
+    std::set<std::uint32_t> cases;
     for (int trial = 0; trial < 400; ++trial) {
         const double fill = 0.1 + 0.8 * uniform(random);
         for (int z = 0; z < n; ++z)
@@ -190,7 +194,7 @@ TEST(CubeTable, GivesClosedManifoldOutwardMeshesOnRandomGrids) {
                     const bool border = std::min({x, y, z}) == 0 || std::max({x, y, z}) == n - 1;
                     inside[x + n * (y + n * z)] = !border && uniform(random) < fill;
                 }
-        const SurfaceMesh mesh = tableMesh(inside, n);
+        const SurfaceMesh mesh = tableMesh(inside, n, &cases);
         const Topology t = topology(mesh);
         ASSERT_EQ(t.badTriangles + t.openEdges + t.repeatedEdges + t.pinchedVertices, 0u)
             << "trial " << trial << ": bad " << t.badTriangles << ", open " << t.openEdges
@@ -199,6 +203,7 @@ TEST(CubeTable, GivesClosedManifoldOutwardMeshesOnRandomGrids) {
         triangles += mesh.triangles.size();
     }
     EXPECT_GT(triangles, 40000u);
+    EXPECT_EQ(cases.size(), 256u) << "every inside pattern of a cell met";
 }
 
 SurfaceOptions defaults() {
