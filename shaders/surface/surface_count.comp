@@ -39,7 +39,7 @@ void main() {
         if (rowInGrid && origin.x + x < uSamples.x) {
             code = tileSampleCode(x, here, up, front, both);
             uint cell = code >> 8u;
-            verts += bitCount(code & 0xffu);
+            verts += bitCount(code & 0x7fu);
             tris += cell == 0u || cell == 0xffu ? 0u : cellTriangles(cell);
         }
         sampleCode[slot * kSurfaceBlockSamples + row * kSurfaceBlockSide + uint(x)] = code;
