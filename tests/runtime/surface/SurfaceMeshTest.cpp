@@ -4,20 +4,20 @@
 // the same particles give the same bytes; bad options and points are refused.
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <random>
-#include <set>
 #include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
+#include "MeshTopology.h"
 #include "sluice/rt/surface/SurfaceMesh.h"
-#include "surface/CubeTable.h"
 
 namespace sluice::rt {
 namespace {
+
+using namespace surfacetest;
 
 constexpr float kSpacing = 0.02f;
 constexpr float kRadius = 0.5f * kSpacing;
@@ -46,164 +46,6 @@ std::vector<glm::vec3> boxOfParticles(glm::vec3 lo, glm::ivec3 n) {
             for (int x = 0; x < n.x; ++x)
                 points.push_back(lo + (glm::vec3(x, y, z) + 0.5f) * kSpacing);
     return points;
-}
-
-/// The enclosed volume by the divergence theorem [m^3] (positive for outward triangles).
-double meshVolume(const SurfaceMesh& mesh) {
-    double volume = 0.0;
-    for (const glm::uvec3& t : mesh.triangles) {
-        const glm::dvec3 a(mesh.vertices[t.x]), b(mesh.vertices[t.y]), c(mesh.vertices[t.z]);
-        volume += glm::dot(a, glm::cross(b, c)) / 6.0;
-    }
-    return volume;
-}
-
-/// What makes a mesh closed and manifold: every triangle has three distinct vertices, every
-/// directed edge appears once and its reverse once (so every edge has exactly two triangles,
-/// oriented alike), every vertex is used, and the triangles around each vertex form one fan.
-struct Topology {
-    std::size_t badTriangles = 0;  ///< repeated vertex in a triangle
-    std::size_t openEdges = 0;     ///< directed edges without their reverse
-    std::size_t repeatedEdges = 0; ///< directed edges used twice (flipped or non-manifold)
-    std::size_t unusedVertices = 0;
-    std::size_t pinchedVertices = 0; ///< vertices whose triangles form more than one fan
-    long euler = 0;                  ///< V - E + F
-};
-
-Topology topology(const SurfaceMesh& mesh) {
-    Topology t;
-    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
-    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> fans(mesh.vertices.size());
-    for (const glm::uvec3& tri : mesh.triangles) {
-        if (tri.x == tri.y || tri.y == tri.z || tri.x == tri.z) {
-            ++t.badTriangles;
-            continue;
-        }
-        const std::uint32_t v[3] = {tri.x, tri.y, tri.z};
-        for (int k = 0; k < 3; ++k) {
-            ++directed[{v[k], v[(k + 1) % 3]}];
-            fans[v[k]].emplace_back(v[(k + 1) % 3], v[(k + 2) % 3]); // the opposite edge
-        }
-    }
-    std::size_t edges = 0;
-    for (const auto& [edge, count] : directed) {
-        t.repeatedEdges += count > 1;
-        const bool reverse = directed.count({edge.second, edge.first}) > 0;
-        t.openEdges += !reverse;
-        edges += reverse && edge.first < edge.second;
-    }
-    for (std::size_t v = 0; v < fans.size(); ++v) {
-        if (fans[v].empty()) {
-            ++t.unusedVertices;
-            continue;
-        }
-        // Walk the ring of opposite edges from one of them: it must close over all of them.
-        std::map<std::uint32_t, std::uint32_t> next;
-        for (const auto& [a, b] : fans[v])
-            next[a] = b;
-        std::uint32_t at = fans[v][0].first;
-        std::size_t steps = 0;
-        do {
-            const auto it = next.find(at);
-            if (it == next.end())
-                break;
-            at = it->second;
-            ++steps;
-        } while (at != fans[v][0].first && steps <= fans[v].size());
-        t.pinchedVertices += steps != fans[v].size();
-    }
-    t.euler = long(mesh.vertices.size()) - long(edges) + long(mesh.triangles.size());
-    return t;
-}
-
-void expectClosedManifold(const SurfaceMesh& mesh, long euler) {
-    const Topology t = topology(mesh);
-    EXPECT_GT(mesh.triangles.size(), 100u);
-    EXPECT_EQ(t.badTriangles, 0u);
-    EXPECT_EQ(t.openEdges, 0u);
-    EXPECT_EQ(t.repeatedEdges, 0u);
-    EXPECT_EQ(t.unusedVertices, 0u);
-    EXPECT_EQ(t.pinchedVertices, 0u);
-    EXPECT_EQ(t.euler, euler) << "V - E + F of one closed surface of genus " << (2 - euler) / 2;
-    for (const glm::vec3& n : mesh.normals)
-        ASSERT_NEAR(glm::length(n), 1.0f, 1e-4f);
-}
-
-/// The mesh the cell triangle table gives over a grid of inside (true) and outside samples,
-/// on the CPU: one vertex at the middle of every crossed edge, shared by the cells round it.
-SurfaceMesh tableMesh(const std::vector<bool>& inside, int n,
-                      std::set<std::uint32_t>* cases = nullptr) {
-    const auto at = [&](glm::ivec3 s) { return bool(inside[s.x + n * (s.y + n * s.z)]); };
-    const auto offset = [](std::uint32_t c) { return glm::ivec3(c & 1u, (c >> 1) & 1u, c >> 2); };
-    SurfaceMesh mesh;
-    std::map<std::pair<int, std::uint32_t>, std::uint32_t> vertexOf; // (sample, axis bit)
-    const CellTriangleTable& table = cellTriangleTable();
-    for (int z = 0; z + 1 < n; ++z)
-        for (int y = 0; y + 1 < n; ++y)
-            for (int x = 0; x + 1 < n; ++x) {
-                const glm::ivec3 s(x, y, z);
-                std::uint32_t mask = 0;
-                for (std::uint32_t c = 0; c < 8; ++c)
-                    mask |= std::uint32_t(at(s + offset(c))) << c;
-                if (cases)
-                    cases->insert(mask);
-                std::uint32_t count = 0;
-                for (std::size_t k = 0; k < kCellTrianglesMax; ++k) {
-                    const std::uint32_t t = table[mask * kCellTrianglesMax + k];
-                    if (t == 0)
-                        break;
-                    ++count;
-                    glm::uvec3 tri;
-                    for (int v = 0; v < 3; ++v) {
-                        const std::uint32_t edge = (t >> (6 * v)) & 63u;
-                        const glm::ivec3 lo = s + offset(edge & 7u);
-                        const std::uint32_t axis = edge >> 3;
-                        EXPECT_TRUE(axis == 1 || axis == 2 || axis == 4) << "edge " << edge;
-                        const auto [it, added] = vertexOf.try_emplace(
-                            {lo.x + n * (lo.y + n * lo.z), axis}, std::uint32_t(vertexOf.size()));
-                        if (added)
-                            mesh.vertices.push_back(glm::vec3(lo) + 0.5f * glm::vec3(offset(axis)));
-                        tri[v] = it->second;
-                    }
-                    mesh.triangles.push_back(tri);
-                }
-                EXPECT_EQ(count, table[256 * kCellTrianglesMax + mask]) << "case " << mask;
-            }
-    return mesh;
-}
-
-// Marching cubes with the faces cut by their own corners alone: on random grids, with every
-// ambiguous face and cell the fill fractions make, the mesh is closed and manifold and faces
-// out (positive volume); one inside sample gives the octahedron round it.
-TEST(CubeTable, GivesClosedManifoldOutwardMeshesOnRandomGrids) {
-    const int n = 7;
-    std::vector<bool> inside(n * n * n, false);
-    inside[3 + n * (3 + n * 3)] = true;
-    const SurfaceMesh single = tableMesh(inside, n);
-    EXPECT_EQ(single.triangles.size(), 8u);
-    EXPECT_NEAR(meshVolume(single), 1.0 / 6.0, 1e-9);
-    std::mt19937 random(7);
-    std::uniform_real_distribution<double> uniform(0.0, 1.0);
-    std::size_t triangles = 0;
-    std::set<std::uint32_t> cases;
-    for (int trial = 0; trial < 400; ++trial) {
-        const double fill = 0.1 + 0.8 * uniform(random);
-        for (int z = 0; z < n; ++z)
-            for (int y = 0; y < n; ++y)
-                for (int x = 0; x < n; ++x) {
-                    const bool border = std::min({x, y, z}) == 0 || std::max({x, y, z}) == n - 1;
-                    inside[x + n * (y + n * z)] = !border && uniform(random) < fill;
-                }
-        const SurfaceMesh mesh = tableMesh(inside, n, &cases);
-        const Topology t = topology(mesh);
-        ASSERT_EQ(t.badTriangles + t.openEdges + t.repeatedEdges + t.pinchedVertices, 0u)
-            << "trial " << trial << ": bad " << t.badTriangles << ", open " << t.openEdges
-            << ", repeated " << t.repeatedEdges << ", pinched " << t.pinchedVertices;
-        EXPECT_GT(meshVolume(mesh), 0.0) << "trial " << trial;
-        triangles += mesh.triangles.size();
-    }
-    EXPECT_GT(triangles, 40000u);
-    EXPECT_EQ(cases.size(), 256u) << "every inside pattern of a cell met";
 }
 
 SurfaceOptions defaults() {
