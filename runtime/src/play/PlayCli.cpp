@@ -40,8 +40,10 @@ pan, wheel to zoom; F1 lists the keys. --frames, --video and --screenshot-at cap
 both modes (headless through EGL into an offscreen framebuffer).
 
 Before the first step sluice-play warns on stderr about likely mistakes: fluid outside the
-domain box or in a collider, a collider far from the scene's scale, a --screenshot-at after
-the last step, options that do nothing in the chosen mode. --strict makes them errors (exit 2).
+domain box or in a collider, a collider far from the scene's scale, a body lighter or denser
+than real materials or outside the domain, a fixed odd number of solver iterations, a
+--screenshot-at after the last step, options that do nothing in the chosen mode. --strict makes
+them errors (exit 2).
 Output files and folders are checked, and their folders created, before any work starts.)";
 
 /// --size (or `defaultSize` when it is not given), --colour and --surface.

@@ -234,6 +234,26 @@ glm::dvec3 colliderWorldSize(const format::SceneCollider& collider,
     return local * double(collider.scale);
 }
 
+// A solve that always runs the same odd number of iterations leaves water at rest stirring
+// (docs/pbf.md, "The early stop's parity": 6 to 130 times the rest motion of the even counts
+// beside it). With the early stop on, the count changes from substep to substep: no warning.
+void checkIterations(const format::Scene& scene, std::vector<PlayWarning>& out) {
+    const format::SimulationParams& p = scene.simulation;
+    const bool fixed = p.targetDensityError <= 0.0f || p.minIterations >= p.maxIterations;
+    if (!fixed || p.maxIterations % 2 == 0)
+        return;
+    const std::uint32_t n = p.maxIterations;
+    out.push_back(
+        {"odd-iterations",
+         scene.path + ": simulation: every substep runs " + std::to_string(n) +
+             " solver iteration" + (n == 1 ? "" : "s") +
+             ", an odd count, which leaves water at rest stirring (docs/pbf.md, \"The "
+             "early stop's parity\"); use " +
+             (n == 1 ? std::string("2") : std::to_string(n - 1) + " or " + std::to_string(n + 1)) +
+             ", or an early stop (\"targetDensityError\" above 0 and "
+             "\"minIterations\" below \"maxIterations\")"});
+}
+
 std::vector<PlayWarning> checkScene(const format::Scene& scene,
                                     const std::vector<format::ColliderAsset>& colliders) {
     std::vector<PlayWarning> out;
@@ -243,6 +263,7 @@ std::vector<PlayWarning> checkScene(const format::Scene& scene,
     checkColliderScale(scene, colliders, out);
     checkBodyDensity(scene, colliders, out);
     checkBodyDomain(scene, colliders, out);
+    checkIterations(scene, out);
     return out;
 }
 

@@ -128,7 +128,12 @@ INSTANTIATE_TEST_SUITE_P(
         SceneMistake{"colliderInCentimetres",
                      R"({"fluid": [{"box": {"min": [60, 0, 0], "max": [60.1, 0.1, 0.1]}}],
                          "colliders": [{"asset": "{assets}/sphere.slc", "scale": 100}]})",
-                     "`sluice-bake bake --scale 0.01`"}),
+                     "`sluice-bake bake --scale 0.01`"},
+        SceneMistake{"oddFixedIterations",
+                     R"({"simulation": {"spacing": 0.05, "targetDensityError": 0,
+                         "maxIterations": 3},
+                         "fluid": [{"box": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}}]})",
+                     "every substep runs 3 solver iterations, an odd count"}),
     CaseName{});
 
 struct OptionMistake {

@@ -232,6 +232,36 @@ TEST(SceneChecks, ReportsABodyStartingOutsideOrAcrossTheDomain) {
         << outside[0].text;
 }
 
+TEST(SceneChecks, ReportsAFixedOddIterationCount) {
+    // Fixed by a zero target or by minIterations = maxIterations; odd counts only.
+    const std::string box = R"("fluid": [{"box": {"min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}}])";
+    const Checked fixed3 = check(R"({"simulation": {"targetDensityError": 0,
+        "maxIterations": 3}, )" + box +
+                                 "}");
+    const auto odd = ofKind(fixed3.warnings, "odd-iterations");
+    ASSERT_EQ(odd.size(), 1u) << all(fixed3.warnings);
+    EXPECT_NE(odd[0].text.find("checks.json: simulation: every substep runs 3 solver iterations"),
+              std::string::npos)
+        << odd[0].text;
+    EXPECT_NE(odd[0].text.find("use 2 or 4"), std::string::npos) << odd[0].text;
+    const Checked pinned5 =
+        check(R"({"simulation": {"minIterations": 5, "maxIterations": 5}, )" + box + "}");
+    EXPECT_EQ(ofKind(pinned5.warnings, "odd-iterations").size(), 1u) << all(pinned5.warnings);
+    const Checked one =
+        check(R"({"simulation": {"minIterations": 1, "maxIterations": 1}, )" + box + "}");
+    ASSERT_EQ(ofKind(one.warnings, "odd-iterations").size(), 1u) << all(one.warnings);
+    EXPECT_NE(one.warnings[0].text.find("1 solver iteration, an odd count"), std::string::npos)
+        << one.warnings[0].text;
+    EXPECT_NE(one.warnings[0].text.find("use 2,"), std::string::npos) << one.warnings[0].text;
+    for (const char* quiet :
+         {R"("targetDensityError": 0, "maxIterations": 4)", R"("maxIterations": 7)",
+          R"("minIterations": 3, "maxIterations": 9)"}) {
+        const Checked c = check(std::string(R"({"simulation": {)") + quiet + "}, " + box + "}");
+        EXPECT_TRUE(ofKind(c.warnings, "odd-iterations").empty()) << quiet << "\n"
+                                                                  << all(c.warnings);
+    }
+}
+
 TEST(SceneChecks, WarningLinesEndWithTheirKind) {
     EXPECT_EQ(warningLine({"outside-domain", "a.json: fluid[0]: text"}),
               "sluice-play: warning: a.json: fluid[0]: text [outside-domain]");
