@@ -235,9 +235,9 @@ TEST(SceneChecks, ReportsABodyStartingOutsideOrAcrossTheDomain) {
 TEST(SceneChecks, ReportsAFixedOddIterationCount) {
     // Fixed by a zero target or by minIterations = maxIterations; odd counts only.
     const std::string box = R"("fluid": [{"box": {"min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}}])";
-    const Checked fixed3 = check(R"({"simulation": {"targetDensityError": 0,
-        "maxIterations": 3}, )" + box +
-                                 "}");
+    const std::string fixed3Json =
+        R"({"simulation": {"targetDensityError": 0, "maxIterations": 3}, )" + box + "}";
+    const Checked fixed3 = check(fixed3Json);
     const auto odd = ofKind(fixed3.warnings, "odd-iterations");
     ASSERT_EQ(odd.size(), 1u) << all(fixed3.warnings);
     EXPECT_NE(odd[0].text.find("checks.json: simulation: every substep runs 3 solver iterations"),
