@@ -303,6 +303,10 @@ void Program::set(std::string_view name, const glm::mat4& value) const {
     if (GLint loc = location(name); loc >= 0)
         glProgramUniformMatrix4fv(m_id, loc, 1, GL_FALSE, &value[0][0]);
 }
+void Program::set(std::string_view name, std::span<const float> values) const {
+    if (GLint loc = location(name); loc >= 0)
+        glProgramUniform1fv(m_id, loc, GLsizei(values.size()), values.data());
+}
 
 void Program::use() const {
     glUseProgram(m_id);

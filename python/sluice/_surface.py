@@ -73,7 +73,8 @@ def _mesher() -> "_sluice.SurfaceMesher":
 def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optional[float] = None,
                         iso: Optional[float] = None, smoothing_radius: Optional[float] = None,
                         anisotropic: bool = False,
-                        centre_smoothing: Optional[float] = None) -> SurfaceMesh:
+                        centre_smoothing: Optional[float] = None,
+                        kernel: str = "gaussian") -> SurfaceMesh:
     """The fluid surface of (N, 3) particle positions, reconstructed on the GPU in a headless
     context of this thread's own, kept for the next call (docs/surfaces.md): an SPH colour field of the particles (poly6 over
     ``smoothing_radius``, default 4 particle radii) sampled on a sparse grid of ``cell_size``
@@ -83,14 +84,20 @@ def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optio
     --surface-mesh``, bit for bit. ``anisotropic=True`` gives each particle a kernel shaped by
     its neighbours (after Yu & Turk 2013: flat across surfaces and thin sheets, which then stay
     whole), as ``--surface-anisotropic``; its centre moves ``centre_smoothing`` (in [0, 1],
-    default 0.25) of the way to its neighbours' mean."""
+    default 0.25) of the way to its neighbours' mean. ``kernel`` is the isotropic kernel's shape,
+    as ``--surface-kernel``: ``"gaussian"`` (default: a Gaussian as wide as poly6, deposited and
+    blurred) or ``"poly6"`` (splatted particle by particle, slower on a software renderer)."""
     p = np.asarray(points)
     if p.ndim != 2 or p.shape[1] != 3:
         raise InvalidArgument(f"reconstruct_surface: points must have shape (N, 3), not "
                               f"{p.shape} [InvalidArgument]", "InvalidArgument")
+    if kernel not in ("gaussian", "poly6"):
+        raise InvalidArgument(f"reconstruct_surface: kernel must be 'gaussian' or 'poly6', not "
+                              f"{kernel!r} [InvalidArgument]", "InvalidArgument")
     p = np.ascontiguousarray(p, dtype=np.float32)
     v, n, t, timings = _mesher().reconstruct(p, float(particle_radius), float(cell_size or 0.0),
                                     float(smoothing_radius or 0.0), float(iso or 0.0),
                                     bool(anisotropic),
-                                    None if centre_smoothing is None else float(centre_smoothing))
+                                    None if centre_smoothing is None else float(centre_smoothing),
+                                    kernel == "poly6")
     return SurfaceMesh(v, n, t, timings)

@@ -63,7 +63,7 @@ struct PyMesher {
 
     nb::tuple reconstruct(Points points, float particleRadius, float cellSize,
                           float smoothingRadius, float iso, bool anisotropic,
-                          std::optional<float> centreSmoothing) {
+                          std::optional<float> centreSmoothing, bool poly6) {
         rt::SurfaceOptions options;
         options.particleRadius = particleRadius;
         options.cellSize = cellSize;
@@ -71,6 +71,7 @@ struct PyMesher {
         options.iso = iso;
         options.anisotropic = anisotropic;
         options.centreSmoothing = centreSmoothing;
+        options.kernel = poly6 ? rt::SurfaceFieldKernel::Poly6 : rt::SurfaceFieldKernel::Gaussian;
         std::vector<glm::vec3> copy(points.shape(0));
         if (!copy.empty())
             std::memcpy(copy.data(), points.data(), copy.size() * sizeof(glm::vec3));
@@ -99,7 +100,7 @@ void bindSurface(nb::module_& m) {
         .def(nb::init<>())
         .def("reconstruct", &PyMesher::reconstruct, nb::arg("points"), nb::arg("particle_radius"),
              nb::arg("cell_size"), nb::arg("smoothing_radius"), nb::arg("iso"),
-             nb::arg("anisotropic"), nb::arg("centre_smoothing").none(),
+             nb::arg("anisotropic"), nb::arg("centre_smoothing").none(), nb::arg("poly6"),
              "The fluid surface of (N, 3) float32 points on the GPU: (vertices (V, 3) float32, "
              "normals (V, 3) float32, triangles (T, 3) uint32, stage times {name: ms}); zeros "
              "and None take the defaults.");

@@ -47,6 +47,14 @@ SLUICE_CONST uint kSurfBindBinStart = 17;     ///< uint per block: exclusive sca
 SLUICE_CONST uint kSurfBindBinParticles = 18; ///< uint per particle: indices, block by block
 SLUICE_CONST uint kSurfBindKernels = 19;      ///< vec4 x4 per particle: SurfaceKernel's layout
 SLUICE_CONST uint kSurfBindBinPoints = 20;    ///< vec4 per particle: positions [m], by block
+// The Gaussian field only (surface_deposit.comp, surface_blur.comp):
+SLUICE_CONST uint kSurfBindBlurIn = 21;  ///< uint per stored sample: what a blur pass reads
+SLUICE_CONST uint kSurfBindBlurOut = 22; ///< uint per stored sample: what it writes
+/// Fixed-point scale of the deposit (surface_deposit.comp): a particle's trilinear weights, which
+/// sum to 1, add up to this much, so a sample holds up to 4096 particles' whole weight.
+SLUICE_CONST float kSurfaceDepositScale = 1048576.0;
+/// The blur's reach along each axis, in cells, at most: taps -R .. R, R <= this.
+SLUICE_CONST uint kSurfaceBlurRadiusMax = 8;
 /// Anisotropic kernels (Yu & Turk 2013): the largest ratio of a kernel's longest axis to its
 /// shortest (their k_r). With the sphere's volume, no axis is longer than cbrt(ratio^2)
 /// supports (a line of particles).

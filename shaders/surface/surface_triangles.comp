@@ -1,7 +1,8 @@
 // Per stored block: the triangles of each cell whose lowest corner it holds (marching cubes,
-// the cell triangle table), at its block's base plus a scan over its rows, in a fixed order (one
-// invocation per row of samples). A vertex is found by the edge it lies on. Each triangle faces
-// out of the fluid (down the field).
+// the cell triangle table), at its block's base plus a scan over its rows, in a fixed order.
+// One invocation per row of samples counts and numbers the cells; then the cells with
+// triangles, listed in shared memory, are shared out one per invocation. A vertex is found by
+// the edge it lies on. Each triangle faces out of the fluid (down the field).
 #version 450 core
 
 #include "shared/SurfaceGlsl.h"
@@ -31,27 +32,28 @@ uint edgeVertex(ivec3 s, uint a, uint b) {
     return sampleVert[owner] + bitCount(edges & ((1u << (d - 1u)) - 1u));
 }
 
-uint written = 0u;
-
 // The vertex on an edge as the table codes it: lower corner (bits 0-2), offset (bits 3-5).
 uint codedVertex(ivec3 s, uint edge) {
     uint lo = edge & 7u;
     return edgeVertex(s, lo, lo | (edge >> 3u));
 }
 
-// The triangles of the cell at s (lowest corner) whose inside corners are `inside`, from the
-// cell triangle table (runtime/src/surface/CubeTable.h: each triangle facing out of the
-// fluid).
-void emitCell(uint base, ivec3 s, uint inside) {
+// The cells with triangles, in sample order: the lowest corner's index in the block (bits 0-8),
+// the cell's inside corners (bits 9-16) and its first triangle in the block (from 17).
+shared uint cells[kSurfaceBlockSamples];
+
+// The triangles of the cell at s (lowest corner, gLocal in the block) whose inside corners are
+// `inside`, from triangle `first` on, from the cell triangle table
+// (runtime/src/surface/CubeTable.h: each triangle facing out of the fluid).
+void emitCell(uint first, ivec3 s, uint inside) {
     for (uint k = 0u; k < kSurfaceCellTrianglesMax; ++k) {
         uint t = triangleTable[inside * kSurfaceCellTrianglesMax + k];
         if (t == 0u)
             return;
-        uint at = 3u * (base + written);
+        uint at = 3u * (first + k);
         triangles[at] = codedVertex(s, t & 63u);
         triangles[at + 1u] = codedVertex(s, (t >> 6u) & 63u);
         triangles[at + 2u] = codedVertex(s, (t >> 12u) & 63u);
-        ++written;
     }
 }
 
@@ -62,18 +64,34 @@ void main() {
         return;
     ivec3 origin = blockCoord(activeBlock[slot]) * int(kSurfaceBlockSide);
     uint first = slot * kSurfaceBlockSamples + row * kSurfaceBlockSide;
+    // The row's cells with triangles (low 16 bits) and their triangles (high 16 bits),
+    // numbered over the rows in one scan: at most 512 and 2560 a block. Then the cells are
+    // shared out one per invocation (a row has few of them).
+    uint listed = 0u;
     uint mine = 0u;
-    for (uint x = 0u; x < kSurfaceBlockSide; ++x)
-        mine += cellTriangles(sampleCode[first + x] >> 8u);
+    for (uint x = 0u; x < kSurfaceBlockSide; ++x) {
+        uint n = cellTriangles(sampleCode[first + x] >> 8u);
+        listed += n != 0u ? 1u : 0u;
+        mine += n;
+    }
     uint total;
-    uint base = triBase[slot] + rowExclusiveScan(row, mine, total);
-    gSlot = slot;
+    uint before = rowExclusiveScan(row, listed | (mine << 16u), total);
+    uint cell = before & 0xffffu;
+    uint triangle = before >> 16u;
     for (uint x = 0u; x < kSurfaceBlockSide; ++x) {
         uint inside = sampleCode[first + x] >> 8u;
-        if (inside == 0u || inside == 0xffu)
+        uint n = cellTriangles(inside);
+        if (n == 0u)
             continue;
-        gLocal = laneCoord(row * kSurfaceBlockSide + x);
-        ivec3 s = origin + gLocal;
-        emitCell(base, s, inside);
+        cells[cell++] = (row * kSurfaceBlockSide + x) | (inside << 9u) | (triangle << 17u);
+        triangle += n;
+    }
+    barrier();
+    gSlot = slot;
+    uint base = triBase[slot];
+    for (uint i = row; i < (total & 0xffffu); i += kSurfaceBlockRows) {
+        uint entry = cells[i];
+        gLocal = laneCoord(entry & 511u);
+        emitCell(base + (entry >> 17u), origin + gLocal, (entry >> 9u) & 255u);
     }
 }

@@ -17,11 +17,11 @@
 #include <gtest/gtest.h>
 
 #include "ProgramRun.h"
-#include "support/TempDir.h"
 #include "sluice/bake/BakeShaders.h"
 #include "sluice/gpu/GpuShaders.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
+#include "support/TempDir.h"
 
 namespace sluice::gpu {
 namespace {
@@ -64,10 +64,9 @@ const ShaderDefine kSparseBake{"SDF_SPARSE", "1"};
 const ShaderDefine kPointsBake{"SDF_POINTS", "1"};
 
 /// Every program the libraries build, with the define combinations their code uses:
-/// SelfTest.cpp, Simulation.cpp, VolumeMaps.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp, FluidStatsProbe.cpp,
-/// Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp, ColliderPass.cpp, SurfaceReconstructor.cpp
-/// and GpuBaker.cpp
-/// (compilePrograms).
+/// SelfTest.cpp, Simulation.cpp, VolumeMaps.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp,
+/// FluidStatsProbe.cpp, Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp, ColliderPass.cpp,
+/// SurfaceReconstructor.cpp and GpuBaker.cpp (compilePrograms).
 std::vector<ProgramCase> allPrograms() {
     return {
         compute("GpuSelfTest", gpuSource, "gpu_selftest.comp"),
@@ -115,7 +114,8 @@ std::vector<ProgramCase> allPrograms() {
         graphics("RenderSplatFluidThickness", "render_fullscreen.vert", "render_splat_fluid.frag",
                  {{"SLUICE_THICKNESS", "1"}}),
         graphics("RenderParticlesFluidDepthListed", "render_particles.vert",
-                 "render_particles.frag", {{"SLUICE_FLUID_DEPTH", "1"}, {"SLUICE_PARTICLE_LIST", "1"}}),
+                 "render_particles.frag",
+                 {{"SLUICE_FLUID_DEPTH", "1"}, {"SLUICE_PARTICLE_LIST", "1"}}),
         graphics("RenderParticlesThicknessListed", "render_particles.vert", "render_particles.frag",
                  {{"SLUICE_THICKNESS", "1"}, {"SLUICE_PARTICLE_LIST", "1"}}),
         graphics("RenderBackdrop", "render_fullscreen.vert", "render_backdrop.frag"),
@@ -125,6 +125,8 @@ std::vector<ProgramCase> allPrograms() {
         compute("SurfaceMark", runtimeSource, "surface_mark.comp"),
         compute("SurfaceCompact", runtimeSource, "surface_compact.comp"),
         compute("SurfaceSplat", runtimeSource, "surface_splat.comp"),
+        compute("SurfaceDeposit", runtimeSource, "surface_deposit.comp"),
+        compute("SurfaceBlur", runtimeSource, "surface_blur.comp"),
         compute("SurfaceBinCount", runtimeSource, "surface_bin_count.comp"),
         compute("SurfaceBinFill", runtimeSource, "surface_bin_fill.comp"),
         compute("SurfaceAnisotropy", runtimeSource, "surface_anisotropy.comp"),

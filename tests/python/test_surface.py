@@ -90,21 +90,31 @@ def read_ply(path: Path):
     return out
 
 
-@pytest.mark.parametrize("anisotropic", [False, True])
-def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, anisotropic: bool) -> None:
+@pytest.mark.parametrize("kernel, anisotropic",
+                         [("gaussian", False), ("poly6", False), ("gaussian", True)])
+def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, kernel: str,
+                                                        anisotropic: bool) -> None:
     scene = Path(__file__).resolve().parents[2] / "assets" / "martin-moyce.json"
     run_tool("sluice-play", scene, "--headless", "--steps", 2, "--deterministic", "--quiet",
              "--dump-ply", tmp_path / "ply", "--dump-every", 2, "--surface-mesh",
              tmp_path / "mesh", "--surface-every", 2,
-             *(["--surface-anisotropic"] if anisotropic else []))
+             "--surface-kernel", kernel, *(["--surface-anisotropic"] if anisotropic else []))
     particles = read_ply(tmp_path / "ply" / "frame_000002.ply")["vertex"]
     points = np.stack([particles["x"], particles["y"], particles["z"]], -1)
     cli = read_ply(tmp_path / "mesh" / "surface_000002.ply")
-    mesh = sluice.reconstruct_surface(points, RADIUS, anisotropic=anisotropic)
+    mesh = sluice.reconstruct_surface(points, RADIUS, anisotropic=anisotropic, kernel=kernel)
     assert set(mesh.timings) == {"bounds", "kernels", "blocks", "field", "contour", "download"}
     assert (mesh.timings["kernels"] > 0.0) == anisotropic
+    # The isotropic kernels differ from each other and from the anisotropic ones.
+    if not anisotropic:
+        shape = sluice.reconstruct_surface(points, RADIUS, kernel="poly6" if kernel == "gaussian"
+                                           else "gaussian")
+        assert shape.vertices.shape != mesh.vertices.shape or not np.array_equal(
+            shape.vertices, mesh.vertices)
+        assert shape.volume == pytest.approx(mesh.volume, rel=0.05)
     # The two kernels give two different meshes.
-    other = sluice.reconstruct_surface(points, RADIUS, anisotropic=not anisotropic)
+    other = sluice.reconstruct_surface(points, RADIUS, anisotropic=not anisotropic,
+                                       kernel=kernel)
     assert other.vertices.shape != mesh.vertices.shape or not np.array_equal(other.vertices,
                                                                              mesh.vertices)
     cli_vertices = np.stack([cli["vertex"][k] for k in ("x", "y", "z")], -1)
@@ -115,7 +125,7 @@ def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, anisotro
     # And the live simulation's own surface, after the same steps.
     sim = sluice.Simulation(scene, deterministic=True)
     sim.step(2, progress=False)
-    live = sim.surface_mesh(anisotropic=anisotropic)
+    live = sim.surface_mesh(anisotropic=anisotropic, kernel=kernel)
     assert np.array_equal(live.triangles, mesh.triangles)
     assert np.array_equal(live.vertices, mesh.vertices)
     # save_ply writes what sluice-play writes, header comment aside.
@@ -132,6 +142,7 @@ def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, anisotro
     (np.zeros((4, 3)), RADIUS, {"cell_size": -1.0}, "cell size"),
     (np.zeros((4, 3)), RADIUS, {"anisotropic": True, "centre_smoothing": 1.5}, "centre smoothing"),
     (np.zeros((4, 3)), RADIUS, {"anisotropic": True, "centre_smoothing": -0.1}, "centre smoothing"),
+    (np.zeros((4, 3)), RADIUS, {"kernel": "cubic"}, "kernel must be 'gaussian' or 'poly6'"),
 ])
 def test_bad_input_raises_invalid_argument(points, radius, kw, text) -> None:
     with pytest.raises(sluice.InvalidArgument, match=text):

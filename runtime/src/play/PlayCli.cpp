@@ -184,6 +184,8 @@ int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene 
     headless.surfaceCell = o.surfaceCell;
     headless.surfaceIso = o.surfaceIso;
     headless.surfaceAnisotropic = o.surfaceAnisotropic;
+    headless.surfaceKernel =
+        o.surfaceKernel == "poly6" ? SurfaceFieldKernel::Poly6 : SurfaceFieldKernel::Gaussian;
     headless.dumpEvery = o.dumpEvery;
     headless.deterministic = o.deterministic;
     headless.neighbourLanes = o.neighbourLanes;
@@ -258,6 +260,11 @@ void addRunOptions(CLI::App& app, PlayOptions& o) {
     app.add_option("--surface-iso", o.surfaceIso,
                    "Surface mesh: iso value, a share of the field inside the fluid (default 0.5)")
         ->check(format::cli::numberIn(0.01, 3.99));
+    app.add_option("--surface-kernel", o.surfaceKernel,
+                   "Surface mesh: the kernel round each particle, gaussian (default: as wide as "
+                   "poly6, deposited and blurred; several times faster on a software renderer) "
+                   "or poly6 (splatted particle by particle); anisotropic kernels are poly6")
+        ->check(CLI::IsMember({"gaussian", "poly6"}));
     app.add_flag("--surface-anisotropic", o.surfaceAnisotropic,
                  "Surface meshes, exported and drawn (--surface mesh): anisotropic kernels, "
                  "flat across surfaces and thin sheets (docs/surfaces.md)");

@@ -140,6 +140,7 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     options.cellSize = o.surfaceCell;
     options.iso = o.surfaceIso;
     options.anisotropic = o.surfaceAnisotropic;
+    options.kernel = o.surfaceKernel;
     const auto start = std::chrono::steady_clock::now();
     auto mesh =
         run.surfaces->reconstruct(run.sim.positionBuffer(), run.sim.particleCount(), options);

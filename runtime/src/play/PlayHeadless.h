@@ -12,6 +12,7 @@
 #include "sluice/format/asset/ColliderAsset.h"
 #include "sluice/format/scene/Scene.h"
 #include "sluice/rt/render/Renderer.h"
+#include "sluice/rt/surface/SurfaceMesh.h"
 
 namespace sluice::rt {
 
@@ -27,6 +28,8 @@ struct HeadlessOptions {
     float surfaceCell = 0.0f;       ///< SurfaceOptions::cellSize, 0: the default
     float surfaceIso = 0.0f;        ///< SurfaceOptions::iso, 0: the default
     bool surfaceAnisotropic = false; ///< SurfaceOptions::anisotropic
+    /// SurfaceOptions::kernel
+    SurfaceFieldKernel surfaceKernel = SurfaceFieldKernel::Gaussian;
     std::uint64_t dumpEvery = 1;    ///< a PLY file every K steps
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes

@@ -1,6 +1,7 @@
 // The surface's sample grid and the options' defaults (SurfaceGrid.h).
 #include "surface/SurfaceGrid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -47,6 +48,43 @@ Result<SurfaceGrid> gridOver(glm::vec3 lo, glm::vec3 hi, const SurfaceOptions& o
     g.blocks = glm::ivec3(blocks);
     g.blockCount = std::uint64_t(blockCount);
     return g;
+}
+
+void setGridUniforms(const gpu::Program& p, const SurfaceGrid& g, const SurfaceOptions& o) {
+    const float volume = 8.0f * o.particleRadius * o.particleRadius * o.particleRadius;
+    const auto iso = std::uint32_t(std::floor(double(o.iso) * sh::kSurfaceFixedScale));
+    p.set("uOrigin", g.origin);
+    p.set("uCell", o.cellSize);
+    p.set("uSamples", g.samples);
+    p.set("uBlocks", g.blocks);
+    p.set("uSupport", o.smoothingRadius);
+    p.set("uVolume", volume);
+    p.set("uIsoFixed", iso);
+    p.set("uAnisotropic", std::int32_t(o.anisotropic ? 1 : 0));
+}
+
+std::optional<SurfaceBlur> gaussianBlur(const SurfaceOptions& o) {
+    if (o.anisotropic || o.kernel != SurfaceFieldKernel::Gaussian)
+        return std::nullopt;
+    const double supportInCells = double(o.smoothingRadius) / double(o.cellSize);
+    const double variance = supportInCells * supportInCells / 11.0 - 1.0 / 6.0; // [cells^2]
+    const double sigma = std::sqrt(std::max(variance, 0.0));
+    // 3.5 sigma each way leaves 5e-4 of the weight out, before the taps are normalised.
+    constexpr double kTailSigmas = 3.5;
+    const int radius = int(std::ceil(kTailSigmas * sigma));
+    if (sigma < 0.5 || 3.0 * sigma > double(sh::kSurfaceBlurRadiusMax))
+        return std::nullopt;
+    SurfaceBlur blur;
+    blur.radius = std::min(radius, int(sh::kSurfaceBlurRadiusMax));
+    double sum = 0.0;
+    std::array<double, sh::kSurfaceBlurRadiusMax + 1> w{};
+    for (int k = 0; k <= blur.radius; ++k) {
+        w[std::size_t(k)] = std::exp(-0.5 * double(k * k) / variance);
+        sum += (k == 0 ? 1.0 : 2.0) * w[std::size_t(k)];
+    }
+    for (int k = 0; k <= blur.radius; ++k)
+        blur.weights[std::size_t(k)] = float(w[std::size_t(k)] / sum);
+    return blur;
 }
 
 Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {

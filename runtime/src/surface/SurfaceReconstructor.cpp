@@ -17,14 +17,15 @@
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "surface/CubeTable.h"
+#include "surface/SurfaceBlur.h"
+#include "surface/SurfaceGpu.h"
 #include "surface/SurfaceGrid.h"
 
 namespace sluice::rt {
 namespace {
 
 namespace sh = shared;
-
-constexpr std::uint64_t kMaxGroupsPerDispatch = 65535;
+using namespace surface;
 
 enum Pass : std::size_t {
     Bounds,
@@ -34,6 +35,7 @@ enum Pass : std::size_t {
     Mark,
     Compact,
     Splat,
+    Deposit,
     Count,
     Vertices,
     Triangles,
@@ -42,36 +44,8 @@ enum Pass : std::size_t {
 constexpr std::array<const char*, PassCount> kPassFiles = {
     "surface_bounds.comp",     "surface_bin_count.comp", "surface_bin_fill.comp",
     "surface_anisotropy.comp", "surface_mark.comp",      "surface_compact.comp",
-    "surface_splat.comp",      "surface_count.comp",     "surface_vertices.comp",
-    "surface_triangles.comp"};
-
-/// Makes `buffer` hold at least `bytes`, reusing it when it does (a reconstruction a frame
-/// allocates nothing once the sizes settle; a new one gets a quarter more room), and zeroes its
-/// first `bytes` when `zeroed`.
-Result<void> ensureBytes(gpu::Buffer& buffer, std::uint64_t bytes, const char* label, bool zeroed) {
-    bytes = std::max<std::uint64_t>(bytes, 4);
-    if (buffer.size() < bytes) {
-        buffer = {};
-        auto created = gpu::Buffer::create(bytes + bytes / 4 / 4 * 4, label);
-        if (!created)
-            return created.error();
-        buffer = std::move(*created);
-    }
-    if (zeroed)
-        buffer.clear(0, bytes);
-    return {};
-}
-
-/// ensureBytes for `count` uints, zeroed unless a pass writes every one of them; SizeOverflow
-/// past what a buffer may hold.
-Result<void> ensureUints(gpu::Buffer& buffer, std::uint64_t count, const char* label,
-                         bool zeroed = true) {
-    if (count > std::numeric_limits<std::uint32_t>::max() / 4)
-        return fail(ErrorCode::SizeOverflow, std::string("surface: ") + label + " would hold " +
-                                                 std::to_string(count) +
-                                                 " entries, past the 2^30 a buffer may");
-    return ensureBytes(buffer, count * 4, label, zeroed);
-}
+    "surface_splat.comp",      "surface_deposit.comp",   "surface_count.comp",
+    "surface_vertices.comp",   "surface_triangles.comp"};
 
 std::uint32_t readUint(const gpu::Buffer& buffer, std::uint64_t index) {
     std::uint32_t value = 0;
@@ -83,10 +57,6 @@ using Clock = std::chrono::steady_clock;
 
 double millisecondsSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-void barrier() {
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 } // namespace
@@ -112,6 +82,8 @@ struct SurfaceReconstructor::Impl {
     std::uint32_t scanCapacity = 0;
     Work work;
 
+    GaussianBlurPasses blurPasses;
+
     const gpu::Program& pass(Pass p) const { return passes[p]; }
 
     Result<void> ensureScan(std::uint64_t count) {
@@ -126,25 +98,15 @@ struct SurfaceReconstructor::Impl {
     }
 
     void setGrid(const SurfaceGrid& g, const SurfaceOptions& o) const {
-        const float volume = 8.0f * o.particleRadius * o.particleRadius * o.particleRadius;
-        const auto iso = std::uint32_t(std::floor(double(o.iso) * sh::kSurfaceFixedScale));
-        for (const gpu::Program& p : passes) {
-            p.set("uOrigin", g.origin);
-            p.set("uCell", o.cellSize);
-            p.set("uSamples", g.samples);
-            p.set("uBlocks", g.blocks);
-            p.set("uSupport", o.smoothingRadius);
-            p.set("uVolume", volume);
-            p.set("uIsoFixed", iso);
-            p.set("uAnisotropic", std::int32_t(o.anisotropic ? 1 : 0));
-        }
+        for (const gpu::Program& p : passes)
+            setGridUniforms(p, g, o);
         pass(Anisotropy).set("uCentreSmoothing", o.centreSmoothing.value_or(0.0f));
     }
 
     Result<void> kernels(const gpu::Buffer& positions, std::uint32_t count, const SurfaceGrid& g,
                          Work& work);
     Result<void> field(const gpu::Buffer& positions, std::uint32_t count, const SurfaceGrid& g,
-                       bool anisotropic, Work& work);
+                       const SurfaceOptions& o, Work& work);
     Result<void> contour(Work& work);
     Result<std::pair<glm::vec3, glm::vec3>> bounds(const gpu::Buffer& positions,
                                                    std::uint32_t count);
@@ -196,10 +158,12 @@ Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions, s
     return {};
 }
 
-/// Marks the blocks, numbers them, and splats the particles into the field (their kernels
-/// from `kernels` when anisotropic).
+/// Marks the blocks, numbers them, and makes the field: the Gaussian's deposit and blur, or
+/// every particle's poly6 splatted (its kernel from `kernels` when anisotropic).
 Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std::uint32_t count,
-                                               const SurfaceGrid& g, bool anisotropic, Work& w) {
+                                               const SurfaceGrid& g, const SurfaceOptions& o,
+                                               Work& w) {
+    const bool anisotropic = o.anisotropic;
     if (anisotropic) {
         if (auto ok = kernels(positions, count, g, w); !ok)
             return ok;
@@ -240,9 +204,15 @@ Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std
         kMaxGroupsPerDispatch);
     positions.bindStorage(sh::kSurfBindPoints);
     (anisotropic ? w.kernels : positions).bindStorage(sh::kSurfBindKernels);
-    pass(Splat).set("uCount", count);
-    pass(Splat).dispatchChunked(glm::uvec3(particleGroups, 1, 1), kMaxGroupsPerDispatch);
+    const std::optional<SurfaceBlur> gaussian = gaussianBlur(o);
+    const Pass first = gaussian ? Deposit : Splat;
+    pass(first).set("uCount", count);
+    pass(first).dispatchChunked(glm::uvec3(particleGroups, 1, 1), kMaxGroupsPerDispatch);
     barrier();
+    if (gaussian) {
+        if (auto ok = blurPasses.run(*gaussian, g, o, w.field, w.activeBlocks); !ok)
+            return ok;
+    }
     glFinish(); // so that the splat's time is its own, not the contour's
     w.timings.field = millisecondsSince(start);
     return {};
@@ -346,6 +316,13 @@ Result<SurfaceReconstructor> SurfaceReconstructor::create() {
     if (!table)
         return table.error();
     impl->triangleTable = std::move(*table);
+    // The blur of the default options, so that a first reconstruction does not compile it.
+    SurfaceOptions defaults;
+    defaults.particleRadius = 1.0f;
+    if (auto resolved = resolveSurfaceOptions(defaults))
+        if (auto blur = gaussianBlur(*resolved))
+            if (auto ok = impl->blurPasses.prepare(blur->radius); !ok)
+                return ok.error();
     return SurfaceReconstructor(std::move(impl));
 }
 
@@ -405,7 +382,7 @@ Result<SurfaceGpuMesh> SurfaceReconstructor::build(const gpu::Buffer& positions,
     work.activeBlocks = work.vertexCount = work.triangleCount = 0;
     work.timings = {};
     work.timings.bounds = millisecondsSince(start);
-    if (auto ok = m_impl->field(positions, count, *grid, o->anisotropic, work); !ok)
+    if (auto ok = m_impl->field(positions, count, *grid, *o, work); !ok)
         return ok.error();
     SurfaceGpuMesh mesh{.gridOrigin = grid->origin,
                         .cellSize = o->cellSize,

@@ -2,9 +2,10 @@
 """Sluice's GPU surface meshes against splashsurf's, on the same particles in the same process.
 
 Both reconstruct the fluid surface of the same (N, 3) float positions: Sluice with
-``sluice.reconstruct_surface`` (docs/surfaces.md: poly6 colour field of support 4 r on a sparse
-grid of cell r, contoured by marching cubes at iso 0.5, on the GPU: llvmpipe here, in a
-headless context made for the call, which the time includes), splashsurf (pip install
+``sluice.reconstruct_surface`` (docs/surfaces.md: a colour field as wide as poly6 of support 4 r,
+Gaussian by default, ``--kernel poly6`` for poly6 itself, on a sparse grid of cell r, contoured
+by marching cubes at iso 0.5, on the GPU: llvmpipe here, in a headless context kept from the
+first call), splashsurf (pip install
 pysplashsurf) with ``reconstruction_pipeline`` at its documented settings for SPH data of the
 same particle radius r: smoothing length 2 r (support 4 r, the same as Sluice's), cube size r
 (the same as Sluice's cell), its default iso threshold 0.6 of its density-normalised colour
@@ -63,7 +64,7 @@ def particle_sets(build):
             ("jittered block 64x64x32", jittered)]
 
 
-OPTIONS = {"anisotropic": False}  # --anisotropic sets it
+OPTIONS = {"anisotropic": False, "kernel": "gaussian"}  # --anisotropic, --kernel set them
 
 
 def sluice_mesh(points):
@@ -190,8 +191,11 @@ def main():
     ap.add_argument("--json", default="")
     ap.add_argument("--anisotropic", action="store_true",
                     help="Sluice with anisotropic kernels (default centre smoothing)")
+    ap.add_argument("--kernel", choices=("gaussian", "poly6"), default="gaussian",
+                    help="Sluice's isotropic kernel (docs/surfaces.md, 'The field')")
     args = ap.parse_args()
     OPTIONS["anisotropic"] = args.anisotropic
+    OPTIONS["kernel"] = args.kernel
     import sluice
     import pysplashsurf  # noqa: F401
     load = os.getloadavg()

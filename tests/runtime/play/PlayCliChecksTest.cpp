@@ -194,6 +194,9 @@ INSTANTIATE_TEST_SUITE_P(
         OptionMistake{"surfaceEveryWithoutSurfaceMesh",
                       {"--headless", "--steps", "1", "--surface-every", "2"},
                       "--surface-every does nothing without --surface-mesh [unused-option]"},
+        OptionMistake{"surfaceKernelWithoutSurfaceMesh",
+                      {"--headless", "--steps", "1", "--surface-kernel", "poly6"},
+                      "--surface-kernel does nothing without --surface-mesh [unused-option]"},
         OptionMistake{"surfaceAnisotropicWithoutSurfaceMesh",
                       {"--headless", "--steps", "1", "--surface-anisotropic"},
                       "--surface-anisotropic does nothing without --surface-mesh or --surface "
@@ -317,6 +320,13 @@ TEST(SluicePlaySurface, WritesOneClosedMeshPerRequestedStep) {
     EXPECT_NE(refused.err.find("--surface-cell 0.5"), std::string::npos) << refused.err;
     EXPECT_NE(refused.err.find("larger than the smoothing radius"), std::string::npos)
         << refused.err;
+    EXPECT_FALSE(fs::exists(bad));
+    // A kernel that is not gaussian or poly6: exit 2 naming the option, nothing written.
+    const auto unknown =
+        play(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "1",
+                   "--surface-mesh", bad.string(), "--surface-kernel", "cubic"});
+    EXPECT_EQ(unknown.code, 2) << shown(unknown);
+    EXPECT_NE(unknown.err.find("--surface-kernel cubic"), std::string::npos) << unknown.err;
     EXPECT_FALSE(fs::exists(bad));
 }
 

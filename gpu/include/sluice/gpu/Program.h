@@ -86,6 +86,9 @@ public:
     void set(std::string_view name, glm::ivec3 value) const;
     void set(std::string_view name, glm::uvec3 value) const;
     void set(std::string_view name, const glm::mat4& value) const;
+    /// A float array uniform from its first element (`name` without "[0]"); at most the
+    /// array's length of values.
+    void set(std::string_view name, std::span<const float> values) const;
 
     /// Binds this program and runs glDispatchCompute(groups). Resets the chunk offset uniform
     /// (shared/ChunkedDispatch.h) to zero if the shader has it. Precondition: a compute program;
