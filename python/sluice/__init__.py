@@ -397,13 +397,14 @@ class Simulation:
     def surface_mesh(self, cell_size: Optional[float] = None, iso: Optional[float] = None,
                      smoothing_radius: Optional[float] = None, anisotropic: bool = False,
                      centre_smoothing: Optional[float] = None,
-                     kernel: str = "gaussian") -> "SurfaceMesh":
+                     kernel: str = "gaussian", normalised: bool = False) -> "SurfaceMesh":
         """The fluid's surface now, as ``sluice-play --surface-mesh`` writes it
         (:func:`reconstruct_surface` of :attr:`positions` at the scene's particle radius)."""
         radius = self.parameters["derived"]["particleRadius"]
         return reconstruct_surface(self.positions, radius, cell_size=cell_size, iso=iso,
                                    smoothing_radius=smoothing_radius, anisotropic=anisotropic,
-                                   centre_smoothing=centre_smoothing, kernel=kernel)
+                                   centre_smoothing=centre_smoothing, kernel=kernel,
+                                   normalised=normalised)
 
 
 from ._batch import bake_entry, bake_many  # noqa: E402

@@ -74,7 +74,7 @@ def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optio
                         iso: Optional[float] = None, smoothing_radius: Optional[float] = None,
                         anisotropic: bool = False,
                         centre_smoothing: Optional[float] = None,
-                        kernel: str = "gaussian") -> SurfaceMesh:
+                        kernel: str = "gaussian", normalised: bool = False) -> SurfaceMesh:
     """The fluid surface of (N, 3) particle positions, reconstructed on the GPU in a headless
     context of this thread's own, kept for the next call (docs/surfaces.md): an SPH colour field of the particles (poly6 over
     ``smoothing_radius``, default 4 particle radii) sampled on a sparse grid of ``cell_size``
@@ -86,7 +86,10 @@ def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optio
     whole), as ``--surface-anisotropic``; its centre moves ``centre_smoothing`` (in [0, 1],
     default 0.25) of the way to its neighbours' mean. ``kernel`` is the isotropic kernel's shape,
     as ``--surface-kernel``: ``"gaussian"`` (default: a Gaussian as wide as poly6, deposited and
-    blurred) or ``"poly6"`` (splatted particle by particle, slower on a software renderer)."""
+    blurred) or ``"poly6"`` (splatted particle by particle, slower on a software renderer).
+    ``normalised=True`` scales each particle's kernel by the rest density over its own, as
+    splashsurf's colour field does (``--surface-normalised``; iso default 0.6): thin sheets and
+    droplets keep their volume."""
     p = np.asarray(points)
     if p.ndim != 2 or p.shape[1] != 3:
         raise InvalidArgument(f"reconstruct_surface: points must have shape (N, 3), not "
@@ -99,5 +102,5 @@ def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optio
                                     float(smoothing_radius or 0.0), float(iso or 0.0),
                                     bool(anisotropic),
                                     None if centre_smoothing is None else float(centre_smoothing),
-                                    kernel == "poly6")
+                                    kernel == "poly6", bool(normalised))
     return SurfaceMesh(v, n, t, timings)

@@ -63,7 +63,7 @@ struct PyMesher {
 
     nb::tuple reconstruct(Points points, float particleRadius, float cellSize,
                           float smoothingRadius, float iso, bool anisotropic,
-                          std::optional<float> centreSmoothing, bool poly6) {
+                          std::optional<float> centreSmoothing, bool poly6, bool normalised) {
         rt::SurfaceOptions options;
         options.particleRadius = particleRadius;
         options.cellSize = cellSize;
@@ -72,6 +72,7 @@ struct PyMesher {
         options.anisotropic = anisotropic;
         options.centreSmoothing = centreSmoothing;
         options.kernel = poly6 ? rt::SurfaceFieldKernel::Poly6 : rt::SurfaceFieldKernel::Gaussian;
+        options.densityNormalised = normalised;
         std::vector<glm::vec3> copy(points.shape(0));
         if (!copy.empty())
             std::memcpy(copy.data(), points.data(), copy.size() * sizeof(glm::vec3));
@@ -101,6 +102,7 @@ void bindSurface(nb::module_& m) {
         .def("reconstruct", &PyMesher::reconstruct, nb::arg("points"), nb::arg("particle_radius"),
              nb::arg("cell_size"), nb::arg("smoothing_radius"), nb::arg("iso"),
              nb::arg("anisotropic"), nb::arg("centre_smoothing").none(), nb::arg("poly6"),
+             nb::arg("normalised"),
              "The fluid surface of (N, 3) float32 points on the GPU: (vertices (V, 3) float32, "
              "normals (V, 3) float32, triangles (T, 3) uint32, stage times {name: ms}); zeros "
              "and None take the defaults.");

@@ -55,6 +55,11 @@ SLUICE_CONST uint kSurfBindBlurOut = 22; ///< uint per stored sample: what it wr
 SLUICE_CONST float kSurfaceDepositScale = 1048576.0;
 /// The blur's reach along each axis, in cells, at most: taps -R .. R, R <= this.
 SLUICE_CONST uint kSurfaceBlurRadiusMax = 8;
+// The density-normalised field only (surface_density.comp):
+SLUICE_CONST uint kSurfBindWeights = 23; ///< float per particle: rest density over its own
+/// The least density, as a share of the rest density, a particle's weight is taken from (a
+/// lone particle's own is about 0.2): bounds the weight of a particle the field missed.
+SLUICE_CONST float kSurfaceDensityFloor = 0.05;
 /// Anisotropic kernels (Yu & Turk 2013): the largest ratio of a kernel's longest axis to its
 /// shortest (their k_r). With the sphere's volume, no axis is longer than cbrt(ratio^2)
 /// supports (a line of particles).

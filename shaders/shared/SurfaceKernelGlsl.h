@@ -6,6 +6,15 @@
 #include "shared/SurfaceGlsl.h"
 
 uniform bool uAnisotropic;
+uniform bool uWeighted; // the density-normalised field's second pass: each particle's weight
+
+layout(std430, binding = kSurfBindWeights) readonly buffer Weights { float weights[]; };
+
+// What particle i's kernel is scaled by: 1, or in the density-normalised field's second pass
+// the rest density over the particle's own (surface_density.comp).
+float particleWeight(uint i) {
+    return uWeighted ? weights[i] : 1.0;
+}
 
 layout(std430, binding = kSurfBindPoints) readonly buffer Points { vec4 points[]; };
 layout(std430, binding = kSurfBindKernels) buffer Kernels { vec4 kernels[]; };

@@ -20,7 +20,7 @@ void main() {
     float h2 = uSupport * uSupport;
     // poly6: 315 / (64 pi h^9) (h^2 - r^2)^3, times the particle volume and the fixed scale
     // (det G = 1: an anisotropic kernel holds the sphere's volume).
-    float scale = uVolume * kSurfaceFixedScale * 315.0 /
+    float scale = particleWeight(i) * uVolume * kSurfaceFixedScale * 315.0 /
                   (64.0 * 3.14159265358979 * h2 * h2 * h2 * h2 * uSupport);
     // Block by block, so the block map is read once per block, not once per sample; a
     // sphere's rows along x are clipped to it before the loop, an ellipsoid's x range solved

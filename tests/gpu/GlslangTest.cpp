@@ -126,6 +126,7 @@ std::vector<ProgramCase> allPrograms() {
         compute("SurfaceCompact", runtimeSource, "surface_compact.comp"),
         compute("SurfaceSplat", runtimeSource, "surface_splat.comp"),
         compute("SurfaceDeposit", runtimeSource, "surface_deposit.comp"),
+        compute("SurfaceDensity", runtimeSource, "surface_density.comp"),
         compute("SurfaceBlur", runtimeSource, "surface_blur.comp"),
         compute("SurfaceBinCount", runtimeSource, "surface_bin_count.comp"),
         compute("SurfaceBinFill", runtimeSource, "surface_bin_fill.comp"),

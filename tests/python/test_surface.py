@@ -90,31 +90,35 @@ def read_ply(path: Path):
     return out
 
 
-@pytest.mark.parametrize("kernel, anisotropic",
-                         [("gaussian", False), ("poly6", False), ("gaussian", True)])
+@pytest.mark.parametrize("kernel, anisotropic, normalised",
+                         [("gaussian", False, False), ("poly6", False, False),
+                          ("gaussian", True, False), ("gaussian", False, True)])
 def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, kernel: str,
-                                                        anisotropic: bool) -> None:
+                                                        anisotropic: bool,
+                                                        normalised: bool) -> None:
     scene = Path(__file__).resolve().parents[2] / "assets" / "martin-moyce.json"
     run_tool("sluice-play", scene, "--headless", "--steps", 2, "--deterministic", "--quiet",
              "--dump-ply", tmp_path / "ply", "--dump-every", 2, "--surface-mesh",
              tmp_path / "mesh", "--surface-every", 2,
-             "--surface-kernel", kernel, *(["--surface-anisotropic"] if anisotropic else []))
+             "--surface-kernel", kernel, *(["--surface-anisotropic"] if anisotropic else []),
+             *(["--surface-normalised"] if normalised else []))
     particles = read_ply(tmp_path / "ply" / "frame_000002.ply")["vertex"]
     points = np.stack([particles["x"], particles["y"], particles["z"]], -1)
     cli = read_ply(tmp_path / "mesh" / "surface_000002.ply")
-    mesh = sluice.reconstruct_surface(points, RADIUS, anisotropic=anisotropic, kernel=kernel)
+    mesh = sluice.reconstruct_surface(points, RADIUS, anisotropic=anisotropic, kernel=kernel,
+                                      normalised=normalised)
     assert set(mesh.timings) == {"bounds", "kernels", "blocks", "field", "contour", "download"}
     assert (mesh.timings["kernels"] > 0.0) == anisotropic
     # The isotropic kernels differ from each other and from the anisotropic ones.
     if not anisotropic:
         shape = sluice.reconstruct_surface(points, RADIUS, kernel="poly6" if kernel == "gaussian"
-                                           else "gaussian")
+                                           else "gaussian", normalised=normalised)
         assert shape.vertices.shape != mesh.vertices.shape or not np.array_equal(
             shape.vertices, mesh.vertices)
         assert shape.volume == pytest.approx(mesh.volume, rel=0.05)
     # The two kernels give two different meshes.
     other = sluice.reconstruct_surface(points, RADIUS, anisotropic=not anisotropic,
-                                       kernel=kernel)
+                                       kernel=kernel, normalised=normalised)
     assert other.vertices.shape != mesh.vertices.shape or not np.array_equal(other.vertices,
                                                                              mesh.vertices)
     cli_vertices = np.stack([cli["vertex"][k] for k in ("x", "y", "z")], -1)
@@ -125,7 +129,7 @@ def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, kernel: 
     # And the live simulation's own surface, after the same steps.
     sim = sluice.Simulation(scene, deterministic=True)
     sim.step(2, progress=False)
-    live = sim.surface_mesh(anisotropic=anisotropic, kernel=kernel)
+    live = sim.surface_mesh(anisotropic=anisotropic, kernel=kernel, normalised=normalised)
     assert np.array_equal(live.triangles, mesh.triangles)
     assert np.array_equal(live.vertices, mesh.vertices)
     # save_ply writes what sluice-play writes, header comment aside.

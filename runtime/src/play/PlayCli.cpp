@@ -186,6 +186,7 @@ int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene 
     headless.surfaceAnisotropic = o.surfaceAnisotropic;
     headless.surfaceKernel =
         o.surfaceKernel == "poly6" ? SurfaceFieldKernel::Poly6 : SurfaceFieldKernel::Gaussian;
+    headless.surfaceNormalised = o.surfaceNormalised;
     headless.dumpEvery = o.dumpEvery;
     headless.deterministic = o.deterministic;
     headless.neighbourLanes = o.neighbourLanes;
@@ -265,6 +266,10 @@ void addRunOptions(CLI::App& app, PlayOptions& o) {
                    "poly6, deposited and blurred; several times faster on a software renderer) "
                    "or poly6 (splatted particle by particle); anisotropic kernels are poly6")
         ->check(CLI::IsMember({"gaussian", "poly6"}));
+    app.add_flag("--surface-normalised", o.surfaceNormalised,
+                 "Surface mesh: each particle's kernel scaled by the rest density over its own, "
+                 "as splashsurf does (thin sheets and droplets keep their volume; iso default "
+                 "0.6)");
     app.add_flag("--surface-anisotropic", o.surfaceAnisotropic,
                  "Surface meshes, exported and drawn (--surface mesh): anisotropic kernels, "
                  "flat across surfaces and thin sheets (docs/surfaces.md)");

@@ -141,6 +141,7 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     options.iso = o.surfaceIso;
     options.anisotropic = o.surfaceAnisotropic;
     options.kernel = o.surfaceKernel;
+    options.densityNormalised = o.surfaceNormalised;
     const auto start = std::chrono::steady_clock::now();
     auto mesh =
         run.surfaces->reconstruct(run.sim.positionBuffer(), run.sim.particleCount(), options);

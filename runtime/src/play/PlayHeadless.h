@@ -30,6 +30,7 @@ struct HeadlessOptions {
     bool surfaceAnisotropic = false; ///< SurfaceOptions::anisotropic
     /// SurfaceOptions::kernel
     SurfaceFieldKernel surfaceKernel = SurfaceFieldKernel::Gaussian;
+    bool surfaceNormalised = false; ///< SurfaceOptions::densityNormalised
     std::uint64_t dumpEvery = 1;    ///< a PLY file every K steps
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes

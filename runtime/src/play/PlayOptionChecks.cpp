@@ -39,6 +39,7 @@ constexpr OptionUse kOptionUses[] = {
     {"--surface-cell", true, false, false},
     {"--surface-iso", true, false, false},
     {"--surface-kernel", true, false, false},
+    {"--surface-normalised", true, false, false},
     {"--surface-anisotropic", true, true, true},
     {"--check", true, false, false},
     {"--quiet", true, true, false},
@@ -80,8 +81,8 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
     if (mode == PlayMode::Headless && given("--dump-every") && o.plyDir.empty())
         out.push_back(unusedOption("--dump-every", "without --dump-ply"));
     if (mode == PlayMode::Headless && o.surfaceDir.empty())
-        for (const char* name :
-             {"--surface-every", "--surface-cell", "--surface-iso", "--surface-kernel"})
+        for (const char* name : {"--surface-every", "--surface-cell", "--surface-iso",
+                                 "--surface-kernel", "--surface-normalised"})
             if (given(name))
                 out.push_back(unusedOption(name, "without --surface-mesh"));
     if (mode != PlayMode::Bench && given("--every") && !o.capture.frames())

@@ -30,6 +30,7 @@ struct PlayOptions {
     float surfaceIso = 0.0f;
     bool surfaceAnisotropic = false;
     std::string surfaceKernel = "gaussian";
+    bool surfaceNormalised = false;
     std::uint64_t dumpEvery = 1;
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; // 0: chosen for the renderer and the scene

@@ -36,6 +36,7 @@ enum Pass : std::size_t {
     Compact,
     Splat,
     Deposit,
+    Density,
     Count,
     Vertices,
     Triangles,
@@ -44,8 +45,8 @@ enum Pass : std::size_t {
 constexpr std::array<const char*, PassCount> kPassFiles = {
     "surface_bounds.comp",     "surface_bin_count.comp", "surface_bin_fill.comp",
     "surface_anisotropy.comp", "surface_mark.comp",      "surface_compact.comp",
-    "surface_splat.comp",      "surface_deposit.comp",   "surface_count.comp",
-    "surface_vertices.comp",   "surface_triangles.comp"};
+    "surface_splat.comp",      "surface_deposit.comp",   "surface_density.comp",
+    "surface_count.comp",      "surface_vertices.comp",  "surface_triangles.comp"};
 
 std::uint32_t readUint(const gpu::Buffer& buffer, std::uint64_t index) {
     std::uint32_t value = 0;
@@ -69,6 +70,7 @@ struct Work {
     gpu::Buffer positions, normals, triangles;
     gpu::Buffer bounds;                                               ///< shared::SurfaceBounds
     gpu::Buffer binCount, binStart, binParticles, binPoints, kernels; ///< anisotropic only
+    gpu::Buffer weights; ///< densityNormalised only: each particle's weight
     std::uint32_t activeBlocks = 0;
     std::uint32_t vertexCount = 0;
     std::uint32_t triangleCount = 0;
@@ -107,6 +109,8 @@ struct SurfaceReconstructor::Impl {
                          Work& work);
     Result<void> field(const gpu::Buffer& positions, std::uint32_t count, const SurfaceGrid& g,
                        const SurfaceOptions& o, Work& work);
+    Result<void> fieldPass(std::uint32_t count, const SurfaceGrid& g, const SurfaceOptions& o,
+                           Work& work, bool weighted);
     Result<void> contour(Work& work);
     Result<std::pair<glm::vec3, glm::vec3>> bounds(const gpu::Buffer& positions,
                                                    std::uint32_t count);
@@ -158,6 +162,23 @@ Result<void> SurfaceReconstructor::Impl::kernels(const gpu::Buffer& positions, s
     return {};
 }
 
+/// Adds every particle's kernel, scaled by its weight when `weighted`, to the zeroed field: the
+/// Gaussian's deposit and blur, or the poly6 splat.
+Result<void> SurfaceReconstructor::Impl::fieldPass(std::uint32_t count, const SurfaceGrid& g,
+                                                   const SurfaceOptions& o, Work& w,
+                                                   bool weighted) {
+    const std::optional<SurfaceBlur> gaussian = gaussianBlur(o);
+    const gpu::Program& p = pass(gaussian ? Deposit : Splat);
+    p.set("uCount", count);
+    p.set("uWeighted", std::int32_t(weighted ? 1 : 0));
+    p.dispatchChunked(glm::uvec3(gpu::groupCount(count, sh::kSurfaceLocalSize), 1, 1),
+                      kMaxGroupsPerDispatch);
+    barrier();
+    if (gaussian)
+        return blurPasses.run(*gaussian, g, o, w.field, w.activeBlocks);
+    return {};
+}
+
 /// Marks the blocks, numbers them, and makes the field: the Gaussian's deposit and blur, or
 /// every particle's poly6 splatted (its kernel from `kernels` when anisotropic).
 Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std::uint32_t count,
@@ -204,13 +225,21 @@ Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std
         kMaxGroupsPerDispatch);
     positions.bindStorage(sh::kSurfBindPoints);
     (anisotropic ? w.kernels : positions).bindStorage(sh::kSurfBindKernels);
-    const std::optional<SurfaceBlur> gaussian = gaussianBlur(o);
-    const Pass first = gaussian ? Deposit : Splat;
-    pass(first).set("uCount", count);
-    pass(first).dispatchChunked(glm::uvec3(particleGroups, 1, 1), kMaxGroupsPerDispatch);
-    barrier();
-    if (gaussian) {
-        if (auto ok = blurPasses.run(*gaussian, g, o, w.field, w.activeBlocks); !ok)
+    // Read only in the density-normalised field's second pass; something is bound either way.
+    positions.bindStorage(sh::kSurfBindWeights);
+    if (auto ok = fieldPass(count, g, o, w, false); !ok)
+        return ok;
+    if (o.densityNormalised) {
+        // Each particle's density from the field, then the field again with its weight.
+        if (auto ok = ensureUints(w.weights, count, "surface weights", false); !ok)
+            return ok;
+        w.weights.bindStorage(sh::kSurfBindWeights);
+        pass(Density).set("uCount", count);
+        pass(Density).dispatchChunked(glm::uvec3(particleGroups, 1, 1), kMaxGroupsPerDispatch);
+        barrier();
+        w.field.clear(0, std::uint64_t(w.activeBlocks) * sh::kSurfaceBlockSamples * 4);
+        barrier();
+        if (auto ok = fieldPass(count, g, o, w, true); !ok)
             return ok;
     }
     glFinish(); // so that the splat's time is its own, not the contour's

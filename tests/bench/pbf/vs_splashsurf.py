@@ -3,7 +3,8 @@
 
 Both reconstruct the fluid surface of the same (N, 3) float positions: Sluice with
 ``sluice.reconstruct_surface`` (docs/surfaces.md: a colour field as wide as poly6 of support 4 r,
-Gaussian by default, ``--kernel poly6`` for poly6 itself, on a sparse grid of cell r, contoured
+Gaussian by default, ``--kernel poly6`` for poly6 itself, ``--normalised`` for the
+density-normalised field that splashsurf's is, on a sparse grid of cell r, contoured
 by marching cubes at iso 0.5, on the GPU: llvmpipe here, in a headless context kept from the
 first call), splashsurf (pip install
 pysplashsurf) with ``reconstruction_pipeline`` at its documented settings for SPH data of the
@@ -64,7 +65,7 @@ def particle_sets(build):
             ("jittered block 64x64x32", jittered)]
 
 
-OPTIONS = {"anisotropic": False, "kernel": "gaussian"}  # --anisotropic, --kernel set them
+OPTIONS = {"anisotropic": False, "kernel": "gaussian", "normalised": False}  # set by the flags
 
 
 def sluice_mesh(points):
@@ -193,7 +194,10 @@ def main():
                     help="Sluice with anisotropic kernels (default centre smoothing)")
     ap.add_argument("--kernel", choices=("gaussian", "poly6"), default="gaussian",
                     help="Sluice's isotropic kernel (docs/surfaces.md, 'The field')")
+    ap.add_argument("--normalised", action="store_true",
+                    help="Sluice's density-normalised field, splashsurf's convention (iso 0.6)")
     args = ap.parse_args()
+    OPTIONS["normalised"] = args.normalised
     OPTIONS["anisotropic"] = args.anisotropic
     OPTIONS["kernel"] = args.kernel
     import sluice

@@ -38,12 +38,17 @@ bool haveXvfb() {
     return std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
 }
 
+// xvfb-run with its X authority file in the working folder: without -f it makes a temporary
+// folder and, removing it at the end, failed once in a CI run ("problem while cleaning up
+// temporary directory", exit 5 in place of the program's status) while another test's server ran.
+const char* const kXvfbRun = "xvfb-run -a -f Xauthority";
+
 // Runs `args` of sluice-play in `dir` (the working folder) under a new Xvfb server whose screen
 // is `screen` (WIDTHxHEIGHT) pixels.
 testrun::RunResult playInWindow(const fs::path& dir, const std::vector<std::string>& args,
                                 const std::string& screen = "640x480") {
     std::string command =
-        "cd " + quote(dir.string()) + " && xvfb-run -a -s '-screen 0 " + screen + "x24' ";
+        "cd " + quote(dir.string()) + " && " + kXvfbRun + " -s '-screen 0 " + screen + "x24' ";
     command += quote(SLUICE_PLAY_EXE);
     for (const std::string& arg : args)
         command += " " + quote(arg);
@@ -338,9 +343,8 @@ TEST(ViewerWindow, SigintClosesTheWindowWithItsCapturesWritten) {
     const std::string script =
         play + " & p=$!; until ls f/*.png >/dev/null 2>&1 || ! kill -0 $p 2>/dev/null; do "
                "sleep 0.2; done; sleep 1; kill -INT $p; wait $p; echo $? >status.txt";
-    const std::string command = "cd " + quote(dir.string()) +
-                                " && timeout 300 xvfb-run -a -s '-screen 0 640x480x24' sh -c " +
-                                quote(script);
+    const std::string command = "cd " + quote(dir.string()) + " && timeout 300 " + kXvfbRun +
+                                " -s '-screen 0 640x480x24' sh -c " + quote(script);
     const int status = std::system(command.c_str());
     ASSERT_TRUE(WIFEXITED(status));
     const std::string out = testrun::readText(dir / "stdout.txt");

@@ -71,13 +71,19 @@ struct SurfaceOptions {
     float smoothingRadius = 0.0f;
     /// The surface's field value, as a share of the field inside a resting block of particles
     /// on their lattice (which is 1): 0.5 puts a flat surface where the block ends, half a
-    /// spacing beyond its outer particles' centres. 0: 0.5.
+    /// spacing beyond its outer particles' centres. 0: 0.5, or 0.6 when densityNormalised
+    /// (splashsurf's default, which puts its flat surface there).
     float iso = 0.0f;
     /// Anisotropic kernels (Yu & Turk 2013): each particle's kernel follows its neighbours'
     /// spread, flat across a surface or a sheet, round in the bulk (docs/surfaces.md).
     bool anisotropic = false;
     /// The isotropic kernel's shape; anisotropic kernels are always poly6 ellipsoids.
     SurfaceFieldKernel kernel = SurfaceFieldKernel::Gaussian;
+    /// Each particle's kernel scaled by the rest density over its own (the field at its centre)
+    /// instead of the rest volume alone, as splashsurf's colour field is: a particle with few
+    /// neighbours (a thin sheet, a droplet) counts for the volume it has, so splashes stay
+    /// whole and a lone particle is a drop of its own. Two passes of the field.
+    bool densityNormalised = false;
     /// With anisotropic kernels, how far each kernel's centre moves to its neighbours' weighted
     /// mean, in [0, 1] (Yu & Turk's lambda). Unset: kDefaultCentreSmoothing.
     std::optional<float> centreSmoothing;
