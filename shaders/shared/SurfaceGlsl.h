@@ -79,6 +79,12 @@ ivec3 cornerOffset(uint c) {
     return ivec3(int(c & 1u), int((c >> 1u) & 1u), int((c >> 2u) & 1u));
 }
 
+// The trilinear weight of corner c of a cell for a point at fraction f of it.
+float cornerWeight(vec3 f, uint c) {
+    vec3 w = mix(1.0 - f, f, vec3(cornerOffset(c)));
+    return w.x * w.y * w.z;
+}
+
 // The cell triangle table (runtime/src/surface/CubeTable.h): kSurfaceCellTrianglesMax entries
 // per inside pattern, then each pattern's triangle count.
 layout(std430, binding = kSurfBindTriangleTable) readonly buffer TriangleTable {

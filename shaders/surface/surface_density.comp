@@ -20,11 +20,9 @@ void main() {
     vec3 f = g - vec3(s);
     float density = 0.0;
     for (uint c = 0u; c < 8u; ++c) {
-        ivec3 o = cornerOffset(c);
-        vec3 w = mix(1.0 - f, f, vec3(o));
-        uint slot = sampleSlot(s + o); // stored: within a cell of a particle
+        uint slot = sampleSlot(s + cornerOffset(c)); // stored: within a cell of a particle
         if (slot != 0xffffffffu)
-            density += w.x * w.y * w.z * float(field[slot]) * (1.0 / kSurfaceFixedScale);
+            density += cornerWeight(f, c) * float(field[slot]) * (1.0 / kSurfaceFixedScale);
     }
     weights[i] = 1.0 / max(density, kSurfaceDensityFloor);
 }

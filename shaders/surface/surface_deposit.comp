@@ -16,10 +16,8 @@ void main() {
     vec3 f = g - vec3(s);
     float weight = particleWeight(i) * kSurfaceDepositScale;
     for (uint c = 0u; c < 8u; ++c) {
-        ivec3 o = cornerOffset(c);
-        vec3 w = mix(1.0 - f, f, vec3(o));
-        uint add = uint(w.x * w.y * w.z * weight + 0.5);
-        uint slot = sampleSlot(s + o);
+        uint add = uint(cornerWeight(f, c) * weight + 0.5);
+        uint slot = sampleSlot(s + cornerOffset(c));
         // Every sample within a cell of a particle is stored (surface_mark.comp).
         if (add != 0u && slot != 0xffffffffu)
             atomicAdd(field[slot], add);

@@ -181,12 +181,7 @@ int startHeadless(const PlayOptions& o, const Rendering& rendering, LoadedScene 
     headless.bodiesCsv = o.bodiesCsv;
     headless.surfaceDir = o.surfaceDir;
     headless.surfaceEvery = o.surfaceEvery;
-    headless.surfaceCell = o.surfaceCell;
-    headless.surfaceIso = o.surfaceIso;
-    headless.surfaceAnisotropic = o.surfaceAnisotropic;
-    headless.surfaceKernel =
-        o.surfaceKernel == "poly6" ? SurfaceFieldKernel::Poly6 : SurfaceFieldKernel::Gaussian;
-    headless.surfaceNormalised = o.surfaceNormalised;
+    headless.surface = surfaceOptions(o);
     headless.dumpEvery = o.dumpEvery;
     headless.deterministic = o.deterministic;
     headless.neighbourLanes = o.neighbourLanes;

@@ -135,13 +135,8 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     const HeadlessOptions& o = run.options;
     if (!run.surfaces || step % o.surfaceEvery != 0)
         return {};
-    SurfaceOptions options;
+    SurfaceOptions options = o.surface;
     options.particleRadius = run.sim.constants().radius;
-    options.cellSize = o.surfaceCell;
-    options.iso = o.surfaceIso;
-    options.anisotropic = o.surfaceAnisotropic;
-    options.kernel = o.surfaceKernel;
-    options.densityNormalised = o.surfaceNormalised;
     const auto start = std::chrono::steady_clock::now();
     auto mesh =
         run.surfaces->reconstruct(run.sim.positionBuffer(), run.sim.particleCount(), options);

@@ -25,12 +25,7 @@ struct HeadlessOptions {
     std::string bodiesCsv;          ///< body trajectory table (BodiesCsv.h), empty for none
     std::string surfaceDir;         ///< surface mesh folder (surface_NNNNNN.ply), empty for none
     std::uint64_t surfaceEvery = 1; ///< a surface mesh every K steps
-    float surfaceCell = 0.0f;       ///< SurfaceOptions::cellSize, 0: the default
-    float surfaceIso = 0.0f;        ///< SurfaceOptions::iso, 0: the default
-    bool surfaceAnisotropic = false; ///< SurfaceOptions::anisotropic
-    /// SurfaceOptions::kernel
-    SurfaceFieldKernel surfaceKernel = SurfaceFieldKernel::Gaussian;
-    bool surfaceNormalised = false; ///< SurfaceOptions::densityNormalised
+    SurfaceOptions surface;         ///< the meshes' options; particleRadius: the scene's
     std::uint64_t dumpEvery = 1;    ///< a PLY file every K steps
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; ///< SimulationOptions::neighbourLanes

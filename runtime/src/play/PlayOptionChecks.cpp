@@ -125,14 +125,23 @@ void checkBodiesCsv(const CLI::App& app, const format::Scene& scene, PlayMode mo
                                                "would have only the header)"));
 }
 
+SurfaceOptions surfaceOptions(const PlayOptions& o) {
+    SurfaceOptions options;
+    options.cellSize = o.surfaceCell;
+    options.iso = o.surfaceIso;
+    options.anisotropic = o.surfaceAnisotropic;
+    options.kernel =
+        o.surfaceKernel == "poly6" ? SurfaceFieldKernel::Poly6 : SurfaceFieldKernel::Gaussian;
+    options.densityNormalised = o.surfaceNormalised;
+    return options;
+}
+
 /// --surface-cell and --surface-iso against the scene's particle radius, before anything runs.
 Result<void> checkSurfaceOptions(const PlayOptions& o, const format::Scene& scene, PlayMode mode) {
     if (mode != PlayMode::Headless || o.surfaceDir.empty())
         return {};
-    SurfaceOptions options;
+    SurfaceOptions options = surfaceOptions(o);
     options.particleRadius = 0.5f * scene.simulation.spacing;
-    options.cellSize = o.surfaceCell;
-    options.iso = o.surfaceIso;
     auto resolved = resolveSurfaceOptions(options);
     if (!resolved)
         return fail(ErrorCode::InvalidArgument,

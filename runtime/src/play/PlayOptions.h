@@ -13,6 +13,7 @@
 #include "play/SceneChecks.h"
 #include "sluice/format/scene/Scene.h"
 #include "sluice/format/support/Result.h"
+#include "sluice/rt/surface/SurfaceMesh.h"
 
 namespace sluice::rt {
 
@@ -66,6 +67,10 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
 /// --bodies-csv for a scene without dynamic bodies would write only the header.
 void checkBodiesCsv(const CLI::App& app, const format::Scene& scene, PlayMode mode,
                     std::vector<PlayWarning>& out);
+
+/// The surface mesh options the command line asks for (--surface-cell, -iso, -kernel,
+/// -normalised, -anisotropic); particleRadius is left 0, the scene's to set.
+SurfaceOptions surfaceOptions(const PlayOptions& o);
 
 /// --surface-cell and --surface-iso against the scene's particle radius, before anything runs.
 Result<void> checkSurfaceOptions(const PlayOptions& o, const format::Scene& scene, PlayMode mode);

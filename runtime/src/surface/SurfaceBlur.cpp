@@ -40,7 +40,7 @@ Result<void> GaussianBlurPasses::run(const SurfaceBlur& b, const SurfaceGrid& g,
         if (auto ok = surface::ensureUints(buffer, samples, "surface blur", false); !ok)
             return ok;
     const float c = o.cellSize;
-    const float volume = 8.0f * o.particleRadius * o.particleRadius * o.particleRadius;
+    const float volume = particleVolume(o);
     const gpu::Buffer* from[3] = {&field, &m_blurred[0], &m_blurred[1]};
     const gpu::Buffer* to[3] = {&m_blurred[0], &m_blurred[1], &field};
     const std::array<gpu::Program, 3>& programs = m_programs.at(b.radius);

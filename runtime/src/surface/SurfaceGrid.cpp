@@ -51,7 +51,7 @@ Result<SurfaceGrid> gridOver(glm::vec3 lo, glm::vec3 hi, const SurfaceOptions& o
 }
 
 void setGridUniforms(const gpu::Program& p, const SurfaceGrid& g, const SurfaceOptions& o) {
-    const float volume = 8.0f * o.particleRadius * o.particleRadius * o.particleRadius;
+    const float volume = particleVolume(o);
     const auto iso = std::uint32_t(std::floor(double(o.iso) * sh::kSurfaceFixedScale));
     p.set("uOrigin", g.origin);
     p.set("uCell", o.cellSize);

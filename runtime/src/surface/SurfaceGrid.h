@@ -32,6 +32,11 @@ struct SurfaceGrid {
 /// with three cells to spare. SizeOverflow past kMaxBlocks, saying to use a larger cell.
 Result<SurfaceGrid> gridOver(glm::vec3 lo, glm::vec3 hi, const SurfaceOptions& o);
 
+/// A particle's rest volume [m^3]: the cube of its spacing, twice the radius.
+inline float particleVolume(const SurfaceOptions& o) {
+    return 8.0f * o.particleRadius * o.particleRadius * o.particleRadius;
+}
+
 /// Sets the grid's uniforms of the surface passes (shared/SurfaceGlsl.h) on `program`: origin,
 /// cell, samples, blocks, support, particle volume, iso (fixed point) and the kernels' kind.
 void setGridUniforms(const gpu::Program& program, const SurfaceGrid& g, const SurfaceOptions& o);
