@@ -1,5 +1,5 @@
 // GLSL side of the surface passes: the grid's uniforms, the buffers, the sample lookup through
-// the block map, and the per-block shared tile.
+// the block map, and the per-block passes' scan over a block's rows.
 #ifndef SLUICE_SHARED_SURFACE_GLSL_H
 #define SLUICE_SHARED_SURFACE_GLSL_H
 
@@ -95,14 +95,6 @@ uint cellTriangles(uint insideMask) {
     return triangleTable[256u * kSurfaceCellTrianglesMax + insideMask];
 }
 
-// The per-block passes read a block's samples and a border around them from shared memory:
-// local coordinates -1 .. 9 on each axis (the cells' +1 corners and the gradients' +-1 reach),
-// loaded once per block instead of looked up through the block map for every use; and, per
-// row of the tile along x, which of its samples are inside (bit tx).
-const int kTileSide = 11;
-shared uint tile[kTileSide * kTileSide * kTileSide];
-shared uint tileInsideRow[kTileSide * kTileSide];
-
 // The first sample of block b where it is stored, or 0xffffffff where it is not (or is past
 // the grid).
 uint storedBlockBase(ivec3 b) {
@@ -112,84 +104,32 @@ uint storedBlockBase(ivec3 b) {
     return blockFlag[index] == 0u ? 0xffffffffu : blockSlot[index] * kSurfaceBlockSamples;
 }
 
-// The block offset (-1, 0 or 1) of local coordinate l in -1 .. 9.
+// The block offset (-1, 0 or 1) of local coordinate l in -8 .. 15.
 int blockStep(int l) {
     return l < 0 ? -1 : (l >= int(kSurfaceBlockSide) ? 1 : 0);
 }
 
-// A row of the tile along x, tile row r = ty + kTileSide tz: its three blocks looked up once,
-// not once per sample.
-void loadTileRow(ivec3 blockOrigin, uint r) {
-    int side = int(kSurfaceBlockSide);
-    ivec3 l = ivec3(-1, int(r % uint(kTileSide)) - 1, int(r / uint(kTileSide)) - 1);
-    ivec3 b = blockOrigin / side + ivec3(0, blockStep(l.y), blockStep(l.z));
-    ivec3 s = blockOrigin + l;
-    bool rowInGrid = s.y >= 0 && s.y < uSamples.y && s.z >= 0 && s.z < uSamples.z;
-    uint below = storedBlockBase(b - ivec3(1, 0, 0));
-    uint here = storedBlockBase(b);
-    uint above = storedBlockBase(b + ivec3(1, 0, 0));
-    uint within = laneOf(ivec3(0, l.y - side * blockStep(l.y), l.z - side * blockStep(l.z)));
-    uint inside = 0u;
-    for (int tx = 0; tx < kTileSide; ++tx) {
-        int x = tx - 1;
-        int step = blockStep(x);
-        uint base = step < 0 ? below : (step > 0 ? above : here);
-        int sx = blockOrigin.x + x;
-        uint value = 0u;
-        if (rowInGrid && base != 0xffffffffu && sx >= 0 && sx < uSamples.x)
-            value = field[base + within + uint(x - side * step)];
-        tile[uint(tx) + uint(kTileSide) * r] = value;
-        inside |= value > uIsoFixed ? 1u << uint(tx) : 0u;
-    }
-    tileInsideRow[r] = inside;
-}
-
-void loadTile(ivec3 blockOrigin, uint lane) {
-    for (uint r = lane; r < uint(kTileSide * kTileSide); r += kSurfaceBlockRows)
-        loadTileRow(blockOrigin, r);
-    barrier();
-}
-
-uint tileValue(ivec3 local) {
-    ivec3 t = local + 1;
-    return tile[t.x + kTileSide * (t.y + kTileSide * t.z)];
-}
-
-// The inside bits of the tile's row through local (0, y, z), bit x + 1 for local x.
-uint tileInsideBits(int y, int z) {
-    return tileInsideRow[(y + 1) + kTileSide * (z + 1)];
-}
-
-// The codes of the row of samples (0 .. 7, y, z) of the loaded tile, from its inside bits:
-// for sample x, its crossing edges along +x, +y and +z (bits 0, 1 and 3: bit d - 1 for the
-// corner offset d) and, from bit 8, the inside corners of the cell it is the lowest corner of
-// (bit c for corner c).
-uint tileSampleCode(int x, uint here, uint up, uint front, uint both) {
-    uint tx = uint(x + 1);
-    uint inside = (here >> tx) & 1u;
-    uint edges = (inside ^ ((here >> (tx + 1u)) & 1u)) | ((inside ^ ((up >> tx) & 1u)) << 1u) |
-                 ((inside ^ ((front >> tx) & 1u)) << 3u);
-    uint cell = ((here >> tx) & 3u) | (((up >> tx) & 3u) << 2u) | (((front >> tx) & 3u) << 4u) |
-                (((both >> tx) & 3u) << 6u);
-    return edges | (cell << 8u);
-}
-
 // Work-group exclusive scan of one uint per row (kSurfaceBlockRows invocations); `total` gets
-// the sum. One barrier; each invocation adds the rows before its own. Every invocation must
-// call it.
-shared uint scanRow[kSurfaceBlockRows];
+// the sum. The first invocation adds them up in turn between two barriers (software GL runs
+// the group's invocations as a handful of vectors: one short loop beats every invocation
+// reading every row). Every invocation must call it.
+shared uint scanRow[kSurfaceBlockRows + 1u];
 
 uint rowExclusiveScan(uint row, uint value, out uint total) {
     scanRow[row] = value;
     barrier();
-    uint before = 0u;
-    total = 0u;
-    for (uint i = 0u; i < kSurfaceBlockRows; ++i) {
-        uint v = scanRow[i];
-        before += i < row ? v : 0u;
-        total += v;
+    if (row == 0u) {
+        uint sum = 0u;
+        for (uint i = 0u; i < kSurfaceBlockRows; ++i) {
+            uint v = scanRow[i];
+            scanRow[i] = sum;
+            sum += v;
+        }
+        scanRow[kSurfaceBlockRows] = sum;
     }
-    return before;
+    barrier();
+    total = scanRow[kSurfaceBlockRows];
+    return scanRow[row];
 }
 
 #endif // SLUICE_SHARED_SURFACE_GLSL_H

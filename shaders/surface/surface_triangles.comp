@@ -38,23 +38,19 @@ uint codedVertex(ivec3 s, uint edge) {
     return edgeVertex(s, lo, lo | (edge >> 3u));
 }
 
-// The cells with triangles, in sample order: the lowest corner's index in the block (bits 0-8),
-// the cell's inside corners (bits 9-16) and its first triangle in the block (from 17).
-shared uint cells[kSurfaceBlockSamples];
+// The block's triangles in order: the lowest corner of the cell's index in the block (bits 0-8),
+// the cell's inside corners (bits 9-16) and the triangle's place in the cell's table entry
+// (from 17).
+shared uint blockTriangles[kSurfaceCellTrianglesMax * kSurfaceBlockSamples];
 
-// The triangles of the cell at s (lowest corner, gLocal in the block) whose inside corners are
-// `inside`, from triangle `first` on, from the cell triangle table
+// Triangle k of the cell at s (lowest corner, gLocal in the block) whose inside corners are
+// `inside`, written at triangle `at`, from the cell triangle table
 // (runtime/src/surface/CubeTable.h: each triangle facing out of the fluid).
-void emitCell(uint first, ivec3 s, uint inside) {
-    for (uint k = 0u; k < kSurfaceCellTrianglesMax; ++k) {
-        uint t = triangleTable[inside * kSurfaceCellTrianglesMax + k];
-        if (t == 0u)
-            return;
-        uint at = 3u * (first + k);
-        triangles[at] = codedVertex(s, t & 63u);
-        triangles[at + 1u] = codedVertex(s, (t >> 6u) & 63u);
-        triangles[at + 2u] = codedVertex(s, (t >> 12u) & 63u);
-    }
+void emitTriangle(uint at, ivec3 s, uint inside, uint k) {
+    uint t = triangleTable[inside * kSurfaceCellTrianglesMax + k];
+    triangles[3u * at] = codedVertex(s, t & 63u);
+    triangles[3u * at + 1u] = codedVertex(s, (t >> 6u) & 63u);
+    triangles[3u * at + 2u] = codedVertex(s, (t >> 12u) & 63u);
 }
 
 void main() {
@@ -64,34 +60,28 @@ void main() {
         return;
     ivec3 origin = blockCoord(activeBlock[slot]) * int(kSurfaceBlockSide);
     uint first = slot * kSurfaceBlockSamples + row * kSurfaceBlockSide;
-    // The row's cells with triangles (low 16 bits) and their triangles (high 16 bits),
-    // numbered over the rows in one scan: at most 512 and 2560 a block. Then the cells are
-    // shared out one per invocation (a row has few of them).
-    uint listed = 0u;
+    // The row's triangles, numbered over the rows in one scan, then listed one entry each and
+    // shared out one per invocation.
+    uint inside[kSurfaceBlockSide];
+    uint counts[kSurfaceBlockSide];
     uint mine = 0u;
     for (uint x = 0u; x < kSurfaceBlockSide; ++x) {
-        uint n = cellTriangles(sampleCode[first + x] >> 8u);
-        listed += n != 0u ? 1u : 0u;
-        mine += n;
+        inside[x] = sampleCode[first + x] >> 8u;
+        counts[x] = cellTriangles(inside[x]);
+        mine += counts[x];
     }
     uint total;
-    uint before = rowExclusiveScan(row, listed | (mine << 16u), total);
-    uint cell = before & 0xffffu;
-    uint triangle = before >> 16u;
-    for (uint x = 0u; x < kSurfaceBlockSide; ++x) {
-        uint inside = sampleCode[first + x] >> 8u;
-        uint n = cellTriangles(inside);
-        if (n == 0u)
-            continue;
-        cells[cell++] = (row * kSurfaceBlockSide + x) | (inside << 9u) | (triangle << 17u);
-        triangle += n;
-    }
+    uint triangle = rowExclusiveScan(row, mine, total);
+    for (uint x = 0u; x < kSurfaceBlockSide; ++x)
+        for (uint k = 0u; k < counts[x]; ++k)
+            blockTriangles[triangle++] = (row * kSurfaceBlockSide + x) | (inside[x] << 9u) |
+                                         (k << 17u);
     barrier();
     gSlot = slot;
     uint base = triBase[slot];
-    for (uint i = row; i < (total & 0xffffu); i += kSurfaceBlockRows) {
-        uint entry = cells[i];
+    for (uint i = row; i < total; i += kSurfaceBlockRows) {
+        uint entry = blockTriangles[i];
         gLocal = laneCoord(entry & 511u);
-        emitCell(base + (entry >> 17u), origin + gLocal, (entry >> 9u) & 255u);
+        emitTriangle(base + i, origin + gLocal, (entry >> 9u) & 255u, entry >> 17u);
     }
 }

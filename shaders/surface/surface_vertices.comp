@@ -19,16 +19,27 @@ layout(std430, binding = kSurfBindSampleCode) readonly buffer SampleCode { uint 
 layout(std430, binding = kSurfBindPositions) writeonly buffer Positions { float positions[]; };
 layout(std430, binding = kSurfBindNormals) writeonly buffer Normals { float normals[]; };
 
-// The samples owning a crossing edge, in sample order: the sample's index in the block (bits
-// 0-8), its edges along +x, +y, +z (bits 9-11) and its first vertex in the block (from 12).
-shared uint owners[kSurfaceBlockSamples];
+// The first samples of the 27 blocks round this one (storedBlockBase), block offset
+// (dx, dy, dz) at 13 + dx + 3 dy + 9 dz.
+shared uint nearBase[27];
+ivec3 gOrigin; // the block's first sample in the grid
 
-// Central differences of the field at `local` in the loaded tile (unscaled: only its direction
-// is used).
+// The field at local sample l (each coordinate in -1 .. 8), 0 where it is not stored.
+float fieldAt(ivec3 l) {
+    ivec3 s = gOrigin + l;
+    if (any(lessThan(s, ivec3(0))) || any(greaterThanEqual(s, uSamples)))
+        return 0.0;
+    int side = int(kSurfaceBlockSide);
+    ivec3 d = ivec3(blockStep(l.x), blockStep(l.y), blockStep(l.z));
+    uint base = nearBase[13 + d.x + 3 * d.y + 9 * d.z];
+    return base == 0xffffffffu ? 0.0 : float(field[base + laneOf(l - side * d)]);
+}
+
+// Central differences of the field at local sample l (unscaled: only its direction is used).
 vec3 gradient(ivec3 l) {
-    return vec3(float(tileValue(l + ivec3(1, 0, 0))) - float(tileValue(l - ivec3(1, 0, 0))),
-                float(tileValue(l + ivec3(0, 1, 0))) - float(tileValue(l - ivec3(0, 1, 0))),
-                float(tileValue(l + ivec3(0, 0, 1))) - float(tileValue(l - ivec3(0, 0, 1))));
+    return vec3(fieldAt(l + ivec3(1, 0, 0)) - fieldAt(l - ivec3(1, 0, 0)),
+                fieldAt(l + ivec3(0, 1, 0)) - fieldAt(l - ivec3(0, 1, 0)),
+                fieldAt(l + ivec3(0, 0, 1)) - fieldAt(l - ivec3(0, 0, 1)));
 }
 
 // The crossing edges along +x, +y and +z of a sample code (its bits 0, 1 and 3) as bits 0-2.
@@ -36,32 +47,28 @@ uint axisEdges(uint code) {
     return (code & 3u) | ((code >> 1u) & 4u);
 }
 
-// The vertices of the sample at `local` in the block at `origin`, from `first` on: one per
-// crossing edge along +x, +y, +z, in that order.
-void writeVertices(ivec3 origin, ivec3 local, uint edges, uint first) {
+// The vertex on the crossing edge from local sample `local` along `axis` (0, 1, 2: +x, +y, +z),
+// written at `at`.
+void writeVertex(ivec3 local, uint axis, uint at) {
     float iso = float(uIsoFixed) + 0.5;
-    ivec3 s = origin + local;
-    float fa = float(tileValue(local));
-    vec3 ga = gradient(local);
-    uint at = first;
-    for (uint axis = 0u; axis < 3u; ++axis) {
-        if ((edges & (1u << axis)) == 0u)
-            continue;
-        ivec3 step = cornerOffset(1u << axis);
-        ivec3 n = local + step;
-        float fb = float(tileValue(n));
-        float t = clamp((iso - fa) / (fb - fa), 0.0, 1.0);
-        vec3 g = mix(ga, gradient(n), t);
-        float len = length(g);
-        vec3 p = uOrigin + (vec3(s) + t * vec3(step)) * uCell;
-        vec3 normal = len > 0.0 ? -g / len : vec3(0.0, 1.0, 0.0);
-        for (uint k = 0u; k < 3u; ++k) {
-            positions[3u * at + k] = p[k];
-            normals[3u * at + k] = normal[k];
-        }
-        ++at;
+    ivec3 step = cornerOffset(1u << axis);
+    ivec3 n = local + step;
+    float fa = fieldAt(local);
+    float fb = fieldAt(n);
+    float t = clamp((iso - fa) / (fb - fa), 0.0, 1.0);
+    vec3 g = mix(gradient(local), gradient(n), t);
+    float len = length(g);
+    vec3 p = uOrigin + (vec3(gOrigin + local) + t * vec3(step)) * uCell;
+    vec3 normal = len > 0.0 ? -g / len : vec3(0.0, 1.0, 0.0);
+    for (uint k = 0u; k < 3u; ++k) {
+        positions[3u * at + k] = p[k];
+        normals[3u * at + k] = normal[k];
     }
 }
+
+// The block's vertices in order: the sample's index in the block (bits 0-8) and the axis of
+// its crossing edge (bits 9-10). At most three a sample.
+shared uint vertexEdges[3u * kSurfaceBlockSamples];
 
 void main() {
     uint slot = SLUICE_GLOBAL_ID.x / kSurfaceBlockRows;
@@ -70,35 +77,31 @@ void main() {
     // group leaves (their samples own no crossing edge, so nothing reads their entries).
     if (slot >= uCount || blockVerts[slot] == 0u)
         return;
-    ivec3 origin = blockCoord(activeBlock[slot]) * int(kSurfaceBlockSide);
-    loadTile(origin, row);
+    ivec3 block = blockCoord(activeBlock[slot]);
+    gOrigin = block * int(kSurfaceBlockSide);
+    if (row < 27u) // published by the scan's barrier
+        nearBase[row] = storedBlockBase(block + ivec3(int(row % 3u), int((row / 3u) % 3u),
+                                                      int(row / 9u)) - 1);
     uint first = slot * kSurfaceBlockSamples + row * kSurfaceBlockSide;
-    // The row's owners (low 16 bits) and vertices (high 16 bits), numbered over the rows in
-    // one scan: at most 512 and 1536 a block.
-    uint owned = 0u;
+    // The row's vertices, numbered over the rows in one scan, then listed one entry each.
+    uint edges[kSurfaceBlockSide];
     uint mine = 0u;
     for (uint x = 0u; x < kSurfaceBlockSide; ++x) {
-        uint edges = bitCount(sampleCode[first + x] & 0x7fu);
-        owned += edges != 0u ? 1u : 0u;
-        mine += edges;
+        edges[x] = axisEdges(sampleCode[first + x]);
+        mine += uint(bitCount(edges[x]));
     }
     uint total;
-    uint before = rowExclusiveScan(row, owned | (mine << 16u), total);
-    uint owner = before & 0xffffu;
-    uint vertex = before >> 16u;
+    uint vertex = rowExclusiveScan(row, mine, total);
     uint base = vertBase[slot];
     for (uint x = 0u; x < kSurfaceBlockSide; ++x) {
-        uint edges = axisEdges(sampleCode[first + x]);
         sampleVert[first + x] = base + vertex;
-        if (edges == 0u)
-            continue;
-        owners[owner++] = (row * kSurfaceBlockSide + x) | (edges << 9u) | (vertex << 12u);
-        vertex += uint(bitCount(edges));
+        for (uint axis = 0u; axis < 3u; ++axis)
+            if ((edges[x] & (1u << axis)) != 0u)
+                vertexEdges[vertex++] = (row * kSurfaceBlockSide + x) | (axis << 9u);
     }
     barrier();
-    for (uint i = row; i < (total & 0xffffu); i += kSurfaceBlockRows) {
-        uint entry = owners[i];
-        writeVertices(origin, laneCoord(entry & 511u), (entry >> 9u) & 7u,
-                      base + (entry >> 12u));
+    for (uint i = row; i < total; i += kSurfaceBlockRows) {
+        uint entry = vertexEdges[i];
+        writeVertex(laneCoord(entry & 511u), entry >> 9u, base + i);
     }
 }

@@ -14,7 +14,11 @@ field, multi-threaded over the same cores, no post-processing.
 
 Figures, for each particle set:
   - time: the whole call on each side, --repeat runs interleaved (Sluice, splashsurf, ...),
-    median and min-max; the ratio is splashsurf's median over Sluice's (> 1: Sluice faster);
+    each timed call right after an untimed one of the same side, so that neither pays for the
+    other's threads (splashsurf's rayon pool keeps its workers busy-waiting a while after a
+    call: a Sluice call timed straight after one took up to 1.5x as long as after its own);
+    median and min-max; the ratio is
+    splashsurf's median over Sluice's (> 1: Sluice faster);
   - volume: each mesh's enclosed volume (divergence theorem), and their ratio;
   - distance: from every vertex of one mesh to the other mesh's surface (exact point-triangle
     distance to the 16 triangles whose centroids are nearest), both ways, as median, 95th
@@ -158,6 +162,7 @@ def compare(name, points, repeat):
     meshes = {}
     for _ in range(repeat):
         for side, fn in (("sluice", sluice_mesh), ("splashsurf", splashsurf_mesh)):
+            fn(points)  # untimed: the timed call below does not pay for the other side's threads
             start = time.perf_counter()
             meshes[side] = fn(points)
             times[side].append(time.perf_counter() - start)
