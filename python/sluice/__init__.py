@@ -397,7 +397,8 @@ class Simulation:
     def surface_mesh(self, cell_size: Optional[float] = None, iso: Optional[float] = None,
                      smoothing_radius: Optional[float] = None, anisotropic: bool = False,
                      centre_smoothing: Optional[float] = None,
-                     kernel: str = "gaussian", normalised: bool = False) -> "SurfaceMesh":
+                     kernel: str = "gaussian",
+                     normalised: Optional[bool] = None) -> "SurfaceMesh":
         """The fluid's surface now, as ``sluice-play --surface-mesh`` writes it
         (:func:`reconstruct_surface` of :attr:`positions` at the scene's particle radius)."""
         radius = self.parameters["derived"]["particleRadius"]

@@ -74,22 +74,26 @@ def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optio
                         iso: Optional[float] = None, smoothing_radius: Optional[float] = None,
                         anisotropic: bool = False,
                         centre_smoothing: Optional[float] = None,
-                        kernel: str = "gaussian", normalised: bool = False) -> SurfaceMesh:
+                        kernel: str = "gaussian",
+                        normalised: Optional[bool] = None) -> SurfaceMesh:
     """The fluid surface of (N, 3) particle positions, reconstructed on the GPU in a headless
-    context of this thread's own, kept for the next call (docs/surfaces.md): an SPH colour field of the particles (poly6 over
-    ``smoothing_radius``, default 4 particle radii) sampled on a sparse grid of ``cell_size``
-    (default: the particle radius) where the particles reach, contoured at ``iso`` (a share of
-    the field inside the fluid; default 0.5, which puts a flat surface half a spacing beyond the
-    outer particles' centres). The same points give the same mesh as ``sluice-play
-    --surface-mesh``, bit for bit. ``anisotropic=True`` gives each particle a kernel shaped by
-    its neighbours (after Yu & Turk 2013: flat across surfaces and thin sheets, which then stay
-    whole), as ``--surface-anisotropic``; its centre moves ``centre_smoothing`` (in [0, 1],
-    default 0.25) of the way to its neighbours' mean. ``kernel`` is the isotropic kernel's shape,
-    as ``--surface-kernel``: ``"gaussian"`` (default: a Gaussian as wide as poly6, deposited and
-    blurred) or ``"poly6"`` (splatted particle by particle, slower on a software renderer).
-    ``normalised=True`` scales each particle's kernel by the rest density over its own, as
-    splashsurf's colour field does (``--surface-normalised``; iso default 0.6): thin sheets and
-    droplets keep their volume."""
+    context of this thread's own, kept for the next call (docs/surfaces.md): an SPH colour
+    field of the particles (as wide as poly6 over ``smoothing_radius``, default 4 particle
+    radii), each particle's kernel scaled by the rest density over its own as splashsurf's is,
+    sampled on a sparse grid of ``cell_size`` (default: the particle radius) where the particles
+    reach, contoured at ``iso`` (a share of the field inside the fluid; default 0.6, which puts
+    a flat surface about half a spacing beyond the outer particles' centres). The same points
+    give the same mesh as ``sluice-play --surface-mesh``, bit for bit. ``anisotropic=True``
+    gives each particle a kernel shaped by its neighbours (after Yu & Turk 2013: flat across
+    surfaces and thin sheets, which then stay whole), as ``--surface-anisotropic``; its centre
+    moves ``centre_smoothing`` (in [0, 1], default 0.25) of the way to its neighbours' mean.
+    ``kernel`` is the isotropic kernel's shape, as ``--surface-kernel``: ``"gaussian"``
+    (default: a Gaussian as wide as poly6, deposited and blurred) or ``"poly6"`` (splatted
+    particle by particle, slower on a software renderer). ``normalised=False`` scales each
+    kernel by the rest volume alone instead (``--no-surface-normalised``; one field pass, iso
+    default 0.5): thin sheets and droplets then lose volume, and curved surfaces move in or
+    out by up to a fifth of a radius. The default (None) normalises the isotropic kernels and
+    not the anisotropic ones, which keep thin sheets by their shape."""
     p = np.asarray(points)
     if p.ndim != 2 or p.shape[1] != 3:
         raise InvalidArgument(f"reconstruct_surface: points must have shape (N, 3), not "
@@ -102,5 +106,6 @@ def reconstruct_surface(points: Any, particle_radius: float, *, cell_size: Optio
                                     float(smoothing_radius or 0.0), float(iso or 0.0),
                                     bool(anisotropic),
                                     None if centre_smoothing is None else float(centre_smoothing),
-                                    kernel == "poly6", bool(normalised))
+                                    kernel == "poly6",
+                                    None if normalised is None else bool(normalised))
     return SurfaceMesh(v, n, t, timings)

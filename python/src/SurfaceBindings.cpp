@@ -63,7 +63,8 @@ struct PyMesher {
 
     nb::tuple reconstruct(Points points, float particleRadius, float cellSize,
                           float smoothingRadius, float iso, bool anisotropic,
-                          std::optional<float> centreSmoothing, bool poly6, bool normalised) {
+                          std::optional<float> centreSmoothing, bool poly6,
+                          std::optional<bool> normalised) {
         rt::SurfaceOptions options;
         options.particleRadius = particleRadius;
         options.cellSize = cellSize;
@@ -102,7 +103,7 @@ void bindSurface(nb::module_& m) {
         .def("reconstruct", &PyMesher::reconstruct, nb::arg("points"), nb::arg("particle_radius"),
              nb::arg("cell_size"), nb::arg("smoothing_radius"), nb::arg("iso"),
              nb::arg("anisotropic"), nb::arg("centre_smoothing").none(), nb::arg("poly6"),
-             nb::arg("normalised"),
+             nb::arg("normalised").none(),
              "The fluid surface of (N, 3) float32 points on the GPU: (vertices (V, 3) float32, "
              "normals (V, 3) float32, triangles (T, 3) uint32, stage times {name: ms}); zeros "
              "and None take the defaults.");

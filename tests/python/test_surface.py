@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Optional
 
 import numpy as np
 import pytest
@@ -39,8 +40,9 @@ def assert_closed_manifold_edges(mesh: sluice.SurfaceMesh) -> None:
 
 
 def test_a_ball_of_particles_is_a_closed_sphere_of_its_volume() -> None:
-    r = 0.1
-    points = lattice(12) - 6 * SPACING
+    # 12.5 spacings across, where the lattice points inside hold the sphere's volume (0.5 %).
+    r = 0.25
+    points = lattice(26) - 13 * SPACING
     points = points[np.linalg.norm(points, axis=1) < r]
     mesh = sluice.reconstruct_surface(points, RADIUS)
     assert mesh.vertices.dtype == np.float32 and mesh.vertices.shape[1] == 3
@@ -48,6 +50,7 @@ def test_a_ball_of_particles_is_a_closed_sphere_of_its_volume() -> None:
     assert mesh.triangles.dtype == np.uint32 and mesh.triangles.shape[1] == 3
     assert_closed_manifold_edges(mesh)
     assert mesh.volume == pytest.approx(4.0 / 3.0 * np.pi * r ** 3, rel=0.02)
+    assert mesh.volume == pytest.approx(len(points) * SPACING ** 3, rel=0.01)
     outward = np.einsum("ij,ij->i", mesh.normals, mesh.vertices / np.linalg.norm(
         mesh.vertices, axis=1, keepdims=True))
     assert outward.min() > 0.8
@@ -60,6 +63,27 @@ def test_a_box_of_particles_has_its_volume_and_any_order_gives_the_same_mesh() -
     again = sluice.reconstruct_surface(points[::-1].copy(), RADIUS)
     assert np.array_equal(mesh.vertices, again.vertices)
     assert np.array_equal(mesh.triangles, again.triangles)
+
+
+def test_the_isotropic_kernels_are_density_normalised_by_default() -> None:
+    """Each kernel scaled by the rest density over its particle's own, as splashsurf's: a
+    small ball keeps the particles' own volume (the rest-volume field loses 4 %) and a lone
+    particle is a drop. The anisotropic kernels are not, unless asked."""
+    points = lattice(10) - 5 * SPACING
+    points = points[np.linalg.norm(points, axis=1) < 0.1]
+    own = len(points) * SPACING ** 3
+    mesh = sluice.reconstruct_surface(points, RADIUS)
+    normalised = sluice.reconstruct_surface(points, RADIUS, normalised=True)
+    plain = sluice.reconstruct_surface(points, RADIUS, normalised=False)
+    assert np.array_equal(mesh.vertices, normalised.vertices)
+    assert np.array_equal(mesh.triangles, normalised.triangles)
+    assert mesh.volume == pytest.approx(own, rel=0.015)
+    assert plain.volume < 0.97 * own
+    assert len(sluice.reconstruct_surface(points[:1], RADIUS).triangles) > 0
+    assert len(sluice.reconstruct_surface(points[:1], RADIUS, normalised=False).triangles) == 0
+    flat = sluice.reconstruct_surface(points, RADIUS, anisotropic=True)
+    flat_plain = sluice.reconstruct_surface(points, RADIUS, anisotropic=True, normalised=False)
+    assert np.array_equal(flat.vertices, flat_plain.vertices)
 
 
 def read_ply(path: Path):
@@ -91,17 +115,19 @@ def read_ply(path: Path):
 
 
 @pytest.mark.parametrize("kernel, anisotropic, normalised",
-                         [("gaussian", False, False), ("poly6", False, False),
-                          ("gaussian", True, False), ("gaussian", False, True)])
+                         [("gaussian", False, None), ("poly6", False, None),
+                          ("gaussian", True, None), ("gaussian", False, False),
+                          ("gaussian", True, True)])
 def test_the_command_line_and_python_give_the_same_mesh(tmp_path: Path, kernel: str,
                                                         anisotropic: bool,
-                                                        normalised: bool) -> None:
+                                                        normalised: Optional[bool]) -> None:
     scene = Path(__file__).resolve().parents[2] / "assets" / "martin-moyce.json"
     run_tool("sluice-play", scene, "--headless", "--steps", 2, "--deterministic", "--quiet",
              "--dump-ply", tmp_path / "ply", "--dump-every", 2, "--surface-mesh",
              tmp_path / "mesh", "--surface-every", 2,
              "--surface-kernel", kernel, *(["--surface-anisotropic"] if anisotropic else []),
-             *(["--surface-normalised"] if normalised else []))
+             *({None: [], True: ["--surface-normalised"],
+                False: ["--no-surface-normalised"]}[normalised]))
     particles = read_ply(tmp_path / "ply" / "frame_000002.ply")["vertex"]
     points = np.stack([particles["x"], particles["y"], particles["z"]], -1)
     cli = read_ply(tmp_path / "mesh" / "surface_000002.ply")

@@ -65,7 +65,7 @@ Result<void> parseRendering(const PlayOptions& o, const char* defaultSize, glm::
     settings.surface = *surface;
     settings.computeSmallSpheres = !o.rasterSpheres;
     settings.drawDomainBox = !o.noDomainBox;
-    settings.meshAnisotropic = o.surfaceAnisotropic;
+    settings.mesh = surfaceOptions(o);
     return {};
 }
 
@@ -211,7 +211,7 @@ int play(const CLI::App& app, const PlayOptions& o, PlayMode mode) {
     for (PlayWarning& warning : checkScene(loaded->scene, loaded->colliders))
         warnings.push_back(std::move(warning));
     checkBodiesCsv(app, loaded->scene, mode, warnings);
-    if (auto ok = checkSurfaceOptions(o, loaded->scene, mode); !ok)
+    if (auto ok = checkSurfaceOptions(o, loaded->scene); !ok)
         return reportFailure(ok.error());
     if (auto stop = reportWarnings(warnings, o.strict))
         return *stop;
@@ -254,17 +254,21 @@ void addRunOptions(CLI::App& app, PlayOptions& o) {
                    "Surface mesh: sample spacing [m] (default: the particle radius)")
         ->check(format::cli::numberIn(1e-6, 1e3));
     app.add_option("--surface-iso", o.surfaceIso,
-                   "Surface mesh: iso value, a share of the field inside the fluid (default 0.5)")
+                   "Surface mesh: iso value, a share of the field inside the fluid (default 0.6; "
+                   "0.5 with --no-surface-normalised)")
         ->check(format::cli::numberIn(0.01, 3.99));
     app.add_option("--surface-kernel", o.surfaceKernel,
                    "Surface mesh: the kernel round each particle, gaussian (default: as wide as "
                    "poly6, deposited and blurred; several times faster on a software renderer) "
                    "or poly6 (splatted particle by particle); anisotropic kernels are poly6")
         ->check(CLI::IsMember({"gaussian", "poly6"}));
-    app.add_flag("--surface-normalised", o.surfaceNormalised,
-                 "Surface mesh: each particle's kernel scaled by the rest density over its own, "
-                 "as splashsurf does (thin sheets and droplets keep their volume; iso default "
-                 "0.6)");
+    app.add_flag_function(
+        "--surface-normalised,!--no-surface-normalised",
+        [&o](std::int64_t count) { o.surfaceNormalised = count > 0; },
+        "Surface mesh: each particle's kernel scaled by the rest density over its own, as "
+        "splashsurf does (thin sheets and droplets keep their volume; iso default 0.6), or "
+        "--no-surface-normalised by the rest volume alone (one field pass; iso default 0.5). "
+        "Default: normalised, but not with --surface-anisotropic");
     app.add_flag("--surface-anisotropic", o.surfaceAnisotropic,
                  "Surface meshes, exported and drawn (--surface mesh): anisotropic kernels, "
                  "flat across surfaces and thin sheets (docs/surfaces.md)");

@@ -36,10 +36,10 @@ constexpr OptionUse kOptionUses[] = {
     {"--bodies-csv", true, false, false},
     {"--surface-mesh", true, false, false},
     {"--surface-every", true, false, false},
-    {"--surface-cell", true, false, false},
-    {"--surface-iso", true, false, false},
-    {"--surface-kernel", true, false, false},
-    {"--surface-normalised", true, false, false},
+    {"--surface-cell", true, true, true},
+    {"--surface-iso", true, true, true},
+    {"--surface-kernel", true, true, true},
+    {"--surface-normalised", true, true, true},
     {"--surface-anisotropic", true, true, true},
     {"--check", true, false, false},
     {"--quiet", true, true, false},
@@ -80,11 +80,8 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
             out.push_back(unusedOption(use.name, modeWords(mode)));
     if (mode == PlayMode::Headless && given("--dump-every") && o.plyDir.empty())
         out.push_back(unusedOption("--dump-every", "without --dump-ply"));
-    if (mode == PlayMode::Headless && o.surfaceDir.empty())
-        for (const char* name : {"--surface-every", "--surface-cell", "--surface-iso",
-                                 "--surface-kernel", "--surface-normalised"})
-            if (given(name))
-                out.push_back(unusedOption(name, "without --surface-mesh"));
+    if (mode == PlayMode::Headless && o.surfaceDir.empty() && given("--surface-every"))
+        out.push_back(unusedOption("--surface-every", "without --surface-mesh"));
     if (mode != PlayMode::Bench && given("--every") && !o.capture.frames())
         out.push_back(unusedOption("--every", "without --frames or --video"));
     if (mode != PlayMode::Bench && given("--fps") && o.capture.video.empty())
@@ -102,15 +99,17 @@ void checkOptionUse(const CLI::App& app, const PlayOptions& o, PlayMode mode,
          {"--size", "--colour", "--surface", "--zoom", "--raster-spheres", "--no-domain-box"})
         if (given(name) && !renders)
             out.push_back(unusedOption(name, renderWhy));
-    // Anisotropic kernels shape the exported meshes and the drawn mesh mode (which M reaches
-    // in the window).
+    // The mesh options shape the exported meshes and the drawn mesh mode (which M reaches in
+    // the window) alike.
     const bool drawsMesh =
         renders && (mode == PlayMode::Window || parseSurfaceMode(o.surface) == SurfaceMode::Mesh);
-    if (given("--surface-anisotropic") && o.surfaceDir.empty() && !drawsMesh)
-        out.push_back(unusedOption("--surface-anisotropic",
-                                   mode == PlayMode::Bench
-                                       ? "with --bench without --bench-frames and --surface mesh"
-                                       : "without --surface-mesh or --surface mesh"));
+    for (const char* name : {"--surface-cell", "--surface-iso", "--surface-kernel",
+                             "--surface-normalised", "--surface-anisotropic"})
+        if (given(name) && o.surfaceDir.empty() && !drawsMesh)
+            out.push_back(unusedOption(name, mode == PlayMode::Bench
+                                                 ? "with --bench without --bench-frames and "
+                                                   "--surface mesh"
+                                                 : "without --surface-mesh or --surface mesh"));
 }
 
 /// --bodies-csv for a scene without dynamic bodies would write only the header.
@@ -136,10 +135,9 @@ SurfaceOptions surfaceOptions(const PlayOptions& o) {
     return options;
 }
 
-/// --surface-cell and --surface-iso against the scene's particle radius, before anything runs.
-Result<void> checkSurfaceOptions(const PlayOptions& o, const format::Scene& scene, PlayMode mode) {
-    if (mode != PlayMode::Headless || o.surfaceDir.empty())
-        return {};
+/// --surface-cell and --surface-iso against the scene's particle radius, before anything runs
+/// (they shape the exported meshes and the drawn ones alike).
+Result<void> checkSurfaceOptions(const PlayOptions& o, const format::Scene& scene) {
     SurfaceOptions options = surfaceOptions(o);
     options.particleRadius = 0.5f * scene.simulation.spacing;
     auto resolved = resolveSurfaceOptions(options);

@@ -31,7 +31,7 @@ struct PlayOptions {
     float surfaceIso = 0.0f;
     bool surfaceAnisotropic = false;
     std::string surfaceKernel = "gaussian";
-    bool surfaceNormalised = false;
+    std::optional<bool> surfaceNormalised; ///< unset: SurfaceOptions' default
     std::uint64_t dumpEvery = 1;
     bool deterministic = false;
     std::uint32_t neighbourLanes = 0; // 0: chosen for the renderer and the scene
@@ -73,7 +73,7 @@ void checkBodiesCsv(const CLI::App& app, const format::Scene& scene, PlayMode mo
 SurfaceOptions surfaceOptions(const PlayOptions& o);
 
 /// --surface-cell and --surface-iso against the scene's particle radius, before anything runs.
-Result<void> checkSurfaceOptions(const PlayOptions& o, const format::Scene& scene, PlayMode mode);
+Result<void> checkSurfaceOptions(const PlayOptions& o, const format::Scene& scene);
 
 /// A --screenshot-at step the run never reaches.
 void checkScreenshotStep(const PlayOptions& o, PlayMode mode, std::vector<PlayWarning>& out);

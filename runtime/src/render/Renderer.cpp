@@ -139,7 +139,7 @@ struct Renderer::Impl {
 
     /// Reconstructs the surface of the particles and draws it into the scene target; false
     /// (with meshError) when the reconstruction failed, and the caller draws spheres.
-    bool drawMesh(const Simulation& sim, bool anisotropic) {
+    bool drawMesh(const Simulation& sim, const SurfaceOptions& meshOptions) {
         if (!mesher) {
             auto created = SurfaceReconstructor::create();
             if (!created) {
@@ -148,9 +148,8 @@ struct Renderer::Impl {
             }
             mesher.emplace(std::move(*created));
         }
-        SurfaceOptions options;
+        SurfaceOptions options = meshOptions;
         options.particleRadius = sim.constants().radius;
-        options.anisotropic = anisotropic;
         // Drawn from the reconstructor's own buffers: nothing read back but the sizes.
         auto mesh = mesher->build(sim.positionBuffer(), sim.particleCount(), options);
         if (!mesh) {
@@ -363,7 +362,7 @@ void Renderer::render(const Simulation& sim, const OrbitCamera& camera,
     r.passTimer(RenderPass::Fluid).begin();
     r.meshError.clear();
     r.fluidStagesTimed = false;
-    if (settings.surface == SurfaceMode::Mesh && r.drawMesh(sim, settings.meshAnisotropic)) {
+    if (settings.surface == SurfaceMode::Mesh && r.drawMesh(sim, settings.mesh)) {
         r.output = r.sceneTarget.id();
     } else if (settings.surface == SurfaceMode::Fluid) {
         const float radius = sim.constants().radius;

@@ -107,7 +107,9 @@ Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {
     if (auto ok = orDefault(o.smoothingRadius, 4.0f * o.particleRadius, "the smoothing radius");
         !ok)
         return ok.error();
-    if (auto ok = orDefault(o.iso, o.densityNormalised ? 0.6f : 0.5f, "the iso value"); !ok)
+    if (!o.densityNormalised)
+        o.densityNormalised = !o.anisotropic;
+    if (auto ok = orDefault(o.iso, *o.densityNormalised ? 0.6f : 0.5f, "the iso value"); !ok)
         return ok.error();
     if (o.iso >= 4.0f)
         return fail(ErrorCode::InvalidArgument,

@@ -150,8 +150,13 @@ void renderModes(ViewerUi& ui) {
     ImGui::SameLine();
     ImGui::RadioButton("mesh", &surface, int(SurfaceMode::Mesh));
     r.surface = SurfaceMode(surface);
-    if (r.surface == SurfaceMode::Mesh)
-        ImGui::Checkbox("anisotropic kernels", &r.meshAnisotropic);
+    if (r.surface == SurfaceMode::Mesh) {
+        ImGui::Checkbox("anisotropic kernels", &r.mesh.anisotropic);
+        ImGui::SameLine();
+        bool normalised = r.mesh.densityNormalised.value_or(!r.mesh.anisotropic);
+        if (ImGui::Checkbox("density-normalised", &normalised))
+            r.mesh.densityNormalised = normalised;
+    }
     int colour = int(r.colour);
     ImGui::RadioButton("water", &colour, int(ColourMode::Water));
     ImGui::SameLine();

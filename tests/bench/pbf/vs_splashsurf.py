@@ -2,11 +2,11 @@
 """Sluice's GPU surface meshes against splashsurf's, on the same particles in the same process.
 
 Both reconstruct the fluid surface of the same (N, 3) float positions: Sluice with
-``sluice.reconstruct_surface`` (docs/surfaces.md: a colour field as wide as poly6 of support 4 r,
-Gaussian by default, ``--kernel poly6`` for poly6 itself, ``--normalised`` for the
-density-normalised field that splashsurf's is, on a sparse grid of cell r, contoured
-by marching cubes at iso 0.5, on the GPU: llvmpipe here, in a headless context kept from the
-first call), splashsurf (pip install
+``sluice.reconstruct_surface`` at its defaults (docs/surfaces.md: a density-normalised colour
+field as wide as poly6 of support 4 r, as splashsurf's is, Gaussian by default, ``--kernel
+poly6`` for poly6 itself, ``--no-normalised`` for the rest-volume field, on a sparse grid of
+cell r, contoured by marching cubes at iso 0.6, or 0.5 without the normalisation, on the GPU:
+llvmpipe here, in a headless context kept from the first call), splashsurf (pip install
 pysplashsurf) with ``reconstruction_pipeline`` at its documented settings for SPH data of the
 same particle radius r: smoothing length 2 r (support 4 r, the same as Sluice's), cube size r
 (the same as Sluice's cell), its default iso threshold 0.6 of its density-normalised colour
@@ -69,7 +69,7 @@ def particle_sets(build):
             ("jittered block 64x64x32", jittered)]
 
 
-OPTIONS = {"anisotropic": False, "kernel": "gaussian", "normalised": False}  # set by the flags
+OPTIONS = {"anisotropic": False, "kernel": "gaussian", "normalised": None}  # set by the flags
 
 
 def sluice_mesh(points):
@@ -199,8 +199,11 @@ def main():
                     help="Sluice with anisotropic kernels (default centre smoothing)")
     ap.add_argument("--kernel", choices=("gaussian", "poly6"), default="gaussian",
                     help="Sluice's isotropic kernel (docs/surfaces.md, 'The field')")
-    ap.add_argument("--normalised", action="store_true",
-                    help="Sluice's density-normalised field, splashsurf's convention (iso 0.6)")
+    ap.add_argument("--normalised", action="store_true", default=None,
+                    help="Sluice's density-normalised field, splashsurf's convention (iso 0.6; "
+                    "the default but with --anisotropic)")
+    ap.add_argument("--no-normalised", dest="normalised", action="store_false",
+                    help="Sluice's rest-volume field (iso 0.5)")
     args = ap.parse_args()
     OPTIONS["normalised"] = args.normalised
     OPTIONS["anisotropic"] = args.anisotropic

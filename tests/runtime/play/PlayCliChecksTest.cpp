@@ -196,10 +196,20 @@ INSTANTIATE_TEST_SUITE_P(
                       "--surface-every does nothing without --surface-mesh [unused-option]"},
         OptionMistake{"surfaceNormalisedWithoutSurfaceMesh",
                       {"--headless", "--steps", "1", "--surface-normalised"},
-                      "--surface-normalised does nothing without --surface-mesh [unused-option]"},
+                      "--surface-normalised does nothing without --surface-mesh or --surface "
+                      "mesh [unused-option]"},
+        OptionMistake{"noSurfaceNormalisedWithoutSurfaceMesh",
+                      {"--headless", "--steps", "1", "--no-surface-normalised"},
+                      "--surface-normalised does nothing without --surface-mesh or --surface "
+                      "mesh [unused-option]"},
         OptionMistake{"surfaceKernelWithoutSurfaceMesh",
                       {"--headless", "--steps", "1", "--surface-kernel", "poly6"},
-                      "--surface-kernel does nothing without --surface-mesh [unused-option]"},
+                      "--surface-kernel does nothing without --surface-mesh or --surface mesh "
+                      "[unused-option]"},
+        OptionMistake{"surfaceIsoWithBench",
+                      {"--bench", "--surface-iso", "0.4"},
+                      "--surface-iso does nothing with --bench without --bench-frames and "
+                      "--surface mesh [unused-option]"},
         OptionMistake{"surfaceAnisotropicWithoutSurfaceMesh",
                       {"--headless", "--steps", "1", "--surface-anisotropic"},
                       "--surface-anisotropic does nothing without --surface-mesh or --surface "

@@ -19,6 +19,7 @@
 #include "sluice/gpu/Gl.h"
 #include "sluice/rt/render/Image.h"
 #include "sluice/rt/render/OrbitCamera.h"
+#include "sluice/rt/surface/SurfaceMesh.h"
 
 namespace sluice::rt {
 
@@ -64,8 +65,9 @@ struct RenderSettings {
     /// pixels as the rasterised impostors, at a fraction of the cost where the GPU has little
     /// rasteriser or the spheres are tiny); false rasterises every sphere.
     bool computeSmallSpheres = true;
-    /// Mesh: anisotropic kernels (SurfaceOptions::anisotropic), as --surface-anisotropic.
-    bool meshAnisotropic = false;
+    /// Mesh: how it is reconstructed, as the --surface-* options say (the particle radius is
+    /// the simulation's), so that what the window shows is what --surface-mesh writes.
+    SurfaceOptions mesh;
     /// Screen-space fluid: the spheres of its depth and thickness passes in particle radii
     /// (above 1.42 the rest lattice leaves no gaps), filter passes, filter radius and depth
     /// falloff in particle radii, absorption of the thickness [1/m], refraction offset
