@@ -117,6 +117,9 @@ publish() {
     grep -m1 '^surface meshes' "$out/surface-mesh-1m.log" 2>/dev/null |
       sed 's/$/ (floor: >= 20 M particles\/s)/'
     grep -m1 '^  surface stages' "$out/surface-mesh-1m.log" 2>/dev/null
+    grep -m1 '^surface meshes' "$out/surface-mesh-1m-restvolume.log" 2>/dev/null |
+      sed 's/^/--no-surface-normalised: /'
+    grep -m1 '^  surface stages' "$out/surface-mesh-1m-restvolume.log" 2>/dev/null
     f=$out/render-mesh.json
     if [ -f "$f" ]; then
       echo "surface mesh mode, $(json "$f" particles) particles at $(json "$f" width)x$(json "$f" height):" \
@@ -228,6 +231,10 @@ if phase surface; then
   rm -rf /tmp/sluice-device-surface
   step surface-mesh-1m "$bin/sluice-play" "$sscene" --headless --steps $ssteps \
     --surface-mesh /tmp/sluice-device-surface --surface-every 5 --stats-json "$out/surface-mesh.json"
+  # The rest-volume field beside the default (density-normalised: two field passes).
+  rm -rf /tmp/sluice-device-surface
+  step surface-mesh-1m-restvolume "$bin/sluice-play" "$sscene" --headless --steps $ssteps \
+    --surface-mesh /tmp/sluice-device-surface --surface-every 5 --no-surface-normalised
   publish
 fi
 
