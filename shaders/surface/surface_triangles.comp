@@ -1,6 +1,6 @@
 // Per stored block: the triangles of each cell whose lowest corner it holds (marching cubes,
 // the cell triangle table), at its block's base plus a scan over its rows, in a fixed order.
-// One invocation per row of samples counts and numbers the cells; then the cells with
+// One invocation per row of samples counts and numbers the triangles; then the block's
 // triangles, listed in shared memory, are shared out one per invocation. A vertex is found by
 // the edge it lies on. Each triangle faces out of the fluid (down the field).
 #version 450 core
@@ -38,9 +38,9 @@ uint codedVertex(ivec3 s, uint edge) {
     return edgeVertex(s, lo, lo | (edge >> 3u));
 }
 
-// The block's triangles in order: the lowest corner of the cell's index in the block (bits 0-8),
-// the cell's inside corners (bits 9-16) and the triangle's place in the cell's table entry
-// (from 17).
+// The block's triangles in order: the index in the block of the cell's lowest corner (bits
+// 0-8), the cell's inside corners (bits 9-16) and the triangle's place in the cell's table
+// entry (from 17).
 shared uint blockTriangles[kSurfaceCellTrianglesMax * kSurfaceBlockSamples];
 
 // Triangle k of the cell at s (lowest corner, gLocal in the block) whose inside corners are

@@ -2,9 +2,9 @@
 // interpolation of the iso value along it, with the normal down the field's gradient (central
 // differences at both ends, interpolated), at its block's base plus a scan over the block's
 // rows, in a fixed order; and keeps its first vertex for the triangle pass. One invocation
-// per row of samples counts and numbers; then the block's samples that own a crossing edge,
-// listed in shared memory, are shared out one per invocation (a row has few of them, and
-// software GL runs neighbouring rows side by side in one vector).
+// per row of samples counts and numbers; then the block's vertices, listed in shared memory,
+// are shared out one per invocation (a row has few of them, and software GL runs neighbouring
+// rows side by side in one vector), each reading the field through the blocks round it.
 #version 450 core
 
 #include "shared/SurfaceGlsl.h"
