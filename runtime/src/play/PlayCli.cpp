@@ -263,12 +263,13 @@ void addRunOptions(CLI::App& app, PlayOptions& o) {
                    "or poly6 (splatted particle by particle); anisotropic kernels are poly6")
         ->check(CLI::IsMember({"gaussian", "poly6"}));
     app.add_flag_function(
-        "--surface-normalised,!--no-surface-normalised",
-        [&o](std::int64_t count) { o.surfaceNormalised = count > 0; },
-        "Surface mesh: each particle's kernel scaled by the rest density over its own, as "
-        "splashsurf does (thin sheets and droplets keep their volume; iso default 0.6), or "
-        "--no-surface-normalised by the rest volume alone (one field pass; iso default 0.5). "
-        "Default: normalised, but not with --surface-anisotropic");
+           "--surface-normalised,!--no-surface-normalised",
+           [&o](std::int64_t count) { o.surfaceNormalised = count > 0; },
+           "Surface mesh: each particle's kernel scaled by the rest density over its own, as "
+           "splashsurf does (thin sheets and droplets keep their volume; iso default 0.6), or "
+           "--no-surface-normalised by the rest volume alone (one field pass; iso default 0.5). "
+           "Default: normalised, but not with --surface-anisotropic")
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast); // the last one given wins
     app.add_flag("--surface-anisotropic", o.surfaceAnisotropic,
                  "Surface meshes, exported and drawn (--surface mesh): anisotropic kernels, "
                  "flat across surfaces and thin sheets (docs/surfaces.md)");

@@ -302,6 +302,29 @@ TEST(SluicePlaySurface, WritesOneClosedMeshPerRequestedStep) {
         EXPECT_NEAR(enclosedVolume(mesh) / 0.016, 1.0, 0.05) << name;
     }
 
+    // The isotropic field is density-normalised unless --no-surface-normalised says otherwise;
+    // of the two flags, the last one given wins.
+    const auto meshOf = [&](const char* tag, std::vector<std::string> flags) {
+        std::vector<std::string> args = {(kAssets / "martin-moyce.json").string(),
+                                         "--headless",
+                                         "--steps",
+                                         "1",
+                                         "--deterministic",
+                                         "--quiet",
+                                         "--surface-mesh",
+                                         (dir / tag).string()};
+        args.insert(args.end(), flags.begin(), flags.end());
+        const auto run = play(dir, args);
+        EXPECT_EQ(run.code, 0) << tag << ": " << shown(run);
+        return testrun::readText(dir / tag / "surface_000001.ply");
+    };
+    const std::string normalised = meshOf("default", {});
+    const std::string plain = meshOf("plain", {"--no-surface-normalised"});
+    EXPECT_NE(normalised, plain);
+    EXPECT_EQ(meshOf("asked", {"--surface-normalised"}), normalised);
+    EXPECT_EQ(meshOf("last-no", {"--surface-normalised", "--no-surface-normalised"}), plain);
+    EXPECT_EQ(meshOf("last-yes", {"--no-surface-normalised", "--surface-normalised"}), normalised);
+
     // Without --quiet the summary says what a mesh cost, stage by stage, and so does the
     // statistics file (timings are left out of a --deterministic one).
     const fs::path stats = dir / "stats.json";
