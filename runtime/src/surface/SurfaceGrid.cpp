@@ -107,8 +107,7 @@ Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options) {
     if (auto ok = orDefault(o.smoothingRadius, 4.0f * o.particleRadius, "the smoothing radius");
         !ok)
         return ok.error();
-    if (!o.densityNormalised)
-        o.densityNormalised = !o.anisotropic;
+    o.densityNormalised = isDensityNormalised(o);
     if (auto ok = orDefault(o.iso, *o.densityNormalised ? 0.6f : 0.5f, "the iso value"); !ok)
         return ok.error();
     if (o.iso >= 4.0f)

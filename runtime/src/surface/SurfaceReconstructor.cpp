@@ -229,7 +229,7 @@ Result<void> SurfaceReconstructor::Impl::field(const gpu::Buffer& positions, std
     positions.bindStorage(sh::kSurfBindWeights);
     if (auto ok = fieldPass(count, g, o, w, false); !ok)
         return ok;
-    if (o.densityNormalised.value_or(false)) { // resolved: set
+    if (isDensityNormalised(o)) {
         // Each particle's density from the field, then the field again with its weight.
         if (auto ok = ensureUints(w.weights, count, "surface weights", false); !ok)
             return ok;

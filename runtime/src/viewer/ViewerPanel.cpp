@@ -153,7 +153,7 @@ void renderModes(ViewerUi& ui) {
     if (r.surface == SurfaceMode::Mesh) {
         ImGui::Checkbox("anisotropic kernels", &r.mesh.anisotropic);
         ImGui::SameLine();
-        bool normalised = r.mesh.densityNormalised.value_or(!r.mesh.anisotropic);
+        bool normalised = isDensityNormalised(r.mesh);
         if (ImGui::Checkbox("density-normalised", &normalised))
             r.mesh.densityNormalised = normalised;
     }

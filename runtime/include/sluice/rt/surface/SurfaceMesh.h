@@ -94,6 +94,12 @@ struct SurfaceOptions {
     std::optional<float> centreSmoothing;
 };
 
+/// Whether `o` asks for the density-normalised field: densityNormalised, or where it is unset
+/// its default (the isotropic kernels normalised, the anisotropic ones not).
+inline bool isDensityNormalised(const SurfaceOptions& o) {
+    return o.densityNormalised.value_or(!o.anisotropic);
+}
+
 /// The options with every default filled in; InvalidArgument naming the option for a value
 /// that is not finite and positive (iso in (0, 4)), or for a cell larger than the support.
 Result<SurfaceOptions> resolveSurfaceOptions(const SurfaceOptions& options);
