@@ -215,6 +215,8 @@ void main() {
     vec3 x0 = predStart[i].xyz; // where the substep's collider mask was taken
     if (!allFinite(x))
         x = xi;
+    // The colliders this iteration's lambda pass left near x* (all of them without bodies).
+    uvec2 visit = P.bodyCount != 0u ? collidersNear[i].zw : allColliders();
     // The walls and static colliders push along their boundary volume's gradient with the
     // particle's own lambda, as a body does (without a reaction: they do not move). A particle
     // that is not compressed has lambda 0: no solid pushes it, so their fields are not sampled.
@@ -226,14 +228,18 @@ void main() {
         vec3 solidPush = li * slope;
         if (allFinite(solidPush))
             x += solidPush;
-        x = pushByBodies(xi, li, x, collidersNearNow(i, xi, x0));
+        if (P.bodyCount != 0u)
+            x = pushByBodies(xi, li, x, visit);
     }
     if (!allFinite(x))
         x = xi;
-    x = collide(x, pos[i].xyz, collidersNearNow(i, x, x0));
+    x = collide(x, pos[i].xyz, withinStepMargin(x, xi) ? visit : collidersNearNow(i, x, x0));
     if (!allFinite(x))
         x = xi;
     vec3 clamped = clampToDomain(x);
     holdAgainstWalls(x, clamped);
     predOut[i] = vec4(clamped, 0.0);
+    // The next iteration's lambda starts from this list while the particle stays near x*.
+    if (P.bodyCount != 0u && !withinStepMargin(clamped, xi))
+        collidersNear[i].zw = collidersNearNow(i, clamped, x0);
 }

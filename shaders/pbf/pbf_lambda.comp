@@ -82,23 +82,29 @@ uint searchAndRecord(uint i, vec3 xi, inout float density, inout vec3 gradSum,
 
 // Each dynamic body's boundary volume at particle i, at xi in iteration k, added to `boundary`
 // and its slope to `gradient`: the bodies of the colliders near the particle, whose mask
-// iteration 0 takes from the substep start and keeps (a scene without bodies has none).
+// iteration 0 takes from the substep start and keeps (a scene without bodies has none), or
+// in a later iteration the list the previous delta pass handed on. What is left of it after the
+// bodies out of reach from xi is the list of this iteration's delta pass (CollidersNearGlsl.h).
 void addBodyBoundary(uint i, uint k, vec3 xi, inout float boundary, inout vec3 gradient) {
     if (P.bodyCount == 0u)
         return;
-    uvec2 near = k == 0u ? collidersWithinReach(xi) : collidersNearNow(i, xi, predStart[i].xyz);
-    if (k == 0u)
-        collidersNear[i] = near;
+    uvec2 near = k == 0u ? collidersWithinReach(xi) : collidersNear[i].zw;
+    uvec2 reach = near, kept = near;
     uint solid;
     while (nextCollider(near, solid)) {
         uint b = colliders[solid].body;
+        if (b == kNoBody)
+            continue;
         float phi;
         vec3 normal;
-        if (b == kNoBody || !bodyBoundary(b, xi, phi, normal))
-            continue;
-        boundary += boundaryShare(phi);
-        gradient += boundaryShareSlope(phi) * normal;
+        if (bodyBoundary(b, xi, phi, normal)) {
+            boundary += boundaryShare(phi);
+            gradient += boundaryShareSlope(phi) * normal;
+        }
+        if (!bodyMayReach(b, xi, phi))
+            kept[solid >> 5u] &= ~(1u << (solid & 31u));
     }
+    collidersNear[i] = uvec4(k == 0u ? reach : collidersNear[i].xy, kept);
 }
 
 void main() {

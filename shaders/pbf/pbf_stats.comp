@@ -3,6 +3,7 @@
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
+#define PBF_WITH_BODIES 1
 #include "shared/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
@@ -20,6 +21,10 @@ void main() {
     if (!isnan(speed))
         atomicMax(stats.maxSpeedBits, floatBitsToUint(speed));
     for (uint c = 0u; c < P.colliderCount; ++c) {
+        // A body whose bounding sphere is out of reach has phi > 0 here: skip its samples.
+        uint b = colliders[c].body;
+        if (b != kNoBody && bodyOutOfReach(b, x, 0.0))
+            continue;
         vec3 normal;
         if (colliderDistance(c, x, normal) < -0.5 * PBF_RADIUS) {
             atomicAdd(stats.insideColliders, 1u);

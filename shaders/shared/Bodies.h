@@ -66,8 +66,9 @@ SLUICE_CONST uint kBindBodies = 22;        ///< GpuBody[]
 SLUICE_CONST uint kBindBodySums = 23;      ///< uint[kBodySumWords] per body
 SLUICE_CONST uint kBindBodySamples = 24;   ///< vec4 contact points, body-local [asset units]
 SLUICE_CONST uint kBindBodySteps = 25;     ///< GpuBodyStep[]: the body pass's state between sweeps
-SLUICE_CONST uint kBindCollidersNear = 26; ///< uvec2 per sorted particle: the colliders that may
-                                           ///< reach it in its substep (CollidersNearGlsl.h)
+SLUICE_CONST uint kBindCollidersNear = 26; ///< uvec4 per sorted particle: the colliders that may
+                                           ///< reach it in its substep and in the iteration
+                                           ///< (CollidersNearGlsl.h)
 
 /// One dynamic body. The solver reads its pose through its GpuCollider record, which the body
 /// pass rewrites after every substep. std430; offsets [bytes] on the left are checked below.

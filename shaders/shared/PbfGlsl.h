@@ -404,12 +404,14 @@ bool nextStaticCollider(inout uint mask, inout uint c) {
 #ifdef PBF_WITH_BODIES
 
 // Distance and outward unit normal of body b at world x, when the particle's kernel reaches
-// it (phi < h); false otherwise. A bounding-sphere test first skips far bodies. phi is measured
-// from the body's fluid-facing surface, P.bodyOffset inside its zero level set.
+// it (phi < h); false otherwise. A bounding-sphere test first skips far bodies, and then phi is
+// kPhiNotSampled. phi is measured from the body's fluid-facing surface, P.bodyOffset inside its
+// zero level set.
+const float kPhiNotSampled = 3.0e38;
 bool bodyBoundary(uint b, vec3 x, out float phi, out vec3 normal) {
     vec3 toCentre = x - bodies[b].position;
     float reach = bodies[b].boundRadius + PBF_H;
-    phi = PBF_H;
+    phi = kPhiNotSampled;
     normal = vec3(0.0);
     if (dot(toCentre, toCentre) >= reach * reach)
         return false;

@@ -56,7 +56,7 @@ Result<void> Simulation::Impl::allocate() {
         {&sortedToOld, n * u, "sortedToOld"},
         {&cellCount, tableSize * u, "cellCount"},
         {&neighbourMask, n * shared::kNeighbourMaskWords * u, "neighbour mask"},
-        {&collidersNear, (withBodies ? n : 1) * 2 * u, "colliders near"},
+        {&collidersNear, (withBodies ? n : 1) * 4 * u, "colliders near"},
         {&cellStart, (tableSize + 1) * u, "cellStart"},
         {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats), "stats"},
         {&colliderBuf,
@@ -83,10 +83,10 @@ Result<void> Simulation::Impl::allocate() {
     // Per particle of capacity: the particle arrays (7 vec4, 5 uint; the vorticity omega lives
     // in the idle position buffer, applyVorticityAndXsph), the neighbour mask and the hash
     // table's cellCount + cellStart, spread over the capacity and rounded up; with bodies, the
-    // mask of the colliders near each particle.
+    // masks of the colliders near each particle (its substep's and its iteration's).
     bytesPerParticle = 7 * v4 + 5 * u + shared::kNeighbourMaskWords * u +
                        (u * (2 * std::uint64_t(tableSize) + 1) + n - 1) / n +
-                       (withBodies ? 2 * u : 0);
+                       (withBodies ? 4 * u : 0);
     for (const Alloc& a : allocs) {
         if (maxSsbo > 0 && a.bytes > std::uint64_t(maxSsbo))
             return fail(ErrorCode::GpuOutOfMemory,

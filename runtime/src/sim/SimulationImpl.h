@@ -133,7 +133,8 @@ struct Simulation::Impl {
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
     gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
     gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
-    gpu::Buffer collidersNear; // uvec2 per particle of capacity: its substep's collider mask
+    gpu::Buffer collidersNear; // uvec4 per particle of capacity: its substep's collider mask and
+                               // its iteration's list
     gpu::Buffer colliderBuf, sdfBuf, params;
     // GpuBody[], fixed-point sums, contact points, the body pass's state between its dispatches
     gpu::Buffer bodyBuf, bodySums, bodySamples, bodySteps;
