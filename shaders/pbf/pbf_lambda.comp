@@ -104,7 +104,10 @@ void addBodyBoundary(uint i, uint k, vec3 xi, inout float boundary, inout vec3 g
         if (!bodyMayReach(b, xi, phi))
             kept[solid >> 5u] &= ~(1u << (solid & 31u));
     }
-    collidersNear[i] = uvec4(k == 0u ? reach : collidersNear[i].xy, kept);
+    if (k == 0u)
+        collidersNear[i] = uvec4(reach, kept);
+    else
+        collidersNear[i].zw = kept;
 }
 
 void main() {
