@@ -154,7 +154,7 @@ vec3 pushByBodies(vec3 xi, float li, vec3 x, uvec2 near) {
             continue;
         float phi;
         vec3 normal;
-        if (!bodyBoundary(b, xi, phi, normal))
+        if (!bodyBoundary(c, xi, phi, normal))
             continue;
         vec3 push = li * boundaryShareSlope(phi) * normal;
         if (!allFinite(push))

@@ -92,16 +92,15 @@ void addBodyBoundary(uint i, uint k, vec3 xi, inout float boundary, inout vec3 g
     uvec2 reach = near, kept = near;
     uint solid;
     while (nextCollider(near, solid)) {
-        uint b = colliders[solid].body;
-        if (b == kNoBody)
+        if (colliders[solid].body == kNoBody)
             continue;
         float phi;
         vec3 normal;
-        if (bodyBoundary(b, xi, phi, normal)) {
+        if (bodyBoundary(solid, xi, phi, normal)) {
             boundary += boundaryShare(phi);
             gradient += boundaryShareSlope(phi) * normal;
         }
-        if (!bodyMayReach(b, xi, phi))
+        if (!bodyMayReach(solid, xi, phi))
             kept[solid >> 5u] &= ~(1u << (solid & 31u));
     }
     if (k == 0u)

@@ -22,8 +22,7 @@ void main() {
         atomicMax(stats.maxSpeedBits, floatBitsToUint(speed));
     for (uint c = 0u; c < P.colliderCount; ++c) {
         // A body whose bounding sphere is out of reach has phi > 0 here: skip its samples.
-        uint b = colliders[c].body;
-        if (b != kNoBody && bodyOutOfReach(b, x, 0.0))
+        if (colliders[c].body != kNoBody && bodyOutOfReach(c, x, 0.0))
             continue;
         vec3 normal;
         if (colliderDistance(c, x, normal) < -0.5 * PBF_RADIUS) {

@@ -340,10 +340,10 @@ void writeCollider(GpuBody body, vec3 x0, vec4 q0) {
     mat4 before = mat4(vec4(s * r0[0], 0.0), vec4(s * r0[1], 0.0), vec4(s * r0[2], 0.0),
                        vec4(t0, 1.0));
     uint c = body.collider;
-    colliders[c].worldToGrid = toGrid;
-    colliders[c].rotation = mat4(r);
-    colliders[c].motion = before * toGrid;
-    colliders[c].scale = s;
+    colliderRecords[c].worldToGrid = toGrid;
+    colliderRecords[c].boundCentre = body.position;
+    colliderRecords[c].motion = before * toGrid;
+    colliderRecords[c].scale = s;
 }
 
 #endif // !__cplusplus

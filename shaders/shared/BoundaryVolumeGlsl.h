@@ -106,7 +106,8 @@ void addColliderBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
             vec3 mapGrad;
             float more = colliderVolumeCorrection(c, q, mapGrad);
             share += P.boundaryScale * more;
-            slope += P.boundaryScale / colliders[c].scale * (mat3(colliders[c].rotation) * mapGrad);
+            // R g / s, as (R^T / s)^T g.
+            slope += P.boundaryScale * (transpose(mat3(colliders[c].worldToGrid)) * mapGrad);
             if (!(share > 0.0))
                 continue;
         }

@@ -36,8 +36,7 @@ uvec2 allColliders() {
 uvec2 collidersWithinReach(vec3 x0) {
     uvec2 near = uvec2(0u);
     for (uint c = 0u; c < P.colliderCount; ++c) {
-        uint b = colliders[c].body;
-        if (b == kNoBody || !bodyOutOfReach(b, x0, PBF_RADIUS + PBF_NEAR_MARGIN))
+        if (colliders[c].body == kNoBody || !bodyOutOfReach(c, x0, PBF_RADIUS + PBF_NEAR_MARGIN))
             near[c >> 5u] |= 1u << (c & 31u);
     }
     return near;
@@ -53,14 +52,14 @@ uvec2 collidersNearNow(uint i, vec3 x, vec3 x0) {
                                                                  : allColliders();
 }
 
-// Whether body b may still reach a particle at x* = x before it moves PBF_STEP_MARGIN from
-// there: its collision's bounding-sphere test (bodyOutOfReach with r) could pass, and, where
-// bodyBoundary sampled its field (phi with the surface offset, else kPhiNotSampled), phi is
-// under h plus three margins. A trilinear field changes by at most sqrt(3) per unit of motion
+// Whether collider c's body may still reach a particle at x* = x before it moves
+// PBF_STEP_MARGIN from there: its collision's bounding-sphere test (bodyOutOfReach with r) could
+// pass, and, where bodyBoundary sampled its field (phi with the surface offset, else
+// kPhiNotSampled), phi is under h plus three margins. A trilinear field changes by at most sqrt(3) per unit of motion
 // inside its grid box and by 1 more outside it, so a body left out has phi >= h (no boundary
 // volume, no pressure push) and phi > r (no push-out) anywhere within the margin.
-bool bodyMayReach(uint b, vec3 x, float phi) {
-    if (bodyOutOfReach(b, x, PBF_RADIUS + PBF_STEP_MARGIN))
+bool bodyMayReach(uint c, vec3 x, float phi) {
+    if (bodyOutOfReach(c, x, PBF_RADIUS + PBF_STEP_MARGIN))
         return false;
     return phi == kPhiNotSampled || phi < PBF_H + 3.0 * PBF_STEP_MARGIN;
 }

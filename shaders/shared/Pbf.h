@@ -24,8 +24,17 @@ SLUICE_CONST float kErrorFixedScale = 65536.0;
 SLUICE_CONST uint kNeighbourMaskWords = 12;
 SLUICE_CONST uint kNeighbourMaskBits = kNeighbourMaskWords * 32;
 
-// Uniform block binding.
+// Uniform block bindings.
 SLUICE_CONST uint kBindParams = 0;
+/// The collider records as a uniform block of kMaxColliders GpuCollider, for every pass that
+/// reads them; the body pass also writes them through kBindColliders (the same buffer). On
+/// llvmpipe a storage-buffer read at an index that differs between a vector's lanes is a loop
+/// over the lanes for each component, with a bounds test each, where a uniform block's is one
+/// gather: the 16-crate step of tests/bench/pbf/bodies.py went from 96 to 89 ms that way
+/// (docs/bodies.md, "Collider records in a uniform block").
+SLUICE_CONST uint kBindCollidersUniform = 1;
+/// Colliders a scene holds at most (format::kMaxSceneColliders): the uniform block's length.
+SLUICE_CONST uint kMaxColliders = 64;
 
 // Shader storage bindings. Each pass binds the buffers of its roles; ping-pong buffers swap
 // which GL buffer sits behind a role, never their contents.
@@ -45,7 +54,7 @@ SLUICE_CONST uint kBindRank = 10;      ///< uint rank of each particle inside it
 SLUICE_CONST uint kBindSortedToOld = 11; ///< uint source index of each sorted slot
 SLUICE_CONST uint kBindOmega = 12;     ///< vec4 vorticity omega_i [1/s]
 SLUICE_CONST uint kBindStats = 13;     ///< PbfStats
-SLUICE_CONST uint kBindColliders = 14; ///< GpuCollider[]
+SLUICE_CONST uint kBindColliders = 14; ///< GpuCollider[kMaxColliders], written by the body pass
 SLUICE_CONST uint kBindSdf = 15;       ///< uint[] every collider's samples, back to back: dense
                                        ///< grids as float bits, sparse ones as NanoVDB grids
 SLUICE_CONST uint kBindIdIn = 16;      ///< uint particle id
@@ -122,22 +131,28 @@ struct PbfParams {
     /* 188 */ uint staticColliders; ///< bit c set: collider c (< 32) is no body (PbfGlsl.h)
 };
 
-/// One collider on the GPU: its placement at the end of the substep and its grid. std430.
+/// One collider on the GPU: its placement at the end of the substep and its grid. The same bytes
+/// in std430 (the body pass's storage view) and std140 (the uniform block every other pass
+/// reads): every member is 16-byte aligned or packs into a vec3's last word.
 struct GpuCollider {
-    /*   0 */ mat4 worldToGrid; ///< world [m] -> collider local [asset units]: (R^T (x - p)) / s
-    /*  64 */ mat4 rotation;    ///< R (upper 3x3), local gradient -> world normal
-    /* 128 */ mat4 motion; ///< T(t) T(t + dt)^-1: where a world point riding the collider came from
-    /* 192 */ vec3 origin;      ///< grid origin (local) [asset units]
-    /* 204 */ float voxelSize;  ///< grid spacing (local) [asset units]
-    /* 208 */ vec3 boxMax;      ///< grid far corner origin + (dims - 1) voxelSize (local)
-    /* 220 */ float scale;      ///< uniform scale s of the placement (local -> world)
-    /* 224 */ uvec3 dims;       ///< grid points per axis
-    /* 236 */ uint sdfOffset;   ///< where its samples start in the SDF buffer: dense, the first
+    /*   0 */ mat4 worldToGrid; ///< world [m] -> collider local [asset units]: (R^T (x - p)) / s;
+                                ///< its upper 3x3 transposed, times s, turns a local gradient
+                                ///< into the world one
+    /*  64 */ vec3 boundCentre; ///< a body's centre of mass [m], which its bounding sphere is about
+    /*  76 */ float boundRadius; ///< that sphere's radius [m] (GpuBody::boundRadius), kept here
+                                 ///< beside the grid the passes sample; 0 for no body
+    /*  80 */ mat4 motion; ///< T(t) T(t + dt)^-1: where a world point riding the collider came from
+    /* 144 */ vec3 origin;      ///< grid origin (local) [asset units]
+    /* 156 */ float voxelSize;  ///< grid spacing (local) [asset units]
+    /* 160 */ vec3 boxMax;      ///< grid far corner origin + (dims - 1) voxelSize (local)
+    /* 172 */ float scale;      ///< uniform scale s of the placement (local -> world)
+    /* 176 */ uvec3 dims;       ///< grid points per axis
+    /* 188 */ uint sdfOffset;   ///< where its samples start in the SDF buffer: dense, the first
                                 ///< value [words]; sparse, the NanoVDB grid [bytes]
-    /* 240 */ float friction;   ///< share of the tangential slip removed on contact, [0, 1]
-    /* 244 */ uint body;      ///< its GpuBody when the collider is dynamic, else kNoBody
-    /* 248 */ uint gridKind;  ///< kColliderDense or kColliderSparse
-    /* 252 */ uint volumeMap; ///< where its volume map starts in the SDF buffer [words]: one float
+    /* 192 */ float friction;   ///< share of the tangential slip removed on contact, [0, 1]
+    /* 196 */ uint body;      ///< its GpuBody when the collider is dynamic, else kNoBody
+    /* 200 */ uint gridKind;  ///< kColliderDense or kColliderSparse
+    /* 204 */ uint volumeMap; ///< where its volume map starts in the SDF buffer [words]: one float
                               ///< per grid point (dense layout) or per voxel of each leaf (sparse,
                               ///< 512 a leaf in the tree's order), or kNoVolumeMap
                               ///< (BoundaryVolumeGlsl.h; docs/pbf.md, "Volume maps")
@@ -232,19 +247,22 @@ SLUICE_PBF_AT(PbfParams, particleMass, 180);
 SLUICE_PBF_AT(PbfParams, boundaryScale, 184);
 SLUICE_PBF_AT(PbfParams, staticColliders, 188);
 static_assert(sizeof(sluice::shared::PbfParams) == 192, "std140/std430 size of PbfParams");
-SLUICE_PBF_AT(GpuCollider, rotation, 64);
-SLUICE_PBF_AT(GpuCollider, motion, 128);
-SLUICE_PBF_AT(GpuCollider, origin, 192);
-SLUICE_PBF_AT(GpuCollider, voxelSize, 204);
-SLUICE_PBF_AT(GpuCollider, boxMax, 208);
-SLUICE_PBF_AT(GpuCollider, scale, 220);
-SLUICE_PBF_AT(GpuCollider, dims, 224);
-SLUICE_PBF_AT(GpuCollider, sdfOffset, 236);
-SLUICE_PBF_AT(GpuCollider, friction, 240);
-SLUICE_PBF_AT(GpuCollider, body, 244);
-SLUICE_PBF_AT(GpuCollider, gridKind, 248);
-SLUICE_PBF_AT(GpuCollider, volumeMap, 252);
-static_assert(sizeof(sluice::shared::GpuCollider) == 256, "std430 size of GpuCollider");
+SLUICE_PBF_AT(GpuCollider, boundCentre, 64);
+SLUICE_PBF_AT(GpuCollider, boundRadius, 76);
+SLUICE_PBF_AT(GpuCollider, motion, 80);
+SLUICE_PBF_AT(GpuCollider, origin, 144);
+SLUICE_PBF_AT(GpuCollider, voxelSize, 156);
+SLUICE_PBF_AT(GpuCollider, boxMax, 160);
+SLUICE_PBF_AT(GpuCollider, scale, 172);
+SLUICE_PBF_AT(GpuCollider, dims, 176);
+SLUICE_PBF_AT(GpuCollider, sdfOffset, 188);
+SLUICE_PBF_AT(GpuCollider, friction, 192);
+SLUICE_PBF_AT(GpuCollider, body, 196);
+SLUICE_PBF_AT(GpuCollider, gridKind, 200);
+SLUICE_PBF_AT(GpuCollider, volumeMap, 204);
+static_assert(sizeof(sluice::shared::GpuCollider) == 208, "std430 and std140 size of GpuCollider");
+static_assert(sluice::shared::kMaxColliders * sizeof(sluice::shared::GpuCollider) <= 16384,
+              "the colliders' uniform block fits the 16 KiB every GL 4.5 driver allows");
 SLUICE_PBF_AT(PbfIterationStats, errorHi, 4);
 SLUICE_PBF_AT(PbfIterationStats, errorMaxBits, 8);
 SLUICE_PBF_AT(PbfIterationStats, particles, 12);

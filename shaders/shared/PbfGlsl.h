@@ -197,23 +197,32 @@ vec4 pbfLaneSum(vec4 v) {
 #ifdef PBF_WITH_BODIES
 layout(std430, binding = kBindBodies) buffer BodiesBuf { GpuBody bodies[]; };
 
-// Whether x is so far from body b's bounding sphere (its farthest contact point plus a voxel;
-// a thin feature between contact points may stick out by less than a spacing, so h more) that
-// no part of the body is within `reach` of it.
-bool bodyOutOfReach(uint b, vec3 x, float reach) {
-    vec3 toCentre = x - bodies[b].position;
-    float r = bodies[b].boundRadius + PBF_H + reach;
-    return dot(toCentre, toCentre) >= r * r;
-}
-
 #endif
 
 #ifdef PBF_WITH_COLLIDERS
-// The body pass rewrites the records of dynamic colliders; every other pass only reads them.
+// Every pass reads the records from the uniform block (shared/Pbf.h, kBindCollidersUniform);
+// the body pass writes the dynamic colliders' placement through the storage view of the same
+// buffer, and reads only what it does not write in the pass (the grids, and the static
+// colliders' placement).
+layout(std140, binding = kBindCollidersUniform) uniform CollidersBlock {
+    GpuCollider colliders[kMaxColliders];
+};
 #ifdef PBF_COLLIDERS_WRITABLE
-layout(std430, binding = kBindColliders) buffer CollidersBuf { GpuCollider colliders[]; };
-#else
-layout(std430, binding = kBindColliders) readonly buffer CollidersBuf { GpuCollider colliders[]; };
+layout(std430, binding = kBindColliders) writeonly buffer CollidersOut {
+    GpuCollider colliderRecords[];
+};
+#endif
+
+#ifdef PBF_WITH_BODIES
+// Whether x is so far from the bounding sphere of collider c's body (its farthest contact point
+// plus a voxel; a thin feature between contact points may stick out by less than a spacing, so h
+// more) that no part of the body is within `reach` of it. The sphere is the collider record's,
+// which the body pass writes with the body's pose.
+bool bodyOutOfReach(uint c, vec3 x, float reach) {
+    vec3 toCentre = x - colliders[c].boundCentre;
+    float r = colliders[c].boundRadius + PBF_H + reach;
+    return dot(toCentre, toCentre) >= r * r;
+}
 #endif
 // One block for dense and sparse grids alike (a driver may allow as few as 8 per shader).
 layout(std430, binding = kBindSdf) readonly buffer SdfBuf { uint sdfWords[]; };
@@ -317,8 +326,11 @@ float colliderDistanceAt(uint c, vec3 q, out vec3 normal) {
     float phiLocal;
     vec3 gradLocal;
     sampleCollider(c, q, phiLocal, gradLocal);
-    normal = mat3(colliders[c].rotation) * gradLocal;
-    return colliders[c].scale * phiLocal;
+    // R g, as (R^T / s)^T (s g): the rows worldToGrid was read for already (a rotation of its
+    // own cost as many reads again on llvmpipe).
+    float s = colliders[c].scale;
+    normal = transpose(mat3(colliders[c].worldToGrid)) * (s * gradLocal);
+    return s * phiLocal;
 }
 
 // phi in world units and the world normal of collider c at world point x.
@@ -346,7 +358,7 @@ vec3 collide(vec3 x, vec3 xOld, uvec2 near) {
 #ifdef PBF_WITH_BODIES
         // A body out of reach cannot push: skip its SDF samples. Its phi would be over the
         // radius, so nothing changes.
-        if (colliders[c].body != kNoBody && bodyOutOfReach(colliders[c].body, x, PBF_RADIUS))
+        if (colliders[c].body != kNoBody && bodyOutOfReach(c, x, PBF_RADIUS))
             continue;
 #endif
         vec3 normal;
@@ -403,19 +415,19 @@ bool nextStaticCollider(inout uint mask, inout uint c) {
 
 #ifdef PBF_WITH_BODIES
 
-// Distance and outward unit normal of body b at world x, when the particle's kernel reaches
-// it (phi < h); false otherwise. A bounding-sphere test first skips far bodies, and then phi is
-// kPhiNotSampled. phi is measured from the body's fluid-facing surface, P.bodyOffset inside its
-// zero level set.
+// Distance and outward unit normal of collider c's body at world x, when the particle's kernel
+// reaches it (phi < h); false otherwise. A bounding-sphere test first skips far bodies, and then
+// phi is kPhiNotSampled. phi is measured from the body's fluid-facing surface, P.bodyOffset
+// inside its zero level set.
 const float kPhiNotSampled = 3.0e38;
-bool bodyBoundary(uint b, vec3 x, out float phi, out vec3 normal) {
-    vec3 toCentre = x - bodies[b].position;
-    float reach = bodies[b].boundRadius + PBF_H;
+bool bodyBoundary(uint c, vec3 x, out float phi, out vec3 normal) {
+    vec3 toCentre = x - colliders[c].boundCentre;
+    float reach = colliders[c].boundRadius + PBF_H;
     phi = kPhiNotSampled;
     normal = vec3(0.0);
     if (dot(toCentre, toCentre) >= reach * reach)
         return false;
-    phi = colliderDistance(bodies[b].collider, x, normal) + P.bodyOffset;
+    phi = colliderDistance(c, x, normal) + P.bodyOffset;
     float len = length(normal);
     if (!(phi < PBF_H) || !(len > 0.0))
         return false;

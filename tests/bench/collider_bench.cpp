@@ -6,15 +6,16 @@
 // SCENE's one collider is replaced by each asset in turn. The scene runs N steps (default 30)
 // with the dense asset; the particles' positions then are the points: where the solver's
 // collision pass samples the collider. Then, alternating dense and sparse R times (default 15),
-// the bench times (GPU timer queries) one pass of shaders/render/collider_probe.comp over those points,
-// which samples phi and its gradient exactly as collide() does (sampleCollider), and one
+// the bench times (GPU timer queries) one pass of shaders/render/collider_probe.comp over those
+// points, which samples phi and its gradient exactly as collide() does (sampleCollider), and one
 // solver step of the scene from the same state (the whole step, lookups included). It prints
 // the median and range of each and the sparse / dense ratios.
 //
 // The two assets must share their grid (origin, voxel size, dims): bake the dense one with the
 // padding the sparse one uses (band + 1), e.g. for the tank scene
 //   sluice-bake bake assets/tank.obj -o dense.slc --backend cgal --voxel-size 0.0075 --padding 5
-//   sluice-bake bake assets/tank.obj -o sparse.slc --backend cgal --voxel-size 0.0075 --sparse --band 4
+//   sluice-bake bake assets/tank.obj -o sparse.slc --backend cgal --voxel-size 0.0075 --sparse
+//   --band 4
 // Not a ctest test. Say where it ran (llvmpipe on a CPU is not a GPU) when quoting its numbers.
 #include <algorithm>
 #include <array>
@@ -32,8 +33,8 @@
 #include "sluice/gpu/Context.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
-#include "sluice/rt/sim/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
+#include "sluice/rt/sim/ColliderRecord.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace {
@@ -120,9 +121,8 @@ int main(int argc, char** argv) {
         points.emplace_back(p.position, 0.0f); // w: collider 0 (the bits of 0u)
 
     const std::array<gpu::ShaderDefine, 1> sparseDefine{{{"SLUICE_SPARSE_COLLIDERS", "1"}}};
-    auto probe = gpu::Program::compute("collider_probe.comp",
-                                       rt::shaders::shaderSource("collider_probe.comp"),
-                                       sparseDefine);
+    auto probe = gpu::Program::compute(
+        "collider_probe.comp", rt::shaders::shaderSource("collider_probe.comp"), sparseDefine);
     if (!probe)
         return usage(probe.error().message().c_str());
     auto pointBuf = gpu::Buffer::createFrom(points, "points");
@@ -132,8 +132,8 @@ int main(int argc, char** argv) {
     gpu::Buffer sdf[2], records[2];
     for (int k = 0; k < 2; ++k) {
         auto bytes = gpu::Buffer::createFrom(sdfBytes(assets[k]), "sdf");
-        auto record =
-            gpu::Buffer::createFrom(std::vector{rt::colliderRecord(assets[k], 0)}, "collider");
+        const shared::GpuCollider one = rt::colliderRecord(assets[k], 0);
+        auto record = rt::colliderRecordBuffer(std::span(&one, 1));
         if (!bytes || !record)
             return usage("cannot allocate the collider buffers");
         sdf[k] = std::move(*bytes);
@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
     for (int r = 0; r < repeat; ++r)
         for (int k = 0; k < 2; ++k) {
             gpu::GpuTimer timer;
-            records[k].bindStorage(shared::kBindColliders);
+            rt::bindColliderRecords(records[k]);
             sdf[k].bindStorage(shared::kBindSdf);
             pointBuf->bindStorage(shared::kBindPosIn);
             out->bindStorage(shared::kBindPosOut);
@@ -174,17 +174,17 @@ int main(int argc, char** argv) {
             stepMs[k].push_back(double(stepTimer.elapsedNs()) * 1e-6);
         }
 
-    std::printf("collider_bench: %s, %zu points after %d steps, %d repeats (GPU time)\n",
-                argv[1], points.size(), steps, repeat);
+    std::printf("collider_bench: %s, %zu points after %d steps, %d repeats (GPU time)\n", argv[1],
+                points.size(), steps, repeat);
     std::printf("renderer: %s\n", context->info().renderer.c_str());
     const char* names[2] = {"dense", "sparse"};
     Figures lookup[2], step[2];
     for (int k = 0; k < 2; ++k) {
         lookup[k] = figures(lookupMs[k]);
         step[k] = figures(stepMs[k]);
-        std::printf("  %-6s  lookups %8.3f ms (%.3f-%.3f)   step %9.3f ms (%.3f-%.3f)\n",
-                    names[k], lookup[k].median, lookup[k].lo, lookup[k].hi, step[k].median,
-                    step[k].lo, step[k].hi);
+        std::printf("  %-6s  lookups %8.3f ms (%.3f-%.3f)   step %9.3f ms (%.3f-%.3f)\n", names[k],
+                    lookup[k].median, lookup[k].lo, lookup[k].hi, step[k].median, step[k].lo,
+                    step[k].hi);
     }
     std::printf("  sparse / dense: lookups %.2fx, whole step %.3fx\n",
                 lookup[1].median / lookup[0].median, step[1].median / step[0].median);

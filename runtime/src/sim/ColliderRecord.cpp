@@ -1,6 +1,10 @@
 // The solver's GPU record of a collider built from its asset (sluice/rt/ColliderRecord.h).
 #include "sluice/rt/sim/ColliderRecord.h"
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
 #include "shared/Bodies.h"
 
 namespace sluice::rt {
@@ -8,7 +12,6 @@ namespace sluice::rt {
 shared::GpuCollider colliderRecord(const format::ColliderAsset& asset, std::uint32_t sdfOffset) {
     shared::GpuCollider r{};
     r.worldToGrid = glm::mat4(1.0f);
-    r.rotation = glm::mat4(1.0f);
     r.motion = glm::mat4(1.0f);
     r.origin = glm::vec3(asset.meta.origin);
     r.voxelSize = float(asset.meta.voxelSize);
@@ -21,6 +24,24 @@ shared::GpuCollider colliderRecord(const format::ColliderAsset& asset, std::uint
     r.volumeMap = shared::kNoVolumeMap;
     r.gridKind = asset.sparse() ? shared::kColliderSparse : shared::kColliderDense;
     return r;
+}
+
+Result<gpu::Buffer> colliderRecordBuffer(std::span<const shared::GpuCollider> records) {
+    if (records.size() > shared::kMaxColliders)
+        return fail(ErrorCode::InvalidArgument,
+                    "more than " + std::to_string(shared::kMaxColliders) + " collider records");
+    auto buffer = gpu::Buffer::create(kColliderRecordBytes, "colliders");
+    if (!buffer)
+        return buffer;
+    std::vector<shared::GpuCollider> full(shared::kMaxColliders, shared::GpuCollider{});
+    std::copy(records.begin(), records.end(), full.begin());
+    buffer->upload(full);
+    return buffer;
+}
+
+void bindColliderRecords(const gpu::Buffer& records) {
+    records.bindBase(GL_UNIFORM_BUFFER, shared::kBindCollidersUniform);
+    records.bindStorage(shared::kBindColliders);
 }
 
 } // namespace sluice::rt

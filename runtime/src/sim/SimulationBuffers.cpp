@@ -59,9 +59,7 @@ Result<void> Simulation::Impl::allocate() {
         {&collidersNear, (withBodies ? n : 1) * 4 * u, "colliders near"},
         {&cellStart, (tableSize + 1) * u, "cellStart"},
         {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats), "stats"},
-        {&colliderBuf,
-         std::max<std::uint64_t>(1, colliderAssets.size()) * sizeof(shared::GpuCollider),
-         "colliders"},
+        {&colliderBuf, kColliderRecordBytes, "colliders"},
         {&sdfBuf, std::max<std::uint64_t>(u, sdfBytes), "sdf"},
         {&params, sizeof(shared::PbfParams), "params"},
         {&bodyBuf, std::max<std::uint64_t>(1, bodySetup.records.size()) * sizeof(shared::GpuBody),
@@ -128,7 +126,8 @@ void Simulation::Impl::uploadColliderGrids() {
         // A body's record starts at its initial pose, at rest; the body pass moves it.
         const ColliderPose start = bodyPose(bodySetup.records[r.body]);
         r.worldToGrid = glm::inverse(poseMatrix(start));
-        r.rotation = glm::mat4_cast(start.rotation);
+        r.boundCentre = bodySetup.records[r.body].position;
+        r.boundRadius = bodySetup.records[r.body].boundRadius;
         r.motion = glm::mat4(1.0f);
         r.scale = scene.colliders[c].scale;
     }
@@ -248,7 +247,6 @@ void Simulation::Impl::uploadColliders(double t0, double t1) {
         shared::GpuCollider& r = colliderRecords[c];
         const shared::GpuCollider uploaded = r;
         r.worldToGrid = glm::inverse(world);
-        r.rotation = glm::mat4_cast(now.rotation);
         r.motion = poseMatrix(before) * r.worldToGrid;
         r.scale = now.scale;
         // A static collider's record is uploaded once; a kinematic one's when it moved.

@@ -35,6 +35,8 @@ namespace sluice::rt {
 
 static_assert(shared::kMaxBodies == format::kMaxSceneColliders,
               "one body pass holds every dynamic body a scene may have");
+static_assert(shared::kMaxColliders == format::kMaxSceneColliders,
+              "the colliders' uniform block holds every collider a scene may have");
 
 inline constexpr std::uint64_t kMaxGroupsPerDispatch = shared::kPbfMaxGroupsPerDispatch;
 inline constexpr std::uint32_t kNoStop = shared::kPbfNoStop;
@@ -127,7 +129,7 @@ struct Simulation::Impl {
     gpu::Program predict, scatter, bucketSort, reorder, scatterReorder, lambda, delta, velocity,
         vorticity, confine, stats, bodies;
     gpu::Program volumeMapPass, boundaryProbe; // compiled when first needed (VolumeMaps.cpp)
-    float volumeMapsH = 0.0f; // the kernel radius the volume maps were built for [m]
+    float volumeMapsH = 0.0f;  // the kernel radius the volume maps were built for [m]
     bool volumeMapsFit = true; // false: they would not fit in the SDF buffer's storage block
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;

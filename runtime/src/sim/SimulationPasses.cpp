@@ -75,9 +75,9 @@ void Simulation::Impl::openEmptySubstep() const {
 // clears are ordered with the dispatches after them by GL itself.
 void Simulation::Impl::bindSharedBuffers() const {
     params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
+    bindColliderRecords(colliderBuf);
     const std::pair<const gpu::Buffer*, GLuint> storage[] = {
         {&statsBuf, shared::kBindStats},
-        {&colliderBuf, shared::kBindColliders},
         {&sdfBuf, shared::kBindSdf},
         {&cellCount, shared::kBindCellCount},
         {&cellStart, shared::kBindCellStart},
@@ -224,6 +224,9 @@ void Simulation::Impl::integrateBodies() {
         for (std::uint32_t sweep = 0; sweep < shared::kBodyContactSweeps; ++sweep)
             run(0, sweep, sweep + 1);
     }
+    // The next substep's passes read the collider records the last sweep wrote as a uniform
+    // block.
+    memoryBarrier(GL_UNIFORM_BARRIER_BIT);
     end(Pass::Bodies);
 }
 
@@ -251,7 +254,7 @@ void Simulation::step() {
         s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
         s.bindParticles(s.pos[s.cur], s.vel[s.cur]);
         s.statsBuf.bindStorage(shared::kBindStats);
-        s.colliderBuf.bindStorage(shared::kBindColliders);
+        bindColliderRecords(s.colliderBuf);
         s.sdfBuf.bindStorage(shared::kBindSdf);
         s.dispatch(s.stats, s.count);
     }

@@ -54,13 +54,13 @@ Result<void> Simulation::Impl::buildVolumeMaps() {
         return {};
     if (!volumeMapPass.id()) {
         const std::vector<gpu::ShaderDefine> defines = colliderDefines();
-        auto program = gpu::Program::compute(
-            "pbf_volume_map.comp", shaders::shaderSource("pbf_volume_map.comp"), defines);
+        auto program = gpu::Program::compute("pbf_volume_map.comp",
+                                             shaders::shaderSource("pbf_volume_map.comp"), defines);
         if (!program)
             return program.error();
         volumeMapPass = std::move(*program);
     }
-    colliderBuf.bindStorage(shared::kBindColliders);
+    bindColliderRecords(colliderBuf);
     sdfBuf.bindStorage(shared::kBindSdf);
     sdfBuf.bindStorage(shared::kBindVolumeMapOut);
     for (std::size_t c : mapped) {
@@ -109,7 +109,7 @@ Result<std::vector<glm::vec4>> Simulation::solidBoundaryAt(const std::vector<glm
     s.uploadParams();
     s.uploadColliders(s.time, s.time); // static colliders' records get their pose
     s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
-    s.colliderBuf.bindStorage(shared::kBindColliders);
+    bindColliderRecords(s.colliderBuf);
     s.sdfBuf.bindStorage(shared::kBindSdf);
     input->bindStorage(shared::kBindPosIn);
     output->bindStorage(shared::kBindPosOut);

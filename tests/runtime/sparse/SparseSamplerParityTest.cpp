@@ -17,8 +17,8 @@
 #include "sluice/format/asset/SdfSampler.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
-#include "sluice/rt/sim/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
+#include "sluice/rt/sim/ColliderRecord.h"
 
 namespace sluice {
 namespace {
@@ -70,7 +70,7 @@ protected:
             }
         }
         data.resize(std::max<std::size_t>(data.size(), 4));
-        auto colliderBuf = gpu::Buffer::createFrom(records, "colliders");
+        auto colliderBuf = rt::colliderRecordBuffer(records);
         auto sdfBuf = gpu::Buffer::createFrom(data, "sdf");
         auto pointBuf = gpu::Buffer::createFrom(points, "points");
         auto out = gpu::Buffer::create(points.size() * sizeof(glm::vec4), "samples");
@@ -81,7 +81,7 @@ protected:
         EXPECT_TRUE(program) << program.error().message();
         if (!program || !out)
             return {};
-        colliderBuf->bindStorage(shared::kBindColliders);
+        rt::bindColliderRecords(*colliderBuf);
         sdfBuf->bindStorage(shared::kBindSdf);
         pointBuf->bindStorage(shared::kBindPosIn);
         out->bindStorage(shared::kBindPosOut);
@@ -145,8 +145,8 @@ TEST_F(SparseSamplerParity, GlslMatchesTheCpuSamplerInTheBandAndKeepsTheSignOuts
                 maxBandError = error;
                 worst = n;
             }
-            maxGradError = std::max(
-                maxGradError, glm::length(glm::dvec3(glm::vec3(gpu[n])) - cpu.gradient(p)));
+            maxGradError = std::max(maxGradError,
+                                    glm::length(glm::dvec3(glm::vec3(gpu[n])) - cpu.gradient(p)));
         } else {
             ++outsideBand;
             deepInside += want < 0.0 ? 1 : 0;
@@ -191,8 +191,8 @@ TEST_F(SparseSamplerParity, DenseAndSparseCollidersInOneBufferSampleTheSameField
     double layoutDifference = 0.0;
     for (std::size_t n = 0; n < 20000; ++n)
         layoutDifference = std::max(
-            layoutDifference, double(std::abs(gpu[n].w - float(cpuDense.value(
-                                                              glm::dvec3(glm::vec3(points[n])))))));
+            layoutDifference,
+            double(std::abs(gpu[n].w - float(cpuDense.value(glm::dvec3(glm::vec3(points[n])))))));
     EXPECT_LE(layoutDifference / 0.05, 1e-5);
 }
 

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 #include "shared/Pbf.h"
 #include "sluice/format/asset/ColliderAsset.h"
+#include "sluice/gpu/Buffer.h"
 
 namespace sluice::rt {
 
@@ -14,5 +16,18 @@ namespace sluice::rt {
 /// [words] for a dense grid, [bytes] for a sparse one. The caller places it and sets friction
 /// and the body.
 shared::GpuCollider colliderRecord(const format::ColliderAsset& asset, std::uint32_t sdfOffset);
+
+/// Bytes of a buffer of collider records: kMaxColliders of them, the uniform block's whole
+/// length (shared/Pbf.h, kBindCollidersUniform), so every read of the block is backed.
+inline constexpr std::size_t kColliderRecordBytes =
+    shared::kMaxColliders * sizeof(shared::GpuCollider);
+
+/// A buffer of kColliderRecordBytes holding `records` (at most kMaxColliders; zeros after
+/// them). GpuOutOfMemory if it cannot be allocated; InvalidArgument for too many records.
+Result<gpu::Buffer> colliderRecordBuffer(std::span<const shared::GpuCollider> records);
+
+/// Binds a buffer from colliderRecordBuffer where the passes read it (the uniform block) and
+/// where the body pass writes it (the storage binding kBindColliders).
+void bindColliderRecords(const gpu::Buffer& records);
 
 } // namespace sluice::rt
