@@ -36,6 +36,11 @@ SLUICE_CONST uint kBindCollidersUniform = 1;
 /// Colliders a scene holds at most (format::kMaxSceneColliders): the uniform block's length.
 SLUICE_CONST uint kMaxColliders = 64;
 
+// Texture unit.
+/// The SDF buffer's texel view (samplerBuffer, GL_R32F over kBindSdf's buffer): the dense grids'
+/// samples and the volume maps are fetched through it (PbfGlsl.h, sdfAt).
+SLUICE_CONST uint kUnitSdfTexels = 0;
+
 // Shader storage bindings. Each pass binds the buffers of its roles; ping-pong buffers swap
 // which GL buffer sits behind a role, never their contents.
 SLUICE_CONST uint kBindPosIn = 0;      ///< vec4 x (xyz) [m]

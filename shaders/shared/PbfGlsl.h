@@ -229,8 +229,22 @@ layout(std430, binding = kBindSdf) readonly buffer SdfBuf { uint sdfWords[]; };
 #define pnanovdb_buf_data sdfWords
 #include "shared/NanoVdbGlsl.h"
 
+// The dense grids' samples and the volume maps are fetched through the SDF buffer's texel view:
+// on llvmpipe a storage read at an index that differs between lanes is a loop over the lanes
+// with a bounds test, a texel fetch one gather, and on a GPU it goes through the texture cache.
+// Where the buffer holds more texels than the GL allows, the program is built with
+// SLUICE_SDF_STORAGE and reads the storage block (Simulation::Impl::colliderDefines).
+#ifndef SLUICE_SDF_STORAGE
+layout(binding = kUnitSdfTexels) uniform samplerBuffer sdfTexels;
+#endif
+
 float sdfAt(uint base, uvec3 dims, uvec3 p) {
-    return uintBitsToFloat(sdfWords[base + p.x + dims.x * (p.y + dims.y * p.z)]);
+    uint i = base + p.x + dims.x * (p.y + dims.y * p.z);
+#ifdef SLUICE_SDF_STORAGE
+    return uintBitsToFloat(sdfWords[i]);
+#else
+    return texelFetch(sdfTexels, int(i)).x;
+#endif
 }
 
 // The eight values of a dense grid's cell with lower corner b, as v[x + 2y + 4z]: a collider's

@@ -30,6 +30,7 @@
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/gpu/Buffer.h"
+#include "sluice/gpu/BufferTexture.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
@@ -130,14 +131,19 @@ int main(int argc, char** argv) {
     if (!pointBuf || !out)
         return usage("cannot allocate the point buffers");
     gpu::Buffer sdf[2], records[2];
+    gpu::BufferTexture texels[2]; // the dense grid's samples are fetched through it
     for (int k = 0; k < 2; ++k) {
         auto bytes = gpu::Buffer::createFrom(sdfBytes(assets[k]), "sdf");
         const shared::GpuCollider one = rt::colliderRecord(assets[k], 0);
         auto record = rt::colliderRecordBuffer(std::span(&one, 1));
         if (!bytes || !record)
             return usage("cannot allocate the collider buffers");
+        auto view = gpu::BufferTexture::createR32F(*bytes, "sdf texels");
+        if (!view)
+            return usage(view.error().message().c_str());
         sdf[k] = std::move(*bytes);
         records[k] = std::move(*record);
+        texels[k] = std::move(*view);
     }
     auto sims = std::array{simulationWith(0), simulationWith(1)};
     for (int k = 0; k < 2; ++k) {
@@ -156,6 +162,7 @@ int main(int argc, char** argv) {
             gpu::GpuTimer timer;
             rt::bindColliderRecords(records[k]);
             sdf[k].bindStorage(shared::kBindSdf);
+            texels[k].bindTexture(shared::kUnitSdfTexels);
             pointBuf->bindStorage(shared::kBindPosIn);
             out->bindStorage(shared::kBindPosOut);
             probe->use();

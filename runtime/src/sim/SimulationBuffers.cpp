@@ -98,6 +98,12 @@ Result<void> Simulation::Impl::allocate() {
             return fail(buffer.error().code, scene.path + ": " + buffer.error().detail);
         *a.buffer = std::move(*buffer);
     }
+    if (sdfAsTexels) {
+        auto texels = gpu::BufferTexture::createR32F(sdfBuf, "sdf texels");
+        if (!texels)
+            return fail(texels.error().code, scene.path + ": " + texels.error().detail);
+        sdfTexels = std::move(*texels);
+    }
     return {};
 }
 
@@ -291,6 +297,10 @@ Result<void> Simulation::Impl::compilePasses() {
         {&stats, "pbf_stats.comp"},
         {&bodies, "pbf_bodies.comp"},
     };
+    // The dense samples are fetched through a texel view of the SDF buffer where every grid and
+    // map fits one (an upper bound of the buffer allocate() makes), else read from storage.
+    sdfAsTexels = colliderDataBytes(colliderAssets) + volumeMapWords() * sizeof(float) <=
+                  gpu::BufferTexture::maxTexels() * sizeof(float);
     // NanoVDB's reader (shared/NanoVdbGlsl.h) is compiled in only when a collider needs it.
     const std::vector<gpu::ShaderDefine> defines = colliderDefines();
     // A body's work group in the body pass (pbf_bodies.comp): kBodyLanes invocations on a GPU,

@@ -26,6 +26,7 @@
 #include "sim/SparseGrids.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/asset/SdfSampler.h"
+#include "sluice/gpu/BufferTexture.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
@@ -138,6 +139,10 @@ struct Simulation::Impl {
     gpu::Buffer collidersNear; // uvec4 per particle of capacity: its substep's collider mask and
                                // its iteration's list
     gpu::Buffer colliderBuf, sdfBuf, params;
+    // The SDF buffer's texel view, which the passes fetch dense grids and volume maps through
+    // (PbfGlsl.h, sdfAt); empty when sdfAsTexels is false and they read the storage block.
+    gpu::BufferTexture sdfTexels;
+    bool sdfAsTexels = true; // set by compilePasses: every grid and map fits a texel view
     // GpuBody[], fixed-point sums, contact points, the body pass's state between its dispatches
     gpu::Buffer bodyBuf, bodySums, bodySamples, bodySteps;
     gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
@@ -178,8 +183,12 @@ struct Simulation::Impl {
     std::uint64_t sdfBufferBytes(std::int64_t maxBlockBytes);
     /// Computes every volume map for the current h (pbf_volume_map.comp).
     Result<void> buildVolumeMaps();
-    /// The step's compile defines (the sparse reader when a collider is sparse).
+    /// The step's compile defines: the sparse reader when a collider is sparse, and
+    /// SLUICE_SDF_STORAGE when the dense samples are read from storage (sdfAsTexels false).
     std::vector<gpu::ShaderDefine> colliderDefines() const;
+    /// Binds what the passes read of the colliders: the records (ColliderRecord.h), the SDF
+    /// buffer and its texel view.
+    void bindColliders() const;
     void uploadColliders(double t0, double t1);
     void append(const std::vector<ParticleState>& particles);
     /// One substep: the passes below, in the order of docs/pbf.md.

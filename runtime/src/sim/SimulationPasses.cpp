@@ -75,10 +75,9 @@ void Simulation::Impl::openEmptySubstep() const {
 // clears are ordered with the dispatches after them by GL itself.
 void Simulation::Impl::bindSharedBuffers() const {
     params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
-    bindColliderRecords(colliderBuf);
+    bindColliders();
     const std::pair<const gpu::Buffer*, GLuint> storage[] = {
         {&statsBuf, shared::kBindStats},
-        {&sdfBuf, shared::kBindSdf},
         {&cellCount, shared::kBindCellCount},
         {&cellStart, shared::kBindCellStart},
         {&hash, shared::kBindHash},
@@ -254,8 +253,7 @@ void Simulation::step() {
         s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
         s.bindParticles(s.pos[s.cur], s.vel[s.cur]);
         s.statsBuf.bindStorage(shared::kBindStats);
-        bindColliderRecords(s.colliderBuf);
-        s.sdfBuf.bindStorage(shared::kBindSdf);
+        s.bindColliders();
         s.dispatch(s.stats, s.count);
     }
     s.end(Pass::Stats);

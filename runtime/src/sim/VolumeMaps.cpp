@@ -39,9 +39,19 @@ std::uint64_t Simulation::Impl::sdfBufferBytes(std::int64_t maxBlockBytes) {
 }
 
 std::vector<gpu::ShaderDefine> Simulation::Impl::colliderDefines() const {
+    std::vector<gpu::ShaderDefine> defines;
     if (anySparse(colliderAssets))
-        return {{"SLUICE_SPARSE_COLLIDERS", "1"}};
-    return {};
+        defines.push_back({"SLUICE_SPARSE_COLLIDERS", "1"});
+    if (!sdfAsTexels)
+        defines.push_back({"SLUICE_SDF_STORAGE", "1"});
+    return defines;
+}
+
+void Simulation::Impl::bindColliders() const {
+    bindColliderRecords(colliderBuf);
+    sdfBuf.bindStorage(shared::kBindSdf);
+    if (sdfAsTexels)
+        sdfTexels.bindTexture(shared::kUnitSdfTexels);
 }
 
 Result<void> Simulation::Impl::buildVolumeMaps() {
@@ -60,8 +70,7 @@ Result<void> Simulation::Impl::buildVolumeMaps() {
             return program.error();
         volumeMapPass = std::move(*program);
     }
-    bindColliderRecords(colliderBuf);
-    sdfBuf.bindStorage(shared::kBindSdf);
+    bindColliders();
     sdfBuf.bindStorage(shared::kBindVolumeMapOut);
     for (std::size_t c : mapped) {
         // The map is built in the collider's local units, at its scene scale.
@@ -74,7 +83,8 @@ Result<void> Simulation::Impl::buildVolumeMaps() {
         // Not a step's command: commandCount() leaves it out.
         volumeMapPass.dispatchChunked(glm::uvec3(groupsFor(points), 1, 1), kMaxGroupsPerDispatch);
     }
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // The passes fetch the maps through the SDF buffer's texel view.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     return {};
 }
 
@@ -109,8 +119,7 @@ Result<std::vector<glm::vec4>> Simulation::solidBoundaryAt(const std::vector<glm
     s.uploadParams();
     s.uploadColliders(s.time, s.time); // static colliders' records get their pose
     s.params.bindBase(GL_UNIFORM_BUFFER, shared::kBindParams);
-    bindColliderRecords(s.colliderBuf);
-    s.sdfBuf.bindStorage(shared::kBindSdf);
+    s.bindColliders();
     input->bindStorage(shared::kBindPosIn);
     output->bindStorage(shared::kBindPosOut);
     s.boundaryProbe.set("uCount", std::uint32_t(in.size()));

@@ -16,6 +16,7 @@
 #include "shared/Pbf.h"
 #include "sluice/format/asset/SdfSampler.h"
 #include "sluice/gpu/Buffer.h"
+#include "sluice/gpu/BufferTexture.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "sluice/rt/sim/ColliderRecord.h"
@@ -47,9 +48,11 @@ protected:
     // Uploads the assets as Simulation does, into one SDF buffer: dense grids as float words
     // first, then sparse grids at 32-byte aligned offsets after `sparsePad` more bytes (so
     // offsets other than the first are exercised). Then samples collider `points[i].w` at each
-    // point on the GPU.
+    // point on the GPU, the dense grids fetched through the buffer's texel view as the solver
+    // does, or with `fromStorage` read from the storage block (SLUICE_SDF_STORAGE).
     std::vector<glm::vec4> sample(const std::vector<const format::ColliderAsset*>& assets,
-                                  const std::vector<glm::vec4>& points, std::size_t sparsePad) {
+                                  const std::vector<glm::vec4>& points, std::size_t sparsePad,
+                                  bool fromStorage = false) {
         std::vector<shared::GpuCollider> records;
         std::vector<std::byte> data;
         for (const format::ColliderAsset* a : assets)
@@ -75,14 +78,21 @@ protected:
         auto pointBuf = gpu::Buffer::createFrom(points, "points");
         auto out = gpu::Buffer::create(points.size() * sizeof(glm::vec4), "samples");
         EXPECT_TRUE(colliderBuf && sdfBuf && pointBuf && out);
-        const std::array<gpu::ShaderDefine, 1> defines{{{"SLUICE_SPARSE_COLLIDERS", "1"}}};
+        if (!colliderBuf || !sdfBuf || !pointBuf || !out)
+            return {};
+        auto texels = gpu::BufferTexture::createR32F(*sdfBuf, "sdf texels");
+        EXPECT_TRUE(texels) << texels.error().message();
+        std::vector<gpu::ShaderDefine> defines{{"SLUICE_SPARSE_COLLIDERS", "1"}};
+        if (fromStorage)
+            defines.push_back({"SLUICE_SDF_STORAGE", "1"});
         auto program = gpu::Program::compute(
             "collider_probe.comp", rt::shaders::shaderSource("collider_probe.comp"), defines);
         EXPECT_TRUE(program) << program.error().message();
-        if (!program || !out)
+        if (!program || !texels)
             return {};
         rt::bindColliderRecords(*colliderBuf);
         sdfBuf->bindStorage(shared::kBindSdf);
+        texels->bindTexture(shared::kUnitSdfTexels);
         pointBuf->bindStorage(shared::kBindPosIn);
         out->bindStorage(shared::kBindPosOut);
         program->use();
@@ -194,6 +204,32 @@ TEST_F(SparseSamplerParity, DenseAndSparseCollidersInOneBufferSampleTheSameField
             layoutDifference,
             double(std::abs(gpu[n].w - float(cpuDense.value(glm::dvec3(glm::vec3(points[n])))))));
     EXPECT_LE(layoutDifference / 0.05, 1e-5);
+}
+
+// The passes fetch dense samples through the SDF buffer's texel view, or read the storage block
+// where the buffer holds more texels than the GL allows: the same bits either way.
+TEST_F(SparseSamplerParity, TheTexelViewAndTheStorageBlockGiveTheSameBits) {
+    const format::ColliderAsset sparse = test::makeSparseSphere(0.5, 0.05, 3.0, {0.1, -0.2, 0.3});
+    const format::ColliderAsset dense = densified(sparse);
+    // Two dense copies, so the second's samples start past the first's (an offset other than 0).
+    std::vector<glm::vec4> points = probePoints(dense, 0, {0.1, -0.2, 0.3}, 0.5, 20000);
+    const std::vector<glm::vec4> second = probePoints(dense, 1, {0.1, -0.2, 0.3}, 0.5, 20000);
+    points.insert(points.end(), second.begin(), second.end());
+    const std::vector<glm::vec4> texels = sample({&dense, &dense}, points, 0, false);
+    const std::vector<glm::vec4> storage = sample({&dense, &dense}, points, 0, true);
+    ASSERT_EQ(texels.size(), points.size());
+    ASSERT_EQ(storage.size(), points.size());
+    std::size_t differing = 0;
+    for (std::size_t n = 0; n < points.size(); ++n)
+        differing += std::memcmp(&texels[n], &storage[n], sizeof(glm::vec4)) != 0 ? 1 : 0;
+    EXPECT_EQ(differing, 0u);
+    // Not vacuous: the field varies over the points, and the view really fetched it.
+    const format::SdfSampler cpu(dense);
+    double maxError = 0.0;
+    for (std::size_t n = 0; n < points.size(); ++n)
+        maxError = std::max(
+            maxError, std::abs(double(texels[n].w) - cpu.value(glm::dvec3(glm::vec3(points[n])))));
+    EXPECT_LE(maxError / 0.05, 1e-5);
 }
 
 } // namespace
