@@ -60,6 +60,7 @@ ProgramCase graphics(const char* name, const char* vertex, const char* fragment,
 }
 
 const ShaderDefine kSparse{"SLUICE_SPARSE_COLLIDERS", "1"};
+const ShaderDefine kSdfStorage{"SLUICE_SDF_STORAGE", "1"};
 const ShaderDefine kSparseBake{"SDF_SPARSE", "1"};
 const ShaderDefine kPointsBake{"SDF_POINTS", "1"};
 
@@ -88,6 +89,11 @@ std::vector<ProgramCase> allPrograms() {
         compute("PbfDeltaSparse", runtimeSource, "pbf_delta.comp", {kSparse}),
         compute("PbfStatsSparse", runtimeSource, "pbf_stats.comp", {kSparse}),
         compute("PbfBodiesSparse", runtimeSource, "pbf_bodies.comp", {kSparse}),
+        // Grids past the GL's texel-buffer limit are read from the storage block instead.
+        compute("PbfLambdaSdfStorage", runtimeSource, "pbf_lambda.comp", {kSdfStorage}),
+        compute("PbfDeltaSdfStorage", runtimeSource, "pbf_delta.comp", {kSparse, kSdfStorage}),
+        compute("PbfBodiesSdfStorage", runtimeSource, "pbf_bodies.comp", {kSdfStorage}),
+        compute("PbfVolumeMapSdfStorage", runtimeSource, "pbf_volume_map.comp", {kSdfStorage}),
         compute("PbfVolumeMap", runtimeSource, "pbf_volume_map.comp"),
         compute("PbfVolumeMapSparse", runtimeSource, "pbf_volume_map.comp", {kSparse}),
         compute("PbfBoundaryProbe", runtimeSource, "pbf_boundary_probe.comp"),

@@ -98,12 +98,16 @@ Result<void> Simulation::Impl::allocate() {
             return fail(buffer.error().code, scene.path + ": " + buffer.error().detail);
         *a.buffer = std::move(*buffer);
     }
-    if (sdfAsTexels) {
-        auto texels = gpu::BufferTexture::createR32F(sdfBuf, "sdf texels");
-        if (!texels)
-            return fail(texels.error().code, scene.path + ": " + texels.error().detail);
-        sdfTexels = std::move(*texels);
-    }
+    return viewSdfAsTexels();
+}
+
+Result<void> Simulation::Impl::viewSdfAsTexels() {
+    if (!sdfAsTexels)
+        return {};
+    auto texels = gpu::BufferTexture::createR32F(sdfBuf, "sdf texels");
+    if (!texels)
+        return fail(texels.error().code, scene.path + ": " + texels.error().detail);
+    sdfTexels = std::move(*texels);
     return {};
 }
 
@@ -299,8 +303,9 @@ Result<void> Simulation::Impl::compilePasses() {
     };
     // The dense samples are fetched through a texel view of the SDF buffer where every grid and
     // map fits one (an upper bound of the buffer allocate() makes), else read from storage.
-    sdfAsTexels = colliderDataBytes(colliderAssets) + volumeMapWords() * sizeof(float) <=
-                  gpu::BufferTexture::maxTexels() * sizeof(float);
+    sdfAsTexels = !options.sdfFromStorage &&
+                  colliderDataBytes(colliderAssets) + volumeMapWords() * sizeof(float) <=
+                      gpu::BufferTexture::maxTexels() * sizeof(float);
     // NanoVDB's reader (shared/NanoVdbGlsl.h) is compiled in only when a collider needs it.
     const std::vector<gpu::ShaderDefine> defines = colliderDefines();
     // A body's work group in the body pass (pbf_bodies.comp): kBodyLanes invocations on a GPU,

@@ -159,6 +159,8 @@ struct Simulation::Impl {
     /// neighbour lanes, solve chunks. InvalidArgument when the passes would be too large.
     Result<void> size(const SimulationOptions& options);
     Result<void> allocate();
+    /// The SDF buffer's texel view, where sdfAsTexels (allocate ends with it).
+    Result<void> viewSdfAsTexels();
     Result<void> compilePasses();
     /// Every collider grid into the SDF buffer (dense ones first, then the sparse ones,
     /// 32-byte aligned), their records, and the bodies' initial records and contact points.

@@ -14,8 +14,8 @@
 #include <glm/vec4.hpp>
 
 #include "sluice/format/asset/ColliderAsset.h"
-#include "sluice/format/support/Result.h"
 #include "sluice/format/scene/Scene.h"
+#include "sluice/format/support/Result.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/rt/sim/GpuCommandCount.h"
 #include "sluice/rt/sim/SceneSetup.h"
@@ -41,6 +41,10 @@ struct SimulationOptions {
     /// the lanes stays within kNeighbourLanesTarget; 1, 2, 4, 8, 16 or 32 force it. A
     /// --deterministic run gives the same bytes for the same lanes.
     std::uint32_t neighbourLanes = 0;
+    /// Read the colliders' dense samples and volume maps from the SDF buffer's storage block,
+    /// as the passes do only where the buffer holds more texels than the GL's texel-buffer limit
+    /// (otherwise they fetch them through its texel view): the same bits, for the tests.
+    bool sdfFromStorage = false;
 };
 
 /// Invocations the automatic neighbour lanes fill at most on a GPU: on an H200, 15k particles ran
@@ -65,16 +69,16 @@ const char* passName(Pass pass);
 
 /// What one step did, read back after it (docs/pbf.md, "Statistics").
 struct StepStats {
-    std::uint64_t step = 0;          ///< steps completed
-    double time = 0.0;               ///< simulated time after the step [s]
+    std::uint64_t step = 0; ///< steps completed
+    double time = 0.0;      ///< simulated time after the step [s]
     std::uint32_t particles = 0;
-    double avgDensityError = 0.0;    ///< mean rho/rho0 - 1, compression only, last lambda pass
+    double avgDensityError = 0.0; ///< mean rho/rho0 - 1, compression only, last lambda pass
     double maxDensityError = 0.0;
-    double maxSpeed = 0.0;           ///< [m/s]
+    double maxSpeed = 0.0;             ///< [m/s]
     std::uint32_t insideColliders = 0; ///< particles with phi < -0.5 r in some collider
-    std::uint32_t nonFinite = 0;     ///< particles reset this step because they went non-finite
-    std::uint32_t iterations = 0;    ///< solver iterations of the last substep
-    double meanIterations = 0.0;     ///< solver iterations per substep, mean over the step
+    std::uint32_t nonFinite = 0;       ///< particles reset this step because they went non-finite
+    std::uint32_t iterations = 0;      ///< solver iterations of the last substep
+    double meanIterations = 0.0;       ///< solver iterations per substep, mean over the step
     /// Particle-substeps of this step whose candidate entries outnumbered the neighbour mask's
     /// bits (shared::kNeighbourMaskBits): the candidates past it were tested in full, so the
     /// results are the same, only slower. Never a neighbour lost.
@@ -84,7 +88,7 @@ struct StepStats {
     /// Lambda and delta dispatches of this step that launched work groups (the ones after an
     /// early stop launch none).
     std::uint32_t solveDispatches = 0;
-    bool capacityReached = false;    ///< an emitter could not add particles this step
+    bool capacityReached = false; ///< an emitter could not add particles this step
     /// Dynamic bodies put back to their pose at the start of a substep, at rest, because their
     /// state went non-finite or their centre of mass left the domain box: a count since the
     /// simulation started (a body the solver lost; `--check` fails on it).
@@ -93,38 +97,38 @@ struct StepStats {
 
 /// One dynamic body as the GPU holds it after a step (docs/bodies.md).
 struct BodyState {
-    std::uint32_t collider = 0;      ///< its index in the scene's colliders
-    double mass = 0.0;               ///< [kg]
-    double volume = 0.0;             ///< [m^3]
-    bool massFromMesh = false;       ///< mass properties from the mesh (else from the field)
-    glm::vec3 position{0.0f};        ///< centre of mass [m]
+    std::uint32_t collider = 0; ///< its index in the scene's colliders
+    double mass = 0.0;          ///< [kg]
+    double volume = 0.0;        ///< [m^3]
+    bool massFromMesh = false;  ///< mass properties from the mesh (else from the field)
+    glm::vec3 position{0.0f};   ///< centre of mass [m]
     glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f}; ///< asset frame -> world
-    glm::vec3 linearVelocity{0.0f};  ///< [m/s]
-    glm::vec3 angularVelocity{0.0f}; ///< [rad/s], world
-    glm::vec3 force{0.0f};           ///< the fluid's force, mean over the last step [N]
-    glm::vec3 torque{0.0f};          ///< the fluid's torque about the centre of mass, mean [N m]
+    glm::vec3 linearVelocity{0.0f};                ///< [m/s]
+    glm::vec3 angularVelocity{0.0f};               ///< [rad/s], world
+    glm::vec3 force{0.0f};  ///< the fluid's force, mean over the last step [N]
+    glm::vec3 torque{0.0f}; ///< the fluid's torque about the centre of mass, mean [N m]
     /// The fluid's upward force over the weight of water the whole body would displace:
     /// Archimedes' submerged share (mean over the last step; 0 out of the water).
     double submergedShare = 0.0;
-    std::uint32_t contacts = 0;      ///< contact points touching a wall, collider or body
-    float contactDepth = 0.0f;       ///< deepest of them before correction [m]
-    ColliderPose pose;               ///< where the asset frame is: world = pose.toWorld(local)
+    std::uint32_t contacts = 0; ///< contact points touching a wall, collider or body
+    float contactDepth = 0.0f;  ///< deepest of them before correction [m]
+    ColliderPose pose;          ///< where the asset frame is: world = pose.toWorld(local)
 };
 
 /// A mouse spring on a dynamic body (the viewer's drag): its point `anchor` is pulled towards
 /// `target` by a critically damped spring, about 3 Hz whatever the body's mass.
 struct BodyDrag {
-    std::uint32_t body = 0;    ///< index into bodies()
-    glm::vec3 anchor{0.0f};    ///< the grabbed point, asset frame [asset units]
-    glm::vec3 target{0.0f};    ///< where it is pulled [m]
+    std::uint32_t body = 0; ///< index into bodies()
+    glm::vec3 anchor{0.0f}; ///< the grabbed point, asset frame [asset units]
+    glm::vec3 target{0.0f}; ///< where it is pulled [m]
 };
 
 /// Where a ray meets a dynamic body (Simulation::pickBody).
 struct BodyHit {
-    std::uint32_t body = 0;  ///< index into bodies()
-    glm::vec3 point{0.0f};   ///< world [m]
-    glm::vec3 anchor{0.0f};  ///< the same point in the body's asset frame [asset units]
-    float distance = 0.0f;   ///< along the ray [m]
+    std::uint32_t body = 0; ///< index into bodies()
+    glm::vec3 point{0.0f};  ///< world [m]
+    glm::vec3 anchor{0.0f}; ///< the same point in the body's asset frame [asset units]
+    float distance = 0.0f;  ///< along the ray [m]
 };
 
 /// GPU time per pass group of the latest step whose timer queries are complete [ms];
@@ -276,14 +280,14 @@ public:
     /// start and its id, the buckets' ranges (cellStart, one more than the buckets) and the
     /// masks (kNeighbourMaskWords each), and the grid they were built on. A sync.
     struct NeighbourState {
-        std::vector<glm::vec4> start;        ///< x* at the substep start (xyz) [m]
+        std::vector<glm::vec4> start; ///< x* at the substep start (xyz) [m]
         std::vector<std::uint32_t> ids;
         std::vector<std::uint32_t> cellStart;
         std::vector<std::uint32_t> mask;
-        glm::uvec3 gridDims{0};              ///< dense grid cells per axis; 0: the hash
-        glm::vec3 gridOrigin{0.0f};          ///< the dense grid's corner [m]
-        float h = 0.0f;                      ///< cell size [m]
-        std::uint32_t tableSize = 0;         ///< hash buckets (a power of two)
+        glm::uvec3 gridDims{0};      ///< dense grid cells per axis; 0: the hash
+        glm::vec3 gridOrigin{0.0f};  ///< the dense grid's corner [m]
+        float h = 0.0f;              ///< cell size [m]
+        std::uint32_t tableSize = 0; ///< hash buckets (a power of two)
     };
     NeighbourState neighbourState() const;
 
