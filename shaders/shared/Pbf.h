@@ -224,7 +224,7 @@ SLUICE_SHARED_END
 #ifdef __cplusplus
 #include <cstddef>
 #define SLUICE_PBF_AT(type, field, offset)                                                         \
-    static_assert(offsetof(sluice::shared::type, field) == (offset), "std430 offset of " #field)
+    static_assert(offsetof(sluice::shared::type, field) == (offset), "offset of " #field)
 SLUICE_PBF_AT(PbfParams, h, 0);
 SLUICE_PBF_AT(PbfParams, spikyGradCoeff, 12);
 SLUICE_PBF_AT(PbfParams, volume, 16);
@@ -252,6 +252,7 @@ SLUICE_PBF_AT(PbfParams, particleMass, 180);
 SLUICE_PBF_AT(PbfParams, boundaryScale, 184);
 SLUICE_PBF_AT(PbfParams, staticColliders, 188);
 static_assert(sizeof(sluice::shared::PbfParams) == 192, "std140/std430 size of PbfParams");
+SLUICE_PBF_AT(GpuCollider, worldToGrid, 0);
 SLUICE_PBF_AT(GpuCollider, boundCentre, 64);
 SLUICE_PBF_AT(GpuCollider, boundRadius, 76);
 SLUICE_PBF_AT(GpuCollider, motion, 80);

@@ -241,6 +241,8 @@ layout(binding = kUnitSdfTexels) uniform samplerBuffer sdfTexels;
 float sdfAt(uint base, uvec3 dims, uvec3 p) {
     uint i = base + p.x + dims.x * (p.y + dims.y * p.z);
 #ifdef SLUICE_SDF_STORAGE
+    // The fetch's bits (a texture path that flushed denormals would differ there; a distance or
+    // a share that small is 0 to the solver either way).
     return uintBitsToFloat(sdfWords[i]);
 #else
     return texelFetch(sdfTexels, int(i)).x;

@@ -78,6 +78,13 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
                     scene.path + ": " + std::to_string(scene.colliders.size()) +
                         " colliders in the scene but " + std::to_string(colliders.size()) +
                         " assets given");
+    // The scene reader refuses more; a scene built in code is held to the same limit (the
+    // colliders' uniform block and the per-particle masks hold 64).
+    if (scene.colliders.size() > shared::kMaxColliders)
+        return fail(ErrorCode::InvalidArgument, scene.path + ": " +
+                                                    std::to_string(scene.colliders.size()) +
+                                                    " colliders; a scene holds at most " +
+                                                    std::to_string(shared::kMaxColliders));
     if (auto ok = checkOptions(scene, options); !ok)
         return ok.error();
     auto impl = std::make_unique<Impl>(scene);

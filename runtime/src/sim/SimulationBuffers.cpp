@@ -149,6 +149,10 @@ void Simulation::Impl::uploadColliderGrids() {
         colliderRecords[c].volumeMap = std::uint32_t(mapOffset);
         mapOffset += volumeMapPoints(c);
     }
+    // The records past the scene's are zeros (no pass reads them: every loop stops at
+    // colliderCount).
+    const std::uint32_t zero = 0;
+    glClearNamedBufferData(colliderBuf.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     colliderBuf.upload(colliderRecords);
     if (bodyCount > 0) {
         bodyBuf.upload(bodySetup.records);

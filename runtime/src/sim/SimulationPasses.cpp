@@ -207,6 +207,8 @@ void Simulation::Impl::integrateBodies() {
     bodies.set("firstSubstep", substepInStep == 0 ? 1u : 0u);
     bodies.set("substepShare", 1.0f / float(std::max(1u, scene.simulation.substeps)));
     bodies.use();
+    // The last sweep writes the bodies' collider records, which the next passes read as a
+    // uniform block.
     const auto run = [&](std::uint32_t withStart, std::uint32_t sweepBegin,
                          std::uint32_t sweepEnd) {
         bodies.set("withStart", withStart);
@@ -214,7 +216,8 @@ void Simulation::Impl::integrateBodies() {
         bodies.set("sweepEnd", sweepEnd);
         glDispatchCompute(bodyCount, 1, 1);
         ++commands.dispatches;
-        barrier();
+        memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT |
+                      (sweepEnd == shared::kBodyContactSweeps ? GL_UNIFORM_BARRIER_BIT : 0));
     };
     if (bodyCount == 1) {
         run(1, 0, shared::kBodyContactSweeps);
@@ -223,9 +226,6 @@ void Simulation::Impl::integrateBodies() {
         for (std::uint32_t sweep = 0; sweep < shared::kBodyContactSweeps; ++sweep)
             run(0, sweep, sweep + 1);
     }
-    // The next substep's passes read the collider records the last sweep wrote as a uniform
-    // block.
-    memoryBarrier(GL_UNIFORM_BARRIER_BIT);
     end(Pass::Bodies);
 }
 

@@ -2,6 +2,7 @@
 // one rule the solver, its parity tests and the collider benchmark use.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
