@@ -55,9 +55,10 @@ uvec2 collidersNearNow(uint i, vec3 x, vec3 x0) {
 // Whether collider c's body may still reach a particle at x* = x before it moves
 // PBF_STEP_MARGIN from there: its collision's bounding-sphere test (bodyOutOfReach with r) could
 // pass, and, where bodyBoundary sampled its field (phi with the surface offset, else
-// kPhiNotSampled), phi is under h plus three margins. A trilinear field changes by at most sqrt(3) per unit of motion
-// inside its grid box and by 1 more outside it, so a body left out has phi >= h (no boundary
-// volume, no pressure push) and phi > r (no push-out) anywhere within the margin.
+// kPhiNotSampled), phi is under h plus three margins. A trilinear field changes by at most
+// sqrt(3) per unit of motion inside its grid box and by 1 more outside it, so a body left out
+// has phi >= h (no boundary volume, no pressure push) and phi > r (no push-out) anywhere within
+// the margin.
 bool bodyMayReach(uint c, vec3 x, float phi) {
     if (bodyOutOfReach(c, x, PBF_RADIUS + PBF_STEP_MARGIN))
         return false;

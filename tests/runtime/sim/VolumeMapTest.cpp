@@ -254,12 +254,8 @@ TEST_F(VolumeMap, MapsThatWouldNotFitTheGridsStorageBlockLeaveTheClosedForm) {
     EXPECT_NEAR((*shares)[0].w, flatShare(std::sqrt(2.0) * r, h, k), 0.002);
 }
 
-// A block of water in a corner of the tank, where the maps carry most of the walls' share: one
-// step of the GPU solver against the CPU reference, which builds the same maps in double
-// (tests/reference/ReferenceVolumeMap.cpp). Without the reference's maps the particles differ by
-// 0.013 h. At a grid of h / 4 the quadrature reads the field trilinearly, at h / 5.3 it reads the
-// grid's values (pbf_volume_map.comp).
-void expectCornerParity(double voxel) {
+// The tank with a block of water, 6 x 5 x 6 particles, in its corner (180 particles).
+Case cornerCase(double voxel) {
     Case c = tankCase(voxel);
     format::FluidBlock block;
     block.min = glm::vec3(0.0f);
@@ -268,6 +264,16 @@ void expectCornerParity(double voxel) {
     c.scene.simulation.capacity = 6 * 5 * 6;
     c.scene.domainMin = glm::vec3(-0.1f);
     c.scene.domainMax = glm::vec3(0.4f);
+    return c;
+}
+
+// A block of water in a corner of the tank, where the maps carry most of the walls' share: one
+// step of the GPU solver against the CPU reference, which builds the same maps in double
+// (tests/reference/ReferenceVolumeMap.cpp). Without the reference's maps the particles differ by
+// 0.013 h. At a grid of h / 4 the quadrature reads the field trilinearly, at h / 5.3 it reads the
+// grid's values (pbf_volume_map.comp).
+void expectCornerParity(double voxel) {
+    Case c = cornerCase(voxel);
     std::vector<ref::ReferenceCollider> refColliders{{&c.assets[0], c.scene.colliders[0]}};
     ref::ReferencePbf cpu(c.scene, refColliders);
     SimulationOptions options;
@@ -293,14 +299,7 @@ void expectCornerParity(double voxel) {
 TEST_F(VolumeMap, TheStorageReadsGiveTheTexelViewsBits) {
     std::vector<ParticleState> runs[2];
     for (int fromStorage = 0; fromStorage < 2; ++fromStorage) {
-        Case c = tankCase();
-        format::FluidBlock block;
-        block.min = glm::vec3(0.0f);
-        block.max = glm::vec3(0.12f, 0.1f, 0.12f);
-        c.scene.blocks.push_back(block);
-        c.scene.simulation.capacity = 6 * 5 * 6;
-        c.scene.domainMin = glm::vec3(-0.1f);
-        c.scene.domainMax = glm::vec3(0.4f);
+        Case c = cornerCase(0.5 * kSpacing);
         SimulationOptions options;
         options.deterministic = true;
         options.sdfFromStorage = fromStorage != 0;
