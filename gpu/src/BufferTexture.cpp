@@ -15,25 +15,50 @@ std::uint64_t BufferTexture::maxTexels() {
     return texels > 0 ? std::uint64_t(texels) : 0;
 }
 
-Result<BufferTexture> BufferTexture::createR32F(const Buffer& buffer, std::string_view label) {
+namespace {
+
+GLenum glFormat(TexelFormat format) {
+    switch (format) {
+    case TexelFormat::R32F:
+        return GL_R32F;
+    case TexelFormat::R32UI:
+        return GL_R32UI;
+    case TexelFormat::RGBA32F:
+        return GL_RGBA32F;
+    case TexelFormat::RGBA32UI:
+        return GL_RGBA32UI;
+    }
+    return GL_R32F;
+}
+
+} // namespace
+
+std::uint32_t texelBytes(TexelFormat format) {
+    return format == TexelFormat::R32F || format == TexelFormat::R32UI ? 4 : 16;
+}
+
+Result<BufferTexture> BufferTexture::create(const Buffer& buffer, TexelFormat format,
+                                            std::string_view label) {
     const std::string name = label.empty() ? std::string("buffer texture")
                                            : "buffer texture '" + std::string(label) + "'";
     const std::uint64_t bytes = buffer.size();
-    if (buffer.id() == 0 || bytes == 0 || bytes % sizeof(float) != 0)
+    const std::uint32_t texel = texelBytes(format);
+    if (buffer.id() == 0 || bytes == 0 || bytes % texel != 0)
         return fail(ErrorCode::InvalidArgument, "cannot make " + name + " of " +
                                                     std::to_string(bytes) +
-                                                    " bytes: it needs a whole number of floats");
-    const std::uint64_t texels = bytes / sizeof(float);
+                                                    " bytes: it needs a whole number of " +
+                                                    std::to_string(texel) + "-byte texels");
+    const std::uint64_t texels = bytes / texel;
     if (texels > maxTexels())
         return fail(ErrorCode::SizeOverflow,
                     "cannot make " + name + " of " + std::to_string(texels) +
                         " texels: GL_MAX_TEXTURE_BUFFER_SIZE is " + std::to_string(maxTexels()));
     BufferTexture texture;
     glCreateTextures(GL_TEXTURE_BUFFER, 1, &texture.m_id);
-    glTextureBuffer(texture.m_id, GL_R32F, buffer.id());
+    glTextureBuffer(texture.m_id, glFormat(format), buffer.id());
     if (!label.empty())
         glObjectLabel(GL_TEXTURE, texture.m_id, labelLength(label), label.data());
-    failOnDebugErrors("BufferTexture::createR32F");
+    failOnDebugErrors("BufferTexture::create");
     return texture;
 }
 

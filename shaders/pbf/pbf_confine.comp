@@ -2,6 +2,7 @@
 // both from the velocities of pbf_velocity.comp, written to the other velocity buffer.
 #version 450 core
 
+#define PBF_NEIGHBOUR_PASS 1
 #include "shared/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
@@ -33,8 +34,8 @@ void main() {
         float wiLen = length(wi);
         PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pos, i, xi)
             if (withVorticity != 0u)
-                eta += (length(omega[j].xyz) - wiLen) * spikyGrad(d, q2);
-            blend += (vel[j].xyz - vi) * poly6(q2);
+                eta += (length(PBF_OMEGA_AT(omega, j).xyz) - wiLen) * spikyGrad(d, q2);
+            blend += (PBF_VEL_AT(vel, j).xyz - vi) * poly6(q2);
         PBF_NEIGHBOURS_END
     }
     // Every lane's share (uniform: all reach the barriers).

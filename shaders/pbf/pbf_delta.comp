@@ -2,6 +2,7 @@
 // correction with s_corr (Macklin & Mueller 2013, eq. 10, 11), collisions and the domain box.
 #version 450 core
 
+#define PBF_NEIGHBOUR_PASS 1
 #define PBF_WITH_COLLIDERS 1
 #define PBF_WITH_BODIES 1
 #define PBF_BODY_REACTION collisionReaction

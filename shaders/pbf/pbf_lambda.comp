@@ -2,6 +2,7 @@
 // (Macklin & Mueller 2013, eq. 1, 7, 8), plus the iteration's density-error sum and maximum.
 #version 450 core
 
+#define PBF_NEIGHBOUR_PASS 1
 #define PBF_WITH_COLLIDERS 1
 #define PBF_WITH_BODIES 1
 #include "shared/PbfGlsl.h"
@@ -55,7 +56,7 @@ uint searchAndRecord(uint i, vec3 xi, inout float density, inout vec3 gradSum,
                     bits = 0u;
                 }
                 uint j = begin_ + (c - pbfBase_);
-                vec3 xj = pred[j].xyz;
+                vec3 xj = PBF_POS_AT(pred, j).xyz;
                 if (!pbfIsNeighbour(xi, xj, i, j, pbfDense_, cc_))
                     continue;
                 if (c < kNeighbourMaskBits)

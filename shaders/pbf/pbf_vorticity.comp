@@ -1,6 +1,7 @@
 // Vorticity omega_i = curl v by SPH (Macklin & Mueller 2013, eq. 15), for the confinement pass.
 #version 450 core
 
+#define PBF_NEIGHBOUR_PASS 1
 #include "shared/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
@@ -26,7 +27,7 @@ void main() {
         vec3 vi = vel[i].xyz;
         PBF_NEIGHBOURS_BEGIN(predStart, neighbourMask, pos, i, xi)
             // grad_j W(x_i - x_j) = gradW(x_j - x_i) = -gradW(d)
-            w += cross(vel[j].xyz - vi, -spikyGrad(d, q2));
+            w += cross(PBF_VEL_AT(vel, j).xyz - vi, -spikyGrad(d, q2));
         PBF_NEIGHBOURS_END
     }
     w = pbfLaneSum(vec4(w, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)

@@ -40,6 +40,16 @@ SLUICE_CONST uint kMaxColliders = 64;
 /// The SDF buffer's texel view (samplerBuffer, GL_R32F over kBindSdf's buffer): the dense grids'
 /// samples and the volume maps are fetched through it (PbfGlsl.h, sdfAt).
 SLUICE_CONST uint kUnitSdfTexels = 0;
+/// The neighbour passes' texel views (PbfGlsl.h, PBF_NEIGHBOUR_PASS): x* at the substep start
+/// (GL_RGBA32F over predStart), the positions the pass reads at its neighbours (x* of the
+/// iteration in the solve, x in vorticity and confinement), the velocities and vorticities of
+/// vorticity and confinement, the neighbour masks and the cell ranges (GL_R32UI).
+SLUICE_CONST uint kUnitStartTexels = 1;
+SLUICE_CONST uint kUnitPosTexels = 2;
+SLUICE_CONST uint kUnitVelTexels = 3;
+SLUICE_CONST uint kUnitOmegaTexels = 4;
+SLUICE_CONST uint kUnitMaskTexels = 5;
+SLUICE_CONST uint kUnitCellStartTexels = 6;
 
 // Shader storage bindings. Each pass binds the buffers of its roles; ping-pong buffers swap
 // which GL buffer sits behind a role, never their contents.

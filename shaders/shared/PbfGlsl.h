@@ -76,6 +76,39 @@ bool allFinite(vec3 v) {
     return all(notEqual(exponent, uvec3(0x7f800000u)));
 }
 
+// What the neighbour passes read at other particles' indices (their start positions, positions,
+// velocities and vorticities, the neighbour masks and the cell ranges), a pass that defines
+// PBF_NEIGHBOUR_PASS fetches through texel views of those buffers (Simulation::Impl::
+// bindNeighbourTexels): on llvmpipe a storage read at an index that differs between lanes is a
+// loop over the lanes with a bounds test for each component, a texel fetch one gather; on a GPU
+// it goes through the texture cache. Where a buffer holds more texels than the GL allows, the
+// programs are built with SLUICE_NEIGHBOURS_STORAGE and read the storage blocks named in the
+// accessors' first argument. A view returns the bits the block holds (the lambda pass writes
+// only w of the buffer whose xyz it fetches, so a fetch in that pass sees the xyz it reads).
+#ifdef PBF_NEIGHBOUR_PASS
+#ifndef SLUICE_NEIGHBOURS_STORAGE
+layout(binding = kUnitStartTexels) uniform samplerBuffer startTexels;
+layout(binding = kUnitPosTexels) uniform samplerBuffer posTexels;
+layout(binding = kUnitVelTexels) uniform samplerBuffer velTexels;
+layout(binding = kUnitOmegaTexels) uniform samplerBuffer omegaTexels;
+layout(binding = kUnitMaskTexels) uniform usamplerBuffer maskTexels;
+layout(binding = kUnitCellStartTexels) uniform usamplerBuffer cellStartTexels;
+#define PBF_START_AT(START, j) texelFetch(startTexels, int(j))
+#define PBF_POS_AT(POS, j) texelFetch(posTexels, int(j))
+#define PBF_VEL_AT(VEL, j) texelFetch(velTexels, int(j))
+#define PBF_OMEGA_AT(OMEGA, j) texelFetch(omegaTexels, int(j))
+#define PBF_MASK_AT(MASK, w) texelFetch(maskTexels, int(w)).x
+#define PBF_CELL_START_AT(b) texelFetch(cellStartTexels, int(b)).x
+#else
+#define PBF_START_AT(START, j) START[j]
+#define PBF_POS_AT(POS, j) POS[j]
+#define PBF_VEL_AT(VEL, j) VEL[j]
+#define PBF_OMEGA_AT(OMEGA, j) OMEGA[j]
+#define PBF_MASK_AT(MASK, w) MASK[w]
+#define PBF_CELL_START_AT(b) cellStart[b]
+#endif
+#endif
+
 // The candidate ranges of particle i: the sorted particles a neighbour search from i's start
 // cell visits (docs/pbf.md step 3). START[] (x* at the substep start, sorted) chooses the cell.
 // On the dense grid the three cells x - 1 .. x + 1 of a row are adjacent buckets, so their
@@ -86,7 +119,7 @@ bool allFinite(vec3 v) {
 // visiting order). Close with PBF_RANGES_END, which advances pbfBase_ (in scope after it: the
 // candidate count).
 #define PBF_RANGES_BEGIN(START, i)                                                             \
-        ivec3 pbfCell_ = cellOf(START[i].xyz);                                                 \
+        ivec3 pbfCell_ = cellOf(PBF_START_AT(START, i).xyz);                                   \
         bool pbfDense_ = denseGrid();                                                          \
         ivec3 pbfDims_ = ivec3(P.gridDims);                                                    \
         int pbfRanges_ = pbfDense_ ? 1 : 3;                                                    \
@@ -101,12 +134,12 @@ bool allFinite(vec3 v) {
                             continue;                                                          \
                         ivec3 lo_ = ivec3(max(pbfCell_.x - 1, 0), cc_.y, cc_.z);               \
                         ivec3 hi_ = ivec3(min(pbfCell_.x + 1, pbfDims_.x - 1), cc_.y, cc_.z);  \
-                        begin_ = cellStart[cellBucket(lo_)];                                   \
-                        end_ = cellStart[cellBucket(hi_) + 1u];                                \
+                        begin_ = PBF_CELL_START_AT(cellBucket(lo_));                           \
+                        end_ = PBF_CELL_START_AT(cellBucket(hi_) + 1u);                        \
                     } else {                                                                   \
                         uint bucket_ = cellHash(cc_);                                          \
-                        begin_ = cellStart[bucket_];                                           \
-                        end_ = cellStart[bucket_ + 1u];                                        \
+                        begin_ = PBF_CELL_START_AT(bucket_);                                   \
+                        end_ = PBF_CELL_START_AT(bucket_ + 1u);                                \
                     }
 #define PBF_RANGES_END                                                                         \
     pbfBase_ += end_ - begin_;                                                                 \
@@ -131,7 +164,7 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
 // `continue`. Close with PBF_NEIGHBOURS_END.
 #define PBF_NEIGHBOURS_BEGIN(START, MASK, POS, i, xi)                                         \
     {                                                                                          \
-        vec3 pbfStartI_ = START[i].xyz;                                                        \
+        vec3 pbfStartI_ = PBF_START_AT(START, i).xyz;                                          \
         uint pbfMaskBase_ = (i) * kNeighbourMaskWords;                                         \
         PBF_RANGES_BEGIN(START, i)                                                             \
         uint pbfStop_ = pbfBase_ + (end_ - begin_);                                            \
@@ -143,18 +176,20 @@ bool pbfIsNeighbour(vec3 startI, vec3 startJ, uint i, uint j, bool dense, ivec3 
             uint pbfBits_ = 0u;                                                                \
             if (pbfW_ < kNeighbourMaskWords) {                                                 \
                 uint keep_ = pbfHi_ < 32u ? (1u << pbfHi_) - 1u : 0xffffffffu;                 \
-                pbfBits_ = MASK[pbfMaskBase_ + pbfW_] & keep_ & (0xffffffffu << pbfLo_);      \
+                pbfBits_ = PBF_MASK_AT(MASK, pbfMaskBase_ + pbfW_) & keep_ &                  \
+                           (0xffffffffu << pbfLo_);                                            \
             } else {                                                                           \
                 for (uint b_ = pbfLo_; b_ < pbfHi_; ++b_) {                                    \
                     uint jj_ = begin_ + (pbfFirst_ + b_ - pbfBase_);                           \
-                    if (pbfIsNeighbour(pbfStartI_, START[jj_].xyz, i, jj_, pbfDense_, cc_))    \
+                    vec3 xjj_ = PBF_START_AT(START, jj_).xyz;                                  \
+                    if (pbfIsNeighbour(pbfStartI_, xjj_, i, jj_, pbfDense_, cc_))              \
                         pbfBits_ |= 1u << b_;                                                  \
                 }                                                                              \
             }                                                                                  \
             while (pbfBits_ != 0u) {                                                           \
                 uint j = begin_ + (pbfFirst_ + uint(findLSB(pbfBits_)) - pbfBase_);            \
                 pbfBits_ &= pbfBits_ - 1u;                                                     \
-                vec4 pj = POS[j];                                                              \
+                vec4 pj = PBF_POS_AT(POS, j);                                                  \
                 vec3 xj = pj.xyz;                                                              \
                 vec3 d = xi - xj;                                                              \
                 float q2 = dot(d, d);

@@ -1,5 +1,5 @@
-// BufferTexture (GL_R32F view of a Buffer): exact fetches, a shader's writes seen after the
-// fetch barrier, and what it refuses.
+// BufferTexture (texel views of a Buffer): exact fetches in each format, a shader's writes seen
+// after the fetch barrier, and what it refuses.
 #include <cstdint>
 #include <cstring>
 #include <iostream>
@@ -69,6 +69,56 @@ TEST_F(BufferTextureTest, FetchesEveryFloatOfTheBufferBitForBit) {
     }
 }
 
+// The solver's views: positions as RGBA32F (texel i is the buffer's vec4 i) and neighbour
+// masks as R32UI (texel i its uint i, every bit kept).
+TEST_F(BufferTextureTest, FetchesFourFloatTexelsAndUintTexelsBitForBit) {
+    std::vector<float> values(4 * 100);
+    for (std::size_t i = 0; i < values.size(); ++i)
+        values[i] = (float(i) - 200.0f) * 0.013f;
+    values[5] = -0.0f;
+    auto floats = Buffer::createFrom(values, "vec4s");
+    ASSERT_TRUE(floats);
+    std::vector<std::uint32_t> words(300);
+    for (std::size_t i = 0; i < words.size(); ++i)
+        words[i] = std::uint32_t(i * 2654435761u) | (i % 2 == 0 ? 0x80000001u : 0u);
+    auto uints = Buffer::createFrom(words, "words");
+    ASSERT_TRUE(uints);
+    auto vec4View = BufferTexture::create(*floats, TexelFormat::RGBA32F, "vec4 texels");
+    ASSERT_TRUE(vec4View) << vec4View.error().message();
+    auto uintView = BufferTexture::create(*uints, TexelFormat::R32UI, "uint texels");
+    ASSERT_TRUE(uintView) << uintView.error().message();
+    auto program = Program::compute("fetch4.comp", R"(
+        layout(local_size_x = 64) in;
+        layout(binding = 0) uniform samplerBuffer quads;
+        layout(binding = 1) uniform usamplerBuffer words;
+        layout(std430, binding = 1) writeonly buffer Quads { vec4 quadsOut[]; };
+        layout(std430, binding = 2) writeonly buffer Words { uint wordsOut[]; };
+        void main() {
+            uint i = gl_GlobalInvocationID.x;
+            if (i < 100u)
+                quadsOut[i] = texelFetch(quads, int(i));
+            if (i < 300u)
+                wordsOut[i] = texelFetch(words, int(i)).x;
+        }
+    )");
+    ASSERT_TRUE(program) << program.error().message();
+    auto quadsOut = Buffer::create(values.size() * sizeof(float), "quads out");
+    auto wordsOut = Buffer::create(words.size() * sizeof(std::uint32_t), "words out");
+    ASSERT_TRUE(quadsOut && wordsOut);
+    vec4View->bindTexture(0);
+    uintView->bindTexture(1);
+    quadsOut->bindStorage(1);
+    wordsOut->bindStorage(2);
+    program->use();
+    program->dispatch(5);
+    const std::vector<float> fetched = quadsOut->download<float>();
+    ASSERT_EQ(fetched.size(), values.size());
+    EXPECT_EQ(std::memcmp(fetched.data(), values.data(), values.size() * sizeof(float)), 0);
+    EXPECT_EQ(wordsOut->download<std::uint32_t>(), words);
+    EXPECT_EQ(texelBytes(TexelFormat::RGBA32UI), 16u);
+    EXPECT_EQ(texelBytes(TexelFormat::R32F), 4u);
+}
+
 TEST_F(BufferTextureTest, SeesAShadersWritesAfterTheFetchBarrier) {
     std::vector<float> values(256, 1.0f);
     auto buffer = Buffer::createFrom(values, "values");
@@ -101,7 +151,16 @@ TEST_F(BufferTextureTest, RefusesEmptyAndPartialBuffersAndKnowsItsLimit) {
     auto partial = BufferTexture::createR32F(*six);
     ASSERT_FALSE(partial);
     EXPECT_EQ(partial.error().code, ErrorCode::InvalidArgument);
-    EXPECT_NE(partial.error().message().find("whole number of floats"), std::string::npos);
+    EXPECT_NE(partial.error().message().find("whole number of 4-byte texels"), std::string::npos);
+    // 20 bytes are five floats but not a whole number of four-float texels.
+    auto twenty = Buffer::create(20, "twenty bytes");
+    ASSERT_TRUE(twenty);
+    auto quads = BufferTexture::create(*twenty, TexelFormat::RGBA32F, "quads");
+    ASSERT_FALSE(quads);
+    EXPECT_EQ(quads.error().code, ErrorCode::InvalidArgument);
+    EXPECT_NE(quads.error().message().find("'quads'"), std::string::npos);
+    EXPECT_NE(quads.error().message().find("16-byte texels"), std::string::npos);
+    EXPECT_TRUE(BufferTexture::create(*twenty, TexelFormat::R32UI));
     // GL 4.5 guarantees 65536 texels; say what this GL allows (the solver's fallback to storage
     // reads depends on it: Simulation::Impl::compilePasses).
     EXPECT_GE(BufferTexture::maxTexels(), 65536u);

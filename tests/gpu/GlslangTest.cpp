@@ -61,6 +61,7 @@ ProgramCase graphics(const char* name, const char* vertex, const char* fragment,
 
 const ShaderDefine kSparse{"SLUICE_SPARSE_COLLIDERS", "1"};
 const ShaderDefine kSdfStorage{"SLUICE_SDF_STORAGE", "1"};
+const ShaderDefine kNeighboursStorage{"SLUICE_NEIGHBOURS_STORAGE", "1"};
 const ShaderDefine kSparseBake{"SDF_SPARSE", "1"};
 const ShaderDefine kPointsBake{"SDF_POINTS", "1"};
 
@@ -99,6 +100,15 @@ std::vector<ProgramCase> allPrograms() {
                 {kSdfStorage}),
         compute("ColliderProbeSdfStorage", runtimeSource, "collider_probe.comp",
                 {kSparse, kSdfStorage}),
+        // Particle buffers past the GL's texel-buffer limit: the neighbour passes read storage.
+        compute("PbfLambdaNeighboursStorage", runtimeSource, "pbf_lambda.comp",
+                {kNeighboursStorage}),
+        compute("PbfDeltaNeighboursStorage", runtimeSource, "pbf_delta.comp",
+                {kSparse, kNeighboursStorage}),
+        compute("PbfVorticityNeighboursStorage", runtimeSource, "pbf_vorticity.comp",
+                {kNeighboursStorage}),
+        compute("PbfConfineNeighboursStorage", runtimeSource, "pbf_confine.comp",
+                {kNeighboursStorage}),
         compute("PbfVolumeMap", runtimeSource, "pbf_volume_map.comp"),
         compute("PbfVolumeMapSparse", runtimeSource, "pbf_volume_map.comp", {kSparse}),
         compute("PbfBoundaryProbe", runtimeSource, "pbf_boundary_probe.comp"),

@@ -113,13 +113,26 @@ Result<GpuBvh> uploadBvh(const Bvh& bvh) {
             return u.created.error();
         *u.buffer = std::move(*u.created);
     }
-    out.textures.reserve(3);
-    out.textures.emplace_back(out.distanceNodes, GL_RGBA32UI);
-    out.textures.emplace_back(out.windingNodes, GL_RGBA32UI);
-    out.textures.emplace_back(out.triangles, GL_RGBA32F);
-    out.textures[0].bind(shared::kBakeDistanceNodesUnit);
-    out.textures[1].bind(shared::kBakeWindingNodesUnit);
-    out.textures[2].bind(shared::kBakeTrianglesUnit);
+    struct View {
+        const gpu::Buffer& buffer;
+        gpu::TexelFormat format;
+        GLuint unit;
+        const char* label;
+    };
+    const View views[] = {
+        {out.distanceNodes, gpu::TexelFormat::RGBA32UI, shared::kBakeDistanceNodesUnit,
+         "bake BVH boxes"},
+        {out.windingNodes, gpu::TexelFormat::RGBA32UI, shared::kBakeWindingNodesUnit,
+         "bake BVH dipoles"},
+        {out.triangles, gpu::TexelFormat::RGBA32F, shared::kBakeTrianglesUnit, "bake triangles"},
+    };
+    for (const View& v : views) {
+        auto texture = gpu::BufferTexture::create(v.buffer, v.format, v.label);
+        if (!texture)
+            return texture.error();
+        texture->bindTexture(v.unit);
+        out.textures.push_back(std::move(*texture));
+    }
     return out;
 }
 
@@ -189,16 +202,6 @@ std::string mib(std::uint64_t bytes) {
     return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
 }
 
-BufferTexture::BufferTexture(const gpu::Buffer& buffer, GLenum format) {
-    glCreateTextures(GL_TEXTURE_BUFFER, 1, &m_id);
-    glTextureBuffer(m_id, format, buffer.id());
-}
-
-BufferTexture::~BufferTexture() {
-    if (m_id != 0)
-        glDeleteTextures(1, &m_id);
-}
-
 Result<void> createStorage(std::span<const StorageAlloc> allocs) {
     for (const StorageAlloc& a : allocs) {
         Result<gpu::Buffer> buffer = gpu::Buffer::create(a.bytes, a.label);
@@ -221,10 +224,8 @@ std::uint64_t bvhTriangleBytes(std::uint64_t triangles) {
 
 Result<void> checkBvhFits(const std::string& sourceFile, std::uint64_t triangles,
                           const GpuBakeOptions& options) {
-    GLint maxTexels = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
     const std::uint64_t maxTextureBytes =
-        std::min(std::uint64_t(maxTexels) * sizeof(glm::vec4),
+        std::min(gpu::BufferTexture::maxTexels() * sizeof(glm::vec4),
                  options.maxBufferBytes > 0 ? options.maxBufferBytes : ~std::uint64_t(0));
     if (triangles >= kBvhMaxTriangles ||
         std::max(bvhTriangleBytes(triangles), bvhNodeBytes(triangles)) > maxTextureBytes)

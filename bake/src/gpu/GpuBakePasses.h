@@ -17,9 +17,10 @@
 #include "BakeErrors.h"
 #include "gpu/Bvh.h"
 #include "gpu/GpuSoup.h"
-#include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/bake/Grid.h"
+#include "sluice/bake/gpu/GpuBaker.h"
 #include "sluice/gpu/Buffer.h"
+#include "sluice/gpu/BufferTexture.h"
 #include "sluice/gpu/Gl.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
@@ -28,21 +29,6 @@ namespace sluice::bake {
 
 /// "N MiB", rounded up.
 std::string mib(std::uint64_t bytes);
-
-/// A buffer texture (samplerBuffer) over the whole of a buffer, which must outlive it. RAII.
-class BufferTexture {
-public:
-    BufferTexture(const gpu::Buffer& buffer, GLenum format);
-    BufferTexture(BufferTexture&& other) noexcept : m_id(other.m_id) { other.m_id = 0; }
-    BufferTexture(const BufferTexture&) = delete;
-    BufferTexture& operator=(const BufferTexture&) = delete;
-    BufferTexture& operator=(BufferTexture&&) = delete;
-    ~BufferTexture();
-    void bind(GLuint unit) const { glBindTextureUnit(unit, m_id); }
-
-private:
-    GLuint m_id = 0;
-};
 
 /// One storage buffer of a bake: where it goes, its size [bytes], its debug label and binding.
 struct StorageAlloc {
@@ -67,7 +53,7 @@ Result<void> checkBvhFits(const std::string& sourceFile, std::uint64_t triangles
 /// The BVH and its triangles as buffer textures bound to their units (shared/SdfBake.h).
 struct GpuBvh {
     gpu::Buffer distanceNodes, windingNodes, triangles;
-    std::vector<BufferTexture> textures; ///< distance nodes, winding nodes, triangles
+    std::vector<gpu::BufferTexture> textures; ///< distance nodes, winding nodes, triangles
 
     std::uint64_t bytes() const {
         return distanceNodes.size() + windingNodes.size() + triangles.size();

@@ -224,6 +224,10 @@ std::uint32_t Simulation::neighbourLanes() const {
     return m_impl->lanes;
 }
 
+bool Simulation::neighbourTexels() const {
+    return m_impl->neighboursAsTexels;
+}
+
 glm::uvec3 Simulation::neighbourGridCells() const {
     return m_impl->denseGridDims();
 }

@@ -98,7 +98,9 @@ Result<void> Simulation::Impl::allocate() {
             return fail(buffer.error().code, scene.path + ": " + buffer.error().detail);
         *a.buffer = std::move(*buffer);
     }
-    return viewSdfAsTexels();
+    if (auto ok = viewSdfAsTexels(); !ok)
+        return ok;
+    return viewNeighboursAsTexels();
 }
 
 Result<void> Simulation::Impl::viewSdfAsTexels() {
@@ -109,6 +111,52 @@ Result<void> Simulation::Impl::viewSdfAsTexels() {
         return fail(texels.error().code, scene.path + ": " + texels.error().detail);
     sdfTexels = std::move(*texels);
     return {};
+}
+
+Result<void> Simulation::Impl::viewNeighboursAsTexels() {
+    if (!neighboursAsTexels)
+        return {};
+    using gpu::TexelFormat;
+    NeighbourTexels& t = neighbourTexels;
+    struct View {
+        gpu::BufferTexture* texture;
+        const gpu::Buffer& buffer;
+        TexelFormat format;
+        const char* label;
+    };
+    const View views[] = {
+        {&t.start, predStart, TexelFormat::RGBA32F, "predStart texels"},
+        {&t.pred[0], pred[0], TexelFormat::RGBA32F, "pred 0 texels"},
+        {&t.pred[1], pred[1], TexelFormat::RGBA32F, "pred 1 texels"},
+        {&t.pos[0], pos[0], TexelFormat::RGBA32F, "pos 0 texels"},
+        {&t.pos[1], pos[1], TexelFormat::RGBA32F, "pos 1 texels"},
+        {&t.vel[0], vel[0], TexelFormat::RGBA32F, "vel 0 texels"},
+        {&t.vel[1], vel[1], TexelFormat::RGBA32F, "vel 1 texels"},
+        {&t.mask, neighbourMask, TexelFormat::R32UI, "neighbour mask texels"},
+        {&t.cellStart, cellStart, TexelFormat::R32UI, "cellStart texels"},
+    };
+    for (const View& v : views) {
+        auto texture = gpu::BufferTexture::create(v.buffer, v.format, v.label);
+        if (!texture)
+            return fail(texture.error().code, scene.path + ": " + texture.error().detail);
+        *v.texture = std::move(*texture);
+    }
+    return {};
+}
+
+void Simulation::Impl::bindNeighbourTexels(const gpu::BufferTexture& positions,
+                                           const gpu::BufferTexture* velocities,
+                                           const gpu::BufferTexture* omega) const {
+    if (!neighboursAsTexels)
+        return;
+    neighbourTexels.start.bindTexture(shared::kUnitStartTexels);
+    neighbourTexels.mask.bindTexture(shared::kUnitMaskTexels);
+    neighbourTexels.cellStart.bindTexture(shared::kUnitCellStartTexels);
+    positions.bindTexture(shared::kUnitPosTexels);
+    if (velocities != nullptr)
+        velocities->bindTexture(shared::kUnitVelTexels);
+    if (omega != nullptr)
+        omega->bindTexture(shared::kUnitOmegaTexels);
 }
 
 void Simulation::Impl::uploadColliderGrids() {
@@ -310,8 +358,16 @@ Result<void> Simulation::Impl::compilePasses() {
     sdfAsTexels = !options.sdfFromStorage &&
                   colliderDataBytes(colliderAssets) + volumeMapWords() * sizeof(float) <=
                       gpu::BufferTexture::maxTexels() * sizeof(float);
+    // The neighbour passes fetch through texel views where each buffer they read at other
+    // particles' indices fits one (the mask is the largest: kNeighbourMaskWords per particle).
+    const std::uint64_t mostNeighbourTexels = std::max<std::uint64_t>(
+        std::uint64_t(capacity) * shared::kNeighbourMaskWords, std::uint64_t(tableSize) + 1);
+    neighboursAsTexels =
+        !options.neighboursFromStorage && mostNeighbourTexels <= gpu::BufferTexture::maxTexels();
     // NanoVDB's reader (shared/NanoVdbGlsl.h) is compiled in only when a collider needs it.
-    const std::vector<gpu::ShaderDefine> defines = colliderDefines();
+    std::vector<gpu::ShaderDefine> defines = colliderDefines();
+    if (!neighboursAsTexels)
+        defines.push_back({"SLUICE_NEIGHBOURS_STORAGE", "1"});
     // A body's work group in the body pass (pbf_bodies.comp): kBodyLanes invocations on a GPU,
     // kBodyLanesSoftware on a software renderer, which runs a group's invocations a SIMD vector
     // at a time on one CPU thread.

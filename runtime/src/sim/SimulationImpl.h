@@ -143,6 +143,13 @@ struct Simulation::Impl {
     // (PbfGlsl.h, sdfAt); empty when sdfAsTexels is false and they read the storage block.
     gpu::BufferTexture sdfTexels;
     bool sdfAsTexels = true; // set by compilePasses: every grid and map fits a texel view
+    // The texel views the neighbour passes fetch other particles' data through (PbfGlsl.h,
+    // PBF_NEIGHBOUR_PASS), one per buffer they read at neighbours' indices; made once, as the
+    // buffers never grow. Empty when neighboursAsTexels is false and they read storage blocks.
+    struct NeighbourTexels {
+        gpu::BufferTexture start, pred[2], pos[2], vel[2], mask, cellStart;
+    } neighbourTexels;
+    bool neighboursAsTexels = true; // set by compilePasses: every such buffer fits a view
     // GpuBody[], fixed-point sums, contact points, the body pass's state between its dispatches
     gpu::Buffer bodyBuf, bodySums, bodySamples, bodySteps;
     gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
@@ -161,6 +168,14 @@ struct Simulation::Impl {
     Result<void> allocate();
     /// The SDF buffer's texel view, where sdfAsTexels (allocate ends with it).
     Result<void> viewSdfAsTexels();
+    /// The neighbour passes' texel views, where neighboursAsTexels (allocate ends with them).
+    Result<void> viewNeighboursAsTexels();
+    /// Binds the views a neighbour pass fetches through: the solve's x* (`positions`), or
+    /// vorticity and confinement's x, v and omega; the start positions, masks and cell ranges
+    /// always. Nothing where neighboursAsTexels is false.
+    void bindNeighbourTexels(const gpu::BufferTexture& positions,
+                             const gpu::BufferTexture* velocities = nullptr,
+                             const gpu::BufferTexture* omega = nullptr) const;
     Result<void> compilePasses();
     /// Every collider grid into the SDF buffer (dense ones first, then the sparse ones,
     /// 32-byte aligned), their records, and the bodies' initial records and contact points.
@@ -208,7 +223,13 @@ struct Simulation::Impl {
         glMemoryBarrier(bits);
         ++commands.barriers;
     }
-    void barrier() { memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
+    /// The barrier between two passes: storage writes visible to the next pass's storage reads
+    /// and, where the neighbour passes fetch texels, to its fetches.
+    void barrier() { memoryBarrier(passBarrierBits()); }
+    GLbitfield passBarrierBits() const {
+        return GL_SHADER_STORAGE_BARRIER_BIT |
+               (neighboursAsTexels ? GL_TEXTURE_FETCH_BARRIER_BIT : GLbitfield(0));
+    }
     /// Sets `bytes` of the statistics buffer from byte `offset` on to the uint `value`, on the
     /// GPU (offsets from offsetof(shared::PbfStats, ...)).
     void fillStats(std::size_t offset, std::size_t bytes, std::uint32_t value) const {

@@ -148,16 +148,19 @@ void Simulation::Impl::solve() {
     predStart.bindStorage(shared::kBindPredStart);
     bindParticles(pos[cur], vel[cur]);
     const gpu::Buffer* in = &predStart;
+    const gpu::BufferTexture* inTexels = &neighbourTexels.start;
     for (std::uint32_t it = 0; it < maxIterations; ++it) {
         in->bindStorage(shared::kBindPredIn);
+        bindNeighbourTexels(*inTexels);
         lambda.set("iteration", it);
         dispatchSolve(lambda, it);
         barrier();
         pred[it % 2].bindStorage(shared::kBindPredOut);
         delta.set("iteration", it);
         dispatchSolve(delta, it);
-        memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        memoryBarrier(passBarrierBits() | GL_COMMAND_BARRIER_BIT);
         in = &pred[it % 2];
+        inTexels = &neighbourTexels.pred[it % 2];
     }
     end(Pass::Solve);
 }
@@ -183,6 +186,8 @@ void Simulation::Impl::applyVorticityAndXsph() {
     const bool withVorticity = scene.simulation.vorticity > 0.0f;
     pos[1 - cur].bindStorage(shared::kBindOmega);
     vel[1 - cur].bindStorage(shared::kBindVelIn);
+    bindNeighbourTexels(neighbourTexels.pos[cur], &neighbourTexels.vel[1 - cur],
+                        &neighbourTexels.pos[1 - cur]);
     if (withVorticity) {
         dispatch(vorticity, count * lanes);
         barrier();

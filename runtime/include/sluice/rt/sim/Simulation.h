@@ -45,6 +45,11 @@ struct SimulationOptions {
     /// as the passes do only where the buffer holds more texels than the GL's texel-buffer limit
     /// (otherwise they fetch them through its texel view): the same bits, for the tests.
     bool sdfFromStorage = false;
+    /// Read what the neighbour passes read at other particles' indices (positions, velocities,
+    /// masks, cell ranges) from the storage blocks, as they do only where a buffer holds more
+    /// texels than the GL's texel-buffer limit (otherwise they fetch through texel views): the
+    /// same bits, for the tests.
+    bool neighboursFromStorage = false;
 };
 
 /// Invocations the automatic neighbour lanes fill at most on a GPU: on an H200, 15k particles ran
@@ -216,6 +221,9 @@ public:
     GpuCommandCount commandCount() const;
     /// Invocations per particle of the neighbour passes (SimulationOptions::neighbourLanes).
     std::uint32_t neighbourLanes() const;
+    /// Whether the neighbour passes fetch other particles' data through texel views (false:
+    /// from storage blocks; SimulationOptions::neighboursFromStorage).
+    bool neighbourTexels() const;
 
     /// The neighbour grid of the next step: with a domain box whose h-wide cells are no more
     /// than the hash table's buckets, a dense grid of that many cells per axis (no hash
