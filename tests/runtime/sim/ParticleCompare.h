@@ -3,7 +3,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <unordered_map>
 #include <vector>
 
@@ -47,6 +49,17 @@ inline double meanPositionDifference(const std::vector<ParticleState>& a,
     for (const ParticleState& p : a)
         sum += glm::length(p.position - ref.at(p.id).position);
     return a.empty() ? 0.0 : sum / double(a.size());
+}
+
+/// Particles of two runs in the same order that differ in any byte (0: the same bits). Runs of
+/// different sizes fail the test and count the longer one's extra particles.
+inline std::size_t differingParticles(const std::vector<ParticleState>& a,
+                                      const std::vector<ParticleState>& b) {
+    EXPECT_EQ(a.size(), b.size());
+    std::size_t differing = std::max(a.size(), b.size()) - std::min(a.size(), b.size());
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+        differing += std::memcmp(&a[i], &b[i], sizeof(ParticleState)) != 0 ? 1 : 0;
+    return differing;
 }
 
 } // namespace sluice::rt::test
