@@ -20,7 +20,8 @@ namespace sluice::bake::detail {
 /// below the vertex count. Debian's assimp 5.2.5 reads a face's corners past the end of its
 /// buffer when the file does not hold them (a SEGV; found by tests/fuzz, and contained by the
 /// isolated import, but a user deserves the line number). Files with the header's counts on
-/// the first line and '#' comments are read as assimp does; binary OFF is left to assimp.
+/// the first line or glued to the magic ("OFF8 6 0"), and '#' comments, are read as assimp
+/// does; binary OFF is left to assimp.
 Result<void> checkOffFile(const std::filesystem::path& path, std::uintmax_t fileBytes,
                           const std::string& shown);
 
