@@ -40,7 +40,7 @@ SLUICE_CONST uint kMaxColliders = 64;
 /// The SDF buffer's texel view (samplerBuffer, GL_R32F over kBindSdf's buffer): the dense grids'
 /// samples and the volume maps are fetched through it (PbfGlsl.h, sdfAt).
 SLUICE_CONST uint kUnitSdfTexels = 0;
-/// The neighbour passes' texel views (PbfGlsl.h, PBF_NEIGHBOUR_PASS): x* at the substep start
+/// The neighbour passes' texel views (NeighbourReadsGlsl.h): x* at the substep start
 /// (GL_RGBA32F over predStart), the positions the pass reads at its neighbours (x* of the
 /// iteration in the solve, x in vorticity and confinement), the velocities and vorticities of
 /// vorticity and confinement, the neighbour masks and the cell ranges (GL_R32UI).

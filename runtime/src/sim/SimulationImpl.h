@@ -143,8 +143,8 @@ struct Simulation::Impl {
     // (PbfGlsl.h, sdfAt); empty when sdfAsTexels is false and they read the storage block.
     gpu::BufferTexture sdfTexels;
     bool sdfAsTexels = true; // set by compilePasses: every grid and map fits a texel view
-    // The texel views the neighbour passes fetch other particles' data through (PbfGlsl.h,
-    // PBF_NEIGHBOUR_PASS), one per buffer they read at neighbours' indices; made once, as the
+    // The texel views the neighbour passes fetch other particles' data through
+    // (NeighbourReadsGlsl.h), one per buffer they read at neighbours' indices; made once, as the
     // buffers never grow. Empty when neighboursAsTexels is false and they read storage blocks.
     struct NeighbourTexels {
         gpu::BufferTexture start, pred[2], pos[2], vel[2], mask, cellStart;
