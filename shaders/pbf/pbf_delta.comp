@@ -1,5 +1,6 @@
 // PBF solve, second half of iteration k (docs/pbf.md 4.2-4.4): the early stop, the position
-// correction with s_corr (Macklin & Mueller 2013, eq. 10, 11), collisions and the domain box.
+// correction with s_corr (Macklin & Mueller 2013, eq. 10, 11), collisions and the domain box;
+// and in the dispatch that ends the solve, step 5 (velocity, x <- x*, the non-finite guard).
 #version 450 core
 
 #define PBF_NEIGHBOUR_PASS 1
@@ -15,7 +16,9 @@ layout(local_size_x = kPbfLocalSize) in;
 
 uniform uint iteration; // k, the solver iteration of this dispatch
 
-layout(std430, binding = kBindPosIn) readonly buffer PosIn { vec4 pos[]; };
+layout(std430, binding = kBindPosIn) buffer PosIn { vec4 pos[]; };
+layout(std430, binding = kBindVelIn) readonly buffer VelIn { vec4 velIn[]; };
+layout(std430, binding = kBindVelOut) writeonly buffer VelOut { vec4 velOut[]; };
 layout(std430, binding = kBindPredIn) readonly buffer PredIn { vec4 pred[]; };
 layout(std430, binding = kBindPredOut) writeonly buffer PredOut { vec4 predOut[]; };
 layout(std430, binding = kBindPredStart) readonly buffer PredStart { vec4 predStart[]; };
@@ -109,8 +112,8 @@ bool converged(uint k) {
     return sum / float(iterations[k].particles) <= P.targetDensityError;
 }
 
-// Iteration k met the target: no update in it (pbf_velocity.comp reads x* from its input
-// buffer), and the later iterations' lambda and delta dispatches launch no group.
+// Iteration k met the target: no update in it (x* stays its input), and the later iterations'
+// lambda and delta dispatches launch no group.
 void stopAt(uint k) {
     if (gl_LocalInvocationIndex == 0u)
         atomicMin(stats.stopIteration, k);
@@ -185,6 +188,26 @@ void holdAgainstWalls(vec3 x, vec3 clamped) {
     }
 }
 
+// PBF step 5 (docs/pbf.md) for particle i, whose x* the solve ends with after `updates`
+// iterations that moved it: velocity from the correction, x <- x*, and the non-finite guard (a
+// particle whose x* or v is NaN or infinite is put back where it was, at rest, and counted, so
+// one bad particle cannot poison its neighbours). Only particle i's own x is read and written
+// here, and no later solve pass reads x: the dispatch that meets the target or runs the last
+// iteration does this instead of a pass of its own.
+void endSolve(uint i, vec3 xs, uint updates) {
+    vec3 x = pos[i].xyz;
+    vec3 v = (xs - x) * P.invDt;
+    if (!allFinite(xs) || !allFinite(v)) {
+        xs = x;
+        v = vec3(0.0);
+        atomicAdd(stats.nonFinite, 1u);
+    }
+    if (SLUICE_GLOBAL_ID.x == 0u)
+        atomicAdd(stats.iterationSum, updates);
+    pos[i] = vec4(xs, 0.0);
+    velOut[i] = vec4(v, velIn[i].w);
+}
+
 void main() {
     uint k = iteration;
     uint i = PBF_PARTICLE;
@@ -195,6 +218,8 @@ void main() {
         atomicAdd(stats.solveDispatches, 1u); // this dispatch ran (--bench counts them)
     if (converged(k)) {
         stopAt(k);
+        if (i < PBF_COUNT && pbfLane == 0u)
+            endSolve(i, pred[i].xyz, k);
         return;
     }
     bool live = i < PBF_COUNT;
@@ -211,7 +236,7 @@ void main() {
         return;
     // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
     // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
-    // pbf_velocity.comp counts what still goes wrong.
+    // endSolve counts what still goes wrong.
     vec3 x = xi + PBF_VOLUME * dp;
     vec3 x0 = predStart[i].xyz; // where the substep's collider mask was taken
     if (!allFinite(x))
@@ -243,4 +268,6 @@ void main() {
     // The next iteration's lambda starts from this list while the particle stays near x*.
     if (P.bodyCount != 0u && !withinStepMargin(clamped, xi))
         collidersNear[i].zw = collidersNearNow(i, clamped, x0);
+    if (k + 1u == P.maxIterations)
+        endSolve(i, clamped, P.maxIterations);
 }

@@ -11,6 +11,10 @@ SLUICE_SHARED_BEGIN
 SLUICE_CONST uint kPbfLocalSize = 128;
 /// Elements one work group of the prefix scan handles (two per invocation).
 SLUICE_CONST uint kScanBlock = 1024;
+/// Blocks whose totals scan_add.comp adds up itself at most (two dispatches for up to
+/// kScanBlock * kScanReducedBlocks elements, each work group reading at most 16 totals an
+/// invocation); more are scanned by a level of their own.
+SLUICE_CONST uint kScanReducedBlocks = 8192;
 /// Work groups one dispatch launches at most; more are split into chunks (ChunkedDispatch.h).
 SLUICE_CONST uint kPbfMaxGroupsPerDispatch = 65535;
 /// PbfStats::stopIteration before any iteration met the target.

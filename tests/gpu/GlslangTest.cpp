@@ -80,7 +80,6 @@ std::vector<ProgramCase> allPrograms() {
                 {{"PBF_SCATTER_REORDER", "1"}}),
         compute("PbfLambda", runtimeSource, "pbf_lambda.comp"),
         compute("PbfDelta", runtimeSource, "pbf_delta.comp"),
-        compute("PbfVelocity", runtimeSource, "pbf_velocity.comp"),
         compute("PbfVorticity", runtimeSource, "pbf_vorticity.comp"),
         compute("PbfConfine", runtimeSource, "pbf_confine.comp"),
         compute("PbfStats", runtimeSource, "pbf_stats.comp"),

@@ -1,6 +1,7 @@
 // Recursive block scan: level 0 scans the data, level l + 1 scans level l's block totals.
 #include "sim/PrefixScan.h"
 
+#include <algorithm>
 #include <string>
 
 #include "shared/Pbf.h"
@@ -16,8 +17,9 @@ std::uint32_t blocksFor(std::uint32_t count) {
 }
 } // namespace
 
-Result<PrefixScan> PrefixScan::create(std::uint32_t maxCount) {
+Result<PrefixScan> PrefixScan::create(std::uint32_t maxCount, std::uint32_t reducedBlocks) {
     PrefixScan scan;
+    scan.m_reducedBlocks = std::max(reducedBlocks, 1u);
     const struct {
         gpu::Program* program;
         const char* name;
@@ -70,10 +72,15 @@ GpuCommandCount PrefixScan::scanLevel(const gpu::Buffer& in, const gpu::Buffer& 
     ++done.barriers;
     if (blocks == 1)
         return done; // one block: its offset is 0
-    done += scanLevel(sums, sums, ScanInput{blocks, blocks, false}, level + 1);
+    // Few blocks: each adds up the totals before it (reduce-then-scan); many: the totals are
+    // scanned first.
+    const bool reduce = blocks <= m_reducedBlocks;
+    if (!reduce)
+        done += scanLevel(sums, sums, ScanInput{blocks, blocks, false}, level + 1);
     out.bindStorage(shared::kBindScanData);
     sums.bindStorage(shared::kBindScanSums);
     m_add.set("count", what.count);
+    m_add.set("reduceTotals", reduce ? 1u : 0u);
     done.dispatches += m_add.dispatchChunked(glm::uvec3(blocks, 1, 1), kMaxGroupsPerDispatch);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     ++done.barriers;

@@ -1,13 +1,15 @@
-// Exclusive prefix sum of a uint buffer on the GPU: block scans in shared memory, the block
-// totals scanned recursively, then added back (Blelloch 1990). One dispatch up to kScanBlock
-// elements, three up to kScanBlock^2. (A one-group scan of up to 65,536 elements in one
-// dispatch was tried: on an H200 it took 2.5 times as long as the three dispatches at 25k,
-// docs/performance.md.)
+// Exclusive prefix sum of a uint buffer on the GPU: block scans in shared memory, then each
+// block's offset added back (Blelloch 1990). Up to kScanReducedBlocks blocks each work group of
+// the add pass sums the totals before its block itself; more blocks have their totals scanned
+// recursively first. One dispatch up to kScanBlock elements, two up to kScanBlock *
+// kScanReducedBlocks (8 M). (A one-group scan of up to 65,536 elements in one dispatch was
+// tried: on an H200 it took 2.5 times as long as three dispatches at 25k, docs/performance.md.)
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "shared/Pbf.h"
 #include "sluice/format/support/Result.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/Program.h"
@@ -25,8 +27,10 @@ struct ScanInput {
 class PrefixScan {
 public:
     /// Compiles the passes and allocates the per-level block totals for up to `maxCount`
-    /// elements.
-    static Result<PrefixScan> create(std::uint32_t maxCount);
+    /// elements. `reducedBlocks`: the most blocks whose totals the add pass sums itself (tests
+    /// lower it to reach the recursive levels with small inputs).
+    static Result<PrefixScan> create(std::uint32_t maxCount,
+                                     std::uint32_t reducedBlocks = shared::kScanReducedBlocks);
 
     /// out[i] = in[0] + ... + in[i - 1] for i < count. `in` and `out` may be the same buffer.
     /// Queues GPU work only; issues the storage barriers it needs, including one at the end.
@@ -37,12 +41,13 @@ public:
                               const ScanInput& what) const;
 
 private:
-    GpuCommandCount scanLevel(const gpu::Buffer& in, const gpu::Buffer& out,
-                              const ScanInput& what, std::size_t level) const;
+    GpuCommandCount scanLevel(const gpu::Buffer& in, const gpu::Buffer& out, const ScanInput& what,
+                              std::size_t level) const;
 
     gpu::Program m_block;
     gpu::Program m_add;
     std::vector<gpu::Buffer> m_sums; // level l holds one total per block of level l
+    std::uint32_t m_reducedBlocks = 0;
 };
 
 } // namespace sluice::rt

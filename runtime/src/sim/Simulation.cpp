@@ -34,8 +34,6 @@ const char* passName(Pass pass) {
         return "sort";
     case Pass::Solve:
         return "solve";
-    case Pass::Velocity:
-        return "velocity";
     case Pass::Vorticity:
         return "vorticity+xsph";
     case Pass::Bodies:

@@ -347,7 +347,6 @@ Result<void> Simulation::Impl::compilePasses() {
         {&scatterReorder, "pbf_reorder.comp"},
         {&lambda, "pbf_lambda.comp"},
         {&delta, "pbf_delta.comp"},
-        {&velocity, "pbf_velocity.comp"},
         {&vorticity, "pbf_vorticity.comp"},
         {&confine, "pbf_confine.comp"},
         {&stats, "pbf_stats.comp"},

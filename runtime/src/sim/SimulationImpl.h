@@ -127,8 +127,8 @@ struct Simulation::Impl {
     std::uint32_t substepInStep = 0;  // which substep of the step is running
     std::uint32_t lanes = 1;          // invocations per particle of the neighbour passes
 
-    gpu::Program predict, scatter, bucketSort, reorder, scatterReorder, lambda, delta, velocity,
-        vorticity, confine, stats, bodies;
+    gpu::Program predict, scatter, bucketSort, reorder, scatterReorder, lambda, delta, vorticity,
+        confine, stats, bodies;
     gpu::Program volumeMapPass, boundaryProbe; // compiled when first needed (VolumeMaps.cpp)
     float volumeMapsH = 0.0f;  // the kernel radius the volume maps were built for [m]
     bool volumeMapsFit = true; // false: they would not fit in the SDF buffer's storage block
@@ -215,7 +215,6 @@ struct Simulation::Impl {
     void predictPositions();
     void sortIntoBuckets();
     void solve();
-    void updateVelocities();
     void applyVorticityAndXsph();
     void integrateBodies();
     void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;

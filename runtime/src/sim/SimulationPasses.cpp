@@ -39,7 +39,6 @@ void Simulation::Impl::substep() {
         predictPositions();
         sortIntoBuckets();
         solve();
-        updateVelocities();
         applyVorticityAndXsph();
     }
     if (bodyCount > 0) {
@@ -143,10 +142,14 @@ void Simulation::Impl::sortIntoBuckets() {
 // records N(i) in neighbourMask, which every later neighbour pass of the substep reads (docs/
 // pbf.md step 3). The early stop (pbf_delta.comp) zeroes the dispatch args of the
 // later iterations: the CPU issues every dispatch without knowing where the GPU stopped.
+// Step 5 (velocity, x <- x*) is done by the delta dispatch that ends the solve, the one that
+// meets the target or the last: it writes x* into pos[cur] and the velocities into
+// vel[1 - cur].
 void Simulation::Impl::solve() {
     begin(Pass::Solve);
     predStart.bindStorage(shared::kBindPredStart);
     bindParticles(pos[cur], vel[cur]);
+    vel[1 - cur].bindStorage(shared::kBindVelOut);
     const gpu::Buffer* in = &predStart;
     const gpu::BufferTexture* inTexels = &neighbourTexels.start;
     for (std::uint32_t it = 0; it < maxIterations; ++it) {
@@ -163,19 +166,6 @@ void Simulation::Impl::solve() {
         inTexels = &neighbourTexels.pred[it % 2];
     }
     end(Pass::Solve);
-}
-
-// Step 5: velocity, x <- x*, non-finite guard; velocities go to the other buffer. The shader
-// picks, by stats.stopIteration, the buffer the last iteration that ran wrote.
-void Simulation::Impl::updateVelocities() {
-    begin(Pass::Velocity);
-    pred[0].bindStorage(shared::kBindPredIn);
-    pred[1].bindStorage(shared::kBindPredOther);
-    vel[cur].bindStorage(shared::kBindVelIn);
-    vel[1 - cur].bindStorage(shared::kBindVelOut);
-    dispatch(velocity, count);
-    barrier();
-    end(Pass::Velocity);
 }
 
 // Step 6: vorticity confinement and XSPH, back into vel[cur]. The vorticity omega goes into

@@ -61,8 +61,7 @@ enum class Pass : std::uint32_t {
     Emit,
     Predict,
     Sort,
-    Solve,
-    Velocity,
+    Solve, ///< and step 5, the velocities, in the dispatch that ends it
     Vorticity,
     Bodies,
     Stats,
