@@ -9,6 +9,8 @@ spacing that fills the block with the wanted count):
 
   wave-sphere-15k.json       the paper's scene size, shipped defaults (adaptive iterations):
                              the ">= 3,000 steps/s at 15,000 particles" floor
+  wave-sphere-15k-max3.json  the same with maxIterations 3: the early stop at 2 issues no
+                             idle dispatches, so the difference is what the 10 idle ones cost
   dam-break-1m-4it.json      1,000,000 particles, exactly 4 iterations a substep
                              (minIterations = maxIterations = 4, targetDensityError = 0): the
                              "1M particles, 4 iterations, <= 4 ms per full step" floor, read per
@@ -71,6 +73,9 @@ def main():
         shutil.copy2(collider, args.out)
     write_scene("wave-sphere.json", args.assets, args.out, "wave-sphere-15k", 15_000, {},
                 "The wave-with-sphere scene at the paper's size:")
+    write_scene("wave-sphere.json", args.assets, args.out, "wave-sphere-15k-max3", 15_000,
+                {"maxIterations": 3},
+                "The wave-with-sphere scene at the paper's size, at most 3 iterations:")
     write_scene("dam-break.json", args.assets, args.out, "dam-break-1m-4it", 1_000_000,
                 {"minIterations": 4, "maxIterations": 4, "targetDensityError": 0},
                 "Dam break, exactly 4 solver iterations a substep:")

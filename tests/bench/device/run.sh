@@ -81,6 +81,13 @@ publish() {
         "$(json "$f" dispatchesRunPerSubstep) launched work, $(json "$f" barriersPerSubstep)" \
         "barriers; $(json "$f" neighbourLanes) neighbour lanes"
     fi
+    f=$out/wave-sphere-15k-max3.json
+    if [ -f "$f" ]; then
+      echo "  at most 3 iterations (no idle dispatches issued after a stop at 2):" \
+        "$(json "$f" stepsPerSecondGpu) steps/s by GPU timers, $(json "$f" stepsPerSecondWall)" \
+        "wall; $(json "$f" dispatchesPerSubstep) dispatches issued," \
+        "$(json "$f" dispatchesRunPerSubstep) launched, $(json "$f" meanIterations) iterations"
+    fi
     for f in "$out"/wave-sphere-15k-lanes-*.json; do
       [ -f "$f" ] && echo "  with $(json "$f" neighbourLanes) lanes: $(json "$f" stepsPerSecondGpu)" \
         "steps/s by GPU timers, $(json "$f" stepsPerSecondWall) wall"
@@ -188,6 +195,9 @@ if phase solver; then
   else
     step bench-15k "$bin/sluice-play" "$scenes/wave-sphere-15k.json" --bench --warmup 300 \
       --steps 3000 --bench-json "$out/wave-sphere-15k.json"
+    # The same with maxIterations 3: what the early stop's 10 idle dispatches a substep cost.
+    step bench-15k-max3 "$bin/sluice-play" "$scenes/wave-sphere-15k-max3.json" --bench \
+      --warmup 300 --steps 3000 --bench-json "$out/wave-sphere-15k-max3.json"
     step bench-1m-4it "$bin/sluice-play" "$scenes/dam-break-1m-4it.json" --bench --warmup 30 \
       --steps 200 --bench-json "$out/dam-break-1m-4it.json"
     step bench-1m "$bin/sluice-play" "$scenes/dam-break-1m.json" --bench --warmup 30 \
