@@ -61,6 +61,7 @@ void queryInfo(ContextInfo& info) {
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo);
     info.maxSsboBytes = static_cast<std::uint64_t>(ssbo);
     info.maxSsboBindings = getUint(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS);
+    info.maxComputeSsboBlocks = getUint(GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS);
     info.max3DTextureSize = getUint(GL_MAX_3D_TEXTURE_SIZE);
 
     if (hasGlExtension("GL_NVX_gpu_memory_info")) {
@@ -98,7 +99,8 @@ std::string ContextInfo::describe() const {
             triple(maxWorkGroupSize) + ", " + std::to_string(maxWorkGroupInvocations) +
             " invocations, " + std::to_string(maxSharedMemoryBytes / 1024) + " KiB shared\n";
     text += "storage:       SSBO " + mib(maxSsboBytes) + " x " + std::to_string(maxSsboBindings) +
-            " bindings, 3D texture " + std::to_string(max3DTextureSize) + "^3\n";
+            " bindings (" + std::to_string(maxComputeSsboBlocks) +
+            " blocks a compute shader), 3D texture " + std::to_string(max3DTextureSize) + "^3\n";
     text += "GPU memory:    ";
     text +=
         gpuMemoryTotalBytes ? mib(*gpuMemoryTotalBytes) + " total" : std::string("unknown total");

@@ -71,6 +71,7 @@ TEST(HeadlessContext, ReportsComputeLimitsAtLeastTheGl45Minimums) {
     EXPECT_GE(info.maxSharedMemoryBytes, 32768u);
     EXPECT_GE(info.maxSsboBytes, std::uint64_t{1} << 27);
     EXPECT_GE(info.maxSsboBindings, 8u);
+    EXPECT_GE(info.maxComputeSsboBlocks, 8u); // GL 4.5's minimum
     EXPECT_GE(info.max3DTextureSize, 2048u);
     if (info.gpuMemoryTotalBytes && info.gpuMemoryAvailableBytes) {
         EXPECT_LE(*info.gpuMemoryAvailableBytes, *info.gpuMemoryTotalBytes);

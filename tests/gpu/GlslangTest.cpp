@@ -210,9 +210,9 @@ TEST_P(ReferenceCompiler, AcceptsTheProgramAsAssembled) {
 }
 
 /// Storage blocks one compute program may use at most. GL 4.5 guarantees 8 per stage; the
-/// solver's passes need more, and 16 is what NVIDIA's, AMD's and Mesa's drivers give a compute
-/// shader (Mesa's llvmpipe 32), so a pass past 16 would fail to link on a GPU while llvmpipe
-/// takes it.
+/// solver's passes need more, and 16 is what Mesa (llvmpipe included) and NVIDIA's driver give a
+/// compute shader (`sluice-bake gl-info` prints it). Checked here for every define combination
+/// without a GL, so a pass that grows past it fails before a driver refuses to link it.
 constexpr int kStorageBlocksMost = 16;
 
 /// The names of the storage blocks ("buffer Name {") declared in a GLSL text.

@@ -51,6 +51,7 @@ struct ContextInfo {
     std::uint32_t maxSharedMemoryBytes = 0;    ///< GL_MAX_COMPUTE_SHARED_MEMORY_SIZE [bytes]
     std::uint64_t maxSsboBytes = 0;            ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE [bytes]
     std::uint32_t maxSsboBindings = 0;         ///< GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS
+    std::uint32_t maxComputeSsboBlocks = 0;    ///< GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS
     std::uint32_t max3DTextureSize = 0;        ///< GL_MAX_3D_TEXTURE_SIZE [texels per side]
     /// Dedicated GPU memory and what is free at creation [bytes], where the driver says
     /// (GL_NVX_gpu_memory_info); empty otherwise (llvmpipe).
