@@ -79,7 +79,6 @@ SLUICE_CONST uint kBindSdf = 15;       ///< uint[] every collider's samples, bac
 SLUICE_CONST uint kBindIdIn = 16;      ///< uint particle id
 SLUICE_CONST uint kBindIdOut = 17;
 SLUICE_CONST uint kBindPredStart = 18; ///< vec4 x* at the substep start: fixes N(i) for the substep
-SLUICE_CONST uint kBindPredOther = 19; ///< vec4 x*: the second ping-pong buffer (velocity pass)
 SLUICE_CONST uint kBindSolveArgs = 20; ///< PbfDispatchArgs[maxIterations * chunks]
 SLUICE_CONST uint kBindNeighbourMask = 21; ///< uint[kNeighbourMaskWords] per sorted particle
 
