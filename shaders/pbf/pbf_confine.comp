@@ -1,5 +1,6 @@
 // Vorticity confinement and XSPH viscosity (Macklin & Mueller 2013, eq. 16, 17; docs/pbf.md 6),
-// both from the velocities the solve ended with (pbf_delta.comp), written to the other velocity buffer.
+// both from the velocities the solve ended with (pbf_delta.comp), written to the other velocity
+// buffer.
 #version 450 core
 
 #define PBF_NEIGHBOUR_PASS 1

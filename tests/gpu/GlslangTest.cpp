@@ -182,6 +182,13 @@ std::vector<ProgramCase> allPrograms() {
     };
 }
 
+/// Writes one stage's text where glslangValidator reads it; false if it could not.
+bool writeStage(const std::filesystem::path& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    return out.good();
+}
+
 class ReferenceCompiler : public ::testing::TestWithParam<ProgramCase> {};
 
 TEST_P(ReferenceCompiler, AcceptsTheProgramAsAssembled) {
@@ -198,11 +205,8 @@ TEST_P(ReferenceCompiler, AcceptsTheProgramAsAssembled) {
         const std::string_view source = program.source(stage);
         ASSERT_FALSE(source.empty()) << stage << " is not embedded in the library that builds it";
         const std::filesystem::path path = dir / stage;
-        {
-            std::ofstream out(path, std::ios::binary);
-            out << assembleShaderSource(source, program.defines);
-            ASSERT_TRUE(out.good()) << "cannot write " << path;
-        }
+        ASSERT_TRUE(writeStage(path, assembleShaderSource(source, program.defines)))
+            << "cannot write " << path;
         args.push_back(path.string());
     }
     const testrun::RunResult run = testrun::runProgram(validator, dir.path(), args);
@@ -257,11 +261,7 @@ TEST_P(ComputeStorageBlocks, AreAtMostSixteen) {
     const std::string text =
         assembleShaderSource(program.source(program.stages[0]), program.defines);
     const std::filesystem::path path = dir / program.stages[0];
-    {
-        std::ofstream out(path, std::ios::binary);
-        out << text;
-        ASSERT_TRUE(out.good()) << "cannot write " << path;
-    }
+    ASSERT_TRUE(writeStage(path, text)) << "cannot write " << path;
     const testrun::RunResult run =
         testrun::runProgram(validator, dir.path(), {"-l", "-q", path.string()});
     ASSERT_EQ(run.code, 0) << testrun::shown(run);

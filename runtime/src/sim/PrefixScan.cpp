@@ -1,4 +1,5 @@
-// Recursive block scan: level 0 scans the data, level l + 1 scans level l's block totals.
+// Block scan: level 0 scans the data; its add pass sums the block totals before each block, or,
+// past m_reducedBlocks blocks, level l + 1 scans level l's totals first (recursively).
 #include "sim/PrefixScan.h"
 
 #include <algorithm>
@@ -38,7 +39,7 @@ Result<PrefixScan> PrefixScan::create(std::uint32_t maxCount, std::uint32_t redu
         if (!sums)
             return sums.error();
         scan.m_sums.push_back(std::move(*sums));
-    } while (n > 1);
+    } while (n > scan.m_reducedBlocks); // the add pass sums up to that many totals itself
     return scan;
 }
 
