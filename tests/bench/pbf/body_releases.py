@@ -8,7 +8,10 @@ boundary model. The cases:
   mid-depth, and with one layer over it (it should stray under one spacing in 3 s);
 - floor-0.3, -0.5, -0.7, -1.2: resting on the floor from the start (the lighter ones should rise
   and float at their draft, 1.2 stay down);
-- dropped-0.5: 500 kg/m3 dropped from 0.3 m above the surface (it should come back up and float).
+- dropped-0.5: 500 kg/m3 dropped from 0.3 m above the surface (it should come back up and float);
+- heavy-1.1-top, -deep: 1100 kg/m3 released at rest with its top level with the surface, and
+  four spacings under it (it should sink: water has to flow up past it, through the four
+  spacings between it and the walls).
 
 Reads the centre of mass and the submerged share from --bodies-csv and prints, per run, where
 the centre starts and ends, how far it strayed (in spacings), and the share at the end.
@@ -38,6 +41,8 @@ CASES = {  # name: (density ratio, the cube's centre at release [m])
     "floor-0.7": (0.7, SIDE / 2),
     "floor-1.2": (1.2, SIDE / 2),
     "dropped-0.5": (0.5, DEPTH + 0.3 + SIDE / 2),
+    "heavy-1.1-top": (1.1, DEPTH - SIDE / 2),
+    "heavy-1.1-deep": (1.1, DEPTH - 4 * SPACING - SIDE / 2),
 }
 
 
