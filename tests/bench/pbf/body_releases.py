@@ -17,6 +17,7 @@ Reads the centre of mass and the submerged share from --bodies-csv and prints, p
 the centre starts and ends, how far it strayed (in spacings), and the share at the end.
 
     python3 tests/bench/pbf/body_releases.py --build build/dev [--seconds 3] [--cases ...]
+        [--simulation '{"scorrK": 0}']
 """
 
 import argparse
@@ -46,9 +47,9 @@ CASES = {  # name: (density ratio, the cube's centre at release [m])
 }
 
 
-def scene(boundary, ratio, centre_y):
+def scene(boundary, ratio, centre_y, simulation=None):
     return {"version": 1, "name": "body-release",
-            "simulation": {"spacing": SPACING, "boundary": boundary},
+            "simulation": {"spacing": SPACING, "boundary": boundary, **(simulation or {})},
             "fluid": [{"box": {"min": [0, 0, 0], "max": [TANK, DEPTH, TANK]}}],
             "colliders": [{"asset": "crate.slc", "scale": SIDE / CRATE,
                            "translation": [TANK / 2, centre_y, TANK / 2],
@@ -56,11 +57,11 @@ def scene(boundary, ratio, centre_y):
             "domain": {"min": [0, 0, 0], "max": [TANK, 1.0, TANK]}}
 
 
-def play(build, boundary, name, seconds, work):
+def play(build, boundary, name, seconds, work, simulation=None):
     ratio, centre_y = CASES[name]
     path = os.path.join(build, "assets", f"release-{boundary}-{name}.json")
     with open(path, "w") as f:
-        json.dump(scene(boundary, ratio, centre_y), f, indent=4)
+        json.dump(scene(boundary, ratio, centre_y, simulation), f, indent=4)
     table = os.path.join(work, "bodies.csv")
     steps = int(round(seconds * 60)) + 1  # the scenes' default step is 1/60 s
     subprocess.run([os.path.join(build, "bin", "sluice-play"), path, "--headless", "--steps",
@@ -78,13 +79,15 @@ def main():
     ap.add_argument("--seconds", type=float, default=3.0)
     ap.add_argument("--boundaries", default="bodies,solids")
     ap.add_argument("--cases", default=",".join(CASES))
+    ap.add_argument("--simulation", type=json.loads, default={},
+                    help='JSON object of scene "simulation" settings to add, e.g. {"scorrK": 0}')
     ap.add_argument("--json")
     a = ap.parse_args()
     results = []
     with tempfile.TemporaryDirectory() as work:
         for boundary in a.boundaries.split(","):
             for name in a.cases.split(","):
-                track = play(a.build, boundary, name, a.seconds, work)
+                track = play(a.build, boundary, name, a.seconds, work, a.simulation)
                 start, end = track[0][1], track[-1][1]
                 worst = max(abs(c - start) for _, c, _ in track)
                 row = {"boundary": boundary, "case": name, "ratio": CASES[name][0],
@@ -100,6 +103,7 @@ def main():
         with open(a.json, "w") as f:
             json.dump({"what": "bodies released in still water, tests/bench/pbf/body_releases.py",
                        "seconds": a.seconds, "side": SIDE, "depth": DEPTH, "tank": TANK,
+                       "simulation": a.simulation,
                        "runs": results}, f, indent=1)
     return 0
 
