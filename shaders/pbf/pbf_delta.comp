@@ -104,8 +104,13 @@ void collisionReaction(uint b, vec3 x, vec3 dx) {
     }
 }
 
+// The early stop (docs/pbf.md step 4.2). With the solids' boundary volume ("solids") it ends a
+// solve only after an even number of iterations: there the target is met after two or three,
+// and water at rest stopped after an odd number keeps stirring ("The early stop's parity").
 bool converged(uint k) {
     if (k < P.minIterations || P.targetDensityError <= 0.0 || iterations[k].particles == 0u)
+        return false;
+    if (P.solidBoundary != 0u && (k & 1u) != 0u)
         return false;
     float sum = (float(iterations[k].errorHi) * 4294967296.0 + float(iterations[k].errorLo)) /
                 kErrorFixedScale;

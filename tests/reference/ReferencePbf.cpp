@@ -323,9 +323,10 @@ void ReferencePbf::solve() {
         double errorSum = 0.0;
         for (std::size_t i = 0; i < n; ++i)
             errorSum += constraintAndLambda(i, pairW, pairGrad, t1);
-        // 4.2 Early exit on the mean compression.
+        // 4.2 Early exit on the mean compression; with "solids" after an even count only.
         const double meanError = n > 0 ? errorSum / double(n) : 0.0;
-        if (k >= m_params.minIterations && m_params.targetDensityError > 0.0f &&
+        const bool countAllowed = !m_params.solidBoundary || k % 2 == 0;
+        if (k >= m_params.minIterations && countAllowed && m_params.targetDensityError > 0.0f &&
             meanError <= m_params.targetDensityError)
             break;
 

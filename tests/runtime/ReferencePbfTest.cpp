@@ -376,6 +376,14 @@ TEST(ReferencePbf, TargetDensityErrorEndsTheSolveAfterMinIterations) {
         sim.substep();
         EXPECT_EQ(sim.stats().iterationsLastSubstep, minIterations);
     }
+    // With the solids' boundary volume only after an even count (docs/pbf.md step 4.2).
+    scene.simulation.solidBoundary = true;
+    for (std::uint32_t minIterations : {0u, 2u, 5u}) {
+        scene.simulation.minIterations = minIterations;
+        ref::ReferencePbf sim(scene, {});
+        sim.substep();
+        EXPECT_EQ(sim.stats().iterationsLastSubstep, minIterations + minIterations % 2);
+    }
 }
 
 namespace {

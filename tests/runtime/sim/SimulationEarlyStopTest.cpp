@@ -83,6 +83,29 @@ TEST_F(SimulationEarlyStop, TheVelocityPassReadsThePositionsOfTheLastUpdate) {
     }
 }
 
+// With the solids' boundary volume the stop comes after an even count only (docs/pbf.md step
+// 4.2, "The early stop's parity"): a target every iteration meets, from minIterations K, stops
+// at the first even count from K, on the GPU and on the CPU reference, with the same positions.
+TEST_F(SimulationEarlyStop, WithSolidWallsTheStopComesAfterAnEvenCount) {
+    for (std::uint32_t k : {1u, 2u, 3u}) {
+        SCOPED_TRACE("K = " + std::to_string(k));
+        format::Scene scene = collapsingColumn(k, 8, 10.0f);
+        scene.simulation.solidBoundary = true;
+        ref::ReferencePbf cpu(scene, {});
+        SimulationOptions options;
+        options.deterministic = true;
+        auto gpu = Simulation::create(scene, {}, options);
+        ASSERT_TRUE(gpu) << gpu.error().message();
+        gpu->step();
+        cpu.step();
+        const std::uint32_t even = k + (k & 1u);
+        EXPECT_EQ(gpu->readStats().iterations, even);
+        EXPECT_EQ(cpu.stats().iterationsLastSubstep, even);
+        const double h = scene.simulation.kernelRadius;
+        EXPECT_LT(maxPositionDifference(gpu->downloadParticles(), cpu.particles()), 1e-4 * h);
+    }
+}
+
 // A target every iteration meets stops the solve at exactly minIterations = K in every
 // substep: K updates, then K + 1 .. 7 idle. That must be the bytes of K fixed iterations
 // (no target, maxIterations K). K = 2 ends in the second pred buffer, K = 3 in the first.
