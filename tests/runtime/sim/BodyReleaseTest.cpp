@@ -62,9 +62,8 @@ Released releaseCube(float ratio, float y, bool solids, float seconds) {
             // The geometric draft against the level the water's volume gives, every frame. (The
             // columns between the cube and the walls, 4 spacings wide, are too few to take a level
             // from, as playCube does in its wider tank: docs/bodies.md.)
-            const double level =
-                volumeLevel(sim->particleCount(), sim->constants().volume,
-                            double(tank) * tank, out.body, kSide);
+            const double level = volumeLevel(sim->particleCount(), sim->constants().volume,
+                                             double(tank) * tank, out.body, kSide);
             out.draft += submergedShare(out.body, kSide, level) / 60.0;
         }
     }
