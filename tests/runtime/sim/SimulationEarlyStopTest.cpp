@@ -10,10 +10,10 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "sim/ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "shared/Pbf.h"
+#include "sim/ParticleCompare.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -63,23 +63,37 @@ Played play(const format::Scene& scene, int steps) {
     return run;
 }
 
+// One step of `scene` on the GPU and on the CPU reference (which runs no idle iterations): the
+// iterations of the last substep on each, and how far apart their particles end.
+struct AgainstTheReference {
+    std::uint32_t gpuIterations = 0;
+    std::uint32_t cpuIterations = 0;
+    double maxDifference = 0.0; ///< [m]
+};
+
+AgainstTheReference stepBoth(const format::Scene& scene) {
+    ref::ReferencePbf cpu(scene, {});
+    SimulationOptions options;
+    options.deterministic = true;
+    auto gpu = Simulation::create(scene, {}, options);
+    EXPECT_TRUE(gpu) << gpu.error().message();
+    if (!gpu)
+        return {};
+    gpu->step();
+    cpu.step();
+    return {gpu->readStats().iterations, cpu.stats().iterationsLastSubstep,
+            maxPositionDifference(gpu->downloadParticles(), cpu.particles())};
+}
+
 // After one step with the stop at K, the GPU holds the positions of K updates: the CPU
-// reference's (which runs no idle iterations) to rounding. This fails if the velocity pass
-// reads the other pred buffer.
+// reference's to rounding. This fails if the velocity pass reads the other pred buffer.
 TEST_F(SimulationEarlyStop, TheVelocityPassReadsThePositionsOfTheLastUpdate) {
     for (std::uint32_t k : {1u, 2u, 3u}) {
         SCOPED_TRACE("K = " + std::to_string(k));
         const format::Scene scene = collapsingColumn(k, 8, 10.0f);
-        ref::ReferencePbf cpu(scene, {});
-        SimulationOptions options;
-        options.deterministic = true;
-        auto gpu = Simulation::create(scene, {}, options);
-        ASSERT_TRUE(gpu) << gpu.error().message();
-        gpu->step();
-        cpu.step();
-        EXPECT_EQ(gpu->readStats().iterations, k);
-        const double h = scene.simulation.kernelRadius;
-        EXPECT_LT(maxPositionDifference(gpu->downloadParticles(), cpu.particles()), 1e-4 * h);
+        const AgainstTheReference run = stepBoth(scene);
+        EXPECT_EQ(run.gpuIterations, k);
+        EXPECT_LT(run.maxDifference, 1e-4 * scene.simulation.kernelRadius);
     }
 }
 
@@ -91,18 +105,11 @@ TEST_F(SimulationEarlyStop, WithSolidWallsTheStopComesAfterAnEvenCount) {
         SCOPED_TRACE("K = " + std::to_string(k));
         format::Scene scene = collapsingColumn(k, 8, 10.0f);
         scene.simulation.solidBoundary = true;
-        ref::ReferencePbf cpu(scene, {});
-        SimulationOptions options;
-        options.deterministic = true;
-        auto gpu = Simulation::create(scene, {}, options);
-        ASSERT_TRUE(gpu) << gpu.error().message();
-        gpu->step();
-        cpu.step();
+        const AgainstTheReference run = stepBoth(scene);
         const std::uint32_t even = k + (k & 1u);
-        EXPECT_EQ(gpu->readStats().iterations, even);
-        EXPECT_EQ(cpu.stats().iterationsLastSubstep, even);
-        const double h = scene.simulation.kernelRadius;
-        EXPECT_LT(maxPositionDifference(gpu->downloadParticles(), cpu.particles()), 1e-4 * h);
+        EXPECT_EQ(run.gpuIterations, even);
+        EXPECT_EQ(run.cpuIterations, even);
+        EXPECT_LT(run.maxDifference, 1e-4 * scene.simulation.kernelRadius);
     }
 }
 
