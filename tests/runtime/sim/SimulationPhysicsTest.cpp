@@ -11,8 +11,8 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "sim/MartinMoyce.h"
 #include "RuntimeTestScenes.h"
+#include "sim/MartinMoyce.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -71,12 +71,13 @@ ColumnAtRest settleColumn(float targetDensityError, std::uint32_t maxIterations,
     for (const ParticleState& p : sim->downloadParticles())
         EXPECT_TRUE(glm::all(glm::greaterThanEqual(p.position, lo)) &&
                     glm::all(glm::lessThanEqual(p.position, hi)));
-    std::printf("column (%s, target %.3f, max %u iterations): rms speed %.4f m/s at 0.5 s, %.4f m/s "
-                "over 4-5 s; at 5 s density error avg %.4f %% max %.4f %%, max speed %.4f m/s, "
-                "%u iterations\n",
-                solids ? "solids" : "bodies", targetDensityError, maxIterations, column.sloshRms, column.restRms,
-                100 * column.stats.avgDensityError, 100 * column.stats.maxDensityError,
-                column.stats.maxSpeed, column.stats.iterations);
+    std::printf(
+        "column (%s, target %.3f, max %u iterations): rms speed %.4f m/s at 0.5 s, %.4f m/s "
+        "over 4-5 s; at 5 s density error avg %.4f %% max %.4f %%, max speed %.4f m/s, "
+        "%u iterations\n",
+        solids ? "solids" : "bodies", targetDensityError, maxIterations, column.sloshRms,
+        column.restRms, 100 * column.stats.avgDensityError, 100 * column.stats.maxDensityError,
+        column.stats.maxSpeed, column.stats.iterations);
     return column;
 }
 
