@@ -10,6 +10,7 @@ pass itself, both from the same run. Results: docs/results/pbf_bodies_<machine>.
 
     python3 tests/bench/pbf/bodies.py --build build/dev --repeat 3
 
+With --boundary solids the walls have boundary volume too (docs/pbf.md, "Boundary volume").
 With --resting the crates start on the floor under the water (--density 1200: they stay there),
 so the sealed contacts work every substep: their cost is the step against the same scene on a
 build without them.
@@ -33,7 +34,7 @@ DOMAIN = {"min": [-0.37, 0.0, -0.22], "max": [0.37, 0.6, 0.22]}
 CRATE = 0.12  # [m] side of assets/crate.obj
 
 
-def make_scene(bodies, spacing, resting=False, density=500):
+def make_scene(bodies, spacing, resting=False, density=500, boundary="bodies"):
     colliders = []
     if bodies:
         k = math.ceil(math.sqrt(bodies))
@@ -48,7 +49,7 @@ def make_scene(bodies, spacing, resting=False, density=500):
             colliders.append({"asset": "crate.slc", "scale": size / CRATE,
                               "translation": [x, y, z], "dynamic": {"density": density}})
     return {"version": 1, "name": f"bodies-{bodies}",
-            "simulation": {"spacing": spacing},
+            "simulation": {"spacing": spacing, "boundary": boundary},
             "fluid": [{"box": POOL}],
             "colliders": colliders,
             "domain": DOMAIN}
@@ -60,14 +61,16 @@ def main():
                   ("--spacing", dict(type=float, default=0.02)),
                   ("--resting", dict(action="store_true",
                                      help="crates start on the pool's floor, under the water")),
-                  ("--density", dict(type=float, default=500.0, help="the crates' [kg/m^3]"))],
+                  ("--density", dict(type=float, default=500.0, help="the crates' [kg/m^3]")),
+                  ("--boundary", dict(default="bodies", choices=["bodies", "solids"],
+                                      help="the scenes' boundary model (docs/pbf.md)"))],
         warmup=30, steps=10, repeat=3, repeat_help="runs per body count, interleaved",
         results_name="pbf_bodies")
     counts = [int(c) for c in a.bodies.split(",")]
     runs = []
     for rep in range(a.repeat):
         for n in counts:
-            scene = make_scene(n, a.spacing, a.resting, a.density)
+            scene = make_scene(n, a.spacing, a.resting, a.density, a.boundary)
             path = os.path.join(assets, f"bench-bodies-{n}.json")
             with open(path, "w") as f:
                 json.dump(scene, f, indent=4)
@@ -101,7 +104,7 @@ def main():
     doc = {"what": "sluice-play --bench with dynamic bodies (tests/bench/pbf/bodies.py)",
            "date": sweep.utc_now(),
            "machineName": a.machine, "machine": sweep.machine_info(),
-           "resting": a.resting, "density": a.density,
+           "resting": a.resting, "density": a.density, "boundary": a.boundary,
            "warmup": a.warmup, "steps": a.steps, "runs": runs, "summary": summary}
     sweep.write_results(a.out, doc)
     return 0
