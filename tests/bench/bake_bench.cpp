@@ -38,12 +38,12 @@ SLUICE_VDB_WARNINGS_OFF
 #include <openvdb/tools/MeshToVolume.h>
 SLUICE_VDB_WARNINGS_ON
 
+#include "WholeProcess.h"
+#include "sluice/bake/Grid.h"
 #include "sluice/bake/cgal/CgalBaker.h"
 #include "sluice/bake/cgal/CgalReference.h"
 #include "sluice/bake/gpu/GpuBaker.h"
-#include "sluice/bake/Grid.h"
 #include "sluice/bake/import/MeshImport.h"
-#include "WholeProcess.h"
 #include "sluice/gpu/Context.h"
 
 namespace {
@@ -122,145 +122,96 @@ struct Row {
     double vdbErrorVoxels = -1.0;
 };
 
-} // namespace
-
-int main(int argc, char** argv) {
+struct Args {
     std::vector<std::uint32_t> resolutions;
     const char* meshPath = nullptr;
     int repeat = 0;
     bool gpuOnly = false;
     bool wholeProcess = false;
     const char* dumpDir = nullptr;
-    std::string exe = (std::filesystem::path(argv[0]).parent_path() / "sluice-bake").string();
-    std::string outDir = (std::filesystem::temp_directory_path() / "bake_bench").string();
-    for (int a = 1; a < argc; ++a) {
-        if (std::strcmp(argv[a], "--repeat") == 0 && a + 1 < argc)
-            repeat = std::max(1, std::atoi(argv[++a]));
-        else if (std::strcmp(argv[a], "--whole-process") == 0)
-            wholeProcess = true;
-        else if (std::strcmp(argv[a], "--exe") == 0 && a + 1 < argc)
-            exe = argv[++a];
-        else if (std::strcmp(argv[a], "--out") == 0 && a + 1 < argc)
-            outDir = argv[++a];
-        else if (std::strcmp(argv[a], "--dump") == 0 && a + 1 < argc)
-            dumpDir = argv[++a];
-        else if (std::strcmp(argv[a], "--gpu-only") == 0)
-            gpuOnly = true;
-        else if (!meshPath)
-            meshPath = argv[a];
-        else
-            resolutions.push_back(std::uint32_t(std::strtoul(argv[a], nullptr, 10)));
-    }
-    if (!meshPath) {
-        std::fprintf(stderr, "usage: bake_bench MESH [RESOLUTION...] [--repeat N] [--gpu-only] "
-                             "[--dump DIR]\n"
-                             "       bake_bench MESH [RESOLUTION...] --whole-process [--repeat N] "
-                             "[--exe SLUICE_BAKE] [--out DIR]\n");
-        return 2;
-    }
-    if (wholeProcess)
-        return sluice::bench::runWholeProcess(
-            {.exe = exe,
-             .mesh = meshPath,
-             .resolutions = resolutions.empty() ? std::vector<std::uint32_t>{64, 128} : resolutions,
-             .repeat = repeat > 0 ? repeat : 5,
-             .outDir = outDir});
-    repeat = std::max(repeat, 1);
-    if (resolutions.empty())
-        resolutions = {64, 128, 256};
+    std::string exe;
+    std::string outDir;
+};
 
-    Result<ImportedMesh> mesh = importMesh(meshPath, {});
-    if (!mesh) {
-        std::fprintf(stderr, "bake_bench: %s\n", mesh.error().message().c_str());
-        return 2;
+Args parseArgs(int argc, char** argv) {
+    Args a;
+    a.exe = (std::filesystem::path(argv[0]).parent_path() / "sluice-bake").string();
+    a.outDir = (std::filesystem::temp_directory_path() / "bake_bench").string();
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
+            a.repeat = std::max(1, std::atoi(argv[++i]));
+        else if (std::strcmp(argv[i], "--whole-process") == 0)
+            a.wholeProcess = true;
+        else if (std::strcmp(argv[i], "--exe") == 0 && i + 1 < argc)
+            a.exe = argv[++i];
+        else if (std::strcmp(argv[i], "--out") == 0 && i + 1 < argc)
+            a.outDir = argv[++i];
+        else if (std::strcmp(argv[i], "--dump") == 0 && i + 1 < argc)
+            a.dumpDir = argv[++i];
+        else if (std::strcmp(argv[i], "--gpu-only") == 0)
+            a.gpuOnly = true;
+        else if (!a.meshPath)
+            a.meshPath = argv[i];
+        else
+            a.resolutions.push_back(std::uint32_t(std::strtoul(argv[i], nullptr, 10)));
     }
-    Result<gpu::Context> context = gpu::Context::createHeadless();
-    if (!context) {
-        std::fprintf(stderr, "bake_bench: %s\n", context.error().message().c_str());
-        return 3;
+    return a;
+}
+
+// The CGAL field and its grid into DIR/grid_RES.txt and DIR/cgal_RES.f32, for plots.
+void dumpCgalField(const char* dumpDir, std::uint32_t resolution, const GridSpec& grid,
+                   const std::vector<float>& c) {
+    const std::string stem = std::string(dumpDir) + "/";
+    std::ofstream spec(stem + "grid_" + std::to_string(resolution) + ".txt");
+    spec.precision(17);
+    spec << grid.origin.x << ' ' << grid.origin.y << ' ' << grid.origin.z << ' ' << grid.voxelSize
+         << ' ' << grid.dims.x << ' ' << grid.dims.y << ' ' << grid.dims.z << '\n';
+    std::ofstream field(stem + "cgal_" + std::to_string(resolution) + ".f32", std::ios::binary);
+    field.write(reinterpret_cast<const char*>(c.data()), std::streamsize(c.size() * sizeof(float)));
+    if (!spec || !field)
+        std::fprintf(stderr, "bake_bench: could not write to %s\n", dumpDir);
+}
+
+// The CGAL and OpenVDB bakes of one row, and the GPU field's error against CGAL's. False (with
+// a message) when CGAL fails.
+bool measurePeers(const ImportedMesh& mesh, const BakeSettings& settings, const GridSpec& grid,
+                  const Args& args, const std::vector<float>& g, Row& row) {
+    std::optional<Result<format::ColliderAsset>> cgalAsset;
+    row.cgal = best(args.repeat, [&] { cgalAsset = bakeCgal(mesh, settings); });
+    if (!*cgalAsset) {
+        std::fprintf(stderr, "bake_bench: %s\n", cgalAsset->error().message().c_str());
+        return false;
     }
-    openvdb::initialize();
-    std::printf("mesh %s: %llu triangles; GPU: %s; best of %d run(s)\n", mesh->sourceFile.c_str(),
-                static_cast<unsigned long long>(mesh->diagnostics.triangles),
-                context->info().renderer.c_str(), repeat);
-    // Compile the shaders once (llvmpipe compiles on first use; Mesa's shader cache keeps them).
-    {
-        const Timing warm =
-            best(1, [&] { (void)bakeGpu(*mesh, {.grid = {.resolution = 8}}, *context); });
-        std::printf("warm-up bake at resolution 8 (shader compilation): %.3f s\n", warm.wall);
+    row.gpuErrorVoxels = 0.0;
+    const std::vector<float>& c = (*cgalAsset)->distances;
+    for (std::size_t n = 0; n < g.size(); ++n) {
+        row.gpuErrorVoxels =
+            std::max(row.gpuErrorVoxels, std::abs(double(g[n]) - c[n]) / grid.voxelSize);
+        row.signMismatches += g[n] != 0.0f && c[n] != 0.0f && (g[n] < 0.0f) != (c[n] < 0.0f);
     }
-    std::printf("%5s %10s | %8s %8s %7s %7s %7s %8s | %8s %8s | %8s %8s | %8s %8s | %9s | %s\n",
-                "res", "points", "gpu s", "gpu cpu", "prep s", "dist s", "sign s", "pending",
-                "cgal s", "cgal cpu", "vdb s", "vdb cpu", "cgal/gpu", "vdb/gpu", "gpu vox/s",
-                "max err vs cgal [voxel]: gpu, vdb; gpu sign mismatches");
-    std::vector<Row> rows;
-    for (std::uint32_t resolution : resolutions) {
-        const BakeSettings settings{.grid = {.resolution = resolution}};
-        Result<GridSpec> grid = gridFor(mesh->soup.bounds(), settings.grid);
-        if (!grid) {
-            std::fprintf(stderr, "bake_bench: %s\n", grid.error().message().c_str());
-            return 2;
-        }
-        Row row;
-        row.resolution = resolution;
-        row.points = double(grid->pointCount());
-        std::optional<Result<format::ColliderAsset>> gpuAsset, cgalAsset;
-        row.gpu = best(repeat, [&] {
-            gpuAsset = bakeGpu(*mesh, settings, *context, nullptr, {.profile = true}, &row.stats);
-        });
-        if (!*gpuAsset) {
-            std::fprintf(stderr, "bake_bench: %s\n", gpuAsset->error().message().c_str());
-            return 4;
-        }
-        if (!gpuOnly) {
-            row.cgal = best(repeat, [&] { cgalAsset = bakeCgal(*mesh, settings); });
-            if (!*cgalAsset) {
-                std::fprintf(stderr, "bake_bench: %s\n", cgalAsset->error().message().c_str());
-                return 4;
-            }
-            row.gpuErrorVoxels = 0.0;
-            const std::vector<float>& g = (*gpuAsset)->distances;
-            const std::vector<float>& c = (*cgalAsset)->distances;
-            for (std::size_t n = 0; n < g.size(); ++n) {
-                row.gpuErrorVoxels =
-                    std::max(row.gpuErrorVoxels, std::abs(double(g[n]) - c[n]) / grid->voxelSize);
-                row.signMismatches +=
-                    g[n] != 0.0f && c[n] != 0.0f && (g[n] < 0.0f) != (c[n] < 0.0f);
-            }
-            if (dumpDir) {
-                const std::string stem = std::string(dumpDir) + "/";
-                std::ofstream spec(stem + "grid_" + std::to_string(resolution) + ".txt");
-                spec.precision(17);
-                spec << grid->origin.x << ' ' << grid->origin.y << ' ' << grid->origin.z << ' '
-                     << grid->voxelSize << ' ' << grid->dims.x << ' ' << grid->dims.y << ' '
-                     << grid->dims.z << '\n';
-                std::ofstream field(stem + "cgal_" + std::to_string(resolution) + ".f32",
-                                    std::ios::binary);
-                field.write(reinterpret_cast<const char*>(c.data()),
-                            std::streamsize(c.size() * sizeof(float)));
-                if (!spec || !field)
-                    std::fprintf(stderr, "bake_bench: could not write to %s\n", dumpDir);
-            }
-            openvdb::FloatGrid::Ptr vdb;
-            row.vdb = best(repeat, [&] { vdb = bakeOpenVdb(*mesh, *grid); });
-            row.vdbErrorVoxels = vdbErrorVoxels(*vdb, *grid, (*cgalAsset)->distances);
-        }
-        const GpuBakeStats& s = row.stats;
-        std::printf("%5u %10.0f | %8.3f %8.3f %7.3f %7.3f %7.3f %8llu | %8.3f %8.3f | %8.3f %8.3f "
-                    "| %8.2f %8.2f | %9.3g | %.2g, %.2g; %llu\n",
-                    resolution, row.points, row.gpu.wall, row.gpu.cpu, s.bvhSeconds,
-                    s.distanceNs * 1e-9, s.signNs * 1e-9,
-                    static_cast<unsigned long long>(s.pendingPoints), gpuOnly ? 0.0 : row.cgal.wall,
-                    gpuOnly ? 0.0 : row.cgal.cpu, gpuOnly ? 0.0 : row.vdb.wall,
-                    gpuOnly ? 0.0 : row.vdb.cpu, gpuOnly ? 0.0 : row.cgal.wall / row.gpu.wall,
-                    gpuOnly ? 0.0 : row.vdb.wall / row.gpu.wall, row.points / row.gpu.wall,
-                    row.gpuErrorVoxels, row.vdbErrorVoxels,
-                    static_cast<unsigned long long>(row.signMismatches));
-        std::fflush(stdout);
-        rows.push_back(row);
-    }
-    if (gpuOnly)
-        return 0;
+    if (args.dumpDir)
+        dumpCgalField(args.dumpDir, row.resolution, grid, c);
+    openvdb::FloatGrid::Ptr vdb;
+    row.vdb = best(args.repeat, [&] { vdb = bakeOpenVdb(mesh, grid); });
+    row.vdbErrorVoxels = vdbErrorVoxels(*vdb, grid, c);
+    return true;
+}
+
+void printRow(const Row& row, bool gpuOnly) {
+    const GpuBakeStats& s = row.stats;
+    std::printf(
+        "%5u %10.0f | %8.3f %8.3f %7.3f %7.3f %7.3f %8llu | %8.3f %8.3f | %8.3f %8.3f "
+        "| %8.2f %8.2f | %9.3g | %.2g, %.2g; %llu\n",
+        row.resolution, row.points, row.gpu.wall, row.gpu.cpu, s.bvhSeconds, s.distanceNs * 1e-9,
+        s.signNs * 1e-9, static_cast<unsigned long long>(s.pendingPoints),
+        gpuOnly ? 0.0 : row.cgal.wall, gpuOnly ? 0.0 : row.cgal.cpu, gpuOnly ? 0.0 : row.vdb.wall,
+        gpuOnly ? 0.0 : row.vdb.cpu, gpuOnly ? 0.0 : row.cgal.wall / row.gpu.wall,
+        gpuOnly ? 0.0 : row.vdb.wall / row.gpu.wall, row.points / row.gpu.wall, row.gpuErrorVoxels,
+        row.vdbErrorVoxels, static_cast<unsigned long long>(row.signMismatches));
+    std::fflush(stdout);
+}
+
+void printTable(const std::vector<Row>& rows) {
     std::printf(
         "\n| resolution | points | gpu s (CPU s) | prepare / distance / sign s | cgal s (CPU s) "
         "| openvdb s (CPU s) | cgal/gpu | vdb/gpu | gpu voxels/s | gpu max err [voxel] "
@@ -274,5 +225,84 @@ int main(int argc, char** argv) {
                     r.vdb.wall, r.vdb.cpu, r.cgal.wall / r.gpu.wall, r.vdb.wall / r.gpu.wall,
                     r.points / r.gpu.wall, r.gpuErrorVoxels,
                     static_cast<unsigned long long>(r.signMismatches));
+}
+
+// The in-process rows: the GPU bake at each resolution and, unless --gpu-only, its peers.
+// Returns the exit code.
+int benchInProcess(Args& args) {
+    args.repeat = std::max(args.repeat, 1);
+    if (args.resolutions.empty())
+        args.resolutions = {64, 128, 256};
+    Result<ImportedMesh> mesh = importMesh(args.meshPath, {});
+    if (!mesh) {
+        std::fprintf(stderr, "bake_bench: %s\n", mesh.error().message().c_str());
+        return 2;
+    }
+    Result<gpu::Context> context = gpu::Context::createHeadless();
+    if (!context) {
+        std::fprintf(stderr, "bake_bench: %s\n", context.error().message().c_str());
+        return 3;
+    }
+    openvdb::initialize();
+    std::printf("mesh %s: %llu triangles; GPU: %s; best of %d run(s)\n", mesh->sourceFile.c_str(),
+                static_cast<unsigned long long>(mesh->diagnostics.triangles),
+                context->info().renderer.c_str(), args.repeat);
+    // Compile the shaders once (llvmpipe compiles on first use; Mesa's shader cache keeps them).
+    const Timing warm =
+        best(1, [&] { (void)bakeGpu(*mesh, {.grid = {.resolution = 8}}, *context); });
+    std::printf("warm-up bake at resolution 8 (shader compilation): %.3f s\n", warm.wall);
+    std::printf("%5s %10s | %8s %8s %7s %7s %7s %8s | %8s %8s | %8s %8s | %8s %8s | %9s | %s\n",
+                "res", "points", "gpu s", "gpu cpu", "prep s", "dist s", "sign s", "pending",
+                "cgal s", "cgal cpu", "vdb s", "vdb cpu", "cgal/gpu", "vdb/gpu", "gpu vox/s",
+                "max err vs cgal [voxel]: gpu, vdb; gpu sign mismatches");
+    std::vector<Row> rows;
+    for (std::uint32_t resolution : args.resolutions) {
+        const BakeSettings settings{.grid = {.resolution = resolution}};
+        Result<GridSpec> grid = gridFor(mesh->soup.bounds(), settings.grid);
+        if (!grid) {
+            std::fprintf(stderr, "bake_bench: %s\n", grid.error().message().c_str());
+            return 2;
+        }
+        Row row;
+        row.resolution = resolution;
+        row.points = double(grid->pointCount());
+        std::optional<Result<format::ColliderAsset>> gpuAsset;
+        row.gpu = best(args.repeat, [&] {
+            gpuAsset = bakeGpu(*mesh, settings, *context, nullptr, {.profile = true}, &row.stats);
+        });
+        if (!*gpuAsset) {
+            std::fprintf(stderr, "bake_bench: %s\n", gpuAsset->error().message().c_str());
+            return 4;
+        }
+        if (!args.gpuOnly &&
+            !measurePeers(*mesh, settings, *grid, args, (*gpuAsset)->distances, row))
+            return 4;
+        printRow(row, args.gpuOnly);
+        rows.push_back(row);
+    }
+    if (!args.gpuOnly)
+        printTable(rows);
     return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Args args = parseArgs(argc, argv);
+    if (!args.meshPath) {
+        std::fprintf(stderr, "usage: bake_bench MESH [RESOLUTION...] [--repeat N] [--gpu-only] "
+                             "[--dump DIR]\n"
+                             "       bake_bench MESH [RESOLUTION...] --whole-process [--repeat N] "
+                             "[--exe SLUICE_BAKE] [--out DIR]\n");
+        return 2;
+    }
+    if (args.wholeProcess)
+        return sluice::bench::runWholeProcess(
+            {.exe = args.exe,
+             .mesh = args.meshPath,
+             .resolutions =
+                 args.resolutions.empty() ? std::vector<std::uint32_t>{64, 128} : args.resolutions,
+             .repeat = args.repeat > 0 ? args.repeat : 5,
+             .outDir = args.outDir});
+    return benchInProcess(args);
 }

@@ -69,6 +69,84 @@ std::vector<std::byte> sdfBytes(const format::ColliderAsset& asset) {
     return out;
 }
 
+// Reads DENSE and SPARSE (argv[2], argv[3]) into assets; 0, or usage()'s code.
+int readAssets(char** argv, format::ColliderAsset (&assets)[2]) {
+    for (int k = 0; k < 2; ++k) {
+        auto read = format::readAsset(argv[2 + k]);
+        if (!read)
+            return usage(read.error().message().c_str());
+        assets[k] = std::move(*read);
+    }
+    if (assets[0].sparse() || !assets[1].sparse())
+        return usage("DENSE must be dense and SPARSE sparse");
+    if (assets[0].meta.dims != assets[1].meta.dims ||
+        assets[0].meta.origin != assets[1].meta.origin ||
+        assets[0].meta.voxelSize != assets[1].meta.voxelSize)
+        std::fprintf(stderr, "collider_bench: warning: the two grids differ; the lookups still "
+                             "compare, the steps less so\n");
+    return 0;
+}
+
+// Each asset's samples, record and texel view on the GPU, as the probe pass reads them.
+struct ColliderGpu {
+    gpu::Buffer sdf[2], records[2];
+    gpu::BufferTexture texels[2]; // the dense grid's samples are fetched through it
+};
+
+int uploadColliders(const format::ColliderAsset (&assets)[2], ColliderGpu& g) {
+    for (int k = 0; k < 2; ++k) {
+        auto bytes = gpu::Buffer::createFrom(sdfBytes(assets[k]), "sdf");
+        const shared::GpuCollider one = rt::colliderRecord(assets[k], 0);
+        auto record = rt::colliderRecordBuffer(std::span(&one, 1));
+        if (!bytes || !record)
+            return usage("cannot allocate the collider buffers");
+        auto view = gpu::BufferTexture::createR32F(*bytes, "sdf texels");
+        if (!view)
+            return usage(view.error().message().c_str());
+        g.sdf[k] = std::move(*bytes);
+        g.records[k] = std::move(*record);
+        g.texels[k] = std::move(*view);
+    }
+    return 0;
+}
+
+// GPU time of one probe pass over the points with collider k bound [ms].
+double timeLookups(const gpu::Program& probe, const ColliderGpu& g, int k,
+                   const gpu::Buffer& pointBuf, const gpu::Buffer& out, std::size_t count) {
+    const auto groups = std::uint32_t((count + shared::kPbfLocalSize - 1) / shared::kPbfLocalSize);
+    gpu::GpuTimer timer;
+    rt::bindColliderRecords(g.records[k]);
+    g.sdf[k].bindStorage(shared::kBindSdf);
+    g.texels[k].bindTexture(shared::kUnitSdfTexels);
+    pointBuf.bindStorage(shared::kBindPosIn);
+    out.bindStorage(shared::kBindPosOut);
+    probe.use();
+    probe.set("uCount", std::uint32_t(count));
+    timer.begin();
+    probe.dispatchChunked(glm::uvec3(groups, 1, 1), 65535);
+    timer.end();
+    return double(timer.elapsedNs()) * 1e-6;
+}
+
+void report(const char* scene, std::size_t points, int steps, int repeat,
+            const gpu::Context& context, const std::vector<double> (&lookupMs)[2],
+            const std::vector<double> (&stepMs)[2]) {
+    std::printf("collider_bench: %s, %zu points after %d steps, %d repeats (GPU time)\n", scene,
+                points, steps, repeat);
+    std::printf("renderer: %s\n", context.info().renderer.c_str());
+    const char* names[2] = {"dense", "sparse"};
+    Figures lookup[2], step[2];
+    for (int k = 0; k < 2; ++k) {
+        lookup[k] = figures(lookupMs[k]);
+        step[k] = figures(stepMs[k]);
+        std::printf("  %-6s  lookups %8.3f ms (%.3f-%.3f)   step %9.3f ms (%.3f-%.3f)\n", names[k],
+                    lookup[k].median, lookup[k].lo, lookup[k].hi, step[k].median, step[k].lo,
+                    step[k].hi);
+    }
+    std::printf("  sparse / dense: lookups %.2fx, whole step %.3fx\n",
+                lookup[1].median / lookup[0].median, step[1].median / step[0].median);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -89,20 +167,8 @@ int main(int argc, char** argv) {
     if (scene->colliders.size() != 1)
         return usage("the scene must have exactly one collider");
     format::ColliderAsset assets[2];
-    for (int k = 0; k < 2; ++k) {
-        auto read = format::readAsset(argv[2 + k]);
-        if (!read)
-            return usage(read.error().message().c_str());
-        assets[k] = std::move(*read);
-    }
-    if (assets[0].sparse() || !assets[1].sparse())
-        return usage("DENSE must be dense and SPARSE sparse");
-    if (assets[0].meta.dims != assets[1].meta.dims ||
-        assets[0].meta.origin != assets[1].meta.origin ||
-        assets[0].meta.voxelSize != assets[1].meta.voxelSize)
-        std::fprintf(stderr, "collider_bench: warning: the two grids differ; the lookups still "
-                             "compare, the steps less so\n");
-
+    if (int code = readAssets(argv, assets))
+        return code;
     auto context = gpu::Context::createHeadless();
     if (!context)
         return usage(context.error().message().c_str());
@@ -130,21 +196,9 @@ int main(int argc, char** argv) {
     auto out = gpu::Buffer::create(points.size() * sizeof(glm::vec4), "samples");
     if (!pointBuf || !out)
         return usage("cannot allocate the point buffers");
-    gpu::Buffer sdf[2], records[2];
-    gpu::BufferTexture texels[2]; // the dense grid's samples are fetched through it
-    for (int k = 0; k < 2; ++k) {
-        auto bytes = gpu::Buffer::createFrom(sdfBytes(assets[k]), "sdf");
-        const shared::GpuCollider one = rt::colliderRecord(assets[k], 0);
-        auto record = rt::colliderRecordBuffer(std::span(&one, 1));
-        if (!bytes || !record)
-            return usage("cannot allocate the collider buffers");
-        auto view = gpu::BufferTexture::createR32F(*bytes, "sdf texels");
-        if (!view)
-            return usage(view.error().message().c_str());
-        sdf[k] = std::move(*bytes);
-        records[k] = std::move(*record);
-        texels[k] = std::move(*view);
-    }
+    ColliderGpu colliders;
+    if (int code = uploadColliders(assets, colliders))
+        return code;
     auto sims = std::array{simulationWith(0), simulationWith(1)};
     for (int k = 0; k < 2; ++k) {
         if (!sims[k])
@@ -155,23 +209,10 @@ int main(int argc, char** argv) {
     }
 
     std::vector<double> lookupMs[2], stepMs[2];
-    const auto groups =
-        std::uint32_t((points.size() + shared::kPbfLocalSize - 1) / shared::kPbfLocalSize);
     for (int r = 0; r < repeat; ++r)
         for (int k = 0; k < 2; ++k) {
-            gpu::GpuTimer timer;
-            rt::bindColliderRecords(records[k]);
-            sdf[k].bindStorage(shared::kBindSdf);
-            texels[k].bindTexture(shared::kUnitSdfTexels);
-            pointBuf->bindStorage(shared::kBindPosIn);
-            out->bindStorage(shared::kBindPosOut);
-            probe->use();
-            probe->set("uCount", std::uint32_t(points.size()));
-            timer.begin();
-            probe->dispatchChunked(glm::uvec3(groups, 1, 1), 65535);
-            timer.end();
-            lookupMs[k].push_back(double(timer.elapsedNs()) * 1e-6);
-
+            lookupMs[k].push_back(
+                timeLookups(*probe, colliders, k, *pointBuf, *out, points.size()));
             if (auto ok = sims[k]->setParticles(state); !ok)
                 return usage(ok.error().message().c_str());
             gpu::GpuTimer stepTimer;
@@ -180,20 +221,6 @@ int main(int argc, char** argv) {
             stepTimer.end();
             stepMs[k].push_back(double(stepTimer.elapsedNs()) * 1e-6);
         }
-
-    std::printf("collider_bench: %s, %zu points after %d steps, %d repeats (GPU time)\n", argv[1],
-                points.size(), steps, repeat);
-    std::printf("renderer: %s\n", context->info().renderer.c_str());
-    const char* names[2] = {"dense", "sparse"};
-    Figures lookup[2], step[2];
-    for (int k = 0; k < 2; ++k) {
-        lookup[k] = figures(lookupMs[k]);
-        step[k] = figures(stepMs[k]);
-        std::printf("  %-6s  lookups %8.3f ms (%.3f-%.3f)   step %9.3f ms (%.3f-%.3f)\n", names[k],
-                    lookup[k].median, lookup[k].lo, lookup[k].hi, step[k].median, step[k].lo,
-                    step[k].hi);
-    }
-    std::printf("  sparse / dense: lookups %.2fx, whole step %.3fx\n",
-                lookup[1].median / lookup[0].median, step[1].median / step[0].median);
+    report(argv[1], points.size(), steps, repeat, *context, lookupMs, stepMs);
     return 0;
 }
