@@ -67,11 +67,9 @@ const ShaderDefine kNeighboursStorage{"SLUICE_NEIGHBOURS_STORAGE", "1"};
 const ShaderDefine kSparseBake{"SDF_SPARSE", "1"};
 const ShaderDefine kPointsBake{"SDF_POINTS", "1"};
 
-/// Every program the libraries build, with the define combinations their code uses:
-/// SelfTest.cpp, Simulation.cpp, VolumeMaps.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp,
-/// FluidStatsProbe.cpp, Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp, ColliderPass.cpp,
-/// SurfaceReconstructor.cpp and GpuBaker.cpp (compilePrograms).
-std::vector<ProgramCase> allPrograms() {
+// The solver's passes (Simulation.cpp, VolumeMaps.cpp, PrefixScan.cpp, SelfTest.cpp and the
+// probes).
+std::vector<ProgramCase> solverPrograms() {
     return {
         compute("GpuSelfTest", gpuSource, "gpu_selftest.comp"),
         compute("PbfPredict", runtimeSource, "pbf_predict.comp"),
@@ -118,6 +116,13 @@ std::vector<ProgramCase> allPrograms() {
         compute("ColliderProbeSparse", runtimeSource, "collider_probe.comp", {kSparse}),
         compute("ScanBlock", runtimeSource, "scan_block.comp"),
         compute("ScanAdd", runtimeSource, "scan_add.comp"),
+    };
+}
+
+// The renderer's passes (Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp,
+// ColliderPass.cpp).
+std::vector<ProgramCase> renderPrograms() {
+    return {
         compute("RenderStats", runtimeSource, "render_stats.comp"),
         graphics("RenderParticles", "render_particles.vert", "render_particles.frag"),
         graphics("RenderParticlesFluidDepth", "render_particles.vert", "render_particles.frag",
@@ -143,6 +148,20 @@ std::vector<ProgramCase> allPrograms() {
         graphics("RenderBackdrop", "render_fullscreen.vert", "render_backdrop.frag"),
         graphics("RenderDomainBox", "render_domain_box.vert", "render_domain_box.frag"),
         graphics("RenderSurfaceMesh", "render_surface_mesh.vert", "render_surface_mesh.frag"),
+        compute("RenderFluidSmooth", runtimeSource, "render_fluid_smooth.comp"),
+        graphics("RenderFluidComposite", "render_fullscreen.vert", "render_fluid_composite.frag"),
+        graphics("RenderCollider", "render_collider.vert", "render_collider.frag"),
+        graphics("RenderColliderGlass", "render_collider.vert", "render_collider.frag",
+                 {{"SLUICE_GLASS", "1"}}),
+        graphics("RenderColliderSparse", "render_collider.vert", "render_collider.frag", {kSparse}),
+        graphics("RenderColliderGlassSparse", "render_collider.vert", "render_collider.frag",
+                 {{"SLUICE_GLASS", "1"}, kSparse}),
+    };
+}
+
+// The surface reconstruction's passes (SurfaceReconstructor.cpp).
+std::vector<ProgramCase> surfacePrograms() {
+    return {
         compute("SurfaceBounds", runtimeSource, "surface_bounds.comp"),
         compute("SurfaceMark", runtimeSource, "surface_mark.comp"),
         compute("SurfaceCompact", runtimeSource, "surface_compact.comp"),
@@ -156,14 +175,12 @@ std::vector<ProgramCase> allPrograms() {
         compute("SurfaceCount", runtimeSource, "surface_count.comp"),
         compute("SurfaceVertices", runtimeSource, "surface_vertices.comp"),
         compute("SurfaceTriangles", runtimeSource, "surface_triangles.comp"),
-        compute("RenderFluidSmooth", runtimeSource, "render_fluid_smooth.comp"),
-        graphics("RenderFluidComposite", "render_fullscreen.vert", "render_fluid_composite.frag"),
-        graphics("RenderCollider", "render_collider.vert", "render_collider.frag"),
-        graphics("RenderColliderGlass", "render_collider.vert", "render_collider.frag",
-                 {{"SLUICE_GLASS", "1"}}),
-        graphics("RenderColliderSparse", "render_collider.vert", "render_collider.frag", {kSparse}),
-        graphics("RenderColliderGlassSparse", "render_collider.vert", "render_collider.frag",
-                 {{"SLUICE_GLASS", "1"}, kSparse}),
+    };
+}
+
+// The GPU baker's passes (GpuBaker.cpp, compilePrograms).
+std::vector<ProgramCase> bakePrograms() {
+    return {
         compute("SdfCoarse", bakeSource, "sdf_coarse.comp"),
         compute("SdfDistance", bakeSource, "sdf_distance.comp"),
         compute("SdfSign", bakeSource, "sdf_sign.comp"),
@@ -180,6 +197,18 @@ std::vector<ProgramCase> allPrograms() {
         compute("SdfSignCoarsePoints", bakeSource, "sdf_sign.comp",
                 {{"SDF_SIGN_COARSE", "1"}, kPointsBake}),
     };
+}
+
+/// Every program the libraries build, with the define combinations their code uses:
+/// SelfTest.cpp, Simulation.cpp, VolumeMaps.cpp, PrefixScan.cpp, SparseSamplerParityTest.cpp,
+/// FluidStatsProbe.cpp, Renderer.cpp, FluidSurfacePass.cpp, SphereSplatPass.cpp, ColliderPass.cpp,
+/// SurfaceReconstructor.cpp and GpuBaker.cpp (compilePrograms).
+std::vector<ProgramCase> allPrograms() {
+    std::vector<ProgramCase> all;
+    for (auto part : {solverPrograms, renderPrograms, surfacePrograms, bakePrograms})
+        for (ProgramCase& c : part())
+            all.push_back(std::move(c));
+    return all;
 }
 
 /// Writes one stage's text where glslangValidator reads it; false if it could not.
