@@ -235,9 +235,8 @@ nb::dict bakeEntry(const std::string& mesh, const std::string& output, const std
     return d;
 }
 
-} // namespace
-
-void bindBake(nb::module_& m) {
+// The requests' option classes.
+void bindRequests(nb::module_& m) {
     nb::class_<bake::BakeRequest>(m, "BakeRequest",
                                   "The options of one bake (as `sluice-bake bake`).")
         .def(nb::init<>())
@@ -261,7 +260,10 @@ void bindBake(nb::module_& m) {
         .def_rw("seed", &bake::ValidateRequest::seed)
         .def_rw("max_error", &bake::ValidateRequest::maxError, nb::arg().none())
         .def_rw("max_sign_errors_percent", &bake::ValidateRequest::maxSignErrorsPercent);
+}
 
+// Mesh, load_mesh and mesh_from_arrays.
+void bindMesh(nb::module_& m) {
     nb::class_<Mesh>(m, "Mesh", "A triangle mesh ready to bake: welded vertices and triangles.")
         .def_prop_ro(
             "vertices",
@@ -297,7 +299,10 @@ void bindBake(nb::module_& m) {
           nb::arg("name") = "arrays",
           "A Mesh from (N, 3) float64 vertices and (M, 3) uint32 "
           "triangles (copied).");
+}
 
+// Collider: the grid as a NumPy view, its metadata, save, export and the sampler.
+void bindCollider(nb::module_& m) {
     nb::class_<Collider>(m, "Collider", "A baked collider: a dense signed distance grid.")
         .def_prop_ro("values", &values, nb::rv_policy::reference_internal,
                      "phi[i, j, k] [world units], negative inside: a writable float32 view of "
@@ -333,6 +338,14 @@ void bindBake(nb::module_& m) {
         .def("sample", &sample, nb::arg("points"),
              "The CPU trilinear sampler at (N, 3) float64 points: (phi (N,) float32, gradient "
              "(N, 3) float64).");
+}
+
+} // namespace
+
+void bindBake(nb::module_& m) {
+    bindRequests(m);
+    bindMesh(m);
+    bindCollider(m);
 
     m.def("read_asset", &readAsset, nb::arg("path"),
           "Reads a collider asset (.slc) or the first float grid of a .vdb.");
