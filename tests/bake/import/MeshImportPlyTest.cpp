@@ -113,7 +113,7 @@ TEST(MeshImport, ChecksAPlyFileAgainstItsHeaderBeforeAssimpReadsIt) {
            "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n" + faces +
                "end_header\n0 0\n3 0 0 0\n",
            "the PLY vertex element has no scalar \"z\" property"}}) {
-        expectRefused(writeText("import-ply-body", name, text), ErrorCode::MeshImport,
+        expectRefused(writeText("import-ply-refused", name, text), ErrorCode::MeshImport,
                       {expected, name});
     }
 }
@@ -133,7 +133,7 @@ TEST(MeshImport, StillImportsWellFormedPlyFilesAfterTheCheck) {
          {std::tuple<std::string, std::string, std::size_t>{"strips-crlf.ply", strips, 0},
           {"little.ply", binaryTetra(false, 3), 4},
           {"big.ply", binaryTetra(true, 3), 4}}) {
-        const fs::path path = writeText("import-ply-body", name, text);
+        const fs::path path = writeText("import-ply-accepted", name, text);
         Result<ImportedMesh> mesh = importMesh(path, {});
         ASSERT_TRUE(mesh.ok()) << name << ": " << mesh.error().message();
         if (triangles) { // 0: assimp 5.2.5 makes one triangle of any strip; not ours to judge
