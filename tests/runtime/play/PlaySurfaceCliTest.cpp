@@ -20,11 +20,9 @@ namespace fs = std::filesystem;
 using testrun::shown;
 using testrun::tempDir;
 
-const fs::path kAssets = SLUICE_BUILD_ASSETS_DIR; // scenes and baked colliders, side by side
-
-testrun::RunResult play(const fs::path& dir, const std::vector<std::string>& args) {
-    return test::runPlay(dir, args);
-}
+// Runs that render need the GL driver preloaded under ASan: test::runPlay does that.
+using test::kAssets;
+using test::runPlay;
 
 /// A binary little-endian PLY mesh as --surface-mesh writes it: its vertices and triangles,
 /// each face checked to be a triangle of existing vertices, the size checked against the header.
@@ -88,9 +86,9 @@ double enclosedVolume(const PlyMesh& mesh) {
 TEST(SluicePlaySurface, WritesOneClosedMeshPerRequestedStep) {
     const fs::path dir = tempDir("surface");
     const fs::path meshes = dir / "meshes";
-    const auto result = play(dir, {(kAssets / "martin-moyce.json").string(), "--headless",
-                                   "--steps", "4", "--deterministic", "--quiet", "--surface-mesh",
-                                   meshes.string(), "--surface-every", "2"});
+    const auto result = runPlay(dir, {(kAssets / "martin-moyce.json").string(), "--headless",
+                                      "--steps", "4", "--deterministic", "--quiet",
+                                      "--surface-mesh", meshes.string(), "--surface-every", "2"});
     ASSERT_EQ(result.code, 0) << shown(result);
     std::set<std::string> names;
     for (const auto& entry : fs::directory_iterator(meshes))
@@ -120,7 +118,7 @@ TEST(SluicePlaySurface, NormalisesTheFieldUnlessToldAndTheLastFlagWins) {
                                          "--surface-mesh",
                                          (dir / tag).string()};
         args.insert(args.end(), flags.begin(), flags.end());
-        const auto run = play(dir, args);
+        const auto run = runPlay(dir, args);
         EXPECT_EQ(run.code, 0) << tag << ": " << shown(run);
         return testrun::readText(dir / tag / "surface_000001.ply");
     };
@@ -138,8 +136,8 @@ TEST(SluicePlaySurface, ReportsWhatAMeshCostStageByStage) {
     const fs::path dir = tempDir("surface-timed");
     const fs::path stats = dir / "stats.json";
     const auto timed =
-        play(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "2",
-                   "--surface-mesh", (dir / "timed").string(), "--stats-json", stats.string()});
+        runPlay(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "2",
+                      "--surface-mesh", (dir / "timed").string(), "--stats-json", stats.string()});
     ASSERT_EQ(timed.code, 0) << shown(timed);
     EXPECT_NE(timed.out.find("surface meshes: 3, median "), std::string::npos) << timed.out;
     EXPECT_NE(timed.out.find("surface stages, median ms:  bounds "), std::string::npos)
@@ -164,8 +162,8 @@ TEST(SluicePlaySurface, RefusesBadSurfaceOptionsWritingNothing) {
     const fs::path dir = tempDir("surface-bad");
     const fs::path bad = dir / "bad";
     const auto refused =
-        play(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "1",
-                   "--surface-mesh", bad.string(), "--surface-cell", "0.5"});
+        runPlay(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "1",
+                      "--surface-mesh", bad.string(), "--surface-cell", "0.5"});
     EXPECT_EQ(refused.code, 2) << shown(refused);
     EXPECT_NE(refused.err.find("--surface-cell 0.5"), std::string::npos) << refused.err;
     EXPECT_NE(refused.err.find("larger than the smoothing radius"), std::string::npos)
@@ -173,8 +171,8 @@ TEST(SluicePlaySurface, RefusesBadSurfaceOptionsWritingNothing) {
     EXPECT_FALSE(fs::exists(bad));
     // A kernel that is not gaussian or poly6: exit 2 naming the option, nothing written.
     const auto unknown =
-        play(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "1",
-                   "--surface-mesh", bad.string(), "--surface-kernel", "cubic"});
+        runPlay(dir, {(kAssets / "martin-moyce.json").string(), "--headless", "--steps", "1",
+                      "--surface-mesh", bad.string(), "--surface-kernel", "cubic"});
     EXPECT_EQ(unknown.code, 2) << shown(unknown);
     EXPECT_NE(unknown.err.find("--surface-kernel cubic"), std::string::npos) << unknown.err;
     EXPECT_FALSE(fs::exists(bad));
