@@ -13,6 +13,7 @@
 #define PBF_COLLIDERS_WRITABLE 1
 #define PBF_WITH_BODIES 1
 #include "shared/PbfGlsl.h"
+#include "shared/FilmGlsl.h"
 
 // Invocations of a body's work group, chosen by Simulation (bodyGroupSize): kBodyLanes on a
 // GPU, kBodyLanesSoftware on a software renderer.
@@ -91,19 +92,53 @@ void takeFluidReaction(uint b, vec3 sealedDx, vec3 sealedMoment, inout BodyStart
 // The particles a wall held against the body: their pushes' reaction only stops the body moving
 // into them (along the reaction's direction), like a contact with no bounce; none of it pushes
 // the body away (docs/bodies.md).
+// With "solids" the contact is taken where the held impulse acts (the point of its line of
+// action nearest the centre), with that point's velocity and the body's effective mass there:
+// taken at the centre, the held impulse's moment spun a body the floor's layer held off-centre
+// (docs/bodies.md, "The film under a body").
 void takeHeldReaction(uint b, inout BodyStart s) {
     vec3 heldImpulse = -P.particleMass * P.invDt * sumOf(b, kBodySumHeldPush) / bodies[b].sumScale;
     vec3 heldAngular =
         -P.particleMass * P.invDt * sumOf(b, kBodySumHeldMoment) / bodies[b].momentScale;
     float heldLength = length(heldImpulse);
     if (heldLength > 0.0) {
-        float approach = -dot(s.v, heldImpulse / heldLength);
+        vec3 n = heldImpulse / heldLength;
+        float approach = -dot(s.v, n);
         float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / heldLength) : 0.0;
+        if (P.solidBoundary != 0u) {
+            vec3 at = cross(heldImpulse, heldAngular) / (heldLength * heldLength);
+            vec3 turn = cross(at, n);
+            float invMassAt = bodies[b].invMass + dot(turn, worldInvInertia(b, s.q0) * turn);
+            float approachAt = -dot(s.v + cross(s.w, at), n);
+            share = approachAt > 0.0 ? min(1.0, approachAt / (invMassAt * heldLength)) : 0.0;
+        }
         s.v += share * heldImpulse * bodies[b].invMass;
         s.w += share * (worldInvInertia(b, s.q0) * heldAngular);
         s.force += share * heldImpulse * P.invDt;
         s.torque += share * heldAngular * P.invDt;
     }
+}
+
+// The film model's excess (docs/bodies.md, "The film under a body"): what sealedReaction took
+// off the water under the body, as a particle's dx and its moment, is given back only as far as
+// it keeps the body from approaching the solid faster than kFilmDrain: the film drains, but no
+// faster than the water can be squeezed out sideways at this resolution.
+const float kFilmDrain = 0.05; // [m/s]
+vec3 gFilmDx = vec3(0.0);
+vec3 gFilmMoment = vec3(0.0);
+
+void takeFilmReaction(uint b, inout BodyStart s) {
+    vec3 impulse = -P.particleMass * P.invDt * gFilmDx;
+    vec3 angular = -P.particleMass * P.invDt * gFilmMoment;
+    float len = length(impulse);
+    if (!(len > 0.0))
+        return;
+    float approach = -dot(s.v, impulse / len) - kFilmDrain;
+    float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / len) : 0.0;
+    s.v += share * impulse * bodies[b].invMass;
+    s.w += share * (worldInvInertia(b, s.q0) * angular);
+    s.force += share * impulse * P.invDt;
+    s.torque += share * angular * P.invDt;
 }
 
 // The viewer's mouse spring, when it holds this body.
@@ -182,6 +217,7 @@ void startBody(uint b, vec3 sealedDx, vec3 sealedMoment) {
     s.x0 = bodies[b].position;
     s.q0 = bodies[b].orientation;
     takeFluidReaction(b, sealedDx, sealedMoment, s);
+    takeFilmReaction(b, s);
     takeHeldReaction(b, s);
     pullByDrag(b, s);
     clearSums(b);
@@ -212,8 +248,49 @@ void startBody(uint b, vec3 sealedDx, vec3 sealedMoment) {
 // no less. The lanes' shares are added in a fixed tree; every invocation calls it (barriers),
 // and each ends with the top-up (sealedDx, as a particle's dx) and its moment about the centre
 // of mass.
+// The contact points' areas add up to about 1.19 times a cube's faces at 8 points a side (the
+// cells along its edges hold points of the rounded field: docs/bodies.md, "The film under a
+// body"); the film model takes them at this share.
+const float kFilmAreaShare = 0.84;
+
+// The film model ("solids", docs/bodies.md, "The film under a body"): the faces over a solid
+// within the sealed band get the water's pressure at their depth under the level, rho0 |g|
+// (level - y), along their own normals, their weight fading out over the band's last spacing.
+// Where the water under them gave less, it is topped up (with the moment of that pressure);
+// where it gave more, its pushes are scaled down to it, force and moment, and what is taken off
+// is given back only as far as it holds the body's approach to kFilmDrain (takeFilmReaction).
+void filmReaction(uint b, uint word, out vec3 sealedDx, out vec3 sealedMoment) {
+    vec3 sealed = sStep[0].xyz;
+    float sealedLength = length(sealed);
+    float head = sStep[0].w; // sum of area * head over every face over a solid in the rim band
+    sealedDx = vec3(0.0);
+    sealedMoment = vec3(0.0);
+    float g = length(P.gravity);
+    if (!(sealedLength > 0.0) || !(head > 0.0) || !(g > 0.0) || word == 0u)
+        return;
+    vec3 along = sealed / sealedLength;
+    float weight = min(1.0, sealedLength / head);
+    vec3 under = sumOf(b, kBodySumUnder) / bodies[b].sumScale;
+    float given = dot(under, along);
+    float expected = kFilmAreaShare * g * P.dt * P.dt / PBF_VOLUME * head; // as a sum of dx
+    if (given < expected) {
+        float add = (expected - given) * weight;
+        sealedDx = add * along;
+        sealedMoment = add / sealedLength * sTurn[0].xyz;
+    } else if (given > expected) {
+        float cut = (given - expected) / given * weight;
+        sealedDx = -cut * under;
+        sealedMoment = -cut * sumOf(b, kBodySumUnderMoment) / bodies[b].momentScale;
+        gFilmDx = -sealedDx;
+        gFilmMoment = -sealedMoment;
+    }
+}
+
 void sealedReaction(uint b, uint lane, float rim, out vec3 sealedDx, out vec3 sealedMoment) {
-    SealedSums sums = sealedShare(b, lane, kLanes, bodies[b].position, bodies[b].orientation);
+    uint word = bodySums[b * kBodySumWords + kBodySumSurface];
+    float level = P.solidBoundary != 0u ? surfaceLevel(b, word) : 0.0;
+    SealedSums sums =
+        sealedShare(b, lane, kLanes, bodies[b].position, bodies[b].orientation, level);
     sStep[lane] = vec4(sums.sealed, sums.sideArea);
     sTurn[lane] = vec4(sums.turn, sums.lowest);
     memoryBarrierShared();
@@ -229,16 +306,16 @@ void sealedReaction(uint b, uint lane, float rim, out vec3 sealedDx, out vec3 se
     }
     sealedDx = vec3(0.0);
     sealedMoment = vec3(0.0);
-    // With "solids" the rim's pressure is taken as it is. Without the walls' boundary volume
-    // ("bodies"), where the layer at a wall packs, it lifted a cube a tenth heavier than water
-    // off one water layer (docs/bodies.md, "Sealed contacts"): there the sides count as
-    // covering the band from the lowest gap up, the rim's water all of it, which fades the
-    // top-up as the gap opens.
-    float sideArea = sStep[0].w;
-    if (P.solidBoundary == 0u) {
-        float band = rimBand();
-        sideArea = sStep[0].w * band / max(band - sTurn[0].w, 1e-3 * band);
+    if (P.solidBoundary != 0u) {
+        filmReaction(b, word, sealedDx, sealedMoment);
+        return;
     }
+    // Without the walls' boundary volume ("bodies"), where the layer at a wall packs, the rim's
+    // pressure taken as it is lifted a cube a tenth heavier than water off one water layer
+    // (docs/bodies.md, "Sealed contacts"): the sides count as covering the band from the lowest
+    // gap up, the rim's water all of it, which fades the top-up as the gap opens.
+    float band = rimBand();
+    float sideArea = sStep[0].w * band / max(band - sTurn[0].w, 1e-3 * band);
     vec3 expected = sStep[0].w > 0.0 ? rim / sideArea * sStep[0].xyz : vec3(0.0);
     float expectedLength = length(expected);
     if (!(expectedLength > 0.0))
@@ -332,7 +409,10 @@ void main() {
         // their barriers together when no water pushed along a solid.
         float rim = float(sumAt(b, kBodySumRim, 0u)) / bodies[b].sumScale;
         vec3 sealedDx = vec3(0.0), sealedMoment = vec3(0.0);
-        if (rim > 0.0)
+        bool sealedWork = P.solidBoundary != 0u
+                              ? bodySums[b * kBodySumWords + kBodySumSurface] != 0u
+                              : rim > 0.0;
+        if (sealedWork)
             sealedReaction(b, lane, rim, sealedDx, sealedMoment);
         memoryBarrierBuffer();
         barrier(); // every lane has read the rim's sums before the lead clears them

@@ -9,6 +9,7 @@
 #define PBF_BODY_REACTION collisionReaction
 void collisionReaction(uint b, vec3 x, vec3 dx);
 #include "shared/PbfGlsl.h"
+#include "shared/FilmGlsl.h"
 #include "shared/BoundaryVolumeGlsl.h"
 #include "shared/CollidersNearGlsl.h"
 
@@ -67,16 +68,17 @@ bool inRim = false;
 vec3 rimNormal = vec3(0.0);
 vec3 rimX = vec3(0.0); // x*_i, where the test is made
 
-// Body b pushed a particle by dx: the body takes the reaction. A push on the water within h + r
-// of a wall or a static collider (the rim) is also summed by its direction (docs/bodies.md,
-// "Sealed contacts"): along the solid, its length into the rim sum (the pressure beside the
-// body, per area of its sides near the solid); across it, into the under sum (what the water
-// between the body and the solid gives). The body pass tops the second up to the first.
+// Body b pushed a particle by dx: the body takes the reaction. A push on the water within the
+// rim band of a wall or a static collider (the rim: h + r, with "solids" h + 1.75 spacings) is
+// also summed by its direction (docs/bodies.md, "Sealed contacts"): along the solid, its length
+// into the rim sum (the pressure beside the body, per area of its sides near the solid); across
+// it, into the under sum (what the water between the body and the solid gives; with "solids"
+// its moment too, for the film model). The body pass tops the second up to the first.
 void addReaction(uint b, vec3 x, vec3 dx) {
     addSums(b, false, x, dx);
     if (!rimTested) {
         rimTested = true;
-        inRim = nearestSolidWithin(rimX, PBF_H + PBF_RADIUS, rimNormal) < PBF_H + PBF_RADIUS;
+        inRim = nearestSolidWithin(rimX, rimBand(), rimNormal) < rimBand();
     }
     float len = length(dx);
     if (!inRim || !(len > 0.0))
@@ -86,6 +88,22 @@ void addReaction(uint b, vec3 x, vec3 dx) {
     } else {
         for (uint axis = 0u; axis < 3u; ++axis)
             addFixed(bodySumWord(b, kBodySumUnder, axis), dx[axis] * bodies[b].sumScale);
+        if (P.solidBoundary != 0u) {
+            vec3 m = cross(x - bodies[b].position, dx) * bodies[b].momentScale;
+            for (uint axis = 0u; axis < 3u; ++axis)
+                addFixed(bodySumWord(b, kBodySumUnderMoment, axis), m[axis]);
+        }
+    }
+}
+
+// With "solids", a compressed particle (lambda != 0) records its height in the water column
+// over each body it lies under or beside (the film model's level, FilmGlsl.h surfaceWordOf),
+// once a substep.
+void recordSurface(vec3 x) {
+    for (uint b = 0u; b < P.bodyCount; ++b) {
+        uint word = surfaceWordOf(b, x);
+        if (word != 0u)
+            atomicMax(bodySums[b * kBodySumWords + kBodySumSurface], word);
     }
 }
 
@@ -239,6 +257,8 @@ void main() {
     dp = pbfLaneSum(vec4(dp, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)
     if (!live || pbfLane != 0u)
         return;
+    if (P.solidBoundary != 0u && k == 0u && li != 0.0)
+        recordSurface(xi);
     // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
     // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
     // endSolve counts what still goes wrong.

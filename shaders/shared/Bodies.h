@@ -30,8 +30,8 @@ SLUICE_CONST uint kNoBody = 0xffffffffu;
 /// only when the low word wraps (a two's-complement sum would carry every negative term's sign
 /// into it: twice the atomics, which were most of the reactions' cost, docs/bodies.md):
 ///
-///   word  0      12       24          36            48    52      64
-///         | push | moment | held push | held moment | rim | under |
+///   word  0      12       24          36            48    52      64             76        80
+///         | push | moment | held push | held moment | rim | under | under moment | surface |
 ///
 /// `push` is the sum of the corrections dx the body gave particles [GpuBody::sumScale units of
 /// m], `moment` the sum of (x - c) x dx [momentScale units of m^2]; the held pair the same for
@@ -42,15 +42,21 @@ SLUICE_CONST uint kNoBody = 0xffffffffu;
 /// units of m], the pressure there; `under` the sum of the rest of those pushes, the ones
 /// across the solid, from the water between the body and the solid [sumScale units of m]. The
 /// body pass tops the second up to the first's pressure (docs/bodies.md, "Sealed contacts").
-SLUICE_CONST uint kBodySumWords = 64;
+/// With "solids" the film model (docs/bodies.md, "The film under a body") also sums the moment
+/// of `under` [momentScale units of m^2] and keeps, in the one plain word `surface`, the
+/// highest compressed water in the column over the body (FilmGlsl.h, surfaceWordOf), maxed with
+/// an integer atomic.
+SLUICE_CONST uint kBodySumWords = 80;
 SLUICE_CONST uint kBodySumPush = 0;
 SLUICE_CONST uint kBodySumMoment = 12;
 SLUICE_CONST uint kBodySumHeldPush = 24;
 SLUICE_CONST uint kBodySumHeldMoment = 36;
 SLUICE_CONST uint kBodySumRim = 48;
 SLUICE_CONST uint kBodySumUnder = 52;
+SLUICE_CONST uint kBodySumUnderMoment = 64;
+SLUICE_CONST uint kBodySumSurface = 76;
 /// Words of a body's sums in use; the rest up to kBodySumWords are spare.
-SLUICE_CONST uint kBodySumUsed = 64;
+SLUICE_CONST uint kBodySumUsed = 77;
 /// Contact sample points of one body at most.
 SLUICE_CONST uint kMaxBodySamples = 2048;
 
@@ -154,9 +160,11 @@ static_assert(sluice::shared::kBodySumMoment == sluice::shared::kBodySumPush + 1
                   sluice::shared::kBodySumHeldMoment == sluice::shared::kBodySumHeldPush + 12 &&
                   sluice::shared::kBodySumRim == sluice::shared::kBodySumHeldMoment + 12 &&
                   sluice::shared::kBodySumUnder == sluice::shared::kBodySumRim + 4 &&
-                  sluice::shared::kBodySumUsed == sluice::shared::kBodySumUnder + 12 &&
+                  sluice::shared::kBodySumUnderMoment == sluice::shared::kBodySumUnder + 12 &&
+                  sluice::shared::kBodySumSurface == sluice::shared::kBodySumUnderMoment + 12 &&
+                  sluice::shared::kBodySumUsed == sluice::shared::kBodySumSurface + 1 &&
                   sluice::shared::kBodySumUsed <= sluice::shared::kBodySumWords,
-              "the body sums: four vectors of three components and a scalar, each two 64-bit magnitudes");
+              "the body sums' layout");
 static_assert(sizeof(sluice::shared::GpuBodyPose) == 32, "std430 size of GpuBodyPose");
 static_assert(offsetof(sluice::shared::GpuBodyStep, startPosition) == 64 &&
                   offsetof(sluice::shared::GpuBodyStep, velocity) == 96 &&

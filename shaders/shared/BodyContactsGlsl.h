@@ -273,13 +273,6 @@ ContactSums wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, 
     return sums;
 }
 
-// How far from a wall or a static collider [m] the water counts as the rim of a body meeting it
-// (docs/bodies.md, "Sealed contacts"): a particle's kernel reaches the solid, and a particle
-// under a body's face within h of the solid is in it.
-float rimBand() {
-    return PBF_H + PBF_RADIUS;
-}
-
 // What lane `lane` of `lanes` finds of body b's sealed contacts at its pose of the substep start
 // (x0, q0), over its points lane, lane + lanes, ... (docs/bodies.md, "Sealed contacts"):
 // - `sealed`: the sum of area * (n . m) m over the points within h of a wall or a static
@@ -289,6 +282,11 @@ float rimBand() {
 //   it (within 30 degrees of its plane): the sides the rim's water pushes;
 // - `lowest`: the smallest gap of the facing points (the rim band when none): the rim's water
 //   beside that gap presses no side of the body.
+// With "solids" (the film model, docs/bodies.md "The film under a body"), over the facing
+// points within the rim band, each by its head of water under `level` [m along up],
+// a = area * (level - height): `sealed` the sum of w a (n . m) m (w fading from 1 to 0 over the
+// sealed band's last spacing), `turn` the sum of the moments of w a n, `sideArea` the sum of
+// a (n . -m).
 struct SealedSums {
     vec3 sealed;
     vec3 turn;
@@ -296,7 +294,7 @@ struct SealedSums {
     float lowest;
 };
 
-SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0) {
+SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, float level) {
     SealedSums sums = SealedSums(vec3(0.0), vec3(0.0), 0.0, rimBand());
     float areaScale = bodies[b].scale * bodies[b].scale;
     for (uint s = lane; s < bodies[b].sampleCount; s += lanes) {
@@ -315,7 +313,21 @@ SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0) {
         vec3 normal = rotate(q0, grad / len);
         float facing = dot(normal, solidNormal);
         float area = point.w * areaScale;
-        if (facing < -0.5 && gap < PBF_H) {
+        if (P.solidBoundary != 0u) {
+            if (facing < -0.5) {
+                // The film model: every face over the solid in the rim band, by its head of
+                // water; the sealed ones across the solid, their moments along their own
+                // normals (a push across the solid at a tilted face's points would tip the body
+                // further), their weight fading out over the sealed band's last spacing.
+                float head = area * max(0.0, level - dot(x0 + arm, upOf()));
+                float w = clamp((sealedBand() - gap) / (2.0 * PBF_RADIUS), 0.0, 1.0);
+                sums.sideArea += -facing * head;
+                sums.sealed += w * head * facing * solidNormal;
+                sums.turn += cross(arm, w * head * normal);
+                if (w > 0.0)
+                    sums.lowest = min(sums.lowest, max(gap, 0.0));
+            }
+        } else if (facing < -0.5 && gap < sealedBand()) {
             vec3 push = area * facing * solidNormal;
             sums.sealed += push;
             sums.turn += cross(arm, push);

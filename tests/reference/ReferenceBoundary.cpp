@@ -11,7 +11,6 @@
 
 namespace sluice::ref {
 
-namespace {
 // The gradient of the trilinear field at local point p, in the cell the GPU's float arithmetic
 // puts p in (shared/PbfGlsl.h, sampleCollider), the values and the derivative in double. A body's
 // contact points lie on its grid's planes, where the cells on either side give different
@@ -28,8 +27,8 @@ glm::dvec3 gradientInTheGpusCell(const format::SdfSampler& sampler, glm::vec3 p)
     for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
             for (int c = 0; c < 2; ++c)
-                v[a][b][c] = sampler.value(m.origin + (glm::dvec3(cell) + glm::dvec3(a, b, c)) *
-                                                          m.voxelSize);
+                v[a][b][c] = sampler.value(m.origin +
+                                           (glm::dvec3(cell) + glm::dvec3(a, b, c)) * m.voxelSize);
     const double wx[2] = {1.0 - t.x, t.x}, wy[2] = {1.0 - t.y, t.y}, wz[2] = {1.0 - t.z, t.z};
     glm::dvec3 grad(0.0);
     for (int i = 0; i < 2; ++i)
@@ -40,7 +39,6 @@ glm::dvec3 gradientInTheGpusCell(const format::SdfSampler& sampler, glm::vec3 p)
         }
     return grad / m.voxelSize;
 }
-} // namespace
 
 // docs/bodies.md, "Boundary volume": the part of the poly6 support behind a flat boundary at
 // distance phi, B(phi) = k (1/2 - 315/256 F(u)), F(u) = u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9,
@@ -191,7 +189,7 @@ glm::vec3 ReferencePbf::applyCorrection(std::size_t i, glm::vec3 dp, glm::vec3 x
                                         float t1) {
     const float r = m_c.radius;
     const glm::vec3 xi = m_predicted[i];
-    const double band = double(m_c.h) + double(m_c.radius);
+    const double band = rimBand();
     m_inRim = !m_bodies.empty() && nearestSolidWithin(xi, band, t1, m_rimNormal) < band;
     glm::vec3 x = xi + dp;
     if (!isFinite(x))
@@ -216,7 +214,7 @@ glm::vec3 ReferencePbf::applyCorrection(std::size_t i, glm::vec3 dp, glm::vec3 x
             continue;
         x += push;
         addReaction(b, x, push);
-        addRim(b, push);
+        addRim(b, x, push);
     }
     if (!isFinite(x))
         x = xi;
@@ -279,7 +277,7 @@ void ReferencePbf::collide(glm::vec3& x, glm::vec3 xOld, float t0, float t1, Pus
         // where it started, since dx x dx = 0, up to rounding).
         if (body) {
             addReaction(*body, x, x - xBefore);
-            addRim(*body, x - xBefore);
+            addRim(*body, x, x - xBefore);
             if (pushed.body == kNoBody || pushed.body == c.body) {
                 pushed.body = c.body;
                 pushed.sum += x - xBefore;
@@ -325,17 +323,21 @@ double ReferencePbf::nearestSolidWithin(glm::vec3 x, double limit, float t1,
     return gap;
 }
 
-// A push of the body on a particle of the rim (within h + r of a solid at x*_i): along the solid
-// (within 60 degrees of its plane), its length into the body's rim sum; across it, into the
-// under sum.
-void ReferencePbf::addRim(Body& body, glm::vec3 dx) {
+// A push of the body on a particle of the rim (within the rim band of a solid at x*_i), which
+// ends at x: along the solid (within 60 degrees of its plane), its length into the body's rim
+// sum; across it, into the under sum (with "solids" its moment too).
+void ReferencePbf::addRim(Body& body, glm::vec3 x, glm::vec3 dx) {
     const double len = glm::length(glm::dvec3(dx));
     if (!m_inRim || !(len > 0.0))
         return;
-    if (std::abs(glm::dot(glm::dvec3(dx), m_rimNormal)) < 0.5 * len)
+    if (std::abs(glm::dot(glm::dvec3(dx), m_rimNormal)) < 0.5 * len) {
         body.rimPush += len;
-    else
+    } else {
         body.underDx += glm::dvec3(dx);
+        if (m_params.solidBoundary)
+            body.underMoment +=
+                glm::cross(glm::dvec3(x) - glm::dvec3(body.centerOfMass), glm::dvec3(dx));
+    }
 }
 
 // The body's points within h of a wall or a static collider facing it (normals more than 120
@@ -345,43 +347,35 @@ void ReferencePbf::addRim(Body& body, glm::vec3 dx) {
 // between gave (the under sum) is topped up to that along its direction, and the top-up added
 // to the body's sums like the particles' pushes.
 void ReferencePbf::addSealedContacts(Body& body, float t1) {
+    if (m_params.solidBoundary) {
+        addFilm(body, t1);
+        return;
+    }
     if (!(body.rimPush > 0.0))
         return;
     const double h = double(m_c.h);
-    const double band = h + double(m_c.radius);
-    const format::SdfSampler& sampler = m_colliders[body.collider].sampler;
-    const double scale = body.pose.scale;
+    const double band = rimBand();
     glm::dvec3 sealed(0.0), turn(0.0);
     double sideArea = 0.0, lowest = band;
     for (const glm::vec4& point : body.contactPoints) {
-        const glm::vec3 w = body.pose.toWorld(glm::vec3(point));
-        glm::dvec3 solidNormal;
-        const double gap = nearestSolidWithin(w, band, t1, solidNormal);
-        if (!(gap < band))
+        PointOverSolid p;
+        if (!pointOverSolid(body, point, band, t1, p))
             continue;
-        const glm::dvec3 grad(body.pose.rotation *
-                              glm::vec3(gradientInTheGpusCell(sampler, glm::vec3(point))));
-        if (!(glm::length(grad) > 0.0))
-            continue;
-        const glm::dvec3 normal = glm::normalize(grad);
-        const double facing = glm::dot(normal, solidNormal);
-        const double area = double(point.w) * scale * scale;
-        if (facing < -0.5 && gap < h) {
-            const glm::dvec3 push = area * facing * solidNormal;
+        const double facing = glm::dot(p.normal, p.solidNormal);
+        if (facing < -0.5 && p.gap < h) {
+            const glm::dvec3 push = p.area * facing * p.solidNormal;
             sealed += push;
-            turn += glm::cross(glm::dvec3(w) - glm::dvec3(body.centerOfMass), push);
-            lowest = std::min(lowest, std::max(gap, 0.0));
+            turn += glm::cross(glm::dvec3(p.world) - glm::dvec3(body.centerOfMass), push);
+            lowest = std::min(lowest, std::max(p.gap, 0.0));
         } else if (std::abs(facing) < 0.5) {
-            sideArea += area;
+            sideArea += p.area;
         }
     }
     if (!(sideArea > 0.0))
         return;
-    // Without the walls' boundary volume the sides count as covering the band from the lowest
-    // gap up (the top-up fades as the gap opens); with "solids" the rim's pressure is taken as
-    // it is.
-    if (!m_params.solidBoundary)
-        sideArea *= band / std::max(band - lowest, 1e-3 * band);
+    // The sides count as covering the band from the lowest gap up (the top-up fades as the gap
+    // opens).
+    sideArea *= band / std::max(band - lowest, 1e-3 * band);
     const glm::dvec3 expected = body.rimPush / sideArea * sealed;
     const double expectedLength = glm::length(expected);
     if (!(expectedLength > 0.0))

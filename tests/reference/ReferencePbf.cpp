@@ -48,6 +48,12 @@ ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceColl
             body.mass = c.mass;
             body.velocity = glm::dvec3(c.linearVelocity);
             body.contactPoints = c.contactPoints;
+            // As rt::setUpBodies: the contact points' reach from the centre, and a voxel.
+            const glm::dvec3 centreLocal(body.pose.toLocal(body.centerOfMass));
+            double reach = 0.0;
+            for (const glm::vec4& p : body.contactPoints)
+                reach = std::max(reach, glm::length(glm::dvec3(glm::vec3(p)) - centreLocal));
+            body.boundRadius = double(body.pose.scale) * (reach + c.asset->meta.voxelSize);
             m_bodies.push_back(body);
         }
         m_colliders.push_back(collider);
@@ -194,14 +200,19 @@ void ReferencePbf::finishBodySubstep(double share) {
         b.sealedForce += share * (-m * (b.sumDx - before) / (dt * dt));
         b.force += share * (-m * b.sumDx / (dt * dt));
         b.torque += share * (-m * b.sumMoment / (dt * dt));
-        // The held particles' reaction: only the part that stops the body moving into them,
-        // from its velocity after gravity and the rest of the reaction (pbf_bodies.comp).
+        // The film model's excess ("solids"), then the held particles' reaction: only the part
+        // that stops the body moving into them, from its velocity after gravity and the rest of
+        // the reaction (pbf_bodies.comp). The reference's bodies do not turn: with "solids" the
+        // GPU takes the held contact at its point of action, with the body's spin and inertia,
+        // which the parity scenes (no held particles with "solids") do not reach.
+        glm::dvec3 v = b.mass > 0.0 ? b.velocity + dt * glm::dvec3(m_params.gravity) -
+                                          m * b.sumDx / dt / b.mass
+                                    : glm::dvec3(0.0);
+        takeFilmBack(b, share, v);
         const glm::dvec3 heldImpulse = -m * b.heldDx / dt;
         const double held = glm::length(heldImpulse);
         b.heldForce += share * heldImpulse / dt;
         if (held > 0.0 && b.mass > 0.0) {
-            const glm::dvec3 v =
-                b.velocity + dt * glm::dvec3(m_params.gravity) - m * b.sumDx / dt / b.mass;
             const double approach = -glm::dot(v, heldImpulse / held);
             const double part = approach > 0.0 ? std::min(1.0, approach * b.mass / held) : 0.0;
             b.force += share * part * heldImpulse / dt;
@@ -213,6 +224,10 @@ void ReferencePbf::finishBodySubstep(double share) {
         b.heldMoment = glm::dvec3(0.0);
         b.rimPush = 0.0;
         b.underDx = glm::dvec3(0.0);
+        b.underMoment = glm::dvec3(0.0);
+        b.surface = 0;
+        b.filmDx = glm::dvec3(0.0);
+        b.filmMoment = glm::dvec3(0.0);
     }
 }
 
@@ -323,6 +338,11 @@ void ReferencePbf::solve() {
         double errorSum = 0.0;
         for (std::size_t i = 0; i < n; ++i)
             errorSum += constraintAndLambda(i, pairW, pairGrad, t1);
+        // "solids": the film model's level over each body (ReferenceFilm.cpp).
+        if (k == 0 && m_params.solidBoundary && !m_bodies.empty())
+            for (std::size_t i = 0; i < n; ++i)
+                if (m_lambda[i] != 0.0f)
+                    recordSurface(m_predicted[i]);
         // 4.2 Early exit on the mean compression; with "solids" after an even count only.
         const double meanError = n > 0 ? errorSum / double(n) : 0.0;
         const bool countAllowed = !m_params.solidBoundary || k % 2 == 0;

@@ -24,6 +24,10 @@ inline bool isFinite(glm::vec3 v) {
 /// its placement in the scene. With placement.dynamic set it is a rigid body (docs/bodies.md),
 /// held at one pose: it fills part of the kernel support of the particles near it, pushes them,
 /// and takes the reaction; the reference does not move it.
+/// The gradient of a collider's trilinear field at local point p [1 per asset unit], in the cell
+/// the GPU's float arithmetic puts p in, the values and the derivative in double.
+glm::dvec3 gradientInTheGpusCell(const format::SdfSampler& sampler, glm::vec3 p);
+
 struct ReferenceCollider {
     const format::ColliderAsset* asset = nullptr;
     format::SceneCollider placement;
@@ -161,6 +165,11 @@ private:
         std::vector<glm::vec4> contactPoints; // asset frame; w: area [asset units^2]
         double rimPush = 0.0;        // its pushes along a solid within h + r of it, lengths [m]
         glm::dvec3 underDx{0.0};     // its pushes across a solid within h + r of it [m]
+        glm::dvec3 underMoment{0.0}; // "solids": their moments (x - c) x dx [m^2]
+        double boundRadius = 0.0;    // as the GPU's: contact points' reach + a voxel [m]
+        std::uint32_t surface = 0;   // "solids": the film model's level word (PbfGlsl.h)
+        glm::dvec3 filmDx{0.0};      // "solids": what the film model took off the water under
+        glm::dvec3 filmMoment{0.0};  // it, given back as far as it holds the approach
         glm::dvec3 sealedForce{0.0}; // of the sealed contacts, in force [N]
         glm::dvec3 force{0.0};       // of the last substep, or the mean over the last step [N]
         glm::dvec3 torque{0.0};      // [N m]
@@ -182,8 +191,24 @@ private:
     float boundaryShareSlope(float phi) const;
     void addSolidBoundary(glm::vec3 x, float t1, float& boundary, glm::vec3& gradient) const;
     double nearestSolidWithin(glm::vec3 x, double limit, float t1, glm::dvec3& normal) const;
-    void addRim(Body& body, glm::vec3 dx);
+    /// A body's contact point within `band` of a wall or a static collider: where it is, the
+    /// gap, the solid's normal and the body's (in the GPU's cell), and the area it stands for.
+    struct PointOverSolid {
+        glm::vec3 world{0.0f};
+        double gap = 0.0;
+        glm::dvec3 solidNormal{0.0};
+        glm::dvec3 normal{0.0};
+        double area = 0.0; // [m^2]
+    };
+    bool pointOverSolid(const Body& body, const glm::vec4& point, double band, float t1,
+                        PointOverSolid& out) const;
+    double sealedBand() const;
+    double rimBand() const;
+    void addRim(Body& body, glm::vec3 x, glm::vec3 dx);
     void addSealedContacts(Body& body, float t1);
+    void recordSurface(glm::vec3 x);
+    void addFilm(Body& body, float t1);
+    void takeFilmBack(Body& body, double share, glm::dvec3& v);
     void addReaction(Body& body, glm::vec3 x, glm::vec3 dx);
     void addHeld(Body& body, glm::vec3 x, glm::vec3 dx);
     void startBodyStep();

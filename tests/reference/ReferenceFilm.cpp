@@ -1,0 +1,141 @@
+// The CPU reference's film model ("solids", docs/bodies.md "The film under a body"), as
+// shaders/pbf/pbf_bodies.comp (filmReaction, takeFilmReaction), shared/BodyContactsGlsl.h
+// (sealedShare) and shared/FilmGlsl.h (surfaceWordOf, surfaceLevel) do it, in double.
+#include "ReferencePbf.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace sluice::ref {
+
+namespace {
+
+constexpr double kSurfaceUnits = 65536.0;
+constexpr double kFilmAreaShare = 0.84f; // as the shader's float constant
+constexpr double kFilmDrain = 0.05f;     // [m/s]
+
+glm::dvec3 upOf(glm::vec3 gravity) {
+    const double g = glm::length(glm::dvec3(gravity));
+    return g > 0.0 ? -glm::dvec3(gravity) / g : glm::dvec3(0.0, 1.0, 0.0);
+}
+
+} // namespace
+
+double ReferencePbf::sealedBand() const {
+    const double h = double(m_c.h), r = double(m_c.radius);
+    return m_params.solidBoundary ? h + 2.5 * r : h;
+}
+
+double ReferencePbf::rimBand() const {
+    return sealedBand() + double(m_c.radius);
+}
+
+bool ReferencePbf::pointOverSolid(const Body& body, const glm::vec4& point, double band, float t1,
+                                  PointOverSolid& out) const {
+    out.world = body.pose.toWorld(glm::vec3(point));
+    out.gap = nearestSolidWithin(out.world, band, t1, out.solidNormal);
+    if (!(out.gap < band))
+        return false;
+    const format::SdfSampler& sampler = m_colliders[body.collider].sampler;
+    const glm::dvec3 grad(body.pose.rotation *
+                          glm::vec3(gradientInTheGpusCell(sampler, glm::vec3(point))));
+    if (!(glm::length(grad) > 0.0))
+        return false;
+    out.normal = glm::normalize(grad);
+    const double scale = body.pose.scale;
+    out.area = double(point.w) * scale * scale;
+    return true;
+}
+
+// Each compressed particle's height in the water column over each body, maxed into the body's
+// level word (FilmGlsl.h, surfaceWordOf), once a substep at the first iteration.
+void ReferencePbf::recordSurface(glm::vec3 x) {
+    const glm::dvec3 up = upOf(m_params.gravity);
+    const double h = double(m_c.h);
+    for (Body& b : m_bodies) {
+        const glm::dvec3 d = glm::dvec3(x) - glm::dvec3(b.centerOfMass);
+        const double height = glm::dot(d, up);
+        const glm::dvec3 across = d - height * up;
+        const double reach = b.boundRadius + h;
+        if (glm::dot(across, across) >= reach * reach)
+            continue;
+        const double base = 2.0 * b.boundRadius + 4.0 * h;
+        const auto word =
+            std::uint32_t(std::clamp(height + base, 0.0, 4000.0 * h) / h * kSurfaceUnits);
+        b.surface = std::max(b.surface, word);
+    }
+}
+
+// The faces over a solid within the rim band get the water's pressure at their depth under the
+// level across the solid, its moment along their own normals (weights fading out over the
+// sealed band's last spacing); the
+// water under them is topped up to it, or scaled down to it with what is taken off kept for
+// takeFilmBack.
+void ReferencePbf::addFilm(Body& body, float t1) {
+    const double g = glm::length(glm::dvec3(m_params.gravity));
+    if (body.surface == 0 || !(g > 0.0))
+        return;
+    const glm::dvec3 up = upOf(m_params.gravity);
+    const double h = double(m_c.h), r = double(m_c.radius);
+    const glm::dvec3 c(body.centerOfMass);
+    const double level = glm::dot(c, up) - (2.0 * body.boundRadius + 4.0 * h) +
+                         double(body.surface) / kSurfaceUnits * h + 2.0 * r;
+    const double band = rimBand(), sealedEdge = sealedBand();
+    glm::dvec3 sealed(0.0), turn(0.0);
+    double heads = 0.0;
+    for (const glm::vec4& point : body.contactPoints) {
+        PointOverSolid p;
+        if (!pointOverSolid(body, point, band, t1, p))
+            continue;
+        const glm::dvec3 normal = p.normal, solidNormal = p.solidNormal;
+        const double facing = glm::dot(normal, solidNormal);
+        if (!(facing < -0.5))
+            continue;
+        const glm::vec3 w = p.world;
+        const double head = p.area * std::max(0.0, level - glm::dot(glm::dvec3(w), up));
+        const double weight = std::clamp((sealedEdge - p.gap) / (2.0 * r), 0.0, 1.0);
+        heads += -facing * head;
+        sealed += weight * head * facing * solidNormal;
+        turn += glm::cross(glm::dvec3(w) - c, weight * head * normal);
+    }
+    const double sealedLength = glm::length(sealed);
+    if (!(sealedLength > 0.0) || !(heads > 0.0))
+        return;
+    const glm::dvec3 along = sealed / sealedLength;
+    const double share = std::min(1.0, sealedLength / heads);
+    const double given = glm::dot(body.underDx, along);
+    const double dt = double(m_c.dt);
+    const double expected = kFilmAreaShare * g * dt * dt / double(m_c.volume) * heads;
+    if (given < expected) {
+        const double add = (expected - given) * share;
+        body.sumDx += add * along;
+        body.sumMoment += add / sealedLength * turn;
+    } else if (given > expected) {
+        const double cut = (given - expected) / given * share;
+        body.filmDx = cut * body.underDx;
+        body.filmMoment = cut * body.underMoment;
+        body.sumDx -= body.filmDx;
+        body.sumMoment -= body.filmMoment;
+    }
+}
+
+// What addFilm took off, given back only as far as it holds the body's approach to the solid to
+// kFilmDrain (pbf_bodies.comp, takeFilmReaction); v, the body's velocity after gravity and the
+// reaction, takes it too. `share` is the substep's share of the step's mean force.
+void ReferencePbf::takeFilmBack(Body& body, double share, glm::dvec3& v) {
+    const double m = m_c.mass, dt = m_c.dt;
+    const glm::dvec3 impulse = -m * body.filmDx / dt;
+    const double len = glm::length(impulse);
+    if (!(len > 0.0) || !(body.mass > 0.0))
+        return;
+    const double approach = -glm::dot(v, impulse / len) - kFilmDrain;
+    const double part = approach > 0.0 ? std::min(1.0, approach * body.mass / len) : 0.0;
+    v += part * impulse / body.mass;
+    body.force += share * part * impulse / dt;
+    body.torque += share * part * (-m * body.filmMoment / (dt * dt));
+}
+
+} // namespace sluice::ref
