@@ -255,8 +255,8 @@ const float kFilmAreaShare = 0.84;
 
 // The film model ("solids", docs/bodies.md, "The film under a body"): the faces over a solid
 // within the sealed band get the water's pressure at their depth under the level, rho0 |g|
-// (level - y), along their own normals, their weight fading out over the band's last spacing.
-// Where the water under them gave less, it is topped up (with the moment of that pressure);
+// (level - y), across the solid, its moment along their own normals, their weight fading out
+// over the band's last spacing. Where the water under them gave less, it is topped up;
 // where it gave more, its pushes are scaled down to it, force and moment, and what is taken off
 // is given back only as far as it holds the body's approach to kFilmDrain (takeFilmReaction).
 void filmReaction(uint b, uint word, out vec3 sealedDx, out vec3 sealedMoment) {
