@@ -89,6 +89,31 @@ void takeFluidReaction(uint b, vec3 sealedDx, vec3 sealedMoment, inout BodyStart
     s.w = bodies[b].angularVelocity + worldInvInertia(b, s.q0) * angularImpulse;
 }
 
+// An impulse (and its angular impulse) that may only stop the body: the share of it that ends the
+// body's approach along it beyond `allowed` [m/s], at the centre or, `atPoint`, where it acts
+// (the point of its line of action nearest the centre, with that point's velocity and the body's
+// effective mass there). The held particles and the film model's excess go through it.
+void takeStopping(uint b, vec3 impulse, vec3 angular, float allowed, bool atPoint,
+                  inout BodyStart s) {
+    float len = length(impulse);
+    if (!(len > 0.0))
+        return;
+    vec3 n = impulse / len;
+    float approach = -dot(s.v, n) - allowed;
+    float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / len) : 0.0;
+    if (atPoint) {
+        vec3 at = cross(impulse, angular) / (len * len);
+        vec3 turn = cross(at, n);
+        float invMassAt = bodies[b].invMass + dot(turn, worldInvInertia(b, s.q0) * turn);
+        float approachAt = -dot(s.v + cross(s.w, at), n) - allowed;
+        share = approachAt > 0.0 ? min(1.0, approachAt / (invMassAt * len)) : 0.0;
+    }
+    s.v += share * impulse * bodies[b].invMass;
+    s.w += share * (worldInvInertia(b, s.q0) * angular);
+    s.force += share * impulse * P.invDt;
+    s.torque += share * angular * P.invDt;
+}
+
 // The particles a wall held against the body: their pushes' reaction only stops the body moving
 // into them (along the reaction's direction), like a contact with no bounce; none of it pushes
 // the body away (docs/bodies.md).
@@ -100,23 +125,7 @@ void takeHeldReaction(uint b, inout BodyStart s) {
     vec3 heldImpulse = -P.particleMass * P.invDt * sumOf(b, kBodySumHeldPush) / bodies[b].sumScale;
     vec3 heldAngular =
         -P.particleMass * P.invDt * sumOf(b, kBodySumHeldMoment) / bodies[b].momentScale;
-    float heldLength = length(heldImpulse);
-    if (heldLength > 0.0) {
-        vec3 n = heldImpulse / heldLength;
-        float approach = -dot(s.v, n);
-        float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / heldLength) : 0.0;
-        if (P.solidBoundary != 0u) {
-            vec3 at = cross(heldImpulse, heldAngular) / (heldLength * heldLength);
-            vec3 turn = cross(at, n);
-            float invMassAt = bodies[b].invMass + dot(turn, worldInvInertia(b, s.q0) * turn);
-            float approachAt = -dot(s.v + cross(s.w, at), n);
-            share = approachAt > 0.0 ? min(1.0, approachAt / (invMassAt * heldLength)) : 0.0;
-        }
-        s.v += share * heldImpulse * bodies[b].invMass;
-        s.w += share * (worldInvInertia(b, s.q0) * heldAngular);
-        s.force += share * heldImpulse * P.invDt;
-        s.torque += share * heldAngular * P.invDt;
-    }
+    takeStopping(b, heldImpulse, heldAngular, 0.0, P.solidBoundary != 0u, s);
 }
 
 // The film model's excess (docs/bodies.md, "The film under a body"): what sealedReaction took
@@ -128,17 +137,8 @@ vec3 gFilmDx = vec3(0.0);
 vec3 gFilmMoment = vec3(0.0);
 
 void takeFilmReaction(uint b, inout BodyStart s) {
-    vec3 impulse = -P.particleMass * P.invDt * gFilmDx;
-    vec3 angular = -P.particleMass * P.invDt * gFilmMoment;
-    float len = length(impulse);
-    if (!(len > 0.0))
-        return;
-    float approach = -dot(s.v, impulse / len) - kFilmDrain;
-    float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / len) : 0.0;
-    s.v += share * impulse * bodies[b].invMass;
-    s.w += share * (worldInvInertia(b, s.q0) * angular);
-    s.force += share * impulse * P.invDt;
-    s.torque += share * angular * P.invDt;
+    takeStopping(b, -P.particleMass * P.invDt * gFilmDx, -P.particleMass * P.invDt * gFilmMoment,
+                 kFilmDrain, false, s);
 }
 
 // The viewer's mouse spring, when it holds this body.

@@ -324,8 +324,6 @@ SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, float le
                 sums.sideArea += -facing * head;
                 sums.sealed += w * head * facing * solidNormal;
                 sums.turn += cross(arm, w * head * normal);
-                if (w > 0.0)
-                    sums.lowest = min(sums.lowest, max(gap, 0.0));
             }
         } else if (facing < -0.5 && gap < sealedBand()) {
             vec3 push = area * facing * solidNormal;

@@ -15,7 +15,6 @@ namespace {
 
 constexpr double kSurfaceUnits = 65536.0;
 constexpr double kFilmAreaShare = 0.84f; // as the shader's float constant
-constexpr double kFilmDrain = 0.05f;     // [m/s]
 
 glm::dvec3 upOf(glm::vec3 gravity) {
     const double g = glm::length(glm::dvec3(gravity));
@@ -62,18 +61,16 @@ void ReferencePbf::recordSurface(glm::vec3 x) {
         const double reach = b.boundRadius + h;
         if (glm::dot(across, across) >= reach * reach)
             continue;
-        const double base = 2.0 * b.boundRadius + 4.0 * h;
         const auto word =
-            std::uint32_t(std::clamp(height + base, 0.0, 4000.0 * h) / h * kSurfaceUnits);
+            std::uint32_t(std::clamp(height + surfaceBase(b), 0.0, 4000.0 * h) / h * kSurfaceUnits);
         b.surface = std::max(b.surface, word);
     }
 }
 
 // The faces over a solid within the rim band get the water's pressure at their depth under the
 // level across the solid, its moment along their own normals (weights fading out over the
-// sealed band's last spacing); the
-// water under them is topped up to it, or scaled down to it with what is taken off kept for
-// takeFilmBack.
+// sealed band's last spacing); the water under them is topped up to it, or scaled down to it
+// with what is taken off kept for finishBodySubstep's takeStopping.
 void ReferencePbf::addFilm(Body& body, float t1) {
     const double g = glm::length(glm::dvec3(m_params.gravity));
     if (body.surface == 0 || !(g > 0.0))
@@ -81,8 +78,8 @@ void ReferencePbf::addFilm(Body& body, float t1) {
     const glm::dvec3 up = upOf(m_params.gravity);
     const double h = double(m_c.h), r = double(m_c.radius);
     const glm::dvec3 c(body.centerOfMass);
-    const double level = glm::dot(c, up) - (2.0 * body.boundRadius + 4.0 * h) +
-                         double(body.surface) / kSurfaceUnits * h + 2.0 * r;
+    const double level =
+        glm::dot(c, up) - surfaceBase(body) + double(body.surface) / kSurfaceUnits * h + 2.0 * r;
     const double band = rimBand(), sealedEdge = sealedBand();
     glm::dvec3 sealed(0.0), turn(0.0);
     double heads = 0.0;
@@ -122,20 +119,25 @@ void ReferencePbf::addFilm(Body& body, float t1) {
     }
 }
 
-// What addFilm took off, given back only as far as it holds the body's approach to the solid to
-// kFilmDrain (pbf_bodies.comp, takeFilmReaction); v, the body's velocity after gravity and the
-// reaction, takes it too. `share` is the substep's share of the step's mean force.
-void ReferencePbf::takeFilmBack(Body& body, double share, glm::dvec3& v) {
-    const double m = m_c.mass, dt = m_c.dt;
-    const glm::dvec3 impulse = -m * body.filmDx / dt;
+// The level word's offset under the body's centre (FilmGlsl.h, surfaceBase) [m].
+double ReferencePbf::surfaceBase(const Body& body) const {
+    return 2.0 * body.boundRadius + 4.0 * double(m_c.h);
+}
+
+// An impulse (and angular impulse) that may only stop the body (pbf_bodies.comp, takeStopping,
+// at the centre: the reference's bodies do not turn): the share of it that ends the approach of
+// v along it beyond `allowed` [m/s]; v takes it, and the force and torque `share` of it.
+void ReferencePbf::takeStopping(Body& body, glm::dvec3 impulse, glm::dvec3 angular, double allowed,
+                                double share, glm::dvec3& v) {
     const double len = glm::length(impulse);
     if (!(len > 0.0) || !(body.mass > 0.0))
         return;
-    const double approach = -glm::dot(v, impulse / len) - kFilmDrain;
+    const double dt = m_c.dt;
+    const double approach = -glm::dot(v, impulse / len) - allowed;
     const double part = approach > 0.0 ? std::min(1.0, approach * body.mass / len) : 0.0;
     v += part * impulse / body.mass;
     body.force += share * part * impulse / dt;
-    body.torque += share * part * (-m * body.filmMoment / (dt * dt));
+    body.torque += share * part * angular / dt;
 }
 
 } // namespace sluice::ref

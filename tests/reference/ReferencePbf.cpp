@@ -208,16 +208,10 @@ void ReferencePbf::finishBodySubstep(double share) {
         glm::dvec3 v = b.mass > 0.0 ? b.velocity + dt * glm::dvec3(m_params.gravity) -
                                           m * b.sumDx / dt / b.mass
                                     : glm::dvec3(0.0);
-        takeFilmBack(b, share, v);
+        takeStopping(b, -m * b.filmDx / dt, -m * b.filmMoment / dt, kFilmDrain, share, v);
         const glm::dvec3 heldImpulse = -m * b.heldDx / dt;
-        const double held = glm::length(heldImpulse);
         b.heldForce += share * heldImpulse / dt;
-        if (held > 0.0 && b.mass > 0.0) {
-            const double approach = -glm::dot(v, heldImpulse / held);
-            const double part = approach > 0.0 ? std::min(1.0, approach * b.mass / held) : 0.0;
-            b.force += share * part * heldImpulse / dt;
-            b.torque += share * part * (-m * b.heldMoment / (dt * dt));
-        }
+        takeStopping(b, heldImpulse, -m * b.heldMoment / dt, 0.0, share, v);
         b.sumDx = glm::dvec3(0.0);
         b.sumMoment = glm::dvec3(0.0);
         b.heldDx = glm::dvec3(0.0);

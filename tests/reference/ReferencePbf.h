@@ -167,7 +167,7 @@ private:
         glm::dvec3 underDx{0.0};     // its pushes across a solid within h + r of it [m]
         glm::dvec3 underMoment{0.0}; // "solids": their moments (x - c) x dx [m^2]
         double boundRadius = 0.0;    // as the GPU's: contact points' reach + a voxel [m]
-        std::uint32_t surface = 0;   // "solids": the film model's level word (PbfGlsl.h)
+        std::uint32_t surface = 0;   // "solids": the film model's level word (FilmGlsl.h)
         glm::dvec3 filmDx{0.0};      // "solids": what the film model took off the water under
         glm::dvec3 filmMoment{0.0};  // it, given back as far as it holds the approach
         glm::dvec3 sealedForce{0.0}; // of the sealed contacts, in force [N]
@@ -208,7 +208,11 @@ private:
     void addSealedContacts(Body& body, float t1);
     void recordSurface(glm::vec3 x);
     void addFilm(Body& body, float t1);
-    void takeFilmBack(Body& body, double share, glm::dvec3& v);
+    double surfaceBase(const Body& body) const;
+    void takeStopping(Body& body, glm::dvec3 impulse, glm::dvec3 angular, double allowed,
+                      double share, glm::dvec3& v);
+    /// The film model's drain (pbf_bodies.comp, kFilmDrain) [m/s].
+    static constexpr double kFilmDrain = 0.05f;
     void addReaction(Body& body, glm::vec3 x, glm::vec3 dx);
     void addHeld(Body& body, glm::vec3 x, glm::vec3 dx);
     void startBodyStep();
