@@ -381,7 +381,7 @@ void sweepContacts(uint b, uint lane, uint sweep) {
         applySums(first, x, q, work);
         sPosition = x;
         sOrientation = q;
-        sReach = packReach(reachOf(b, posedPosition(b))); // from the sweep's starting pose
+        sReach = packReach(reachOf(b, posedPosition(b), 0.0)); // from the sweep's starting pose
     }
     memoryBarrierShared();
     barrier();
@@ -409,8 +409,12 @@ void main() {
         // their barriers together when no water pushed along a solid.
         float rim = float(sumAt(b, kBodySumRim, 0u)) / bodies[b].sumScale;
         vec3 sealedDx = vec3(0.0), sealedMoment = vec3(0.0);
+        // With "solids" the film model works where the body has water over it and its sphere,
+        // grown by the rim band, reaches a wall or a static collider: elsewhere no contact point
+        // lies within the band of a solid (sealedShare would find none).
         bool sealedWork = P.solidBoundary != 0u
-                              ? bodySums[b * kBodySumWords + kBodySumSurface] != 0u
+                              ? bodySums[b * kBodySumWords + kBodySumSurface] != 0u &&
+                                    reachesAnything(reachOf(b, bodies[b].position, rimBand()))
                               : rim > 0.0;
         if (sealedWork)
             sealedReaction(b, lane, rim, sealedDx, sealedMoment);

@@ -101,9 +101,12 @@ void addReaction(uint b, vec3 x, vec3 dx) {
 // once a substep.
 void recordSurface(vec3 x) {
     for (uint b = 0u; b < P.bodyCount; ++b) {
+        // Most particles of a column are under its highest: the plain read (possibly stale, so
+        // never above the word) skips their atomics; the maximum is the same in any order.
         uint word = surfaceWordOf(b, x);
-        if (word != 0u)
-            atomicMax(bodySums[b * kBodySumWords + kBodySumSurface], word);
+        uint at = b * kBodySumWords + kBodySumSurface;
+        if (word > bodySums[at])
+            atomicMax(bodySums[at], word);
     }
 }
 

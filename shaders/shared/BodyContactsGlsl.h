@@ -196,17 +196,18 @@ ContactSums pairShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, vec3 x, v
     return sums;
 }
 
-// What body b's bounding sphere, centred at `xStart`, may touch in this sweep: the domain's
-// walls below and above on each axis, and the static colliders (bit c; beyond 32 always).
+// What body b's bounding sphere, centred at `xStart` and grown by `grow` [m], may touch: the
+// domain's walls below and above on each axis, and the static colliders (bit c; beyond 32
+// always).
 struct Reach {
     bvec3 wallLo;
     bvec3 wallHi;
     uint staticMask;
 };
 
-Reach reachOf(uint b, vec3 xStart) {
+Reach reachOf(uint b, vec3 xStart, float grow) {
     Reach r;
-    float reach = bodies[b].boundRadius;
+    float reach = bodies[b].boundRadius + grow;
     r.wallLo = bvec3(false);
     r.wallHi = bvec3(false);
     if (P.hasDomain != 0u) {

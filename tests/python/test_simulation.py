@@ -98,15 +98,16 @@ def test_live_parameters_change_the_run(scene: Path) -> None:
     params = sim.parameters
     assert params["gravity"] == [0.0, 0.0, 0.0] and params["maxIterations"] == 3
     assert params["xsph"] == pytest.approx(0.02)
-    assert params["boundary"] == "bodies"
+    assert params["boundary"] == "solids", "the default boundary model"
     offset = params["derived"]["bodySurfaceOffset"]
-    sim.set_parameters(boundary="solids")
-    assert sim.parameters["boundary"] == "solids"
-    # The bodies' surface offset is calibrated per model (docs/bodies.md): 0.15 and 0.05 spacings.
-    assert sim.parameters["derived"]["bodySurfaceOffset"] == pytest.approx(offset / 3, rel=1e-5)
+    sim.set_parameters(boundary="bodies")
+    assert sim.parameters["boundary"] == "bodies"
+    # The bodies' surface offset is calibrated per model (docs/bodies.md): 0.05 spacings with
+    # "solids", 0.15 with "bodies".
+    assert sim.parameters["derived"]["bodySurfaceOffset"] == pytest.approx(offset * 3, rel=1e-5)
     with pytest.raises(sluice.InvalidArgument, match="unknown boundary model"):
         sim.set_parameters(boundary="walls")
-    sim.set_parameters(boundary="bodies")
+    sim.set_parameters(boundary="solids")
     falling = sluice.Simulation(scene)
     sim.step(3)
     falling.step(3)
@@ -173,8 +174,8 @@ def test_the_solids_boundary_share_is_probed_where_walls_and_colliders_meet(scen
     # With "solids" the domain's walls and the ball (2.5 cm radius) add boundary volume: a
     # particle radius from the floor it is the flat share, in the domain's corner three walls'
     # (the walls' product, docs/pbf.md), on the ball's top some (past its grid box, padded by 3
-    # voxels, its volume map does not reach: the flat closed form), far from everything none;
-    # with "bodies", none.
+    # voxels, its volume map does not reach: the flat closed form), far from everything none.
+    # "solids" is the default; with "bodies", none.
     r = 0.01
     points = [[0.0, -0.2 + r, 0.0], [-0.2 + r, -0.2 + r, -0.2 + r], [0.0, 0.025 + r, 0.0],
               [0.0, 0.3, 0.0]]
@@ -189,5 +190,9 @@ def test_the_solids_boundary_share_is_probed_where_walls_and_colliders_meet(scen
     assert 0.1 < ball < 0.3
     assert far == 0.0 and not slope[3].any()
     assert slope[0, 1] < 0.0  # the floor's share falls going up
-    bodies = sluice.Simulation(scene_dict("ball.slc"), base_dir=scene.parent)
+    default = sluice.Simulation(scene_dict("ball.slc"), base_dir=scene.parent)
+    assert np.array_equal(default.solid_boundary_at(points)[0], share), "the default is solids"
+    walls_without = scene_dict("ball.slc")
+    walls_without["simulation"]["boundary"] = "bodies"
+    bodies = sluice.Simulation(walls_without, base_dir=scene.parent)
     assert not bodies.solid_boundary_at(points)[0].any()

@@ -124,18 +124,30 @@ double ReferencePbf::surfaceBase(const Body& body) const {
     return 2.0 * body.boundRadius + 4.0 * double(m_c.h);
 }
 
-// An impulse (and angular impulse) that may only stop the body (pbf_bodies.comp, takeStopping,
-// at the centre: the reference's bodies do not turn): the share of it that ends the approach of
-// v along it beyond `allowed` [m/s]; v takes it, and the force and torque `share` of it.
+// An impulse (and angular impulse) that may only stop the body (pbf_bodies.comp, takeStopping):
+// the share of it that ends the approach along it beyond `allowed` [m/s], at the centre or,
+// `atPoint`, at the point of its line of action nearest the centre, with that point's velocity
+// and the body's effective mass there; the motion takes it, the force and torque `share` of it.
 void ReferencePbf::takeStopping(Body& body, glm::dvec3 impulse, glm::dvec3 angular, double allowed,
-                                double share, glm::dvec3& v) {
+                                bool atPoint, double share, BodyMotion& motion) {
     const double len = glm::length(impulse);
     if (!(len > 0.0) || !(body.mass > 0.0))
         return;
     const double dt = m_c.dt;
-    const double approach = -glm::dot(v, impulse / len) - allowed;
-    const double part = approach > 0.0 ? std::min(1.0, approach * body.mass / len) : 0.0;
-    v += part * impulse / body.mass;
+    const glm::dvec3 n = impulse / len;
+    double part = 0.0;
+    if (atPoint) {
+        const glm::dvec3 at = glm::cross(impulse, angular) / (len * len);
+        const glm::dvec3 turn = glm::cross(at, n);
+        const double invMassAt = 1.0 / body.mass + glm::dot(turn, body.invInertia * turn);
+        const double approach = -glm::dot(motion.v + glm::cross(motion.w, at), n) - allowed;
+        part = approach > 0.0 ? std::min(1.0, approach / (invMassAt * len)) : 0.0;
+    } else {
+        const double approach = -glm::dot(motion.v, n) - allowed;
+        part = approach > 0.0 ? std::min(1.0, approach * body.mass / len) : 0.0;
+    }
+    motion.v += part * impulse / body.mass;
+    motion.w += part * (body.invInertia * angular);
     body.force += share * part * impulse / dt;
     body.torque += share * part * angular / dt;
 }

@@ -47,6 +47,8 @@ ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceColl
             body.centerOfMass = c.centerOfMass;
             body.mass = c.mass;
             body.velocity = glm::dvec3(c.linearVelocity);
+            body.angularVelocity = glm::dvec3(c.angularVelocity);
+            body.invInertia = glm::dmat3(c.invInertia);
             body.contactPoints = c.contactPoints;
             // As rt::setUpBodies: the contact points' reach from the centre, and a voxel.
             const glm::dvec3 centreLocal(body.pose.toLocal(body.centerOfMass));
@@ -202,16 +204,19 @@ void ReferencePbf::finishBodySubstep(double share) {
         b.torque += share * (-m * b.sumMoment / (dt * dt));
         // The film model's excess ("solids"), then the held particles' reaction: only the part
         // that stops the body moving into them, from its velocity after gravity and the rest of
-        // the reaction (pbf_bodies.comp). The reference's bodies do not turn: with "solids" the
-        // GPU takes the held contact at its point of action, with the body's spin and inertia,
-        // which the parity scenes (no held particles with "solids") do not reach.
-        glm::dvec3 v = b.mass > 0.0 ? b.velocity + dt * glm::dvec3(m_params.gravity) -
-                                          m * b.sumDx / dt / b.mass
-                                    : glm::dvec3(0.0);
-        takeStopping(b, -m * b.filmDx / dt, -m * b.filmMoment / dt, kFilmDrain, share, v);
+        // the reaction (pbf_bodies.comp); with "solids" the held contact where it acts. The
+        // reference's bodies do not turn: the spin only decides these shares.
+        BodyMotion motion;
+        if (b.mass > 0.0) {
+            motion.v = b.velocity + dt * glm::dvec3(m_params.gravity) - m * b.sumDx / dt / b.mass;
+            motion.w = b.angularVelocity + b.invInertia * (-m * b.sumMoment / dt);
+        }
+        takeStopping(b, -m * b.filmDx / dt, -m * b.filmMoment / dt, kFilmDrain, false, share,
+                     motion);
         const glm::dvec3 heldImpulse = -m * b.heldDx / dt;
         b.heldForce += share * heldImpulse / dt;
-        takeStopping(b, heldImpulse, -m * b.heldMoment / dt, 0.0, share, v);
+        takeStopping(b, heldImpulse, -m * b.heldMoment / dt, 0.0, m_params.solidBoundary, share,
+                     motion);
         b.sumDx = glm::dvec3(0.0);
         b.sumMoment = glm::dvec3(0.0);
         b.heldDx = glm::dvec3(0.0);

@@ -41,6 +41,12 @@ struct ReferenceCollider {
     /// wall"); a mass of 0 takes none of it.
     double mass = 0.0;
     glm::vec3 linearVelocity{0.0f};
+    /// Bodies only: its angular velocity at the substep start [rad/s] and inverse inertia about
+    /// the centre of mass, both in the world at `bodyPose` [1/(kg m^2)]. With "solids" the held
+    /// particles' contact is taken where it acts, with the body's spin and effective mass there
+    /// (pbf_bodies.comp, takeHeldReaction); a zero inverse inertia takes it at the centre.
+    glm::vec3 angularVelocity{0.0f};
+    glm::mat3 invInertia{0.0f};
     /// Bodies only: its contact points in the asset frame [asset units], `w` the area each
     /// stands for [asset units^2] (what rt::surfacePoints gives the GPU). The points sealed
     /// against a wall or a static collider take the water's pressure there (docs/bodies.md,
@@ -157,6 +163,8 @@ private:
         glm::vec3 centerOfMass{0.0f};
         double mass = 0.0;
         glm::dvec3 velocity{0.0};             // at the substep start [m/s]
+        glm::dvec3 angularVelocity{0.0};      // at the substep start, world [rad/s]
+        glm::dmat3 invInertia{0.0};           // world, at `pose` [1/(kg m^2)]
         glm::dvec3 sumDx{0.0};                // sum dx of the current substep [m]
         glm::dvec3 sumMoment{0.0};            // sum (x - c) x dx of the current substep [m^2]
         glm::dvec3 heldDx{0.0};               // the collision pushes a domain wall undid [m]
@@ -209,8 +217,13 @@ private:
     void recordSurface(glm::vec3 x);
     void addFilm(Body& body, float t1);
     double surfaceBase(const Body& body) const;
+    /// A body's velocity within a substep, as pbf_bodies.comp's BodyStart holds it.
+    struct BodyMotion {
+        glm::dvec3 v{0.0};
+        glm::dvec3 w{0.0};
+    };
     void takeStopping(Body& body, glm::dvec3 impulse, glm::dvec3 angular, double allowed,
-                      double share, glm::dvec3& v);
+                      bool atPoint, double share, BodyMotion& motion);
     /// The film model's drain (pbf_bodies.comp, kFilmDrain) [m/s].
     static constexpr double kFilmDrain = 0.05f;
     void addReaction(Body& body, glm::vec3 x, glm::vec3 dx);

@@ -176,7 +176,7 @@ TEST(SceneReader, KeepsEveryExplicitSimulationValue) {
 }
 
 TEST(SceneReader, ReadsTheBoundaryModelAndRefusesAnUnknownOne) {
-    EXPECT_FALSE(parseOk(kMinimal).simulation.solidBoundary) << "the default is \"bodies\"";
+    EXPECT_TRUE(parseOk(kMinimal).simulation.solidBoundary) << "the default is \"solids\"";
     EXPECT_TRUE(parseOk(withSimulation(R"("boundary": "solids")")).simulation.solidBoundary);
     EXPECT_FALSE(parseOk(withSimulation(R"("boundary": "bodies")")).simulation.solidBoundary);
     expectError(withSimulation(R"("boundary": "walls")"), ErrorCode::InvalidArgument,

@@ -139,7 +139,8 @@ TEST(RunOutputsText, VolumeMapsThatWouldTakeLongOnASoftwareRendererAreWarnedAbou
     collider.asset = "tank.slc";
     scene.colliders.push_back(collider);
     const std::vector<format::ColliderAsset> assets{*tank};
-    // The default "bodies" builds none.
+    // "bodies" builds none; the default "solids" one per static collider.
+    scene.simulation.solidBoundary = false;
     EXPECT_EQ(volumeMapWork(scene, assets).points, 0u);
     scene.simulation.solidBoundary = true;
     const VolumeMapWork work = volumeMapWork(scene, assets);

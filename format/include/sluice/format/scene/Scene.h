@@ -43,65 +43,66 @@ struct SimulationParams {
     float vorticity = 0.0f;            ///< vorticity confinement epsilon [m/s]; default
                                        ///< 0.01 * sqrt(9.81 * h)
     glm::vec3 gravity{0.0f, -9.81f, 0.0f}; ///< [m/s^2]
-    bool solidBoundary = false;        ///< true ("boundary": "solids"): the domain's walls and
-                                       ///< static colliders add boundary volume to the density,
-                                       ///< as bodies do; false ("bodies", the default): only
-                                       ///< dynamic bodies do (docs/pbf.md, "Boundary volume")
-    std::uint32_t capacity = 0;        ///< most particles; default: blocks + everything emitters
-                                       ///< emit between start and stop (stop defaults start + 10 s)
+    bool solidBoundary = true;             ///< true ("boundary": "solids", the default): the
+                                           ///< domain's walls and static colliders add boundary
+                                           ///< volume to the density, as bodies do; false
+                                           ///< ("bodies"): only dynamic bodies do (docs/pbf.md,
+                                           ///< "Boundary volume")
+    std::uint32_t capacity = 0; ///< most particles; default: blocks + everything emitters
+                                ///< emit between start and stop (stop defaults start + 10 s)
 };
 
 /// A region filled with particles at the rest spacing when the scene starts.
 struct FluidBlock {
     enum class Shape { Box, Sphere };
     Shape shape = Shape::Box;
-    glm::vec3 min{0.0f};    ///< box corner [m]
-    glm::vec3 max{0.0f};    ///< box corner [m], > min on every axis
-    glm::vec3 center{0.0f}; ///< sphere centre [m]
-    float radius = 0.0f;    ///< sphere radius [m]
+    glm::vec3 min{0.0f};      ///< box corner [m]
+    glm::vec3 max{0.0f};      ///< box corner [m], > min on every axis
+    glm::vec3 center{0.0f};   ///< sphere centre [m]
+    float radius = 0.0f;      ///< sphere radius [m]
     glm::vec3 velocity{0.0f}; ///< initial velocity [m/s]
 };
 
 /// A nozzle: a disc of particles at the rest spacing leaves it every spacing / speed seconds.
 struct Emitter {
-    glm::vec3 position{0.0f};           ///< disc centre [m]
+    glm::vec3 position{0.0f};               ///< disc centre [m]
     glm::vec3 direction{0.0f, -1.0f, 0.0f}; ///< unit after reading
-    float radius = 0.0f;                ///< disc radius [m], >= spacing / 2
-    float speed = 0.0f;                 ///< exit speed [m/s], > 0
-    float rate = 0.0f;                  ///< optional cap [particles/s]; 0 = no cap
-    float start = 0.0f;                 ///< [s]
-    float stop = 0.0f;                  ///< [s]; default start + 10 s; > start
+    float radius = 0.0f;                    ///< disc radius [m], >= spacing / 2
+    float speed = 0.0f;                     ///< exit speed [m/s], > 0
+    float rate = 0.0f;                      ///< optional cap [particles/s]; 0 = no cap
+    float start = 0.0f;                     ///< [s]
+    float stop = 0.0f;                      ///< [s]; default start + 10 s; > start
 };
 
 /// One keyframe of a kinematic collider; between keys translation is linear and rotation slerped.
 struct ColliderKey {
-    float time = 0.0f;                  ///< [s], strictly increasing across keys
-    glm::vec3 translation{0.0f};        ///< [m]
-    glm::vec3 rotationDegrees{0.0f};    ///< Euler angles X, Y, Z [degrees], applied Z * Y * X
+    float time = 0.0f;               ///< [s], strictly increasing across keys
+    glm::vec3 translation{0.0f};     ///< [m]
+    glm::vec3 rotationDegrees{0.0f}; ///< Euler angles X, Y, Z [degrees], applied Z * Y * X
 };
 
 /// What makes a collider dynamic: the fluid and the other bodies push it, gravity pulls it
 /// (docs/bodies.md). Exactly one of density and mass is set after reading.
 struct DynamicBody {
-    std::optional<float> density;       ///< [kg/m^3], > 0; mass = density * volume
-    std::optional<float> mass;          ///< [kg], > 0; the density follows from the volume
-    glm::vec3 linearVelocity{0.0f};     ///< initial velocity of the centre of mass [m/s]
+    std::optional<float> density;           ///< [kg/m^3], > 0; mass = density * volume
+    std::optional<float> mass;              ///< [kg], > 0; the density follows from the volume
+    glm::vec3 linearVelocity{0.0f};         ///< initial velocity of the centre of mass [m/s]
     glm::vec3 angularVelocityDegrees{0.0f}; ///< initial angular velocity [degrees/s]
-    float friction = 0.5f;              ///< Coulomb coefficient of body contacts, [0, 2]
-    float restitution = 0.0f;           ///< share of the normal speed kept on impact, [0, 1]
+    float friction = 0.5f;                  ///< Coulomb coefficient of body contacts, [0, 2]
+    float restitution = 0.0f;               ///< share of the normal speed kept on impact, [0, 1]
 };
 
 /// A baked collider placed in the scene.
 struct SceneCollider {
-    std::string asset;                  ///< path as written in the file (relative to the scene)
-    std::string resolvedPath;           ///< absolute or cwd-relative path readScene resolved
-    glm::vec3 translation{0.0f};        ///< [m]
-    glm::vec3 rotationDegrees{0.0f};    ///< Euler X, Y, Z [degrees], applied Z * Y * X
-    float scale = 1.0f;                 ///< uniform scale, > 0 (SDFs only survive uniform scale)
-    float friction = 0.0f;              ///< fraction of tangential slip removed per contact [0, 1]
-    glm::vec3 linearVelocity{0.0f};     ///< kinematic motion [m/s]
+    std::string asset;               ///< path as written in the file (relative to the scene)
+    std::string resolvedPath;        ///< absolute or cwd-relative path readScene resolved
+    glm::vec3 translation{0.0f};     ///< [m]
+    glm::vec3 rotationDegrees{0.0f}; ///< Euler X, Y, Z [degrees], applied Z * Y * X
+    float scale = 1.0f;              ///< uniform scale, > 0 (SDFs only survive uniform scale)
+    float friction = 0.0f;           ///< fraction of tangential slip removed per contact [0, 1]
+    glm::vec3 linearVelocity{0.0f};  ///< kinematic motion [m/s]
     glm::vec3 angularVelocityDegrees{0.0f}; ///< about the collider origin [degrees/s]
-    std::vector<ColliderKey> keys;      ///< keyframes; when present they replace the velocities
+    std::vector<ColliderKey> keys;          ///< keyframes; when present they replace the velocities
     /// Set for a dynamic body; then the collider has no "motion" (velocities and keys are 0).
     std::optional<DynamicBody> dynamic;
 };
@@ -116,8 +117,8 @@ struct Camera {
 
 /// A whole scene file.
 struct Scene {
-    std::string path;          ///< the file it was read from
-    std::string name;          ///< "name", default the file stem
+    std::string path; ///< the file it was read from
+    std::string name; ///< "name", default the file stem
     SimulationParams simulation;
     std::vector<FluidBlock> blocks;
     std::vector<Emitter> emitters;
