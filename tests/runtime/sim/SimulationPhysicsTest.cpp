@@ -104,8 +104,9 @@ TEST_F(SimulationPhysics, HydrostaticColumnWithFixedIterationsComesToRest) {
 }
 
 TEST_F(SimulationPhysics, HydrostaticColumnWithTheShippedEarlyStopStaysBelowOnePercent) {
-    // The shipped setting: stop iterating once the mean compression is under 0.5 % (at most 8
-    // iterations). At rest the mean sits just under the target and the iteration count changes
+    // The shipped early stop, with "bodies" (the default boundary model until 2026-12-07): stop
+    // iterating once the mean compression is under 0.5 % (at most 8 iterations), after any
+    // count. At rest the mean sits just under the target and the iteration count changes
     // between substeps, which keeps the column stirring: measured on llvmpipe (5 runs), rms
     // 0.056-0.069 m/s at 0.5 s and 0.0089-0.0094 m/s over 4-5 s, ten times the
     // fixed-iteration column but still a sixth of the slosh.
@@ -113,11 +114,11 @@ TEST_F(SimulationPhysics, HydrostaticColumnWithTheShippedEarlyStopStaysBelowOneP
 }
 
 TEST_F(SimulationPhysics, HydrostaticColumnWithSolidWallsAndTheShippedEarlyStopComesToRest) {
-    // The same with the walls' boundary volume ("solids"). There the mean compression meets the
-    // target after two or three iterations, and a column stopped after an odd number keeps
-    // stirring (docs/pbf.md, "The early stop's parity": 0.043 and 0.058 m/s in two runs when
-    // the stop took any count), so with "solids" it stops after an even count only. Measured on
-    // llvmpipe: 0.040 m/s at 0.5 s, 0.0144 m/s over 4-5 s.
+    // The same with the walls' boundary volume ("solids", the default). There the mean
+    // compression meets the target after two or three iterations, and a column stopped after an
+    // odd number keeps stirring (docs/pbf.md, "The early stop's parity": 0.043 and 0.058 m/s in
+    // two runs when the stop took any count), so with "solids" it stops after an even count
+    // only. Measured on llvmpipe: 0.040 m/s at 0.5 s, 0.0144 m/s over 4-5 s.
     const ColumnAtRest column = settleColumn(0.005f, 8, true);
     EXPECT_EQ(column.oddCounts, 0) << "steps that ended after an odd number of iterations";
     expectSettled(column, 0.5, 0.1);
