@@ -99,14 +99,16 @@ void takeStopping(uint b, vec3 impulse, vec3 angular, float allowed, bool atPoin
     if (!(len > 0.0))
         return;
     vec3 n = impulse / len;
-    float approach = -dot(s.v, n) - allowed;
-    float share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / len) : 0.0;
+    float share;
     if (atPoint) {
         vec3 at = cross(impulse, angular) / (len * len);
         vec3 turn = cross(at, n);
         float invMassAt = bodies[b].invMass + dot(turn, worldInvInertia(b, s.q0) * turn);
-        float approachAt = -dot(s.v + cross(s.w, at), n) - allowed;
-        share = approachAt > 0.0 ? min(1.0, approachAt / (invMassAt * len)) : 0.0;
+        float approach = -dot(s.v + cross(s.w, at), n) - allowed;
+        share = approach > 0.0 ? min(1.0, approach / (invMassAt * len)) : 0.0;
+    } else {
+        float approach = -dot(s.v, n) - allowed;
+        share = approach > 0.0 ? min(1.0, approach * bodies[b].mass / len) : 0.0;
     }
     s.v += share * impulse * bodies[b].invMass;
     s.w += share * (worldInvInertia(b, s.q0) * angular);
