@@ -136,34 +136,75 @@ format::Scene martinMoyceScene(float a, float spacing, std::uint32_t depthPartic
     return scene;
 }
 
-TEST_F(SimulationPhysics, DamBreakFrontFollowsMartinAndMoyceWithinFifteenPercent) {
+// One point of a dam-break front: T = t sqrt(2 g / a) and Z = front x / a.
+struct FrontPoint {
+    double t = 0.0;
+    double z = 0.0;
+};
+
+// The Martin & Moyce column (a = 0.2 m, spacing 1 cm) in a tank `depth` particles deep, played
+// while T < 3: the front after every step, as the largest x of the particles on the floor
+// layer (below a / 4), which is where the experiment measured it along the tank floor.
+std::vector<FrontPoint> damBreakFront(std::uint32_t depth) {
     const float a = 0.2f; // [m]
-    const float g = 9.81f;
-    format::Scene scene = martinMoyceScene(a, 0.01f, 4);
+    const format::Scene scene = martinMoyceScene(a, 0.01f, depth);
     auto sim = Simulation::create(scene, {});
-    ASSERT_TRUE(sim) << sim.error().message();
-    const double timeScale = std::sqrt(2.0 * g / a); // T = t * timeScale
-    int checked = 0;
+    EXPECT_TRUE(sim) << sim.error().message();
+    std::vector<FrontPoint> front;
+    if (!sim)
+        return front;
+    const double timeScale = std::sqrt(2.0 * 9.81 / a);
     while (sim->time() * timeScale < 3.0) {
         sim->step();
-        const double t = sim->time() * timeScale;
-        // The front: the largest x of the particles on the floor layer (below a/4), as the
-        // experiment measured it along the tank floor.
-        double front = 0.0;
+        FrontPoint point{sim->time() * timeScale, 0.0};
         for (const ParticleState& p : sim->downloadParticles())
             if (p.position.y < 0.25 * a)
-                front = std::max(front, double(p.position.x));
-        front /= a;
-        const double expected = testdata::martinMoyceFront(t);
-        std::printf("T %.3f  Z %.3f  Martin & Moyce %.3f\n", t, front, expected);
-        if (t >= 0.5) {
-            EXPECT_NEAR(front, expected, 0.15 * expected) << "at T = " << t;
+                point.z = std::max(point.z, double(p.position.x) / a);
+        front.push_back(point);
+    }
+    EXPECT_EQ(sim->readStats().nonFinite, 0u);
+    return front;
+}
+
+TEST_F(SimulationPhysics, DamBreakFrontFollowsMartinAndMoyceWithinFifteenPercent) {
+    // Every point from T = 0.5 within 15 % of the experiment, and the mean deviation at most
+    // 9 %: measured 8.0 % (all ahead, at most 14.4 % at T = 0.99) with "solids" on llvmpipe,
+    // where SPlisHSPlasH's PBF in 2D runs 4.9 % (volume maps) and 10.5 % (boundary particles)
+    // from it (tests/bench/pbf/martin_moyce.py; docs/pbf.md, "The Martin & Moyce front").
+    double sumDeviation = 0.0;
+    int checked = 0;
+    for (const FrontPoint& p : damBreakFront(4)) {
+        const double expected = testdata::martinMoyceFront(p.t);
+        std::printf("T %.3f  Z %.3f  Martin & Moyce %.3f\n", p.t, p.z, expected);
+        if (p.t >= 0.5) {
+            EXPECT_NEAR(p.z, expected, 0.15 * expected) << "at T = " << p.t;
+            sumDeviation += std::abs(p.z - expected) / expected;
             ++checked;
         }
     }
-    EXPECT_GE(checked, 8);
-    const StepStats stats = sim->readStats();
-    EXPECT_EQ(stats.nonFinite, 0u);
+    ASSERT_GE(checked, 8);
+    EXPECT_LE(sumDeviation / checked, 0.09) << "mean |Z - Z_MM| / Z_MM over T >= 0.5";
+}
+
+TEST_F(SimulationPhysics, DamBreakFrontDoesNotDependOnHowMuchOfTheWaterIsAtASideWall) {
+    // The walls parallel to the flow hold the water without dragging it: the front in a tank
+    // one particle deep (all the water against both side walls) and in one four deep agree
+    // within 5 % on average from T = 0.5. Measured on llvmpipe: 2.3 % (at most 4.7 %) with
+    // "solids"; with "bodies", whose wall layers pack, the one-deep front runs 20 % behind.
+    const std::vector<FrontPoint> deep = damBreakFront(4);
+    const std::vector<FrontPoint> thin = damBreakFront(1);
+    ASSERT_EQ(deep.size(), thin.size());
+    double sumDifference = 0.0;
+    int checked = 0;
+    for (std::size_t k = 0; k < deep.size(); ++k) {
+        std::printf("T %.3f  Z %.3f (4 deep)  %.3f (1 deep)\n", deep[k].t, deep[k].z, thin[k].z);
+        if (deep[k].t >= 0.5) {
+            sumDifference += std::abs(deep[k].z - thin[k].z) / thin[k].z;
+            ++checked;
+        }
+    }
+    ASSERT_GE(checked, 8);
+    EXPECT_LE(sumDifference / checked, 0.05) << "mean |Z_4 - Z_1| / Z_1 over T >= 0.5";
 }
 
 // Raw bytes of the particles in memory order (position, velocity, id).
