@@ -40,7 +40,7 @@ ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, HERE)
 
 import sweep  # noqa: E402  (machine_info)
-SYSTEM_GLDISPATCH = "/lib/x86_64-linux-gnu/libGLdispatch.so.0"  # as vs_splishsplash.py
+from vs_splishsplash import FLUID_MATERIAL, SYSTEM_GLDISPATCH, start_splishsplash  # noqa: E402
 
 A = 0.2            # column width [m]
 SPACING = 0.01     # particle spacing s [m]
@@ -153,19 +153,11 @@ def splishsplash_worker(cfg):
             "PBF": {"minIterations": 2, "maxIterations": 8, "maxError": 0.5,
                     "velocityUpdateMethod": 0},
         },
-        "Materials": [{"id": "Fluid", "density0": 1000, "viscosityMethod": 2, "viscosity": 0.01,
-                       "vorticityMethod": 2, "vorticity": 0.01}],
+        "Materials": [FLUID_MATERIAL],
         "RigidBodies": [box],
         "FluidBlocks": [{"denseMode": 0, "start": start, "end": end}],
     }
-    os.makedirs(cfg["workDir"], exist_ok=True)
-    scene_path = os.path.join(cfg["workDir"], "martin-moyce.json")
-    with open(scene_path, "w") as f:
-        json.dump(scene, f, indent=2)
-    base = sph.Exec.SimulatorBase()
-    base.init(sceneFile=scene_path, useGui=False, useCache=False, initialPause=False,
-              outputDir=os.path.join(cfg["workDir"], "out"), stopAt=-1.0)
-    base.initSimulation()
+    base = start_splishsplash(sph, scene, cfg["workDir"], "martin-moyce")
     sim = sph.Simulation.getCurrent()
     model = sim.getFluidModel(0)
     curve, k = [], [0]

@@ -69,6 +69,12 @@ TANK_MIN = (-0.37, 0.03, -0.22)
 TANK_MAX = (0.37, 0.70, 0.22)
 
 
+# The fluid's SPlisHSPlasH material: XSPH viscosity 0.01 and vorticity confinement 0.01, as
+# Sluice's scenes have them.
+FLUID_MATERIAL = {"id": "Fluid", "density0": 1000, "viscosityMethod": 2, "viscosity": 0.01,
+                  "vorticityMethod": 2, "vorticity": 0.01}
+
+
 # --------------------------------------------------------------------------------------------
 # SPlisHSPlasH worker (runs in its own process: OMP_NUM_THREADS and the preload must be set
 # before the module loads, and SPlisHSPlasH keeps global state).
@@ -118,6 +124,20 @@ def sph_density_ratio(xq, xs, vs, h, kernel=cubic_w):
     return out
 
 
+def start_splishsplash(sph, scene, work_dir, name):
+    """Writes SPlisHSPlasH scene `scene` as work_dir/name.json and initialises a simulator on it
+    without a GUI, cache or output files; returns the SimulatorBase."""
+    os.makedirs(work_dir, exist_ok=True)
+    scene_path = os.path.join(work_dir, name + ".json")
+    with open(scene_path, "w") as f:
+        json.dump(scene, f, indent=2)
+    base = sph.Exec.SimulatorBase()
+    base.init(sceneFile=scene_path, useGui=False, useCache=False, initialPause=False,
+              outputDir=os.path.join(work_dir, name + "-out"), stopAt=-1.0)
+    base.initSimulation()
+    return base
+
+
 def splishsplash_worker(cfg):
     import pysplishsplash as sph
 
@@ -155,22 +175,13 @@ def splishsplash_worker(cfg):
             "PBF": {"minIterations": cfg["minIterations"], "maxIterations": cfg["maxIterations"],
                     "maxError": 100.0 * cfg["target"], "velocityUpdateMethod": 0},
         },
-        "Materials": [{"id": "Fluid", "density0": 1000, "viscosityMethod": 2, "viscosity": 0.01,
-                       "vorticityMethod": 2, "vorticity": 0.01}],
+        "Materials": [FLUID_MATERIAL],
         "RigidBodies": [{"geometryFile": cfg["unitBox"], "translation": centre, "scale": size,
                          "isDynamic": False, "isWall": True, "mapInvert": True,
                          "mapThickness": 0.0, "mapResolution": [30, 30, 30], "samplingMode": 1}],
         "FluidBlocks": [{"denseMode": 0, "start": start, "end": end}],
     }
-    os.makedirs(cfg["workDir"], exist_ok=True)
-    scene_path = os.path.join(cfg["workDir"], "splishsplash-dam-break.json")
-    with open(scene_path, "w") as f:
-        json.dump(scene, f, indent=2)
-
-    base = sph.Exec.SimulatorBase()
-    base.init(sceneFile=scene_path, useGui=False, useCache=False, initialPause=False,
-              outputDir=os.path.join(cfg["workDir"], "splishsplash-out"), stopAt=-1.0)
-    base.initSimulation()
+    base = start_splishsplash(sph, scene, cfg["workDir"], "splishsplash-dam-break")
     sim = sph.Simulation.getCurrent()
     ts = sim.getTimeStep()
     tm = sph.TimeManager.getCurrent()
