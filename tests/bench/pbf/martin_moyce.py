@@ -31,6 +31,7 @@ import argparse
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -40,7 +41,8 @@ ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, HERE)
 
 import sweep  # noqa: E402  (machine_info)
-from vs_splishsplash import FLUID_MATERIAL, SYSTEM_GLDISPATCH, start_splishsplash  # noqa: E402
+from vs_splishsplash import (FLUID_MATERIAL, SYSTEM_GLDISPATCH, splishsplash_unit_box,  # noqa: E402
+                             start_splishsplash)
 
 A = 0.2            # column width [m]
 SPACING = 0.01     # particle spacing s [m]
@@ -49,11 +51,19 @@ SUBSTEPS = 4
 FRAME = 1.0 / 60.0
 T_STOP = 3.0       # the test steps while T < 3, so its last point is just past it
 
-# tests/runtime/sim/MartinMoyce.h: the measured (T, Z) points.
-MARTIN_MOYCE = [(0.00, 1.00), (0.41, 1.11), (0.84, 1.22), (1.19, 1.44), (1.43, 1.67),
-                (1.63, 1.89), (1.83, 2.11), (1.98, 2.33), (2.20, 2.56), (2.32, 2.78),
-                (2.51, 3.00), (2.65, 3.22), (2.83, 3.44), (2.98, 3.67), (3.11, 3.89),
-                (3.33, 4.11)]
+
+
+def read_martin_moyce():
+    """The measured (T, Z) points, read from the test's table (tests/runtime/sim/MartinMoyce.h),
+    so the script and the test compare with the same data."""
+    with open(os.path.join(ROOT, "tests", "runtime", "sim", "MartinMoyce.h")) as f:
+        text = f.read()
+    table = text[text.index("kMartinMoyceFront"):]
+    table = table[:table.index("}};")]
+    return [(float(t), float(z)) for t, z in re.findall(r"\{([0-9.]+), ([0-9.]+)\}", table)]
+
+
+MARTIN_MOYCE = read_martin_moyce()
 
 
 def martin_moyce(t):
@@ -192,17 +202,6 @@ def run_splishsplash(python, cfg, preload):
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def unit_box(path):
-    """A unit cube OBJ centred at the origin, the mesh SPlisHSPlasH scales into the tank."""
-    v = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
-    quads = [(1, 2, 4, 3), (5, 7, 8, 6), (1, 5, 6, 2), (3, 4, 8, 7), (1, 3, 7, 5), (2, 6, 8, 4)]
-    with open(path, "w") as f:
-        for p in v:
-            f.write("v %g %g %g\n" % p)
-        for a, b, c, d in quads:
-            f.write("f %d %d %d\nf %d %d %d\n" % (a, b, c, a, c, d))
-
-
 # --------------------------------------------------------------------------------------------
 # Driver
 # --------------------------------------------------------------------------------------------
@@ -222,12 +221,12 @@ def main():
     runs = [run_sluice(args.build, b, d) for d in (args.depth, 1) for b in ("solids", "bodies")]
     if args.splishsplash_python:
         work = tempfile.mkdtemp(prefix="sluice-mm-")
-        unit_box(os.path.join(work, "unit_box.obj"))
+        unit_box = splishsplash_unit_box(args.splishsplash_python)
         # In 3D SPlisHSPlasH's Akinci walls blow a slab a few particles deep apart at the start
         # (its front 34 % ahead of the experiment at 4 deep), so both of its runs are 2D.
         for method, two_d in ((2, True), (0, True)):
             cfg = {"depth": args.depth, "sim2D": two_d, "boundaryHandlingMethod": method,
-                   "unitBox": os.path.join(work, "unit_box.obj"),
+                   "unitBox": unit_box,
                    "workDir": os.path.join(work, "sph-%d-%d" % (method, two_d))}
             runs.append(run_splishsplash(args.splishsplash_python, cfg, not args.no_preload))
     print("%-72s %6s %9s %9s %9s" % ("solver", "points", "mean |d|", "signed", "max |d|"))

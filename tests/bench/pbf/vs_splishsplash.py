@@ -124,6 +124,20 @@ def sph_density_ratio(xq, xs, vs, h, kernel=cubic_w):
     return out
 
 
+def splishsplash_unit_box(python):
+    """The unit cube OBJ the pysplishsplash wheel of `python` ships (the tank's mesh, scaled)."""
+    probe = subprocess.run([python, "-c", "import sys, pysplishsplash; print(sys.prefix)"],
+                           capture_output=True, text=True,
+                           env=dict(os.environ, LD_PRELOAD=SYSTEM_GLDISPATCH))
+    if probe.returncode != 0:
+        raise SystemExit("pysplishsplash does not import with " + python + ":\n" +
+                         probe.stderr[-2000:])
+    unit_box = os.path.join(probe.stdout.strip(), "bin", "data", "models", "UnitBox.obj")
+    if not os.path.isfile(unit_box):
+        raise SystemExit(f"{unit_box} not found (it ships in the pysplishsplash wheel)")
+    return unit_box
+
+
 def start_splishsplash(sph, scene, work_dir, name):
     """Writes SPlisHSPlasH scene `scene` as work_dir/name.json and initialises a simulator on it
     without a GUI, cache or output files; returns the SimulatorBase."""
@@ -554,16 +568,7 @@ def main():
     assets = os.path.join(build, "assets")
     work = os.path.join(assets, "pbf-vs-splishsplash")
     os.makedirs(work, exist_ok=True)
-    probe = subprocess.run([args.splishsplash_python, "-c",
-                            "import sys, pysplishsplash; print(sys.prefix)"],
-                           capture_output=True, text=True,
-                           env=dict(os.environ, LD_PRELOAD=SYSTEM_GLDISPATCH))
-    if probe.returncode != 0:
-        raise SystemExit("pysplishsplash does not import with " + args.splishsplash_python +
-                         ":\n" + probe.stderr[-2000:])
-    unit_box = os.path.join(probe.stdout.strip(), "bin", "data", "models", "UnitBox.obj")
-    if not os.path.isfile(unit_box):
-        raise SystemExit(f"{unit_box} not found (it ships in the pysplishsplash wheel)")
+    unit_box = splishsplash_unit_box(args.splishsplash_python)
 
     rows, summaries = [], []
     for target in [float(t) for t in args.targets.split(",")]:

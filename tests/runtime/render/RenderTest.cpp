@@ -250,17 +250,13 @@ TEST_F(RenderTest, SpeedColoursFastParticlesWarmAndSlowOnesCool) {
 }
 
 TEST_F(RenderTest, DeterministicRunsRenderIdenticalImages) {
-    auto scene = format::readScene(kAssets / "wave-sphere.json");
-    ASSERT_TRUE(scene) << scene.error().message();
-    // The images are compared, not the water: without the walls' boundary volume the four loads
-    // skip the ball's volume map (about 9 s each on llvmpipe).
-    scene->simulation.solidBoundary = false;
+    const format::Scene scene = waveSphereAsBodies();
     for (const SurfaceMode surface : {SurfaceMode::Spheres, SurfaceMode::Fluid}) {
         RenderSettings settings;
         settings.surface = surface;
         Image images[2];
         for (Image& image : images) {
-            Stage stage(*scene, true);
+            Stage stage(scene, true);
             ASSERT_TRUE(stage.ok());
             for (int step = 0; step < 6; ++step)
                 stage.sim->step();
