@@ -1,5 +1,6 @@
 // Scene files: JSON (read with cereal's rapidjson) to format::Scene, validated, defaults derived.
 #include "sluice/format/scene/SceneIO.h"
+#include "sluice/format/scene/SceneDefaults.h"
 #include "sluice/format/scene/SimulationLimits.h"
 #include "sluice/format/scene/SolverReach.h"
 
@@ -27,9 +28,6 @@ using detail::readNumber;
 constexpr detail::JsonFileKind kSceneKind{"the scene", "the scene file", "scene-file limit",
                                           kMaxSceneFileBytes};
 
-constexpr float kDefaultEmitterDuration = 10.0f; // [s] emitter stop when the file has none
-constexpr std::uint32_t kMaxDefaultSubsteps = 64;
-constexpr double kCflNumber = 0.4; // a particle moves at most 0.4 h per substep
 
 // Reads {"min": [..], "max": [..]} with max > min on every axis.
 void readMinMax(const rj::Value& value, const std::string& path, glm::vec3& min, glm::vec3& max) {
@@ -58,7 +56,6 @@ private:
     Emitter readEmitter(const rj::Value& value, const std::string& path);
     void readCamera(const rj::Value& value, const std::string& path);
     void deriveCapacity();
-    void deriveSubsteps();
 
     const fs::path& m_file;
     const SceneReadOptions& m_options;
@@ -119,7 +116,7 @@ void SceneParser::readSimulation(const rj::Value* value) {
 
     floatIn("spacing", p.spacing);
     const float s = p.spacing;
-    p.kernelRadius = float(kDefaultKernelSpacings) * s; // the default, unless given
+    p.kernelRadius = defaultKernelRadius(s); // the default, unless given
     floatIn("kernelRadius", p.kernelRadius);
     const float h = p.kernelRadius;
     floatIn("restDensity", p.restDensity);
@@ -127,23 +124,19 @@ void SceneParser::readSimulation(const rj::Value* value) {
     m_givenSubsteps = intIn("substeps", p.substeps);
     intIn("minIterations", p.minIterations);
     const bool givenMax = intIn("maxIterations", p.maxIterations);
-    if (!givenMax)
-        p.maxIterations = 8;
     if (p.maxIterations < p.minIterations)
         throwAt(ErrorCode::InvalidArgument, o.pathOf("maxIterations"),
                 std::to_string(p.maxIterations) + (givenMax ? "" : " (the default)") +
                     " is less than minIterations " + std::to_string(p.minIterations));
     floatIn("targetDensityError", p.targetDensityError);
-    if (!floatIn("relaxation", p.relaxation))
-        p.relaxation = 0.01f;
-    if (!floatIn("scorrK", p.scorrK))
-        p.scorrK = 0.1f;
+    floatIn("relaxation", p.relaxation);
+    floatIn("scorrK", p.scorrK);
     floatIn("scorrN", p.scorrN);
     if (!floatIn("scorrDeltaQ", p.scorrDeltaQ))
-        p.scorrDeltaQ = static_cast<float>(0.2 * double(h));
+        p.scorrDeltaQ = defaultScorrDeltaQ(h);
     floatIn("xsph", p.xsph);
     if (!floatIn("vorticity", p.vorticity))
-        p.vorticity = static_cast<float>(0.01 * std::sqrt(9.81 * double(h)));
+        p.vorticity = defaultVorticity(h);
     if (const rj::Value* g = o.find("gravity"))
         p.gravity = readVec3(*g, o.pathOf("gravity"));
     m_givenCapacity = intIn("capacity", p.capacity);
@@ -241,7 +234,8 @@ void SceneParser::readCamera(const rj::Value& value, const std::string& path) {
     cam.set = true;
 }
 
-// Capacity: the blocks' particles plus everything each emitter emits between start and stop.
+// Capacity: the blocks' particles plus everything each emitter emits between start and stop
+// (SceneDefaults.h, as for a scene built in code).
 void SceneParser::deriveCapacity() {
     SimulationParams& p = m_scene.simulation;
     if (m_blockParticles > kMaxSceneParticles)
@@ -255,65 +249,10 @@ void SceneParser::deriveCapacity() {
                         std::to_string(m_blockParticles) + " particles the fluid blocks hold");
         return;
     }
-    // The layer count in float, as the runtime's emitter schedule computes its interval, so a
-    // round duration gives a round count (8 s / 0.02 s = 400, not 400.00001 -> 401).
-    double emitted = 0.0;
-    for (const Emitter& e : m_scene.emitters) {
-        const std::uint64_t disc = emitterDiscCount(e.radius, p.spacing);
-        float interval = p.spacing / e.speed;
-        if (e.rate > 0.0f)
-            interval = std::max(interval, float(disc) / e.rate);
-        const float layers = std::ceil((e.stop - e.start) / interval);
-        // A long, fast emitter can pass the float range; double cannot overflow here.
-        emitted += (std::isfinite(layers)
-                        ? double(layers)
-                        : std::ceil((double(e.stop) - double(e.start)) / double(interval))) *
-                   double(disc);
-    }
-    const double total = double(m_blockParticles) + emitted;
-    if (!(total <= double(kMaxSceneParticles)))
-        throwAt(ErrorCode::SizeOverflow, "simulation.capacity",
-                "the scene needs " + formatNumber(total) + " particles (" +
-                    std::to_string(m_blockParticles) + " in fluid blocks + " +
-                    formatNumber(emitted) + " from emitters), more than the limit " +
-                    std::to_string(kMaxSceneParticles) +
-                    "; use a larger spacing, an earlier emitter stop, or set capacity");
-    p.capacity = static_cast<std::uint32_t>(total);
-}
-
-// Substeps from a CFL estimate: the fastest a particle is likely to move is its start or exit
-// speed plus a free fall over the scene's height; one substep moves it at most 0.4 h.
-void SceneParser::deriveSubsteps() {
-    SimulationParams& p = m_scene.simulation;
-    double minY = std::numeric_limits<double>::infinity();
-    double maxY = -minY;
-    auto span = [&](double lo, double hi) {
-        minY = std::min(minY, lo);
-        maxY = std::max(maxY, hi);
-    };
-    for (const FluidBlock& b : m_scene.blocks) {
-        if (b.shape == FluidBlock::Shape::Box)
-            span(b.min.y, b.max.y);
-        else
-            span(double(b.center.y) - b.radius, double(b.center.y) + b.radius);
-    }
-    for (const Emitter& e : m_scene.emitters)
-        span(e.position.y, e.position.y);
-    if (m_scene.domainMin)
-        span(m_scene.domainMin->y, m_scene.domainMax->y);
-    const double height = maxY > minY ? maxY - minY : 0.0;
-    const glm::dvec3 g(p.gravity);
-    const double fall = std::sqrt(2.0 * std::sqrt(glm::dot(g, g)) * height);
-    double vEst = fall;
-    for (const Emitter& e : m_scene.emitters)
-        vEst = std::max(vEst, double(e.speed) + fall);
-    for (const FluidBlock& b : m_scene.blocks) {
-        const glm::dvec3 v(b.velocity);
-        vEst = std::max(vEst, std::sqrt(glm::dot(v, v)) + fall);
-    }
-    const double n = std::ceil(double(p.timeStep) * vEst / (kCflNumber * double(p.kernelRadius)));
-    p.substeps = n >= double(kMaxDefaultSubsteps) ? kMaxDefaultSubsteps
-                                                  : std::max<std::uint32_t>(1, std::uint32_t(n));
+    const Result<std::uint32_t> capacity = defaultCapacity(m_scene);
+    if (!capacity)
+        throwAt(capacity.error().code, "simulation.capacity", capacity.error().detail);
+    p.capacity = *capacity;
 }
 
 Scene SceneParser::parse(const rj::Value& root) {
@@ -370,7 +309,7 @@ Scene SceneParser::parse(const rj::Value& root) {
 
     deriveCapacity();
     if (!m_givenSubsteps)
-        deriveSubsteps();
+        m_scene.simulation.substeps = defaultSubsteps(m_scene);
     return std::move(m_scene);
 }
 

@@ -195,6 +195,17 @@ bool EmitterSchedule::emit(float t, std::uint32_t currentCount, std::uint32_t ca
     return allFit;
 }
 
+void EmitterSchedule::skip(float t) {
+    for (Nozzle& nozzle : m_nozzles) {
+        const format::Emitter& e = nozzle.emitter;
+        if (!(e.start <= t && t < e.stop))
+            continue;
+        const auto owed =
+            std::uint64_t(std::floor((double(t) - e.start) / double(nozzle.interval))) + 1;
+        nozzle.emittedLayers = std::max(nozzle.emittedLayers, owed);
+    }
+}
+
 bool EmitterSchedule::finished(float t) const {
     return std::all_of(m_nozzles.begin(), m_nozzles.end(),
                        [t](const Nozzle& n) { return t >= n.emitter.stop; });
@@ -216,32 +227,37 @@ glm::quat eulerDegrees(glm::vec3 degrees) {
     return qz * qy * qx;
 }
 
+ColliderPose interpolatePose(const ColliderPose& from, float t0, const ColliderPose& to, float t1,
+                             float t) {
+    ColliderPose pose = t <= t0 ? from : to;
+    pose.scale = from.scale;
+    if (t <= t0 || t >= t1)
+        return pose;
+    const float a = (t - t0) / (t1 - t0);
+    pose.translation = glm::mix(from.translation, to.translation, a);
+    pose.rotation = glm::slerp(from.rotation, to.rotation, a);
+    return pose;
+}
+
 ColliderPose colliderPose(const format::SceneCollider& collider, float t) {
     ColliderPose pose;
     pose.scale = collider.scale;
     const std::vector<format::ColliderKey>& keys = collider.keys;
     if (!keys.empty()) {
         // Clamped outside the key range; linear translation and slerped rotation between keys.
-        if (t <= keys.front().time) {
-            pose.translation = keys.front().translation;
-            pose.rotation = eulerDegrees(keys.front().rotationDegrees);
-            return pose;
-        }
-        if (t >= keys.back().time) {
-            pose.translation = keys.back().translation;
-            pose.rotation = eulerDegrees(keys.back().rotationDegrees);
-            return pose;
-        }
+        const auto keyPose = [&](const format::ColliderKey& key) {
+            return ColliderPose{key.translation, eulerDegrees(key.rotationDegrees),
+                                collider.scale};
+        };
+        if (t <= keys.front().time)
+            return keyPose(keys.front());
+        if (t >= keys.back().time)
+            return keyPose(keys.back());
         const auto next = std::upper_bound(
             keys.begin(), keys.end(), t,
             [](float time, const format::ColliderKey& key) { return time < key.time; });
-        const format::ColliderKey& k1 = *next;
-        const format::ColliderKey& k0 = *(next - 1);
-        const float a = (t - k0.time) / (k1.time - k0.time);
-        pose.translation = glm::mix(k0.translation, k1.translation, a);
-        pose.rotation =
-            glm::slerp(eulerDegrees(k0.rotationDegrees), eulerDegrees(k1.rotationDegrees), a);
-        return pose;
+        return interpolatePose(keyPose(*(next - 1)), (next - 1)->time, keyPose(*next), next->time,
+                               t);
     }
     pose.translation = collider.translation + collider.linearVelocity * t;
     const glm::quat rest = eulerDegrees(collider.rotationDegrees);

@@ -1,6 +1,7 @@
 // Simulation: creation from a scene and its colliders, live parameters, and the accessors
 // (the state is Simulation::Impl, SimulationImpl.h; the step is SimulationPasses.cpp).
 #include "sim/SimulationImpl.h"
+#include "sluice/format/scene/SceneDefaults.h"
 #include "sluice/format/scene/SimulationLimits.h"
 
 namespace sluice::rt {
@@ -68,9 +69,13 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
     return assets;
 }
 
-Result<Simulation> Simulation::create(const format::Scene& scene,
+Result<Simulation> Simulation::create(const format::Scene& given,
                                       std::vector<format::ColliderAsset> colliders,
                                       const SimulationOptions& options) {
+    // A scene built in code gets the reader's defaults and checks; a read one is unchanged.
+    format::Scene scene = given;
+    if (auto ok = format::completeScene(scene); !ok)
+        return ok.error();
     if (colliders.size() != scene.colliders.size())
         return fail(ErrorCode::InvalidArgument,
                     scene.path + ": " + std::to_string(scene.colliders.size()) +
@@ -84,6 +89,9 @@ Result<Simulation> Simulation::create(const format::Scene& scene,
                                                     " colliders; a scene holds at most " +
                                                     std::to_string(shared::kMaxColliders));
     if (auto ok = checkOptions(scene, options); !ok)
+        return ok.error();
+    // The reach a sparse collider's band must hold (setUpBodies checks the bodies' volumes).
+    if (auto ok = checkColliderBands(scene, colliders); !ok)
         return ok.error();
     auto impl = std::make_unique<Impl>(scene);
     if (auto ok = impl->size(options); !ok)

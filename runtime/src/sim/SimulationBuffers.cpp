@@ -303,8 +303,8 @@ void Simulation::Impl::uploadColliders(double t0, double t1) {
         // A dynamic body's record is the body pass's to write (pbf_bodies.comp).
         if (colliderRecords[c].body != shared::kNoBody)
             continue;
-        const ColliderPose now = colliderPose(scene.colliders[c], float(t1));
-        const ColliderPose before = colliderPose(scene.colliders[c], float(t0));
+        const ColliderPose now = poseOf(c, float(t1));
+        const ColliderPose before = poseOf(c, float(t0));
         const glm::mat4 world = poseMatrix(now);
         shared::GpuCollider& r = colliderRecords[c];
         const shared::GpuCollider uploaded = r;

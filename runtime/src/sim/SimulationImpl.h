@@ -159,8 +159,24 @@ struct Simulation::Impl {
     std::vector<gpu::GpuTimer> timers;
     std::array<std::uint64_t, std::size_t(Pass::Count)> drainedNs{}; // totals at the last drain
     std::vector<ParticleState> staging;
+    // A pose a program set (setColliderPose): the collider moves from `from` at t0 to `to` at t1.
+    struct DrivenPose {
+        ColliderPose from;
+        float t0 = 0.0f;
+        ColliderPose to;
+        float t1 = 0.0f;
+    };
+    std::vector<std::optional<DrivenPose>> driven; // per scene collider
+    double carried = 0.0; // the frame time advance() has not stepped yet [s]
 
-    explicit Impl(const format::Scene& s) : scene(s), emitters(s) {}
+    explicit Impl(const format::Scene& s) : scene(s), emitters(s), driven(s.colliders.size()) {}
+
+    /// Where static or kinematic collider c is at time t [s]: its set pose, else its scene motion.
+    ColliderPose poseOf(std::size_t c, float t) const {
+        if (const std::optional<DrivenPose>& d = driven[c])
+            return interpolatePose(d->from, d->t0, d->to, d->t1, t);
+        return colliderPose(scene.colliders[c], t);
+    }
 
     /// Sizes that follow from the scene and the options: capacity, iteration cap, hash table,
     /// neighbour lanes, solve chunks. InvalidArgument when the passes would be too large.

@@ -56,7 +56,9 @@ void Simulation::Impl::substep() {
 void Simulation::Impl::emit(double t0, double t1) {
     begin(Pass::Emit);
     staging.clear();
-    if (emittersOn && !emitters.emit(float(t0), count, capacity, nextId, staging))
+    if (!emittersOn)
+        emitters.skip(float(t0));
+    else if (!emitters.emit(float(t0), count, capacity, nextId, staging))
         capacityReached = true;
     append(staging);
     uploadParams();

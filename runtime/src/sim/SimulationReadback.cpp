@@ -157,8 +157,8 @@ std::vector<BodyState> Simulation::bodies() const {
 std::vector<ColliderPose> Simulation::colliderPoses() const {
     const Impl& s = *m_impl;
     std::vector<ColliderPose> poses;
-    for (const format::SceneCollider& c : s.scene.colliders)
-        poses.push_back(colliderPose(c, float(s.time)));
+    for (std::size_t c = 0; c < s.scene.colliders.size(); ++c)
+        poses.push_back(s.poseOf(c, float(s.time)));
     for (const BodyState& b : bodies())
         poses[b.collider] = b.pose;
     return poses;

@@ -20,35 +20,41 @@ inline constexpr std::uint32_t kMaxSceneParticles = 1u << 24;
 /// Most colliders in one scene.
 inline constexpr std::uint32_t kMaxSceneColliders = 64;
 
-/// Simulation parameters. After readScene every field holds a value: the ones the file leaves
-/// out are derived from `spacing` as documented in docs/scene-format.md.
+/// Marks a float parameter whose default follows from the kernel radius (scorrDeltaQ,
+/// vorticity): completeScene (SceneDefaults.h) replaces it, as the scene reader does for a key the
+/// file leaves out. Any other negative value is out of range.
+inline constexpr float kDerived = -1.0f;
+
+/// Simulation parameters. A default-constructed value is a complete set once completeScene (or
+/// readScene) has filled in the fields marked "derived" from `spacing` and the scene, as
+/// documented in docs/scene-format.md; after that every field holds a value in its range.
 struct SimulationParams {
     float spacing = 0.02f;             ///< particle rest spacing [m]; particle radius = spacing / 2
-    float kernelRadius = 0.0f;         ///< SPH support h [m]; default 2 * spacing
+    float kernelRadius = 0.0f;         ///< SPH support h [m]; 0: derived, 2 * spacing
     float restDensity = 1000.0f;       ///< rho0 [kg/m^3]
     float timeStep = 1.0f / 60.0f;     ///< one step of `--steps` [s]
-    std::uint32_t substeps = 0;        ///< PBF substeps per step; default from a CFL estimate
+    std::uint32_t substeps = 0;        ///< PBF substeps per step; 0: derived from a CFL estimate
     std::uint32_t minIterations = 2;   ///< solver iterations always run per substep
-    std::uint32_t maxIterations = 0;   ///< iteration cap per substep; default 8
+    std::uint32_t maxIterations = 8;   ///< iteration cap per substep, >= minIterations
     float targetDensityError = 0.005f; ///< stop iterating when the average compression (rho/rho0-1,
                                        ///< >= 0) is below this (after minIterations); 0 = always
                                        ///< run maxIterations
-    float relaxation = 0.0f;           ///< lambda epsilon as a fraction of sum |grad C|^2 of a
-                                       ///< full-neighbourhood particle (eq. 8); default 0.01
-    float scorrK = 0.0f;               ///< s_corr k (eq. 10), in units of that particle's lambda
-                                       ///< per unit compression; default 0.1
+    float relaxation = 0.01f;          ///< lambda epsilon as a fraction of sum |grad C|^2 of a
+                                       ///< full-neighbourhood particle (eq. 8)
+    float scorrK = 0.1f;               ///< s_corr k (eq. 10), in units of that particle's lambda
+                                       ///< per unit compression
     float scorrN = 4.0f;               ///< s_corr exponent n (eq. 10)
-    float scorrDeltaQ = 0.0f;          ///< s_corr delta q [m]; default 0.2 * h
+    float scorrDeltaQ = kDerived;      ///< s_corr delta q [m]; kDerived: 0.2 * h
     float xsph = 0.01f;                ///< XSPH viscosity c, fraction of the neighbour average
-    float vorticity = 0.0f;            ///< vorticity confinement epsilon [m/s]; default
-                                       ///< 0.01 * sqrt(9.81 * h)
+    float vorticity = kDerived;        ///< vorticity confinement epsilon [m/s], 0 = off;
+                                       ///< kDerived: 0.01 * sqrt(9.81 * h)
     glm::vec3 gravity{0.0f, -9.81f, 0.0f}; ///< [m/s^2]
     bool solidBoundary = true;             ///< true ("boundary": "solids", the default): the
                                            ///< domain's walls and static colliders add boundary
                                            ///< volume to the density, as bodies do; false
                                            ///< ("bodies"): only dynamic bodies do (docs/pbf.md,
                                            ///< "Boundary volume")
-    std::uint32_t capacity = 0; ///< most particles; default: blocks + everything emitters
+    std::uint32_t capacity = 0; ///< most particles; 0: derived, the blocks + everything emitters
                                 ///< emit between start and stop (stop defaults start + 10 s)
 };
 

@@ -61,6 +61,10 @@ public:
     bool emit(float t, std::uint32_t currentCount, std::uint32_t capacity, std::uint32_t& nextId,
               std::vector<ParticleState>& out);
 
+    /// Marks every layer owed at substep time `t` [s] as emitted without emitting it: while the
+    /// emitters are off, so switching them on does not release the layers due meanwhile.
+    void skip(float t);
+
     /// True once every emitter has stopped (no more particles will ever come).
     bool finished(float t) const;
 
@@ -84,6 +88,12 @@ struct ColliderPose {
     glm::vec3 toWorld(glm::vec3 local) const;
     glm::vec3 toLocal(glm::vec3 world) const;
 };
+
+/// The pose between `from` at time `t0` and `to` at `t1` > t0 [s]: `from` up to t0, `to` from
+/// t1 on, translation linear and rotation slerped between; the scale is `from`'s. Keyframes and the poses a program
+/// sets (Simulation::setColliderPose) both move by it, so the same motion gives the same bits.
+ColliderPose interpolatePose(const ColliderPose& from, float t0, const ColliderPose& to, float t1,
+                             float t);
 
 /// The pose of `collider` at time `t` [s] (docs/pbf.md, "Collision").
 ColliderPose colliderPose(const format::SceneCollider& collider, float t);

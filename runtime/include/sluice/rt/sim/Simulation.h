@@ -135,6 +135,31 @@ struct BodyHit {
     float distance = 0.0f;  ///< along the ray [m]
 };
 
+/// The particle buffers after a step, as a renderer or a game draws them (docs/embedding.md):
+/// GL buffer names, valid until the next step() or addParticles(). The names alternate between
+/// two sets from step to step (the neighbour sort ping-pongs), so take the view each frame.
+/// Slot i of each buffer is one particle; slots are re-sorted every substep, and `ids` says
+/// which particle each slot holds.
+struct ParticleView {
+    std::uint32_t positions = 0;  ///< vec4 per slot: xyz the position [m], w unused
+    std::uint32_t velocities = 0; ///< vec4 per slot: xyz the velocity [m/s], w the density error
+    std::uint32_t ids = 0;        ///< uint per slot: the particle's id (creation order)
+    std::uint32_t count = 0;      ///< slots in use, from 0
+    std::uint32_t positionStride = 16; ///< [bytes]
+    std::uint32_t velocityStride = 16; ///< [bytes]
+    std::uint32_t idStride = 4;        ///< [bytes]
+};
+
+/// What Simulation::advance did with one frame's time.
+struct FrameAdvance {
+    std::uint32_t steps = 0; ///< whole steps taken
+    /// Time carried into the next frame [s], in [0, timeStep): the state shown is this far
+    /// behind the frame's clock.
+    double remainder = 0.0;
+    double alpha = 0.0;   ///< remainder / timeStep, in [0, 1): for interpolating a drawn pose
+    double dropped = 0.0; ///< time thrown away because the frame owed more than maxSteps [s]
+};
+
 /// GPU time per pass group of the latest step whose timer queries are complete [ms];
 /// negative where no figure is available yet.
 using PassTimes = std::array<double, std::size_t(Pass::Count)>;
@@ -159,6 +184,38 @@ public:
 
     /// One step: timeStep seconds in `substeps` substeps. Queues GPU work only.
     void step();
+
+    /// @name Driving from a game loop (docs/embedding.md)
+    /// Calls an engine makes between steps. Each validates what it is given and, on failure,
+    /// returns an error with nothing changed.
+    /// @{
+
+    /// Steps as many whole steps as `frameSeconds` [s] and the time carried from earlier frames
+    /// hold, at most `maxSteps` (the rest is dropped, so a slow frame cannot snowball), and
+    /// carries the remainder. InvalidArgument for a negative or non-finite frame time or
+    /// maxSteps 0.
+    Result<FrameAdvance> advance(double frameSeconds, std::uint32_t maxSteps = 4);
+
+    /// Places a static or kinematic collider from the next step on: over that step it moves from
+    /// where it is now to `translation` [m] and `rotation` (asset frame -> world; normalised
+    /// here), linear in translation and slerped in rotation across the substeps, so friction and
+    /// the push-out see its velocity; then it stays there until the next call. Its scene motion
+    /// (velocities, keyframes) no longer applies. InvalidArgument for an index out of range, a
+    /// dynamic body or a zero quaternion; NonFinite for a non-finite number.
+    Result<void> setColliderPose(std::uint32_t collider, glm::vec3 translation, glm::quat rotation);
+
+    /// Adds particles at `positions` [m] with `velocities` [m/s] (empty: at rest; else one per
+    /// position), uploading only them, and returns the first new id: they get first, first + 1,
+    /// ... in order, and every other particle keeps its id. They join from the next step.
+    /// InvalidArgument when they do not fit the capacity or the velocities do not match;
+    /// NonFinite for a non-finite number.
+    Result<std::uint32_t> addParticles(const std::vector<glm::vec3>& positions,
+                                       const std::vector<glm::vec3>& velocities = {});
+
+    /// The particle buffers now (after the last step or addParticles).
+    ParticleView particleView() const;
+
+    /// @}
 
     /// Statistics of the latest step (waits for the GPU; one small readback).
     StepStats readStats();
@@ -188,7 +245,8 @@ public:
     /// Current parameters (the scene's, or the last setParameters).
     const format::SimulationParams& parameters() const;
 
-    /// Turns every emitter on or off (off: no new particles; the schedule keeps its place).
+    /// Turns every emitter on or off. Off: no new particles, and the layers due meanwhile are
+    /// skipped, so switching on starts a nozzle where its schedule is, without a burst.
     void setEmittersEnabled(bool enabled);
     bool emittersEnabled() const;
 

@@ -1,0 +1,106 @@
+/* The C API of Sluice's runtime: a simulation an engine drives every frame, for engines that bind
+ * C (Unity native plug-ins, Godot GDExtension, Unreal). Opaque handles, status codes, no
+ * exceptions across it; the same calls as sluice::rt::Simulation (docs/embedding.md).
+ *
+ * Every call that can fail returns a SluiceStatus; on failure it changes nothing, and
+ * sluice_last_error() says what was wrong on the calling thread until its next failing call.
+ * Calls on a simulation need its GL context current on the calling thread. */
+#ifndef SLUICE_SLUICE_H
+#define SLUICE_SLUICE_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** What a call did: SLUICE_OK, or why it changed nothing. */
+typedef enum SluiceStatus {
+    SLUICE_OK = 0,
+    SLUICE_ERROR_INVALID_ARGUMENT = 1, /**< a value out of range, an unknown index, a null pointer */
+    SLUICE_ERROR_NON_FINITE = 2,       /**< NaN or infinity where a finite number is needed */
+    SLUICE_ERROR_BAD_INPUT = 3,        /**< a scene or collider file that cannot be used */
+    SLUICE_ERROR_NO_GL_CONTEXT = 4,    /**< no current OpenGL 4.5 context with compute shaders */
+    SLUICE_ERROR_GPU = 5,              /**< the GPU ran out of memory or refused a shader */
+    SLUICE_ERROR_INTERNAL = 6          /**< a bug in Sluice */
+} SluiceStatus;
+
+/** A headless OpenGL 4.5 context (EGL), for programs without a window of their own. */
+typedef struct SluiceContext SluiceContext;
+/** One simulation: particles, colliders and the solver's GPU buffers. */
+typedef struct SluiceSimulation SluiceSimulation;
+
+/** A GL function's address by name, as the program's window library gives it
+ * (glfwGetProcAddress, SDL_GL_GetProcAddress, eglGetProcAddress). */
+typedef void (*(*SluiceGetProcAddress)(const char* name))(void);
+
+/** The particle buffers after a step, valid until the next step or sluice_add_particles. */
+typedef struct SluiceParticleView {
+    uint32_t positions;      /**< GL buffer: vec4 per slot, xyz [m] */
+    uint32_t velocities;     /**< GL buffer: vec4 per slot, xyz [m/s], w the density error */
+    uint32_t ids;            /**< GL buffer: uint per slot, the particle's id */
+    uint32_t count;          /**< slots in use */
+    uint32_t positionStride; /**< [bytes] */
+    uint32_t velocityStride; /**< [bytes] */
+    uint32_t idStride;       /**< [bytes] */
+} SluiceParticleView;
+
+/** What sluice_advance did with one frame's time. */
+typedef struct SluiceFrameAdvance {
+    uint32_t steps;   /**< whole steps taken */
+    double remainder; /**< time carried to the next frame [s] */
+    double alpha;     /**< remainder / time step, in [0, 1) */
+    double dropped;   /**< time dropped past maxSteps [s] */
+} SluiceFrameAdvance;
+
+/** This thread's last failure: what and where, as a person reads it ("" if none). */
+const char* sluice_last_error(void);
+
+/** Opens a headless context and makes it current on this thread. */
+SluiceStatus sluice_context_create_headless(SluiceContext** out);
+/** Releases a context (null is ignored). Destroy its simulations first. */
+void sluice_context_destroy(SluiceContext* context);
+
+/** Loads Sluice's own GL function pointers from the program's current context. Call once after
+ * the program's window context is current, before creating a simulation in it. */
+SluiceStatus sluice_load_gl(SluiceGetProcAddress getProcAddress);
+
+/** Reads a scene file (docs/scene-format.md) and its colliders and creates the simulation. */
+SluiceStatus sluice_simulation_create_from_file(const char* scenePath, SluiceSimulation** out);
+/** The same from JSON text; collider paths are relative to `sceneFile`'s folder, which also
+ * names the scene in messages (the file need not exist). */
+SluiceStatus sluice_simulation_create_from_json(const char* json, const char* sceneFile,
+                                                SluiceSimulation** out);
+/** Releases a simulation (null is ignored). Its context must be current. */
+void sluice_simulation_destroy(SluiceSimulation* simulation);
+
+/** One step of the scene's time step. Queues GPU work only. */
+SluiceStatus sluice_step(SluiceSimulation* simulation);
+/** Whole steps for a frame of `seconds`, at most `maxSteps`, the rest carried (`out` may be
+ * null). */
+SluiceStatus sluice_advance(SluiceSimulation* simulation, double seconds, uint32_t maxSteps,
+                            SluiceFrameAdvance* out);
+/** Places a static or kinematic collider from the next step on, moving there across the step:
+ * `translation` x y z [m], `rotation` the quaternion x y z w (asset frame to world). */
+SluiceStatus sluice_set_collider_pose(SluiceSimulation* simulation, uint32_t collider,
+                                      const float translation[3], const float rotation[4]);
+/** Adds `count` particles: `positions` x y z each [m], `velocities` x y z [m/s] or null for at
+ * rest. Their ids are *firstId, *firstId + 1, ... (`firstId` may be null). */
+SluiceStatus sluice_add_particles(SluiceSimulation* simulation, const float* positions,
+                                  const float* velocities, uint32_t count, uint32_t* firstId);
+/** The buffers to draw now. */
+SluiceStatus sluice_particle_view(const SluiceSimulation* simulation, SluiceParticleView* out);
+/** Copies up to `capacity` particles to the CPU (positions x y z, ids; either may be null) and
+ * sets *count to how many there are. Waits for the GPU: for tools and tests, not every frame. */
+SluiceStatus sluice_read_particles(const SluiceSimulation* simulation, float* positions,
+                                   uint32_t* ids, uint32_t capacity, uint32_t* count);
+/** Particles now live (0 for null). */
+uint32_t sluice_particle_count(const SluiceSimulation* simulation);
+/** Simulated time [s] (0 for null). */
+double sluice_time(const SluiceSimulation* simulation);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SLUICE_SLUICE_H */

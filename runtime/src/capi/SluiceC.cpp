@@ -1,0 +1,259 @@
+// The C API (sluice/sluice.h) over sluice::rt::Simulation: handles, status codes, the thread's
+// last error; no exception crosses it.
+#include "sluice/sluice.h"
+
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "sluice/format/scene/SceneIO.h"
+#include "sluice/gpu/Context.h"
+#include "sluice/gpu/Gl.h"
+#include "sluice/rt/sim/Simulation.h"
+
+struct SluiceContext {
+    sluice::gpu::Context context;
+};
+
+struct SluiceSimulation {
+    sluice::rt::Simulation simulation;
+};
+
+namespace {
+
+using sluice::Error;
+using sluice::ErrorCode;
+
+thread_local std::string t_lastError;
+
+SluiceStatus statusFor(ErrorCode code) {
+    switch (code) {
+    case ErrorCode::InvalidArgument:
+        return SLUICE_ERROR_INVALID_ARGUMENT;
+    case ErrorCode::NonFinite:
+        return SLUICE_ERROR_NON_FINITE;
+    case ErrorCode::NoGlContext:
+        return SLUICE_ERROR_NO_GL_CONTEXT;
+    case ErrorCode::ShaderCompile:
+    case ErrorCode::ShaderLink:
+    case ErrorCode::GpuOutOfMemory:
+        return SLUICE_ERROR_GPU;
+    default:
+        return SLUICE_ERROR_BAD_INPUT;
+    }
+}
+
+SluiceStatus failWith(const Error& error) {
+    t_lastError = error.message();
+    return statusFor(error.code);
+}
+
+SluiceStatus failWith(SluiceStatus status, std::string message) {
+    t_lastError = std::move(message);
+    return status;
+}
+
+// Runs `body`, turning an escaping exception into SLUICE_ERROR_INTERNAL.
+template <class Body> SluiceStatus guarded(const char* call, Body&& body) {
+    try {
+        return body();
+    } catch (const std::exception& e) {
+        return failWith(SLUICE_ERROR_INTERNAL, std::string(call) + ": " + e.what());
+    } catch (...) {
+        return failWith(SLUICE_ERROR_INTERNAL, std::string(call) + ": unknown exception");
+    }
+}
+
+// Whether Sluice's GL functions are loaded and a context is current on this thread.
+SluiceStatus requireContext(const char* call) {
+    if (!GLAD_GL_VERSION_4_5 || glad_glGetString == nullptr)
+        return failWith(SLUICE_ERROR_NO_GL_CONTEXT,
+                        std::string(call) +
+                            ": no OpenGL 4.5 functions loaded; call sluice_load_gl with the "
+                            "window's context current, or sluice_context_create_headless");
+    if (glGetString(GL_VERSION) == nullptr)
+        return failWith(SLUICE_ERROR_NO_GL_CONTEXT,
+                        std::string(call) + ": no OpenGL context is current on this thread");
+    return SLUICE_OK;
+}
+
+SluiceStatus create(const char* call, sluice::Result<sluice::format::Scene> scene,
+                    SluiceSimulation** out) {
+    if (!scene)
+        return failWith(scene.error());
+    if (SluiceStatus s = requireContext(call); s != SLUICE_OK)
+        return s;
+    auto colliders = sluice::rt::loadSceneColliders(*scene);
+    if (!colliders)
+        return failWith(colliders.error());
+    auto sim = sluice::rt::Simulation::create(*scene, std::move(*colliders));
+    if (!sim)
+        return failWith(sim.error());
+    *out = new SluiceSimulation{std::move(*sim)};
+    return SLUICE_OK;
+}
+
+SluiceStatus nullArgument(const char* call, const char* name) {
+    return failWith(SLUICE_ERROR_INVALID_ARGUMENT, std::string(call) + ": " + name + " is null");
+}
+
+} // namespace
+
+extern "C" {
+
+const char* sluice_last_error(void) {
+    return t_lastError.c_str();
+}
+
+SluiceStatus sluice_context_create_headless(SluiceContext** out) {
+    return guarded("sluice_context_create_headless", [&] {
+        if (!out)
+            return nullArgument("sluice_context_create_headless", "out");
+        auto context = sluice::gpu::Context::createHeadless();
+        if (!context)
+            return failWith(context.error());
+        *out = new SluiceContext{std::move(*context)};
+        return SLUICE_OK;
+    });
+}
+
+void sluice_context_destroy(SluiceContext* context) {
+    delete context;
+}
+
+SluiceStatus sluice_load_gl(SluiceGetProcAddress getProcAddress) {
+    return guarded("sluice_load_gl", [&] {
+        if (!getProcAddress)
+            return nullArgument("sluice_load_gl", "getProcAddress");
+        const int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(getProcAddress));
+        if (version == 0 || !GLAD_GL_VERSION_4_5)
+            return failWith(SLUICE_ERROR_NO_GL_CONTEXT,
+                            "sluice_load_gl: the current context is not OpenGL 4.5 core (got " +
+                                std::to_string(GLAD_VERSION_MAJOR(version)) + "." +
+                                std::to_string(GLAD_VERSION_MINOR(version)) + ")");
+        return SLUICE_OK;
+    });
+}
+
+SluiceStatus sluice_simulation_create_from_file(const char* scenePath, SluiceSimulation** out) {
+    return guarded("sluice_simulation_create_from_file", [&] {
+        if (!scenePath || !out)
+            return nullArgument("sluice_simulation_create_from_file", !out ? "out" : "scenePath");
+        return create("sluice_simulation_create_from_file", sluice::format::readScene(scenePath),
+                      out);
+    });
+}
+
+SluiceStatus sluice_simulation_create_from_json(const char* json, const char* sceneFile,
+                                                SluiceSimulation** out) {
+    return guarded("sluice_simulation_create_from_json", [&] {
+        if (!json || !sceneFile || !out)
+            return nullArgument("sluice_simulation_create_from_json",
+                                !out ? "out" : (!json ? "json" : "sceneFile"));
+        return create("sluice_simulation_create_from_json",
+                      sluice::format::parseScene(json, sceneFile), out);
+    });
+}
+
+void sluice_simulation_destroy(SluiceSimulation* simulation) {
+    delete simulation;
+}
+
+SluiceStatus sluice_step(SluiceSimulation* simulation) {
+    return guarded("sluice_step", [&] {
+        if (!simulation)
+            return nullArgument("sluice_step", "simulation");
+        simulation->simulation.step();
+        return SLUICE_OK;
+    });
+}
+
+SluiceStatus sluice_advance(SluiceSimulation* simulation, double seconds, uint32_t maxSteps,
+                            SluiceFrameAdvance* out) {
+    return guarded("sluice_advance", [&] {
+        if (!simulation)
+            return nullArgument("sluice_advance", "simulation");
+        auto done = simulation->simulation.advance(seconds, maxSteps);
+        if (!done)
+            return failWith(done.error());
+        if (out)
+            *out = SluiceFrameAdvance{done->steps, done->remainder, done->alpha, done->dropped};
+        return SLUICE_OK;
+    });
+}
+
+SluiceStatus sluice_set_collider_pose(SluiceSimulation* simulation, uint32_t collider,
+                                      const float translation[3], const float rotation[4]) {
+    return guarded("sluice_set_collider_pose", [&] {
+        if (!simulation || !translation || !rotation)
+            return nullArgument("sluice_set_collider_pose",
+                                !simulation ? "simulation"
+                                            : (!translation ? "translation" : "rotation"));
+        // glm::quat takes w first.
+        auto done = simulation->simulation.setColliderPose(
+            collider, glm::vec3(translation[0], translation[1], translation[2]),
+            glm::quat(rotation[3], rotation[0], rotation[1], rotation[2]));
+        return done ? SLUICE_OK : failWith(done.error());
+    });
+}
+
+SluiceStatus sluice_add_particles(SluiceSimulation* simulation, const float* positions,
+                                  const float* velocities, uint32_t count, uint32_t* firstId) {
+    return guarded("sluice_add_particles", [&] {
+        if (!simulation || (!positions && count > 0))
+            return nullArgument("sluice_add_particles", !simulation ? "simulation" : "positions");
+        std::vector<glm::vec3> p(count), v(velocities ? count : 0);
+        for (std::uint32_t i = 0; i < count; ++i) {
+            p[i] = glm::vec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
+            if (velocities)
+                v[i] = glm::vec3(velocities[3 * i], velocities[3 * i + 1], velocities[3 * i + 2]);
+        }
+        auto first = simulation->simulation.addParticles(p, v);
+        if (!first)
+            return failWith(first.error());
+        if (firstId)
+            *firstId = *first;
+        return SLUICE_OK;
+    });
+}
+
+SluiceStatus sluice_particle_view(const SluiceSimulation* simulation, SluiceParticleView* out) {
+    return guarded("sluice_particle_view", [&] {
+        if (!simulation || !out)
+            return nullArgument("sluice_particle_view", !out ? "out" : "simulation");
+        const sluice::rt::ParticleView v = simulation->simulation.particleView();
+        *out = SluiceParticleView{v.positions,      v.velocities,     v.ids,   v.count,
+                                  v.positionStride, v.velocityStride, v.idStride};
+        return SLUICE_OK;
+    });
+}
+
+SluiceStatus sluice_read_particles(const SluiceSimulation* simulation, float* positions,
+                                   uint32_t* ids, uint32_t capacity, uint32_t* count) {
+    return guarded("sluice_read_particles", [&] {
+        if (!simulation || !count)
+            return nullArgument("sluice_read_particles", !count ? "count" : "simulation");
+        const std::vector<sluice::rt::ParticleState> particles =
+            simulation->simulation.downloadParticles();
+        const std::size_t n = std::min<std::size_t>(capacity, particles.size());
+        for (std::size_t i = 0; i < n; ++i) {
+            if (positions)
+                for (int a = 0; a < 3; ++a)
+                    positions[3 * i + a] = particles[i].position[a];
+            if (ids)
+                ids[i] = particles[i].id;
+        }
+        *count = std::uint32_t(particles.size());
+        return SLUICE_OK;
+    });
+}
+
+uint32_t sluice_particle_count(const SluiceSimulation* simulation) {
+    return simulation ? simulation->simulation.particleCount() : 0;
+}
+
+double sluice_time(const SluiceSimulation* simulation) {
+    return simulation ? simulation->simulation.time() : 0.0;
+}
+
+} // extern "C"

@@ -1,0 +1,109 @@
+// Simulation: the calls a game loop makes between steps (docs/embedding.md): the fixed-step
+// driver, collider poses it sets, particles it adds, and the view of the buffers it draws.
+#include "sim/SimulationImpl.h"
+
+namespace sluice::rt {
+namespace {
+
+bool finite(glm::vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+} // namespace
+
+Result<FrameAdvance> Simulation::advance(double frameSeconds, std::uint32_t maxSteps) {
+    Impl& s = *m_impl;
+    if (!std::isfinite(frameSeconds) || frameSeconds < 0.0)
+        return fail(ErrorCode::InvalidArgument,
+                    "advance: a frame of " + std::to_string(frameSeconds) +
+                        " s; give a finite time >= 0");
+    if (maxSteps == 0)
+        return fail(ErrorCode::InvalidArgument, "advance: maxSteps is 0; give at least 1");
+    const double dt = s.scene.simulation.timeStep;
+    double owed = s.carried + frameSeconds;
+    // A frame that owes a whole step to within rounding takes it: frames of 1/60 s in double
+    // step once each at the float time step 1/60 s, which is 4e-8 of a step longer.
+    const double whole = std::floor(owed / dt + 1e-5);
+    FrameAdvance out;
+    out.steps = std::uint32_t(std::min(whole, double(maxSteps)));
+    if (whole > double(maxSteps))
+        out.dropped = (whole - double(maxSteps)) * dt;
+    owed -= double(out.steps) * dt + out.dropped;
+    for (std::uint32_t i = 0; i < out.steps; ++i)
+        step();
+    s.carried = std::clamp(owed, 0.0, std::nextafter(dt, 0.0));
+    out.remainder = s.carried;
+    out.alpha = std::min(s.carried / dt, std::nextafter(1.0, 0.0));
+    return out;
+}
+
+Result<void> Simulation::setColliderPose(std::uint32_t collider, glm::vec3 translation,
+                                         glm::quat rotation) {
+    Impl& s = *m_impl;
+    const std::string what = "collider " + std::to_string(collider);
+    if (collider >= s.scene.colliders.size())
+        return fail(ErrorCode::InvalidArgument,
+                    "setColliderPose: " + what + " of " +
+                        std::to_string(s.scene.colliders.size()) + " colliders");
+    if (s.scene.colliders[collider].dynamic)
+        return fail(ErrorCode::InvalidArgument,
+                    "setColliderPose: " + what +
+                        " is a dynamic body, which the fluid moves; only static and kinematic "
+                        "colliders take a pose");
+    if (!finite(translation) || !std::isfinite(rotation.x) || !std::isfinite(rotation.y) ||
+        !std::isfinite(rotation.z) || !std::isfinite(rotation.w))
+        return fail(ErrorCode::NonFinite, "setColliderPose: " + what + ": a pose that is not finite");
+    const float length = glm::length(rotation);
+    if (!(length > 0.0f) || !std::isfinite(length))
+        return fail(ErrorCode::InvalidArgument,
+                    "setColliderPose: " + what + ": the rotation is a zero quaternion");
+    const float t0 = float(s.time);
+    const float t1 = float(s.time + double(s.k.dt) * std::max(1u, s.scene.simulation.substeps));
+    Impl::DrivenPose driven;
+    driven.from = s.poseOf(collider, t0);
+    driven.t0 = t0;
+    // A unit quaternion as a float holds it is kept bit for bit (the same pose as a keyframe's).
+    const glm::quat unit = std::abs(length - 1.0f) > 1e-5f ? rotation / length : rotation;
+    driven.to = ColliderPose{translation, unit, s.scene.colliders[collider].scale};
+    driven.t1 = t1;
+    s.driven[collider] = driven;
+    return {};
+}
+
+Result<std::uint32_t> Simulation::addParticles(const std::vector<glm::vec3>& positions,
+                                               const std::vector<glm::vec3>& velocities) {
+    Impl& s = *m_impl;
+    if (!velocities.empty() && velocities.size() != positions.size())
+        return fail(ErrorCode::InvalidArgument,
+                    "addParticles: " + std::to_string(velocities.size()) + " velocities for " +
+                        std::to_string(positions.size()) + " positions");
+    if (positions.size() > std::size_t(s.capacity - s.count))
+        return fail(ErrorCode::InvalidArgument,
+                    "addParticles: " + std::to_string(positions.size()) + " particles do not fit: " +
+                        std::to_string(s.count) + " of the capacity " +
+                        std::to_string(s.capacity) + " are in use");
+    for (std::size_t i = 0; i < positions.size(); ++i)
+        if (!finite(positions[i]) || (!velocities.empty() && !finite(velocities[i])))
+            return fail(ErrorCode::NonFinite,
+                        "addParticles: particle " + std::to_string(i) + " is not finite");
+    const std::uint32_t first = s.nextId;
+    std::vector<ParticleState> added;
+    added.reserve(positions.size());
+    for (std::size_t i = 0; i < positions.size(); ++i)
+        added.push_back({positions[i], velocities.empty() ? glm::vec3(0.0f) : velocities[i],
+                         s.nextId++});
+    s.append(added);
+    return first;
+}
+
+ParticleView Simulation::particleView() const {
+    const Impl& s = *m_impl;
+    ParticleView view;
+    view.positions = s.pos[s.cur].id();
+    view.velocities = s.vel[s.cur].id();
+    view.ids = s.id[s.cur].id();
+    view.count = s.count;
+    return view;
+}
+
+} // namespace sluice::rt

@@ -1,0 +1,145 @@
+/* The C API from C (sluice/sluice.h): no context, a headless one, a scene from JSON with a
+ * baked ball as a kinematic collider, steps, poses, added particles, the view and bad input. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "sluice/sluice.h"
+
+static int g_passed = 0;
+static int g_failed = 0;
+
+#define CHECK(cond)                                                                              \
+    do {                                                                                         \
+        if (cond) {                                                                              \
+            ++g_passed;                                                                          \
+        } else {                                                                                 \
+            ++g_failed;                                                                          \
+            fprintf(stderr, "%s:%d: CHECK(%s) failed; last error: %s\n", __FILE__, __LINE__,     \
+                    #cond, sluice_last_error());                                                 \
+        }                                                                                        \
+    } while (0)
+
+/* A 6 x 4 x 6 block beside sphere.slc scaled to a 10 cm ball, in a 40 x 40 x 24 cm box. */
+static const char* kScene =
+    "{\"simulation\": {\"spacing\": 0.02, \"capacity\": 400},"
+    " \"fluid\": [{\"box\": {\"min\": [0, 0, 0], \"max\": [0.12, 0.08, 0.12]}}],"
+    " \"colliders\": [{\"asset\": \"sphere.slc\", \"translation\": [0.3, 0.1, 0.06],"
+    "                  \"scale\": 0.4}],"
+    " \"domain\": {\"min\": [0, 0, 0], \"max\": [0.4, 0.4, 0.24]}}";
+
+static void refusesWithoutContext(const char* sceneFile) {
+    SluiceSimulation* sim = NULL;
+    CHECK(sluice_simulation_create_from_json(kScene, sceneFile, &sim) ==
+          SLUICE_ERROR_NO_GL_CONTEXT);
+    CHECK(sim == NULL);
+    CHECK(strstr(sluice_last_error(), "sluice_load_gl") != NULL);
+}
+
+static void refusesBadScenes(const char* sceneFile) {
+    SluiceSimulation* sim = NULL;
+    CHECK(sluice_simulation_create_from_json("{\"fluid\": 3}", sceneFile, &sim) ==
+          SLUICE_ERROR_BAD_INPUT);
+    CHECK(strstr(sluice_last_error(), "fluid") != NULL);
+    CHECK(sluice_simulation_create_from_json(
+              "{\"simulation\": {\"spacing\": -1}, \"fluid\": []}", sceneFile, &sim) ==
+          SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_simulation_create_from_file("/nonexistent/scene.json", &sim) ==
+          SLUICE_ERROR_BAD_INPUT);
+    CHECK(strstr(sluice_last_error(), "/nonexistent/scene.json") != NULL);
+    CHECK(sluice_simulation_create_from_json(NULL, sceneFile, &sim) ==
+          SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sim == NULL);
+}
+
+static void movesAddsAndViews(SluiceSimulation* sim) {
+    const uint32_t start = sluice_particle_count(sim);
+    CHECK(start == 144);
+    SluiceFrameAdvance frame;
+    CHECK(sluice_advance(sim, 1.0 / 60.0, 4, &frame) == SLUICE_OK);
+    CHECK(frame.steps == 1);
+
+    /* Bad poses change nothing: an unknown collider, a NaN, a zero quaternion. */
+    const float unit[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    const float there[3] = {0.25f, 0.1f, 0.06f};
+    const float nanAt[3] = {0.25f, NAN, 0.06f};
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    CHECK(sluice_set_collider_pose(sim, 1, there, unit) == SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_set_collider_pose(sim, 0, nanAt, unit) == SLUICE_ERROR_NON_FINITE);
+    CHECK(sluice_set_collider_pose(sim, 0, there, zero) == SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_set_collider_pose(sim, 0, there, NULL) == SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_set_collider_pose(sim, 0, there, unit) == SLUICE_OK);
+    CHECK(sluice_step(sim) == SLUICE_OK);
+
+    /* Eight particles in the air: new ids after the block's. */
+    float positions[8 * 3];
+    float velocities[8 * 3];
+    for (int i = 0; i < 8; ++i) {
+        positions[3 * i + 0] = 0.03f + 0.02f * (float)(i % 4);
+        positions[3 * i + 1] = 0.3f;
+        positions[3 * i + 2] = 0.05f + 0.02f * (float)(i / 4);
+        velocities[3 * i + 0] = 0.0f;
+        velocities[3 * i + 1] = -0.5f;
+        velocities[3 * i + 2] = 0.0f;
+    }
+    uint32_t first = 0;
+    CHECK(sluice_add_particles(sim, positions, velocities, 8, &first) == SLUICE_OK);
+    CHECK(first == start);
+    CHECK(sluice_particle_count(sim) == start + 8);
+    CHECK(sluice_add_particles(sim, positions, NULL, 300, &first) ==
+          SLUICE_ERROR_INVALID_ARGUMENT); /* past the capacity of 400 */
+    positions[4] = INFINITY;
+    CHECK(sluice_add_particles(sim, positions, NULL, 8, &first) == SLUICE_ERROR_NON_FINITE);
+    CHECK(sluice_particle_count(sim) == start + 8);
+    CHECK(sluice_step(sim) == SLUICE_OK);
+
+    static uint32_t ids[400];
+    static float read[400 * 3];
+    uint32_t count = 0;
+    CHECK(sluice_read_particles(sim, read, ids, 400, &count) == SLUICE_OK);
+    CHECK(count == start + 8);
+    int added = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+        CHECK(isfinite(read[3 * i + 1]));
+        if (ids[i] >= start && ids[i] < start + 8) {
+            ++added;
+            CHECK(read[3 * i + 1] < 0.3f); /* falling */
+        }
+    }
+    CHECK(added == 8);
+
+    SluiceParticleView view;
+    CHECK(sluice_particle_view(sim, &view) == SLUICE_OK);
+    CHECK(view.count == start + 8);
+    CHECK(view.positions != 0 && view.velocities != 0 && view.ids != 0);
+    CHECK(view.positionStride == 16 && view.idStride == 4);
+    CHECK(sluice_advance(sim, -1.0, 4, &frame) == SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_time(sim) > 0.04 && sluice_time(sim) < 0.06);
+}
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        fprintf(stderr, "usage: %s ASSETS_DIR\n", argv[0]);
+        return 2;
+    }
+    char sceneFile[4096];
+    snprintf(sceneFile, sizeof sceneFile, "%s/c-api.json", argv[1]);
+    CHECK(strcmp(sluice_last_error(), "") == 0);
+    refusesWithoutContext(sceneFile);
+
+    SluiceContext* context = NULL;
+    CHECK(sluice_context_create_headless(&context) == SLUICE_OK);
+    if (!context) {
+        fprintf(stderr, "no headless context: %s\n", sluice_last_error());
+        return 1;
+    }
+    refusesBadScenes(sceneFile);
+    SluiceSimulation* sim = NULL;
+    CHECK(sluice_simulation_create_from_json(kScene, sceneFile, &sim) == SLUICE_OK);
+    if (sim)
+        movesAddsAndViews(sim);
+    sluice_simulation_destroy(sim);
+    sluice_context_destroy(context);
+    printf("%d passed, %d failed\n", g_passed, g_failed);
+    return g_failed == 0 ? 0 : 1;
+}
