@@ -1,11 +1,15 @@
 # Generates the GL 4.5 core + EGL 1.5 loaders with the glad2 generator (PyPI) at configure time,
 # into a virtual environment inside the build folder, and defines the static library sluice_glad.
-# Nothing generated is committed; a second configure reuses the venv and the generated files.
+# Its symbols and headers are Sluice's own (cmake/glad_prefix.py: sluice_glad_glGenBuffers,
+# sluice_gladLoadGL, <sluice_glad/gl.h>), so a game linking its own glad or another loader
+# shares nothing with it. Nothing generated is committed; a second configure reuses the venv and
+# the generated files.
 
 set(SLUICE_GLAD_VERSION "2.0.8" CACHE STRING "glad2 generator version from PyPI")
 set(_glad_root ${CMAKE_BINARY_DIR}/_glad)
 set(_glad_venv ${_glad_root}/venv)
 set(_glad_out ${_glad_root}/out)
+set(_glad_prefixed ${_glad_root}/prefixed)
 set(_glad_apis "gl:core=4.5,egl=1.5")
 # EGL extensions for headless contexts: NVIDIA's device platform and Mesa's surfaceless one.
 set(_glad_exts
@@ -13,7 +17,8 @@ set(_glad_exts
     EGL_EXT_device_query EGL_MESA_platform_surfaceless EGL_KHR_create_context
     EGL_KHR_surfaceless_context GL_KHR_debug)
 list(JOIN _glad_exts "," _glad_ext_csv)
-set(_glad_key "${SLUICE_GLAD_VERSION}|${_glad_apis}|${_glad_ext_csv}")
+file(SHA256 ${CMAKE_CURRENT_LIST_DIR}/glad_prefix.py _glad_prefix_hash)
+set(_glad_key "${SLUICE_GLAD_VERSION}|${_glad_apis}|${_glad_ext_csv}|${_glad_prefix_hash}")
 
 find_package(Python3 REQUIRED COMPONENTS Interpreter)
 
@@ -23,7 +28,7 @@ if(EXISTS ${_glad_stamp})
     file(READ ${_glad_stamp} _glad_have)
 endif()
 
-if(NOT _glad_have STREQUAL _glad_key OR NOT EXISTS ${_glad_out}/src/gl.c)
+if(NOT _glad_have STREQUAL _glad_key OR NOT EXISTS ${_glad_prefixed}/src/gl.c)
     message(STATUS "glad: generating GL/EGL loaders with glad2 ${SLUICE_GLAD_VERSION}")
     if(NOT EXISTS ${_glad_venv}/bin/python)
         execute_process(COMMAND ${Python3_EXECUTABLE} -m venv ${_glad_venv}
@@ -47,10 +52,16 @@ if(NOT _glad_have STREQUAL _glad_key OR NOT EXISTS ${_glad_out}/src/gl.c)
     if(NOT _rc EQUAL 0 OR NOT EXISTS ${_glad_out}/src/gl.c)
         message(FATAL_ERROR "glad: generation failed")
     endif()
+    execute_process(COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_LIST_DIR}/glad_prefix.py
+                            ${_glad_out} ${_glad_prefixed}
+                    RESULT_VARIABLE _rc)
+    if(NOT _rc EQUAL 0 OR NOT EXISTS ${_glad_prefixed}/src/gl.c)
+        message(FATAL_ERROR "glad: renaming the loader's symbols failed")
+    endif()
     file(WRITE ${_glad_stamp} "${_glad_key}")
 endif()
 
-add_library(sluice_glad STATIC ${_glad_out}/src/gl.c ${_glad_out}/src/egl.c)
-target_include_directories(sluice_glad SYSTEM PUBLIC ${_glad_out}/include)
+add_library(sluice_glad STATIC ${_glad_prefixed}/src/gl.c ${_glad_prefixed}/src/egl.c)
+target_include_directories(sluice_glad SYSTEM PUBLIC ${_glad_prefixed}/include)
 set_target_properties(sluice_glad PROPERTIES POSITION_INDEPENDENT_CODE ON)
 target_link_libraries(sluice_glad PUBLIC ${CMAKE_DL_LIBS})

@@ -7,7 +7,7 @@
 # (CGAL, OpenVDB, assimp) is not installed: a game only runs the baker.
 #
 # Layout under the prefix: bin/ the programs; lib/ the static libraries; include/sluice/<module>/
-# the public headers (the GL loader under include/sluice/glad/, the GLSL/C++ shared headers under
+# the public headers (the GL loader under include/sluice/glad/sluice_glad/, the GLSL/C++ shared headers under
 # include/sluice/shaders/shared/); lib/cmake/Sluice/ the package files.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -134,7 +134,7 @@ _sluice_install_includes(sluice_glad ${CMAKE_INSTALL_INCLUDEDIR}/sluice/glad)
 _sluice_install_includes(sluice_gpu ${CMAKE_INSTALL_INCLUDEDIR}
                          ${CMAKE_INSTALL_INCLUDEDIR}/sluice/shaders)
 # The loader's headers, generated at configure time by cmake/SluiceGlad.cmake.
-install(DIRECTORY ${CMAKE_BINARY_DIR}/_glad/out/include/
+install(DIRECTORY ${CMAKE_BINARY_DIR}/_glad/prefixed/include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sluice/glad)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/gpu/include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

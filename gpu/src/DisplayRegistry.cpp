@@ -5,7 +5,7 @@
 #include <map>
 #include <mutex>
 
-#include <glad/egl.h>
+#include <sluice_glad/egl.h>
 #include <pthread.h>
 
 #include "Egl.h"

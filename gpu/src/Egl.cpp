@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include <glad/egl.h>
+#include <sluice_glad/egl.h>
 
 #include "DisplayRegistry.h"
 #include "sluice/gpu/Context.h"
@@ -171,7 +171,7 @@ Result<void> tryDisplay(EGLDisplay display, const Settings& settings, EglContext
 
     // Reload EGL for this display: its version decides which core functions exist, and its
     // extensions which context and surface features do.
-    if (gladLoaderLoadEGL(display) == 0)
+    if (sluice_gladLoaderLoadEGL(display) == 0)
         return failWith("could not load the EGL functions for the display");
     const char* displayExtensions = eglQueryString(display, EGL_EXTENSIONS);
     const char* eglVersion = eglQueryString(display, EGL_VERSION);
@@ -199,7 +199,7 @@ Result<void> tryDisplay(EGLDisplay display, const Settings& settings, EglContext
         EGL_CONTEXT_MINOR_VERSION,       5,
         EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT};
     if (settings.debug) {
-        if (GLAD_EGL_VERSION_1_5) {
+        if (sluice_GLAD_EGL_VERSION_1_5) {
             contextAttribs.insert(contextAttribs.end(), {EGL_CONTEXT_OPENGL_DEBUG, EGL_TRUE});
         } else {
             contextAttribs.insert(contextAttribs.end(),
@@ -207,7 +207,7 @@ Result<void> tryDisplay(EGLDisplay display, const Settings& settings, EglContext
         }
     }
     contextAttribs.push_back(EGL_NONE);
-    if (!GLAD_EGL_VERSION_1_5 && !GLAD_EGL_KHR_create_context)
+    if (!sluice_GLAD_EGL_VERSION_1_5 && !sluice_GLAD_EGL_KHR_create_context)
         return failWith("EGL " + out.eglVersion +
                         " has neither EGL 1.5 nor "
                         "EGL_KHR_create_context, so no 4.5 core context can be requested");
@@ -215,7 +215,7 @@ Result<void> tryDisplay(EGLDisplay display, const Settings& settings, EglContext
     if (out.context == EGL_NO_CONTEXT)
         return failWith("eglCreateContext(OpenGL 4.5 core) failed: " + lastEglError());
 
-    if (!GLAD_EGL_KHR_surfaceless_context) {
+    if (!sluice_GLAD_EGL_KHR_surfaceless_context) {
         if (config == kNoConfig)
             return failWith("no EGL_KHR_surfaceless_context and no config for a pbuffer");
         const EGLint pbufferAttribs[] = {EGL_WIDTH, 1, EGL_HEIGHT, 1, EGL_NONE};
@@ -226,7 +226,7 @@ Result<void> tryDisplay(EGLDisplay display, const Settings& settings, EglContext
     }
     if (auto current = makeEglContextCurrent(out); !current)
         return failWith(current.error().detail);
-    if (gladLoadGL(&loadGlFunction) == 0)
+    if (sluice_gladLoadGL(&loadGlFunction) == 0)
         return failWith("could not load the OpenGL functions through eglGetProcAddress");
     if (auto verified = verifyGl(); !verified)
         return failWith(verified.error().detail);
@@ -341,17 +341,17 @@ Result<EglContext> createEglContext(const ContextOptions& options) {
         return settings.error();
 
     // First load without a display: only client extensions (platforms, device enumeration).
-    if (gladLoaderLoadEGL(EGL_NO_DISPLAY) == 0)
+    if (sluice_gladLoaderLoadEGL(EGL_NO_DISPLAY) == 0)
         return fail(ErrorCode::NoGlContext,
                     "could not load libEGL.so.1; install an EGL implementation: the NVIDIA "
                     "driver's, or Mesa's (libegl1 and libegl-mesa0)");
     ClientExtensions client;
-    client.platformBase = GLAD_EGL_EXT_platform_base != 0;
-    client.platformDevice = GLAD_EGL_EXT_platform_device != 0;
+    client.platformBase = sluice_GLAD_EGL_EXT_platform_base != 0;
+    client.platformDevice = sluice_GLAD_EGL_EXT_platform_device != 0;
     client.deviceEnumeration =
-        GLAD_EGL_EXT_device_enumeration != 0 || GLAD_EGL_EXT_device_base != 0;
-    client.deviceQuery = GLAD_EGL_EXT_device_query != 0 || GLAD_EGL_EXT_device_base != 0;
-    client.platformSurfaceless = GLAD_EGL_MESA_platform_surfaceless != 0;
+        sluice_GLAD_EGL_EXT_device_enumeration != 0 || sluice_GLAD_EGL_EXT_device_base != 0;
+    client.deviceQuery = sluice_GLAD_EGL_EXT_device_query != 0 || sluice_GLAD_EGL_EXT_device_base != 0;
+    client.platformSurfaceless = sluice_GLAD_EGL_MESA_platform_surfaceless != 0;
 
     std::vector<std::string> tried;
     std::optional<EglContext> found;

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Dict, Iterable, List, Optional, Tuple, Union
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -335,6 +335,24 @@ class Simulation:
         i = (np.arange(len(p), dtype=np.uint32) if ids is None
              else np.ascontiguousarray(ids, dtype=np.uint32))
         self._s.set_particles(p, v, i)
+
+    def add_particles(self, positions: Any, velocities: Any = None) -> np.ndarray:
+        """Adds particles at (N, 3) ``positions`` [m] with ``velocities`` [m/s] (default at
+        rest), uploading only them; returns their ids (every other particle keeps its own).
+        They join at the next step."""
+        p = np.ascontiguousarray(positions, dtype=np.float32).reshape(-1, 3)
+        v = (None if velocities is None
+             else np.ascontiguousarray(velocities, dtype=np.float32).reshape(-1, 3))
+        first = self._s.add_particles(p, v)
+        return np.arange(first, first + len(p), dtype=np.uint32)
+
+    def set_collider_pose(self, index: int, translation: Sequence[float],
+                          rotation: Sequence[float] = (0.0, 0.0, 0.0, 1.0)) -> None:
+        """Places static or kinematic collider ``index`` at ``translation`` [m] and the
+        quaternion ``rotation`` (x, y, z, w) by the end of the next step, moving there across
+        its substeps (docs/embedding.md)."""
+        self._s.set_collider_pose(int(index), [float(t) for t in translation],
+                                  [float(r) for r in rotation])
 
     @property
     def stats(self) -> Dict[str, Any]:

@@ -1,4 +1,5 @@
 // Bindings of the runtime: a PBF Simulation in its own headless GL context, stepped from Python.
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -6,6 +7,8 @@
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/unique_ptr.h>
 
@@ -106,6 +109,31 @@ void setParticles(PySimulation& s,
         p[i].id = ids(i);
     }
     if (Result<void> ok = s.current().setParticles(p); !ok)
+        raise(Family::Argument, ok.error());
+}
+
+// Adds (N, 3) positions with (N, 3) velocities (or none: at rest); the first new id.
+std::uint32_t addParticles(
+    PySimulation& s, nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
+    std::optional<nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>> vel) {
+    std::vector<glm::vec3> positions(pos.shape(0)), velocities(vel ? vel->shape(0) : 0);
+    for (std::size_t i = 0; i < positions.size(); ++i)
+        positions[i] = {pos(i, 0), pos(i, 1), pos(i, 2)};
+    for (std::size_t i = 0; i < velocities.size(); ++i)
+        velocities[i] = {(*vel)(i, 0), (*vel)(i, 1), (*vel)(i, 2)};
+    auto first = s.current().addParticles(positions, velocities);
+    if (!first)
+        raise(Family::Argument, first.error());
+    return *first;
+}
+
+// Places collider `index` at `translation` [m] and the quaternion `rotation` (x, y, z, w).
+void setColliderPose(PySimulation& s, std::uint32_t index, std::array<float, 3> translation,
+                     std::array<float, 4> rotation) {
+    const glm::quat q(rotation[3], rotation[0], rotation[1], rotation[2]);
+    if (auto ok = s.current().setColliderPose(
+            index, glm::vec3(translation[0], translation[1], translation[2]), q);
+        !ok)
         raise(Family::Argument, ok.error());
 }
 
@@ -274,6 +302,10 @@ void bindSimulation(nb::module_& m) {
         .def("solid_boundary_at", &solidBoundaryAt, nb::arg("points"))
         .def("set_particles", &setParticles, nb::arg("positions"), nb::arg("velocities"),
              nb::arg("ids"))
+        .def("add_particles", &addParticles, nb::arg("positions"),
+             nb::arg("velocities").none() = nb::none())
+        .def("set_collider_pose", &setColliderPose, nb::arg("index"), nb::arg("translation"),
+             nb::arg("rotation"))
         .def_prop_ro("particle_count", [](PySimulation& s) { return s.sim->particleCount(); })
         .def_prop_ro("capacity", [](PySimulation& s) { return s.sim->capacity(); })
         .def_prop_ro("time", [](PySimulation& s) { return s.sim->time(); })

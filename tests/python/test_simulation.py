@@ -196,3 +196,22 @@ def test_the_solids_boundary_share_is_probed_where_walls_and_colliders_meet(scen
     walls_without["simulation"]["boundary"] = "bodies"
     bodies = sluice.Simulation(walls_without, base_dir=scene.parent)
     assert not bodies.solid_boundary_at(points)[0].any()
+
+
+def test_added_particles_get_new_ids_and_a_set_pose_moves_the_collider(scene: Path) -> None:
+    room = scene_dict("ball.slc")
+    room["simulation"]["capacity"] = 600
+    sim = sluice.Simulation(room, base_dir=scene.parent)
+    before = sim.particles["ids"]
+    ids = sim.add_particles([[0.0, 0.3, 0.0], [0.02, 0.3, 0.0]], [[0.0, -1.0, 0.0]] * 2)
+    assert list(ids) == [before.max() + 1, before.max() + 2]
+    sim.set_collider_pose(0, (0.05, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+    sim.step(2)
+    after = sim.particles
+    assert set(after["ids"]) == set(before) | set(ids)
+    assert np.isfinite(after["positions"]).all()
+    with pytest.raises(sluice.InvalidArgument, match="collider 1 of 1"):
+        sim.set_collider_pose(1, (0.0, 0.0, 0.0))
+    with pytest.raises(sluice.Error, match="not finite"):
+        sim.add_particles([[float("nan"), 0.0, 0.0]])
+    assert sim.particle_count == len(after["ids"])

@@ -17,12 +17,13 @@ extern "C" {
 /** What a call did: SLUICE_OK, or why it changed nothing. */
 typedef enum SluiceStatus {
     SLUICE_OK = 0,
-    SLUICE_ERROR_INVALID_ARGUMENT = 1, /**< a value out of range, an unknown index, a null pointer */
-    SLUICE_ERROR_NON_FINITE = 2,       /**< NaN or infinity where a finite number is needed */
-    SLUICE_ERROR_BAD_INPUT = 3,        /**< a scene or collider file that cannot be used */
-    SLUICE_ERROR_NO_GL_CONTEXT = 4,    /**< no current OpenGL 4.5 context with compute shaders */
-    SLUICE_ERROR_GPU = 5,              /**< the GPU ran out of memory or refused a shader */
-    SLUICE_ERROR_INTERNAL = 6          /**< a bug in Sluice */
+    SLUICE_ERROR_INVALID_ARGUMENT =
+        1,                          /**< a value out of range, an unknown index, a null pointer */
+    SLUICE_ERROR_NON_FINITE = 2,    /**< NaN or infinity where a finite number is needed */
+    SLUICE_ERROR_BAD_INPUT = 3,     /**< a scene or collider file that cannot be used */
+    SLUICE_ERROR_NO_GL_CONTEXT = 4, /**< no current OpenGL 4.5 context with compute shaders */
+    SLUICE_ERROR_GPU = 5,           /**< the GPU ran out of memory or refused a shader */
+    SLUICE_ERROR_INTERNAL = 6       /**< a bug in Sluice */
 } SluiceStatus;
 
 /** A headless OpenGL 4.5 context (EGL), for programs without a window of their own. */
@@ -52,6 +53,16 @@ typedef struct SluiceFrameAdvance {
     double alpha;     /**< remainder / time step, in [0, 1) */
     double dropped;   /**< time dropped past maxSteps [s] */
 } SluiceFrameAdvance;
+
+/** One dynamic body after a completed step: the fluid's force and torque on it and its pose. */
+typedef struct SluiceBody {
+    uint32_t collider;       /**< its index among the scene's colliders */
+    float force[3];          /**< the fluid's force, mean over the step [N] */
+    float torque[3];         /**< the fluid's torque about the centre of mass [N m] */
+    float centreOfMass[3];   /**< [m] */
+    float orientation[4];    /**< quaternion x y z w, asset frame to world */
+    float linearVelocity[3]; /**< [m/s] */
+} SluiceBody;
 
 /** This thread's last failure: what and where, as a person reads it ("" if none). */
 const char* sluice_last_error(void);
@@ -94,6 +105,11 @@ SluiceStatus sluice_particle_view(const SluiceSimulation* simulation, SluicePart
  * sets *count to how many there are. Waits for the GPU: for tools and tests, not every frame. */
 SluiceStatus sluice_read_particles(const SluiceSimulation* simulation, float* positions,
                                    uint32_t* ids, uint32_t capacity, uint32_t* count);
+/** The dynamic bodies as the newest completed step left them, without waiting for the GPU:
+ * up to `capacity` of them into `out`, *count how many there are (0 until a step completed, and
+ * in a scene without bodies), *step which step they are from (`step` may be null). */
+SluiceStatus sluice_latest_bodies(const SluiceSimulation* simulation, SluiceBody* out,
+                                  uint32_t capacity, uint32_t* count, uint64_t* step);
 /** Particles now live (0 for null). */
 uint32_t sluice_particle_count(const SluiceSimulation* simulation);
 /** Simulated time [s] (0 for null). */

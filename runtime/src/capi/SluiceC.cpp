@@ -2,6 +2,7 @@
 // last error; no exception crosses it.
 #include "sluice/sluice.h"
 
+#include <algorithm>
 #include <exception>
 #include <string>
 #include <vector>
@@ -66,7 +67,7 @@ template <class Body> SluiceStatus guarded(const char* call, Body&& body) {
 
 // Whether Sluice's GL functions are loaded and a context is current on this thread.
 SluiceStatus requireContext(const char* call) {
-    if (!GLAD_GL_VERSION_4_5 || glad_glGetString == nullptr)
+    if (!sluice_GLAD_GL_VERSION_4_5 || sluice_glad_glGetString == nullptr)
         return failWith(SLUICE_ERROR_NO_GL_CONTEXT,
                         std::string(call) +
                             ": no OpenGL 4.5 functions loaded; call sluice_load_gl with the "
@@ -125,8 +126,8 @@ SluiceStatus sluice_load_gl(SluiceGetProcAddress getProcAddress) {
     return guarded("sluice_load_gl", [&] {
         if (!getProcAddress)
             return nullArgument("sluice_load_gl", "getProcAddress");
-        const int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(getProcAddress));
-        if (version == 0 || !GLAD_GL_VERSION_4_5)
+        const int version = sluice_gladLoadGL(reinterpret_cast<GLADloadfunc>(getProcAddress));
+        if (version == 0 || !sluice_GLAD_GL_VERSION_4_5)
             return failWith(SLUICE_ERROR_NO_GL_CONTEXT,
                             "sluice_load_gl: the current context is not OpenGL 4.5 core (got " +
                                 std::to_string(GLAD_VERSION_MAJOR(version)) + "." +
@@ -222,7 +223,7 @@ SluiceStatus sluice_particle_view(const SluiceSimulation* simulation, SluicePart
         if (!simulation || !out)
             return nullArgument("sluice_particle_view", !out ? "out" : "simulation");
         const sluice::rt::ParticleView v = simulation->simulation.particleView();
-        *out = SluiceParticleView{v.positions,      v.velocities,     v.ids,   v.count,
+        *out = SluiceParticleView{v.positions,      v.velocities,     v.ids,     v.count,
                                   v.positionStride, v.velocityStride, v.idStride};
         return SLUICE_OK;
     });
@@ -244,6 +245,39 @@ SluiceStatus sluice_read_particles(const SluiceSimulation* simulation, float* po
                 ids[i] = particles[i].id;
         }
         *count = std::uint32_t(particles.size());
+        return SLUICE_OK;
+    });
+}
+
+SluiceStatus sluice_latest_bodies(const SluiceSimulation* simulation, SluiceBody* out,
+                                  uint32_t capacity, uint32_t* count, uint64_t* step) {
+    return guarded("sluice_latest_bodies", [&] {
+        if (!simulation || !count || (!out && capacity > 0))
+            return nullArgument("sluice_latest_bodies",
+                                !simulation ? "simulation" : (!count ? "count" : "out"));
+        *count = 0;
+        const auto reading = simulation->simulation.latestBodies();
+        if (!reading)
+            return SLUICE_OK;
+        *count = std::uint32_t(reading->bodies.size());
+        if (step)
+            *step = reading->step;
+        for (std::size_t b = 0; b < std::min<std::size_t>(capacity, reading->bodies.size()); ++b) {
+            const sluice::rt::BodyState& body = reading->bodies[b];
+            SluiceBody& o = out[b];
+            o.collider = body.collider;
+            for (int a = 0; a < 3; ++a) {
+                o.force[a] = body.force[a];
+                o.torque[a] = body.torque[a];
+                o.centreOfMass[a] = body.position[a];
+                o.linearVelocity[a] = body.linearVelocity[a];
+            }
+            const glm::quat q = body.orientation;
+            o.orientation[0] = q.x;
+            o.orientation[1] = q.y;
+            o.orientation[2] = q.z;
+            o.orientation[3] = q.w;
+        }
         return SLUICE_OK;
     });
 }

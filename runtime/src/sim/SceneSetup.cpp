@@ -246,8 +246,7 @@ ColliderPose colliderPose(const format::SceneCollider& collider, float t) {
     if (!keys.empty()) {
         // Clamped outside the key range; linear translation and slerped rotation between keys.
         const auto keyPose = [&](const format::ColliderKey& key) {
-            return ColliderPose{key.translation, eulerDegrees(key.rotationDegrees),
-                                collider.scale};
+            return ColliderPose{key.translation, eulerDegrees(key.rotationDegrees), collider.scale};
         };
         if (t <= keys.front().time)
             return keyPose(keys.front());

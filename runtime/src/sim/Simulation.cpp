@@ -47,7 +47,12 @@ const char* passName(Pass pass) {
     return "?";
 }
 
-Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scene& scene) {
+Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scene& given) {
+    // The checks below read the derived parameters (the kernel radius): a scene built in code
+    // is completed first, as Simulation::create does.
+    format::Scene scene = given;
+    if (auto ok = format::completeScene(scene); !ok)
+        return ok.error();
     std::vector<format::ColliderAsset> assets;
     for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
         const format::SceneCollider& collider = scene.colliders[c];
@@ -81,13 +86,6 @@ Result<Simulation> Simulation::create(const format::Scene& given,
                     scene.path + ": " + std::to_string(scene.colliders.size()) +
                         " colliders in the scene but " + std::to_string(colliders.size()) +
                         " assets given");
-    // The scene reader refuses more; a scene built in code is held to the same limit (the
-    // colliders' uniform block and the per-particle masks hold 64).
-    if (scene.colliders.size() > shared::kMaxColliders)
-        return fail(ErrorCode::InvalidArgument, scene.path + ": " +
-                                                    std::to_string(scene.colliders.size()) +
-                                                    " colliders; a scene holds at most " +
-                                                    std::to_string(shared::kMaxColliders));
     if (auto ok = checkOptions(scene, options); !ok)
         return ok.error();
     // The reach a sparse collider's band must hold (setUpBodies checks the bodies' volumes).
@@ -111,6 +109,9 @@ Result<Simulation> Simulation::create(const format::Scene& given,
     impl->scan = std::make_unique<PrefixScan>(std::move(*scan));
     if (auto ok = impl->allocate(); !ok)
         return ok.error();
+    if (impl->bodyCount > 0)
+        if (auto ok = impl->allocateBodySnapshots(); !ok)
+            return ok.error();
 
     impl->uploadColliderGrids();
     if (auto ok = impl->buildVolumeMaps(); !ok)

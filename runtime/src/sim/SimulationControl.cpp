@@ -14,9 +14,9 @@ bool finite(glm::vec3 v) {
 Result<FrameAdvance> Simulation::advance(double frameSeconds, std::uint32_t maxSteps) {
     Impl& s = *m_impl;
     if (!std::isfinite(frameSeconds) || frameSeconds < 0.0)
-        return fail(ErrorCode::InvalidArgument,
-                    "advance: a frame of " + std::to_string(frameSeconds) +
-                        " s; give a finite time >= 0");
+        return fail(ErrorCode::InvalidArgument, "advance: a frame of " +
+                                                    std::to_string(frameSeconds) +
+                                                    " s; give a finite time >= 0");
     if (maxSteps == 0)
         return fail(ErrorCode::InvalidArgument, "advance: maxSteps is 0; give at least 1");
     const double dt = s.scene.simulation.timeStep;
@@ -42,9 +42,9 @@ Result<void> Simulation::setColliderPose(std::uint32_t collider, glm::vec3 trans
     Impl& s = *m_impl;
     const std::string what = "collider " + std::to_string(collider);
     if (collider >= s.scene.colliders.size())
-        return fail(ErrorCode::InvalidArgument,
-                    "setColliderPose: " + what + " of " +
-                        std::to_string(s.scene.colliders.size()) + " colliders");
+        return fail(ErrorCode::InvalidArgument, "setColliderPose: " + what + " of " +
+                                                    std::to_string(s.scene.colliders.size()) +
+                                                    " colliders");
     if (s.scene.colliders[collider].dynamic)
         return fail(ErrorCode::InvalidArgument,
                     "setColliderPose: " + what +
@@ -52,7 +52,8 @@ Result<void> Simulation::setColliderPose(std::uint32_t collider, glm::vec3 trans
                         "colliders take a pose");
     if (!finite(translation) || !std::isfinite(rotation.x) || !std::isfinite(rotation.y) ||
         !std::isfinite(rotation.z) || !std::isfinite(rotation.w))
-        return fail(ErrorCode::NonFinite, "setColliderPose: " + what + ": a pose that is not finite");
+        return fail(ErrorCode::NonFinite,
+                    "setColliderPose: " + what + ": a pose that is not finite");
     const float length = glm::length(rotation);
     if (!(length > 0.0f) || !std::isfinite(length))
         return fail(ErrorCode::InvalidArgument,
@@ -79,8 +80,8 @@ Result<std::uint32_t> Simulation::addParticles(const std::vector<glm::vec3>& pos
                         std::to_string(positions.size()) + " positions");
     if (positions.size() > std::size_t(s.capacity - s.count))
         return fail(ErrorCode::InvalidArgument,
-                    "addParticles: " + std::to_string(positions.size()) + " particles do not fit: " +
-                        std::to_string(s.count) + " of the capacity " +
+                    "addParticles: " + std::to_string(positions.size()) +
+                        " particles do not fit: " + std::to_string(s.count) + " of the capacity " +
                         std::to_string(s.capacity) + " are in use");
     for (std::size_t i = 0; i < positions.size(); ++i)
         if (!finite(positions[i]) || (!velocities.empty() && !finite(velocities[i])))
@@ -90,8 +91,8 @@ Result<std::uint32_t> Simulation::addParticles(const std::vector<glm::vec3>& pos
     std::vector<ParticleState> added;
     added.reserve(positions.size());
     for (std::size_t i = 0; i < positions.size(); ++i)
-        added.push_back({positions[i], velocities.empty() ? glm::vec3(0.0f) : velocities[i],
-                         s.nextId++});
+        added.push_back(
+            {positions[i], velocities.empty() ? glm::vec3(0.0f) : velocities[i], s.nextId++});
     s.append(added);
     return first;
 }

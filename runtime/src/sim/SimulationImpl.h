@@ -23,6 +23,7 @@
 #include "sim/BodySetup.h"
 #include "sim/ColliderBands.h"
 #include "sim/PrefixScan.h"
+#include "render/GlObjects.h"
 #include "sim/SparseGrids.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/asset/SdfSampler.h"
@@ -168,6 +169,16 @@ struct Simulation::Impl {
     };
     std::vector<std::optional<DrivenPose>> driven; // per scene collider
     double carried = 0.0; // the frame time advance() has not stepped yet [s]
+    // The bodies' records copied after each step, read back once their fence passes
+    // (latestBodies); the oldest is overwritten, never waited for.
+    struct BodySnapshot {
+        gpu::Buffer records;
+        Fence fence;
+        std::uint64_t step = 0;
+        double time = 0.0;
+    };
+    std::array<BodySnapshot, 3> bodySnapshots;
+    std::size_t nextSnapshot = 0;
 
     explicit Impl(const format::Scene& s) : scene(s), emitters(s), driven(s.colliders.size()) {}
 
@@ -224,6 +235,12 @@ struct Simulation::Impl {
     void bindColliders() const;
     void uploadColliders(double t0, double t1);
     void append(const std::vector<ParticleState>& particles);
+    /// The snapshot buffers of latestBodies (when there are bodies).
+    Result<void> allocateBodySnapshots();
+    /// Queues the copy of the bodies' records after a step, and its fence.
+    void snapshotBodies();
+    /// BodyState of each GpuBody record.
+    std::vector<BodyState> bodyStates(const std::vector<shared::GpuBody>& records) const;
     /// One substep: the passes below, in the order of docs/pbf.md.
     void substep();
     void emit(double t0, double t1);

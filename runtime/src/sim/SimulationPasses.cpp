@@ -257,6 +257,8 @@ void Simulation::step() {
     s.memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                     GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
     ++s.steps;
+    if (s.bodyCount > 0)
+        s.snapshotBodies();
 }
 
 } // namespace sluice::rt

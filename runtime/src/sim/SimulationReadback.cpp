@@ -120,20 +120,16 @@ Simulation::NeighbourState Simulation::neighbourState() const {
     return out;
 }
 
-std::vector<BodyState> Simulation::bodies() const {
-    const Impl& s = *m_impl;
+std::vector<BodyState>
+Simulation::Impl::bodyStates(const std::vector<shared::GpuBody>& records) const {
     std::vector<BodyState> out;
-    if (s.bodyCount == 0)
-        return out;
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    const auto records = s.bodyBuf.download<shared::GpuBody>(0, s.bodyCount);
-    for (std::uint32_t b = 0; b < s.bodyCount; ++b) {
+    for (std::uint32_t b = 0; b < records.size(); ++b) {
         const shared::GpuBody& r = records[b];
         BodyState state;
         state.collider = r.collider;
         state.mass = r.mass;
-        state.volume = s.bodySetup.volumes[b];
-        state.massFromMesh = s.bodySetup.fromMesh[b];
+        state.volume = bodySetup.volumes[b];
+        state.massFromMesh = bodySetup.fromMesh[b];
         state.position = r.position;
         state.pose = bodyPose(r);
         state.orientation = state.pose.rotation;
@@ -144,14 +140,61 @@ std::vector<BodyState> Simulation::bodies() const {
         state.contacts = r.contacts;
         state.contactDepth = r.contactDepth;
         // The upward force over the weight of the water the whole body would displace.
-        const glm::vec3 g = s.scene.simulation.gravity;
-        const double weight =
-            double(glm::dot(g, g)) * s.scene.simulation.restDensity * state.volume;
+        const glm::vec3 g = scene.simulation.gravity;
+        const double weight = double(glm::dot(g, g)) * scene.simulation.restDensity * state.volume;
         state.submergedShare =
             weight > 0.0 ? std::max(0.0, -double(glm::dot(r.force, g)) / weight) : 0.0;
         out.push_back(state);
     }
     return out;
+}
+
+std::vector<BodyState> Simulation::bodies() const {
+    const Impl& s = *m_impl;
+    if (s.bodyCount == 0)
+        return {};
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    return s.bodyStates(s.bodyBuf.download<shared::GpuBody>(0, s.bodyCount));
+}
+
+Result<void> Simulation::Impl::allocateBodySnapshots() {
+    for (BodySnapshot& snapshot : bodySnapshots) {
+        auto records = gpu::Buffer::create(bodyCount * sizeof(shared::GpuBody), "body snapshot");
+        if (!records)
+            return records.error();
+        snapshot.records = std::move(*records);
+    }
+    return {};
+}
+
+void Simulation::Impl::snapshotBodies() {
+    BodySnapshot& snapshot = bodySnapshots[nextSnapshot];
+    nextSnapshot = (nextSnapshot + 1) % bodySnapshots.size();
+    // step() ends with a buffer-update barrier, so the copy sees the body pass's writes.
+    glCopyNamedBufferSubData(bodyBuf.id(), snapshot.records.id(), 0, 0,
+                             GLsizeiptr(bodyCount * sizeof(shared::GpuBody)));
+    snapshot.fence = Fence::insert();
+    snapshot.step = steps;
+    snapshot.time = time;
+}
+
+std::optional<BodiesReading> Simulation::latestBodies() const {
+    const Impl& s = *m_impl;
+    if (s.bodyCount == 0)
+        return std::nullopt;
+    // Newest first: the slot before nextSnapshot, then the ones before it.
+    for (std::size_t back = 1; back <= s.bodySnapshots.size(); ++back) {
+        const std::size_t n = s.bodySnapshots.size();
+        const Impl::BodySnapshot& snapshot = s.bodySnapshots[(s.nextSnapshot + n - back) % n];
+        if (!snapshot.fence.pending() || !snapshot.fence.signalled(false))
+            continue;
+        BodiesReading reading;
+        reading.step = snapshot.step;
+        reading.time = snapshot.time;
+        reading.bodies = s.bodyStates(snapshot.records.download<shared::GpuBody>(0, s.bodyCount));
+        return reading;
+    }
+    return std::nullopt;
 }
 
 std::vector<ColliderPose> Simulation::colliderPoses() const {

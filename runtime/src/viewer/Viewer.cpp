@@ -400,7 +400,7 @@ int runViewer(const ViewerOptions& options) {
     }
     glfwMakeContextCurrent(window);
     glfwSwapInterval(options.vsync ? 1 : 0);
-    const int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(glfwGetProcAddress));
+    const int version = sluice_gladLoadGL(reinterpret_cast<GLADloadfunc>(glfwGetProcAddress));
     if (version == 0 || GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 45) {
         std::cerr << "sluice-play: the window's OpenGL context is not 4.5 core\n";
         glfwDestroyWindow(window);

@@ -111,7 +111,7 @@ TEST_F(ColliderRecordLayout, ASceneBuiltInCodeWithMoreThan64CollidersIsRefused) 
         }
         ASSERT_FALSE(sim);
         EXPECT_EQ(sim.error().code, ErrorCode::InvalidArgument);
-        EXPECT_NE(sim.error().message().find("at most 64"), std::string::npos)
+        EXPECT_NE(sim.error().message().find("more than the limit 64"), std::string::npos)
             << sim.error().message();
     }
 }

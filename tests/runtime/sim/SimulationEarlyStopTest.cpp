@@ -93,7 +93,7 @@ AgainstTheReference stepBoth(const format::Scene& scene) {
 TEST_F(SimulationEarlyStop, TheVelocityPassReadsThePositionsOfTheLastUpdate) {
     for (std::uint32_t k : {1u, 2u, 3u}) {
         SCOPED_TRACE("K = " + std::to_string(k));
-        const format::Scene scene = collapsingColumn(k, 8, 10.0f);
+        const format::Scene scene = collapsingColumn(k, 8, 1.0f);
         const AgainstTheReference run = stepBoth(scene);
         EXPECT_EQ(run.gpuIterations, k);
         EXPECT_LT(run.maxDifference, 1e-4 * scene.simulation.kernelRadius);
@@ -106,7 +106,7 @@ TEST_F(SimulationEarlyStop, TheVelocityPassReadsThePositionsOfTheLastUpdate) {
 TEST_F(SimulationEarlyStop, WithSolidWallsTheStopComesAfterAnEvenCount) {
     for (std::uint32_t k : {1u, 2u, 3u}) {
         SCOPED_TRACE("K = " + std::to_string(k));
-        format::Scene scene = collapsingColumn(k, 8, 10.0f);
+        format::Scene scene = collapsingColumn(k, 8, 1.0f);
         scene.simulation.solidBoundary = true;
         const AgainstTheReference run = stepBoth(scene);
         const std::uint32_t even = k + (k & 1u);
@@ -122,7 +122,7 @@ TEST_F(SimulationEarlyStop, WithSolidWallsTheStopComesAfterAnEvenCount) {
 TEST_F(SimulationEarlyStop, StoppingAtIterationKGivesTheBytesOfKFixedIterations) {
     for (std::uint32_t k : {2u, 3u}) {
         SCOPED_TRACE("K = " + std::to_string(k));
-        const Played stopped = play(collapsingColumn(k, 8, 10.0f), 8);
+        const Played stopped = play(collapsingColumn(k, 8, 1.0f), 8);
         const Played fixed = play(collapsingColumn(k, k, 0.0f), 8);
         ASSERT_GT(stopped.particles, 500u);
         EXPECT_EQ(stopped.iterations, k);
@@ -131,14 +131,14 @@ TEST_F(SimulationEarlyStop, StoppingAtIterationKGivesTheBytesOfKFixedIterations)
         EXPECT_TRUE(stopped.bytes == fixed.bytes) << "the idle iterations changed the result";
     }
     // And the number of iterations matters, so the comparison above could fail.
-    EXPECT_FALSE(play(collapsingColumn(2, 8, 10.0f), 8).bytes ==
-                 play(collapsingColumn(3, 8, 10.0f), 8).bytes);
+    EXPECT_FALSE(play(collapsingColumn(2, 8, 1.0f), 8).bytes ==
+                 play(collapsingColumn(3, 8, 1.0f), 8).bytes);
 }
 
 // Lambda and delta of iteration K run (lambda measures the error, delta decides the stop);
 // every later iteration launches no work group.
 TEST_F(SimulationEarlyStop, IterationsAfterTheStopLaunchNoWorkGroups) {
-    const Played stopped = play(collapsingColumn(2, 8, 10.0f), 2);
+    const Played stopped = play(collapsingColumn(2, 8, 1.0f), 2);
     const std::uint32_t groups =
         (stopped.particles + shared::kPbfLocalSize - 1) / shared::kPbfLocalSize;
     ASSERT_GT(groups, 0u);

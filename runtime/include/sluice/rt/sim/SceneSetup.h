@@ -90,8 +90,9 @@ struct ColliderPose {
 };
 
 /// The pose between `from` at time `t0` and `to` at `t1` > t0 [s]: `from` up to t0, `to` from
-/// t1 on, translation linear and rotation slerped between; the scale is `from`'s. Keyframes and the poses a program
-/// sets (Simulation::setColliderPose) both move by it, so the same motion gives the same bits.
+/// t1 on, translation linear and rotation slerped between; the scale is `from`'s. Keyframes and the
+/// poses a program sets (Simulation::setColliderPose) both move by it, so the same motion gives the
+/// same bits.
 ColliderPose interpolatePose(const ColliderPose& from, float t0, const ColliderPose& to, float t1,
                              float t);
 

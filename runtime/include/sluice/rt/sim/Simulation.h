@@ -16,9 +16,12 @@
 #include "sluice/format/asset/ColliderAsset.h"
 #include "sluice/format/scene/Scene.h"
 #include "sluice/format/support/Result.h"
-#include "sluice/gpu/Buffer.h"
 #include "sluice/rt/sim/GpuCommandCount.h"
 #include "sluice/rt/sim/SceneSetup.h"
+
+namespace sluice::gpu {
+class Buffer; // sluice/gpu/Buffer.h: this header stays free of GL, for a game's own loader
+} // namespace sluice::gpu
 
 namespace sluice::rt {
 
@@ -150,6 +153,13 @@ struct ParticleView {
     std::uint32_t idStride = 4;        ///< [bytes]
 };
 
+/// The dynamic bodies as a completed step left them (Simulation::latestBodies).
+struct BodiesReading {
+    std::uint64_t step = 0; ///< the step they are from (Simulation::steps() after it)
+    double time = 0.0;      ///< simulated time after that step [s]
+    std::vector<BodyState> bodies;
+};
+
 /// What Simulation::advance did with one frame's time.
 struct FrameAdvance {
     std::uint32_t steps = 0; ///< whole steps taken
@@ -164,7 +174,8 @@ struct FrameAdvance {
 /// negative where no figure is available yet.
 using PassTimes = std::array<double, std::size_t(Pass::Count)>;
 
-/// Reads every collider asset the scene names (readAsset, checks dims and finiteness). Errors
+/// Reads every collider asset the scene names (readAsset, checks dims and finiteness); a scene
+/// built in code is completed first (format::completeScene), its errors returned. Errors
 /// name the scene file, the collider index and the asset ("re-bake with sluice-bake").
 Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scene& scene);
 
@@ -214,6 +225,12 @@ public:
 
     /// The particle buffers now (after the last step or addParticles).
     ParticleView particleView() const;
+
+    /// Every dynamic body (forces, torques, poses) as the newest step whose results the GPU has
+    /// finished left it, without waiting: each step queues a copy of the bodies' records and a
+    /// fence, and this returns the newest copy whose fence has passed, typically a step or two
+    /// behind. Empty until one has (and always in a scene without bodies).
+    std::optional<BodiesReading> latestBodies() const;
 
     /// @}
 
