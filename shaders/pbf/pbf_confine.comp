@@ -21,7 +21,7 @@ uniform uint withVorticity; // 0: omega was not computed this substep
 void main() {
     uint i = PBF_PARTICLE;
     pbfLane = PBF_LANE;
-    bool live = i < PBF_COUNT;
+    bool live = i < PBF_LIVE;
 #if PBF_LANES == 1
     if (!live)
         return; // one lane: no barriers below

@@ -244,11 +244,11 @@ void main() {
         atomicAdd(stats.solveDispatches, 1u); // this dispatch ran (--bench counts them)
     if (converged(k)) {
         stopAt(k);
-        if (i < PBF_COUNT && pbfLane == 0u)
+        if (i < PBF_LIVE && pbfLane == 0u)
             endSolve(i, pred[i].xyz, k);
         return;
     }
-    bool live = i < PBF_COUNT;
+    bool live = i < PBF_LIVE;
 #if PBF_LANES == 1
     if (!live)
         return; // one lane: no barriers below

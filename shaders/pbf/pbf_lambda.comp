@@ -121,7 +121,7 @@ void main() {
     pbfLane = PBF_LANE;
     if (SLUICE_GLOBAL_ID.x == 0u)
         atomicAdd(stats.solveDispatches, 1u); // this dispatch ran (--bench counts them)
-    bool live = i < PBF_COUNT;
+    bool live = i < PBF_LIVE;
     vec3 xi = live ? pred[i].xyz : vec3(0.0);
     float density = pbfLane == 0u ? poly6(0.0) : 0.0; // the particle itself
     vec3 gradSum = vec3(0.0);
@@ -179,7 +179,7 @@ void main() {
         atomicMax(iterations[k].errorMaxBits, floatBitsToUint(groupMax[0]));
         const uint perGroup = kPbfLocalSize / kPbfLanes;
         uint first = (SLUICE_GLOBAL_ID.x - t) / kPbfLanes; // this group's first particle
-        uint live = PBF_COUNT > first ? min(PBF_COUNT - first, perGroup) : 0u;
+        uint live = PBF_LIVE > first ? min(PBF_LIVE - first, perGroup) : 0u;
         atomicAdd(iterations[k].particles, live);
     }
 }

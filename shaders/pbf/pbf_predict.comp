@@ -1,7 +1,10 @@
 // PBF step 2 and the counting half of the neighbour sort (docs/pbf.md): apply gravity, predict
 // x*, and count every particle into the hash bucket of its cell (the scan of the last substep
-// left the counts at zero). Invocation 0 also opens the substep's solve: every iteration's
-// indirect group counts, no stop yet, empty error sums; the CPU uploads nothing per substep.
+// left the counts at zero). A particle removed (in a drain box, its id listed, or removed
+// before) counts into the bucket after the last instead, so the sort puts it after the live
+// ones (docs/embedding.md, "Removing particles"). Invocation 0 also opens the substep's solve:
+// every iteration's indirect group counts, no stop yet, empty error sums; the CPU uploads
+// nothing per substep.
 #version 450 core
 
 #include "shared/PbfGlsl.h"
@@ -19,6 +22,28 @@ layout(std430, binding = kBindStats) buffer Stats {
     PbfIterationStats iterations[];
 };
 layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
+layout(std430, binding = kBindIdIn) readonly buffer IdIn { uint ids[]; };
+layout(std430, binding = kBindRemoveIds) readonly buffer RemoveIds { uint removeIds[]; };
+
+// Whether particle i at x leaves this substep: removed before (marked w = 1 by the reorder),
+// inside a drain box, or its id in the ascending removal list.
+bool removed(uint i, vec3 x) {
+    if (pos[i].w != 0.0)
+        return true;
+    for (uint d = 0u; d < P.drainCount; ++d)
+        if (all(greaterThanEqual(x, P.drainMin[d].xyz)) && all(lessThan(x, P.drainMax[d].xyz)))
+            return true;
+    uint lo = 0u, hi = P.removeIdCount;
+    uint id = ids[i];
+    while (lo < hi) {
+        uint mid = (lo + hi) / 2u;
+        if (removeIds[mid] < id)
+            lo = mid + 1u;
+        else
+            hi = mid;
+    }
+    return lo < P.removeIdCount && removeIds[lo] == id;
+}
 
 // What pbf_lambda.comp and pbf_delta.comp start each substep from. Nothing else in this pass
 // touches these words.
@@ -41,6 +66,13 @@ void main() {
         openSolve();
     if (i >= PBF_COUNT)
         return;
+    if (P.removal != 0u && removed(i, pos[i].xyz)) {
+        vel[i] = vec4(0.0);
+        pred[i] = vec4(pos[i].xyz, 0.0);
+        hash[i] = P.activeBuckets;
+        rank[i] = atomicAdd(cellCount[P.activeBuckets], 1u);
+        return;
+    }
     vec3 v = vel[i].xyz + PBF_DT * P.gravity;
     vec3 x = pos[i].xyz + PBF_DT * v;
     if (!allFinite(x) || !allFinite(v)) {

@@ -10,9 +10,9 @@
 
 layout(local_size_x = kPbfLocalSize) in;
 
+layout(std430, binding = kBindHash) readonly buffer Hash { uint hash[]; };
 #ifdef PBF_SCATTER_REORDER
 layout(std430, binding = kBindCellStart) readonly buffer CellStart { uint cellStart[]; };
-layout(std430, binding = kBindHash) readonly buffer Hash { uint hash[]; };
 layout(std430, binding = kBindRank) readonly buffer Rank { uint rank[]; };
 #else
 layout(std430, binding = kBindSortedToOld) readonly buffer SortedToOld { uint sortedToOld[]; };
@@ -38,7 +38,9 @@ void main() {
         return;
     uint o = sortedToOld[k];
 #endif
-    posOut[k] = posIn[o];
+    // A removed particle (in the bucket after the last) is marked w = 1 until it is compacted
+    // away, so every later pass and substep knows it.
+    posOut[k] = hash[o] == P.activeBuckets ? vec4(posIn[o].xyz, 1.0) : posIn[o];
     velOut[k] = velIn[o];
     predOut[k] = predIn[o];
     idOut[k] = idIn[o];

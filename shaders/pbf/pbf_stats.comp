@@ -14,7 +14,8 @@ layout(std430, binding = kBindStats) buffer Stats { PbfStats stats; };
 
 void main() {
     uint i = SLUICE_GLOBAL_ID.x;
-    if (i >= PBF_COUNT)
+    // A removed particle not yet compacted away is marked w = 1 (pbf_reorder.comp).
+    if (i >= PBF_COUNT || pos[i].w != 0.0)
         return;
     vec3 x = pos[i].xyz;
     float speed = length(vel[i].xyz);

@@ -16,7 +16,7 @@ layout(std430, binding = kBindNeighbourMask) readonly buffer Mask { uint neighbo
 void main() {
     uint i = PBF_PARTICLE;
     pbfLane = PBF_LANE;
-    bool live = i < PBF_COUNT;
+    bool live = i < PBF_LIVE;
 #if PBF_LANES == 1
     if (!live)
         return; // one lane: no barriers below

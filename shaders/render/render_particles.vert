@@ -39,7 +39,8 @@ void main() {
     vCentre = centre;
     vVelocity = velocities[i];
     vec3 origin, u, v;
-    if (!sphereSquare(centre, r, origin, u, v)) {
+    // w = 1: a removed particle the solver has not compacted away yet (Simulation.h).
+    if (positions[i].w != 0.0 || !sphereSquare(centre, r, origin, u, v)) {
         // The eye is inside this sphere (or the position is not finite): draw nothing.
         vViewPos = centre;
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);

@@ -65,7 +65,8 @@ bool screenBox(vec3 origin, vec3 u, vec3 v, out ivec2 lo, out ivec2 hi) {
 
 void main() {
     uint i = SLUICE_GLOBAL_ID.x;
-    if (i >= F.particleCount)
+    // w = 1: a removed particle the solver has not compacted away yet (Simulation.h).
+    if (i >= F.particleCount || positions[i].w != 0.0)
         return;
     float r = uRadius;
     vec3 centre = (F.view * vec4(positions[i].xyz, 1.0)).xyz;

@@ -36,6 +36,10 @@ layout(binding = kUnitCellStartTexels) uniform usamplerBuffer cellStartTexels;
 #define PBF_MASK_AT(MASK, w) MASK[w]
 #define PBF_CELL_START_AT(b) cellStart[b]
 #endif
+// The particles live in this substep: the slots before the removal bucket's (the bucket after
+// the last, where the predict pass sends the particles removed), once any particle may have been
+// removed (docs/embedding.md, "Removing particles"); every slot otherwise.
+#define PBF_LIVE (P.removal != 0u ? PBF_CELL_START_AT(P.activeBuckets) : PBF_COUNT)
 #endif
 
 #endif

@@ -39,6 +39,8 @@ SLUICE_CONST uint kBindParams = 0;
 SLUICE_CONST uint kBindCollidersUniform = 1;
 /// Colliders a scene holds at most (format::kMaxSceneColliders): the uniform block's length.
 SLUICE_CONST uint kMaxColliders = 64;
+/// Drain boxes (and one-shot removal boxes) a substep tests particles against.
+SLUICE_CONST uint kMaxDrains = 8;
 
 // Texture unit.
 /// The SDF buffer's texel view (samplerBuffer, GL_R32F over kBindSdf's buffer): the dense grids'
@@ -79,6 +81,7 @@ SLUICE_CONST uint kBindSdf = 15;       ///< uint[] every collider's samples, bac
 SLUICE_CONST uint kBindIdIn = 16;      ///< uint particle id
 SLUICE_CONST uint kBindIdOut = 17;
 SLUICE_CONST uint kBindPredStart = 18; ///< vec4 x* at the substep start: fixes N(i) for the substep
+SLUICE_CONST uint kBindRemoveIds = 19; ///< uint[] ids to remove this substep, ascending
 SLUICE_CONST uint kBindSolveArgs = 20; ///< PbfDispatchArgs[maxIterations * chunks]
 SLUICE_CONST uint kBindNeighbourMask = 21; ///< uint[kNeighbourMaskWords] per sorted particle
 
@@ -147,6 +150,16 @@ struct PbfParams {
     /* 180 */ float particleMass;  ///< m [kg]: a correction dx of a particle is m dx / dt of impulse
     /* 184 */ float boundaryScale; ///< calibration of the bodies' boundary volume (docs/bodies.md)
     /* 188 */ uint staticColliders; ///< bit c set: collider c (< 32) is no body (PbfGlsl.h)
+    // Removal (docs/embedding.md, "Removing particles"): the predict pass sends a particle in
+    // a drain box, or one whose id is listed, to the bucket after the last (activeBuckets), so
+    // the sort puts it after the live ones.
+    /* 192 */ uint drainCount;    ///< boxes in drainMin / drainMax
+    /* 196 */ uint removeIdCount; ///< ids in the kBindRemoveIds buffer
+    /* 200 */ uint removal;       ///< 1 when a particle may have been removed: the passes after
+                                  ///< the sort read the live count (PBF_LIVE)
+    /* 204 */ uint removalPad;
+    /* 208 */ vec4 drainMin[kMaxDrains]; ///< xyz: a box's minimum corner [m]
+    /* 336 */ vec4 drainMax[kMaxDrains]; ///< xyz: its maximum corner [m]
 };
 
 /// One collider on the GPU: its placement at the end of the substep and its grid. The same bytes
@@ -264,7 +277,11 @@ SLUICE_PBF_AT(PbfParams, bodyCount, 176);
 SLUICE_PBF_AT(PbfParams, particleMass, 180);
 SLUICE_PBF_AT(PbfParams, boundaryScale, 184);
 SLUICE_PBF_AT(PbfParams, staticColliders, 188);
-static_assert(sizeof(sluice::shared::PbfParams) == 192, "std140/std430 size of PbfParams");
+SLUICE_PBF_AT(PbfParams, drainCount, 192);
+SLUICE_PBF_AT(PbfParams, removal, 200);
+SLUICE_PBF_AT(PbfParams, drainMin, 208);
+SLUICE_PBF_AT(PbfParams, drainMax, 336);
+static_assert(sizeof(sluice::shared::PbfParams) == 464, "std140/std430 size of PbfParams");
 SLUICE_PBF_AT(GpuCollider, worldToGrid, 0);
 SLUICE_PBF_AT(GpuCollider, boundCentre, 64);
 SLUICE_PBF_AT(GpuCollider, boundRadius, 76);

@@ -188,6 +188,28 @@ Result<void> checkLattice(const Scene& scene) {
     return {};
 }
 
+} // namespace
+
+Result<void> checkDrains(const std::vector<Drain>& drains, const std::string& what) {
+    if (drains.size() > kMaxDrains)
+        return fail(ErrorCode::InvalidArgument, std::to_string(drains.size()) + " " + what +
+                                                    ", more than the limit " +
+                                                    std::to_string(kMaxDrains));
+    for (std::size_t i = 0; i < drains.size(); ++i) {
+        const std::string at = "[" + std::to_string(i) + "]";
+        if (!finite(drains[i].min) || !finite(drains[i].max))
+            return fail(ErrorCode::NonFinite, at + ".box: a corner is not finite");
+        for (int a = 0; a < 3; ++a)
+            if (!(drains[i].max[a] > drains[i].min[a]))
+                return fail(ErrorCode::InvalidArgument,
+                            at + ".box.max: " + vecText(drains[i].max) + " must exceed min " +
+                                vecText(drains[i].min) + " on every axis");
+    }
+    return {};
+}
+
+namespace {
+
 // Every block, emitter, collider and the domain, in file order.
 Result<void> checkContents(const Scene& scene) {
     const float s = scene.simulation.spacing;
@@ -203,6 +225,8 @@ Result<void> checkContents(const Scene& scene) {
                        std::to_string(kMaxSceneColliders));
     for (std::size_t i = 0; i < scene.colliders.size(); ++i)
         checkCollider(check, scene.colliders[i], "colliders[" + std::to_string(i) + "]");
+    if (auto ok = checkDrains(scene.drains, "drains"); !ok && check.ok())
+        check.fail(ok.error().code, "drains", ok.error().detail);
     if (!check.ok())
         return check.error();
     return {};

@@ -259,7 +259,7 @@ Scene SceneParser::parse(const rj::Value& root) {
     readVersion(root);
     const JsonObject o(root, "",
                        {"version", "name", "description", "simulation", "fluid", "emitters",
-                        "colliders", "domain", "camera"});
+                        "colliders", "drains", "domain", "camera"});
     m_scene.path = m_options.label.empty() ? m_file.string() : m_options.label;
     m_scene.name = m_file.stem().string();
     if (const rj::Value* v = o.find("name"))
@@ -303,6 +303,20 @@ Scene SceneParser::parse(const rj::Value& root) {
         for (rj::SizeType i = 0; i < colliders.Size(); ++i)
             m_scene.colliders.push_back(readCollider(
                 colliders[i], detail::joinIndex("colliders", i), m_file, m_options.checkAssets));
+    }
+    if (const rj::Value* v = o.find("drains")) {
+        const rj::Value& drains = detail::requireArray(*v, "drains");
+        if (drains.Size() > kMaxDrains)
+            throwAt(ErrorCode::InvalidArgument, "drains",
+                    std::to_string(drains.Size()) + " drains, more than the limit " +
+                        std::to_string(kMaxDrains));
+        for (rj::SizeType i = 0; i < drains.Size(); ++i) {
+            const std::string path = detail::joinIndex("drains", i);
+            const JsonObject d(drains[i], path, {"box"});
+            Drain drain;
+            readMinMax(d.require("box"), d.pathOf("box"), drain.min, drain.max);
+            m_scene.drains.push_back(drain);
+        }
     }
     if (const rj::Value* v = o.find("camera"))
         readCamera(*v, "camera");

@@ -99,7 +99,18 @@ SluiceStatus sluice_set_collider_pose(SluiceSimulation* simulation, uint32_t col
  * rest. Their ids are *firstId, *firstId + 1, ... (`firstId` may be null). */
 SluiceStatus sluice_add_particles(SluiceSimulation* simulation, const float* positions,
                                   const float* velocities, uint32_t count, uint32_t* firstId);
-/** The buffers to draw now. */
+/** Removes the particles with these `count` ids at the next step (an id already removed is
+ * ignored; one never given out is an error). */
+SluiceStatus sluice_remove_particles(SluiceSimulation* simulation, const uint32_t* ids,
+                                     uint32_t count);
+/** Removes the particles inside the box [min, max) (x y z each [m]) at the next step. */
+SluiceStatus sluice_remove_particles_in(SluiceSimulation* simulation, const float min[3],
+                                        const float max[3]);
+/** Replaces the drains: `count` boxes (at most 8), min x y z then max x y z each [m], that
+ * remove every particle entering them from the next step on. */
+SluiceStatus sluice_set_drains(SluiceSimulation* simulation, const float* boxes, uint32_t count);
+/** The buffers to draw now. A slot whose position has w = 1 holds a removed particle not yet
+ * compacted away: skip it. */
 SluiceStatus sluice_particle_view(const SluiceSimulation* simulation, SluiceParticleView* out);
 /** Copies up to `capacity` particles to the CPU (positions x y z, ids; either may be null) and
  * sets *count to how many there are. Waits for the GPU: for tools and tests, not every frame. */
@@ -110,7 +121,8 @@ SluiceStatus sluice_read_particles(const SluiceSimulation* simulation, float* po
  * in a scene without bodies), *step which step they are from (`step` may be null). */
 SluiceStatus sluice_latest_bodies(const SluiceSimulation* simulation, SluiceBody* out,
                                   uint32_t capacity, uint32_t* count, uint64_t* step);
-/** Particles now live (0 for null). */
+/** Slots in use: the live particles and, for a step or two after a removal, removed ones not
+ * yet compacted away (0 for null). */
 uint32_t sluice_particle_count(const SluiceSimulation* simulation);
 /** Simulated time [s] (0 for null). */
 double sluice_time(const SluiceSimulation* simulation);

@@ -218,6 +218,43 @@ SluiceStatus sluice_add_particles(SluiceSimulation* simulation, const float* pos
     });
 }
 
+SluiceStatus sluice_remove_particles(SluiceSimulation* simulation, const uint32_t* ids,
+                                     uint32_t count) {
+    return guarded("sluice_remove_particles", [&] {
+        if (!simulation || (!ids && count > 0))
+            return nullArgument("sluice_remove_particles", !simulation ? "simulation" : "ids");
+        auto done =
+            simulation->simulation.removeParticles(std::vector<std::uint32_t>(ids, ids + count));
+        return done ? SLUICE_OK : failWith(done.error());
+    });
+}
+
+SluiceStatus sluice_remove_particles_in(SluiceSimulation* simulation, const float min[3],
+                                        const float max[3]) {
+    return guarded("sluice_remove_particles_in", [&] {
+        if (!simulation || !min || !max)
+            return nullArgument("sluice_remove_particles_in",
+                                !simulation ? "simulation" : (!min ? "min" : "max"));
+        auto done = simulation->simulation.removeParticlesIn(glm::vec3(min[0], min[1], min[2]),
+                                                             glm::vec3(max[0], max[1], max[2]));
+        return done ? SLUICE_OK : failWith(done.error());
+    });
+}
+
+SluiceStatus sluice_set_drains(SluiceSimulation* simulation, const float* boxes, uint32_t count) {
+    return guarded("sluice_set_drains", [&] {
+        if (!simulation || (!boxes && count > 0))
+            return nullArgument("sluice_set_drains", !simulation ? "simulation" : "boxes");
+        std::vector<sluice::format::Drain> drains(count);
+        for (std::uint32_t d = 0; d < count; ++d) {
+            const float* b = boxes + 6 * std::size_t(d);
+            drains[d] = {glm::vec3(b[0], b[1], b[2]), glm::vec3(b[3], b[4], b[5])};
+        }
+        auto done = simulation->simulation.setDrains(drains);
+        return done ? SLUICE_OK : failWith(done.error());
+    });
+}
+
 SluiceStatus sluice_particle_view(const SluiceSimulation* simulation, SluiceParticleView* out) {
     return guarded("sluice_particle_view", [&] {
         if (!simulation || !out)

@@ -139,7 +139,7 @@ Result<void> writeSurface(HeadlessRun& run, std::uint64_t step) {
     options.particleRadius = run.sim.constants().radius;
     const auto start = std::chrono::steady_clock::now();
     auto mesh =
-        run.surfaces->reconstruct(run.sim.positionBuffer(), run.sim.particleCount(), options);
+        run.surfaces->reconstruct(run.sim.positionBuffer(), run.sim.liveParticleCount(), options);
     if (!mesh)
         return mesh.error();
     const auto built = std::chrono::steady_clock::now();

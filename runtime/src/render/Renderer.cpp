@@ -151,7 +151,7 @@ struct Renderer::Impl {
         SurfaceOptions options = meshOptions;
         options.particleRadius = sim.constants().radius;
         // Drawn from the reconstructor's own buffers: nothing read back but the sizes.
-        auto mesh = mesher->build(sim.positionBuffer(), sim.particleCount(), options);
+        auto mesh = mesher->build(sim.positionBuffer(), sim.liveParticleCount(), options);
         if (!mesh) {
             meshError = mesh.error().message();
             return false;

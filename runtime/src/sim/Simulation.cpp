@@ -103,7 +103,7 @@ Result<Simulation> Simulation::create(const format::Scene& given,
 
     if (auto ok = impl->compilePasses(); !ok)
         return ok.error();
-    auto scan = PrefixScan::create(impl->tableSize + 1);
+    auto scan = PrefixScan::create(impl->tableSize + 2);
     if (!scan)
         return scan.error();
     impl->scan = std::make_unique<PrefixScan>(std::move(*scan));
@@ -112,6 +112,8 @@ Result<Simulation> Simulation::create(const format::Scene& given,
     if (impl->bodyCount > 0)
         if (auto ok = impl->allocateBodySnapshots(); !ok)
             return ok.error();
+    if (auto ok = impl->allocateRemoval(1); !ok)
+        return ok.error();
 
     impl->uploadColliderGrids();
     if (auto ok = impl->buildVolumeMaps(); !ok)

@@ -54,10 +54,11 @@ Result<void> Simulation::Impl::allocate() {
         {&hash, n * u, "hash"},
         {&rank, n * u, "rank"},
         {&sortedToOld, n * u, "sortedToOld"},
-        {&cellCount, tableSize * u, "cellCount"},
+        // The bucket after the last holds the removed particles (docs/embedding.md).
+        {&cellCount, (tableSize + 1) * u, "cellCount"},
         {&neighbourMask, n * shared::kNeighbourMaskWords * u, "neighbour mask"},
         {&collidersNear, (withBodies ? n : 1) * 4 * u, "colliders near"},
-        {&cellStart, (tableSize + 1) * u, "cellStart"},
+        {&cellStart, (tableSize + 2) * u, "cellStart"},
         {&statsBuf, kStatsHeaderBytes + maxIterations * sizeof(shared::PbfIterationStats), "stats"},
         {&colliderBuf, kColliderRecordBytes, "colliders"},
         {&sdfBuf, std::max<std::uint64_t>(u, sdfBytes), "sdf"},
@@ -83,7 +84,7 @@ Result<void> Simulation::Impl::allocate() {
     // table's cellCount + cellStart, spread over the capacity and rounded up; with bodies, the
     // masks of the colliders near each particle (its substep's and its iteration's).
     bytesPerParticle = 7 * v4 + 5 * u + shared::kNeighbourMaskWords * u +
-                       (u * (2 * std::uint64_t(tableSize) + 1) + n - 1) / n +
+                       (u * (2 * std::uint64_t(tableSize) + 3) + n - 1) / n +
                        (withBodies ? 4 * u : 0);
     for (const Alloc& a : allocs) {
         if (maxSsbo > 0 && a.bytes > std::uint64_t(maxSsbo))
@@ -288,6 +289,16 @@ void Simulation::Impl::uploadParams() {
     p.particleMass = k.mass;
     p.boundaryScale = k.boundaryScale;
     p.bodyOffset = k.bodyOffset;
+    p.removal = removal ? 1u : 0u;
+    std::uint32_t boxes = 0;
+    for (const std::vector<format::Drain>* list : {&drains, &removeBoxes})
+        for (const format::Drain& d : *list) {
+            p.drainMin[boxes] = glm::vec4(d.min, 0.0f);
+            p.drainMax[boxes] = glm::vec4(d.max, 0.0f);
+            ++boxes;
+        }
+    p.drainCount = boxes;
+    p.removeIdCount = std::uint32_t(removeIdList.size());
     // Uploaded only when it changed (an emitter added particles, setParameters): a substep
     // queues no buffer update of its own.
     if (uploadedParams && std::memcmp(&*uploadedParams, &p, sizeof(p)) == 0)

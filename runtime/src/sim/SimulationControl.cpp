@@ -1,6 +1,7 @@
 // Simulation: the calls a game loop makes between steps (docs/embedding.md): the fixed-step
 // driver, collider poses it sets, particles it adds, and the view of the buffers it draws.
 #include "sim/SimulationImpl.h"
+#include "sluice/format/scene/SceneDefaults.h"
 
 namespace sluice::rt {
 namespace {
@@ -95,6 +96,59 @@ Result<std::uint32_t> Simulation::addParticles(const std::vector<glm::vec3>& pos
             {positions[i], velocities.empty() ? glm::vec3(0.0f) : velocities[i], s.nextId++});
     s.append(added);
     return first;
+}
+
+Result<void> Simulation::removeParticles(const std::vector<std::uint32_t>& ids) {
+    Impl& s = *m_impl;
+    std::vector<std::uint32_t> list = s.removeIdList;
+    for (std::uint32_t id : ids) {
+        if (id >= s.nextId)
+            return fail(ErrorCode::InvalidArgument,
+                        "removeParticles: id " + std::to_string(id) +
+                            " was never given out (the ids so far are 0 to " +
+                            std::to_string(s.nextId) + " - 1)");
+        list.push_back(id);
+    }
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    if (auto ok = s.allocateRemoval(list.size()); !ok)
+        return ok;
+    if (!list.empty())
+        s.removeIdBuf.upload(list);
+    s.removeIdList = std::move(list);
+    s.removal = s.removal || !s.removeIdList.empty();
+    return {};
+}
+
+Result<void> Simulation::removeParticlesIn(glm::vec3 min, glm::vec3 max) {
+    Impl& s = *m_impl;
+    std::vector<format::Drain> boxes = s.drains;
+    boxes.insert(boxes.end(), s.removeBoxes.begin(), s.removeBoxes.end());
+    boxes.push_back({min, max});
+    if (auto ok = format::checkDrains(boxes, "drains and removal boxes"); !ok)
+        return fail(ok.error().code, "removeParticlesIn: " + ok.error().detail);
+    s.removeBoxes.push_back({min, max});
+    s.removal = true;
+    return {};
+}
+
+Result<void> Simulation::setDrains(const std::vector<format::Drain>& drains) {
+    Impl& s = *m_impl;
+    std::vector<format::Drain> boxes = drains;
+    boxes.insert(boxes.end(), s.removeBoxes.begin(), s.removeBoxes.end());
+    if (auto ok = format::checkDrains(boxes, "drains and removal boxes"); !ok)
+        return fail(ok.error().code, "setDrains: " + ok.error().detail);
+    s.drains = drains;
+    s.removal = s.removal || !drains.empty();
+    return {};
+}
+
+std::uint32_t Simulation::liveParticleCount() const {
+    return m_impl->liveNow();
+}
+
+const std::vector<format::Drain>& Simulation::drains() const {
+    return m_impl->drains;
 }
 
 ParticleView Simulation::particleView() const {

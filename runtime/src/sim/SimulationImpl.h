@@ -179,8 +179,29 @@ struct Simulation::Impl {
     };
     std::array<BodySnapshot, 3> bodySnapshots;
     std::size_t nextSnapshot = 0;
+    // Removal (docs/embedding.md, "Removing particles"). The predict pass sends the removed
+    // particles to the bucket after the last, the sort puts them after the live ones, and the
+    // CPU's count drops them once a fenced copy of the live count says how many there are.
+    std::vector<format::Drain> drains;       // the scene's, or setDrains'
+    std::vector<format::Drain> removeBoxes;  // removeParticlesIn's, for the next substep only
+    std::vector<std::uint32_t> removeIdList; // removeParticles', ascending, next substep only
+    bool removal = false; // some particle may have been removed (then for good)
+    gpu::Buffer removeIdBuf;
+    struct LiveRecord {
+        gpu::Buffer word; // cellStart at the removed bucket: the live count after a step
+        Fence fence;
+        std::uint64_t step = 0;
+        std::uint32_t count = 0; // slots in use then
+    };
+    std::array<LiveRecord, 3> liveRecords;
+    std::size_t nextLive = 0;
+    std::uint64_t lastTrim = 0; // the step at whose end the count last dropped
+    std::uint32_t removedBucket = 0; // the removed particles' bucket in the last sort
+    bool sortedWithRemoval = false;  // the last sort had it: cellStart there is the live count
 
-    explicit Impl(const format::Scene& s) : scene(s), emitters(s), driven(s.colliders.size()) {}
+    explicit Impl(const format::Scene& s)
+        : scene(s), emitters(s), driven(s.colliders.size()), drains(s.drains),
+          removal(!s.drains.empty()) {}
 
     /// Where static or kinematic collider c is at time t [s]: its set pose, else its scene motion.
     ColliderPose poseOf(std::size_t c, float t) const {
@@ -239,6 +260,15 @@ struct Simulation::Impl {
     Result<void> allocateBodySnapshots();
     /// Queues the copy of the bodies' records after a step, and its fence.
     void snapshotBodies();
+    /// The removal id list's buffer, for `ids` ids (grown, never shrunk), and the live-count
+    /// records. GpuOutOfMemory when it cannot grow.
+    Result<void> allocateRemoval(std::size_t ids);
+    /// After a step: drops the removed particles a completed live-count copy reports from the
+    /// count (they are the last slots), then queues this step's copy.
+    void trimRemoved();
+    /// The live count after the last step: the count where no particle was removed, else a
+    /// readback (a sync).
+    std::uint32_t liveNow() const;
     /// BodyState of each GpuBody record.
     std::vector<BodyState> bodyStates(const std::vector<shared::GpuBody>& records) const;
     /// One substep: the passes below, in the order of docs/pbf.md.

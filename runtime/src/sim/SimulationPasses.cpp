@@ -101,8 +101,13 @@ void Simulation::Impl::predictPositions() {
     begin(Pass::Predict);
     bindParticles(pos[cur], vel[cur]);
     pred[0].bindStorage(shared::kBindPredOut);
+    id[cur].bindStorage(shared::kBindIdIn);
+    removeIdBuf.bindStorage(shared::kBindRemoveIds);
     dispatch(predict, count);
     memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    // One-shot removals apply to this substep only.
+    removeBoxes.clear();
+    removeIdList.clear();
     end(Pass::Predict);
 }
 
@@ -113,14 +118,18 @@ void Simulation::Impl::predictPositions() {
 // (scatter), put in source order inside each bucket, then gathered.
 void Simulation::Impl::sortIntoBuckets() {
     begin(Pass::Sort);
-    const std::uint32_t buckets = activeBuckets();
+    // With removal, one bucket more: the removed particles', after every live one.
+    const std::uint32_t buckets = activeBuckets() + (removal ? 1u : 0u);
+    removedBucket = activeBuckets();
+    sortedWithRemoval = removal;
     commands += scan->exclusive(cellCount, cellStart, ScanInput{buckets + 1, buckets, true});
     cellStart.bindStorage(shared::kBindCellStart);
     cellCount.bindStorage(shared::kBindCellCount);
     if (options.deterministic) {
         dispatch(scatter, count);
         barrier();
-        dispatch(bucketSort, buckets);
+        // The removed particles' bucket keeps the atomics' order: they are no longer simulated.
+        dispatch(bucketSort, activeBuckets());
         barrier();
     }
     const int nxt = 1 - cur;
@@ -259,6 +268,8 @@ void Simulation::step() {
     ++s.steps;
     if (s.bodyCount > 0)
         s.snapshotBodies();
+    if (s.removal)
+        s.trimRemoved();
 }
 
 } // namespace sluice::rt

@@ -9,7 +9,7 @@ StepStats Simulation::readStats() {
     StepStats out;
     out.step = s.steps;
     out.time = s.time;
-    out.particles = s.count;
+    out.particles = s.liveNow();
     out.capacityReached = s.capacityReached;
     // PbfStats, then PbfIterationStats[maxIterations]: one readback, then the parts by offset.
     std::vector<std::byte> raw(s.statsBuf.size());
@@ -78,16 +78,76 @@ PassTimes Simulation::drainPassTimes() {
 
 std::vector<ParticleState> Simulation::downloadParticles() const {
     const Impl& s = *m_impl;
-    std::vector<ParticleState> out(s.count);
+    std::vector<ParticleState> out;
     if (s.count == 0)
         return out;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     const auto p = s.pos[s.cur].download<glm::vec4>(0, s.count);
     const auto v = s.vel[s.cur].download<glm::vec4>(0, s.count);
     const auto ids = s.id[s.cur].download<std::uint32_t>(0, s.count);
+    out.reserve(s.count);
     for (std::uint32_t i = 0; i < s.count; ++i)
-        out[i] = ParticleState{glm::vec3(p[i]), glm::vec3(v[i]), ids[i]};
+        if (p[i].w == 0.0f) // w = 1: removed, not yet compacted away (pbf_reorder.comp)
+            out.push_back(ParticleState{glm::vec3(p[i]), glm::vec3(v[i]), ids[i]});
     return out;
+}
+
+Result<void> Simulation::Impl::allocateRemoval(std::size_t ids) {
+    const std::size_t bytes = std::max<std::size_t>(1, ids) * sizeof(std::uint32_t);
+    if (removeIdBuf.size() < bytes) {
+        auto buffer = gpu::Buffer::create(bytes, "removal ids");
+        if (!buffer)
+            return buffer.error();
+        removeIdBuf = std::move(*buffer);
+    }
+    for (LiveRecord& record : liveRecords)
+        if (record.word.size() == 0) {
+            auto word = gpu::Buffer::create(sizeof(std::uint32_t), "live count");
+            if (!word)
+                return word.error();
+            record.word = std::move(*word);
+        }
+    return {};
+}
+
+void Simulation::Impl::trimRemoved() {
+    // The newest completed copy taken since the count last dropped: the last count - live of
+    // its slots were removed, and they are still the last slots (a removed particle never comes
+    // back, and every sort since put the removed ones after the live ones).
+    const std::size_t n = liveRecords.size();
+    for (std::size_t back = 1; back <= n; ++back) {
+        LiveRecord& record = liveRecords[(nextLive + n - back) % n];
+        if (!record.fence.pending() || record.step < lastTrim || !record.fence.signalled(false))
+            continue;
+        std::uint32_t live = 0;
+        record.word.download(&live, sizeof(live));
+        if (live < record.count) {
+            count -= record.count - live;
+            lastTrim = steps;
+            for (LiveRecord& other : liveRecords)
+                other.fence.reset();
+        }
+        break;
+    }
+    if (count == 0 || !sortedWithRemoval)
+        return;
+    LiveRecord& record = liveRecords[nextLive];
+    nextLive = (nextLive + 1) % n;
+    glCopyNamedBufferSubData(cellStart.id(), record.word.id(),
+                             GLintptr(removedBucket) * GLintptr(sizeof(std::uint32_t)), 0,
+                             sizeof(std::uint32_t));
+    record.fence = Fence::insert();
+    record.step = steps;
+    record.count = count;
+}
+
+std::uint32_t Simulation::Impl::liveNow() const {
+    if (!removal || count == 0 || !sortedWithRemoval)
+        return count;
+    std::uint32_t live = 0;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    cellStart.download(&live, sizeof(live), std::size_t(removedBucket) * sizeof(live));
+    return std::min(live, count);
 }
 
 std::vector<std::uint32_t> Simulation::solveGroups() const {

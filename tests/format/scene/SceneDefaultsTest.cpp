@@ -165,6 +165,16 @@ const BadScene kBadScenes[] = {
      ErrorCode::InvalidArgument, "colliders[0].dynamic: needs exactly one"},
     {"65 colliders", [](Scene& s) { s.colliders.resize(kMaxSceneColliders + 1); },
      ErrorCode::InvalidArgument, "colliders: 65 colliders"},
+    {"an inverted drain",
+     [](Scene& s) {
+         s.drains.push_back({{0.0f, 1.0f, 0.0f}, {1.0f, 0.5f, 1.0f}});
+     },
+     ErrorCode::InvalidArgument, "drains: [0].box.max"},
+    {"nine drains",
+     [](Scene& s) {
+         s.drains.resize(9, {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}});
+     },
+     ErrorCode::InvalidArgument, "9 drains, more than the limit 8"},
 };
 
 TEST(CompleteScene, RefusesEachBadFieldByNameAndChangesNothing) {
@@ -183,6 +193,27 @@ TEST(CompleteScene, RefusesEachBadFieldByNameAndChangesNothing) {
         EXPECT_EQ(scene.emitters.size() > 0 ? scene.emitters[0].direction : glm::vec3(0.0f),
                   before.emitters.size() > 0 ? before.emitters[0].direction : glm::vec3(0.0f));
     }
+}
+
+TEST(SceneReader, ReadsDrainsAndRefusesBadOnes) {
+    auto read = parseScene(R"({"fluid": [{"box": {"min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}}],
+        "drains": [{"box": {"min": [0.5, 0, 0], "max": [0.6, 0.2, 0.1]}}]})",
+                           "d.json", {.checkAssets = false});
+    ASSERT_TRUE(read) << read.error().message();
+    ASSERT_EQ(read->drains.size(), 1u);
+    EXPECT_EQ(read->drains[0].min, glm::vec3(0.5f, 0.0f, 0.0f));
+    EXPECT_EQ(read->drains[0].max, glm::vec3(0.6f, 0.2f, 0.1f));
+    auto bad = parseScene(R"({"fluid": [{"box": {"min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}}],
+        "drains": [{"box": {"min": [0.5, 0, 0], "max": [0.4, 0.2, 0.1]}}]})",
+                          "d.json", {.checkAssets = false});
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().detail.find("d.json: drains[0].box.max"), std::string::npos)
+        << bad.error().detail;
+    auto unknown = parseScene(R"({"fluid": [{"box": {"min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}}],
+        "drains": [{"sphere": {}}]})",
+                              "d.json", {.checkAssets = false});
+    ASSERT_FALSE(unknown);
+    EXPECT_EQ(unknown.error().code, ErrorCode::BadMetadata);
 }
 
 } // namespace

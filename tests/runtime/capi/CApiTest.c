@@ -110,10 +110,30 @@ static void movesAddsAndViews(SluiceSimulation* sim) {
     SluiceParticleView view;
     CHECK(sluice_particle_view(sim, &view) == SLUICE_OK);
     CHECK(view.count == start + 8);
+
+    /* Drain what was added: two by id, the rest by a box over the air above the block. */
+    const uint32_t two[2] = {first, first + 1};
+    const uint32_t never[1] = {100000};
+    CHECK(sluice_remove_particles(sim, never, 1) == SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_remove_particles(sim, two, 2) == SLUICE_OK);
+    const float lo[3] = {-1.0f, 0.12f, -1.0f};
+    const float hi[3] = {1.0f, 1.0f, 1.0f};
+    const float flipped[3] = {1.0f, 0.0f, 1.0f};
+    CHECK(sluice_remove_particles_in(sim, flipped, lo) == SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_remove_particles_in(sim, lo, hi) == SLUICE_OK);
+    CHECK(sluice_step(sim) == SLUICE_OK);
+    CHECK(sluice_read_particles(sim, read, ids, 400, &count) == SLUICE_OK);
+    CHECK(count == start);
+    for (uint32_t i = 0; i < count; ++i)
+        CHECK(ids[i] < first);
+    const float drain[6] = {0.2f, 0.0f, 0.0f, 0.4f, 0.4f, 0.24f};
+    CHECK(sluice_set_drains(sim, drain, 1) == SLUICE_OK);
+    CHECK(sluice_set_drains(sim, NULL, 1) == SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_set_drains(sim, NULL, 0) == SLUICE_OK);
     CHECK(view.positions != 0 && view.velocities != 0 && view.ids != 0);
     CHECK(view.positionStride == 16 && view.idStride == 4);
     CHECK(sluice_advance(sim, -1.0, 4, &frame) == SLUICE_ERROR_INVALID_ARGUMENT);
-    CHECK(sluice_time(sim) > 0.04 && sluice_time(sim) < 0.06);
+    CHECK(sluice_time(sim) > 0.06 && sluice_time(sim) < 0.07); /* four steps of 1/60 s */
 }
 
 /* The ball dropped as a dynamic body half as dense as water: its force, read without waiting. */

@@ -80,6 +80,16 @@ struct Emitter {
     float stop = 0.0f;                      ///< [s]; default start + 10 s; > start
 };
 
+/// Most drain boxes in one scene (and in Simulation::setDrains).
+inline constexpr std::uint32_t kMaxDrains = 8;
+
+/// A box that removes every particle whose position at a substep's start lies inside it:
+/// min <= x < max on every axis.
+struct Drain {
+    glm::vec3 min{0.0f}; ///< [m]
+    glm::vec3 max{0.0f}; ///< [m], > min on every axis
+};
+
 /// One keyframe of a kinematic collider; between keys translation is linear and rotation slerped.
 struct ColliderKey {
     float time = 0.0f;               ///< [s], strictly increasing across keys
@@ -129,6 +139,7 @@ struct Scene {
     std::vector<FluidBlock> blocks;
     std::vector<Emitter> emitters;
     std::vector<SceneCollider> colliders;
+    std::vector<Drain> drains; ///< at most kMaxDrains
     std::optional<glm::vec3> domainMin; ///< particles stay inside [domainMin, domainMax] if set
     std::optional<glm::vec3> domainMax;
     Camera camera;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "sluice/format/scene/Scene.h"
 #include "sluice/format/support/Result.h"
@@ -30,6 +31,11 @@ std::uint32_t defaultSubsteps(const Scene& scene);
 /// its start and stop. SizeOverflow (the message says what to change) beyond kMaxSceneParticles.
 /// Precondition: spacing > 0 and every block and emitter finite.
 Result<std::uint32_t> defaultCapacity(const Scene& scene);
+
+/// Every drain a box with finite corners and max > min on each axis, at most kMaxDrains of them:
+/// NonFinite or InvalidArgument, the detail naming the drain ("[1].box.max: ...") after `what`'s
+/// count for too many.
+Result<void> checkDrains(const std::vector<Drain>& drains, const std::string& what);
 
 /// Completes a scene built in code as readScene completes a file: every derived field of the
 /// parameters (0 or kDerived, Scene.h) gets its default, every emitter direction is made a unit

@@ -142,7 +142,8 @@ struct BodyHit {
 /// GL buffer names, valid until the next step() or addParticles(). The names alternate between
 /// two sets from step to step (the neighbour sort ping-pongs), so take the view each frame.
 /// Slot i of each buffer is one particle; slots are re-sorted every substep, and `ids` says
-/// which particle each slot holds.
+/// which particle each slot holds. A slot whose position has w = 1 holds a removed particle
+/// not yet compacted away (for a step or two after a removal): skip it.
 struct ParticleView {
     std::uint32_t positions = 0;  ///< vec4 per slot: xyz the position [m], w unused
     std::uint32_t velocities = 0; ///< vec4 per slot: xyz the velocity [m/s], w the density error
@@ -223,6 +224,23 @@ public:
     Result<std::uint32_t> addParticles(const std::vector<glm::vec3>& positions,
                                        const std::vector<glm::vec3>& velocities = {});
 
+    /// Removes the particles with these ids at the next step (docs/embedding.md, "Removing
+    /// particles"); an id already removed is ignored. InvalidArgument for an id never given out,
+    /// GpuOutOfMemory if the list's buffer cannot grow; nothing changed on failure.
+    Result<void> removeParticles(const std::vector<std::uint32_t>& ids);
+
+    /// Removes the particles whose position lies in [min, max) at the next step. InvalidArgument
+    /// for a box with max <= min on an axis or with the drains already kMaxDrains boxes;
+    /// NonFinite for a corner that is not finite.
+    Result<void> removeParticlesIn(glm::vec3 min, glm::vec3 max);
+
+    /// Replaces the drains (the scene's "drains"): boxes that remove every particle that enters
+    /// them, from the next step on. Errors as removeParticlesIn's, for each box.
+    Result<void> setDrains(const std::vector<format::Drain>& drains);
+
+    /// The drains now.
+    const std::vector<format::Drain>& drains() const;
+
     /// The particle buffers now (after the last step or addParticles).
     ParticleView particleView() const;
 
@@ -244,7 +262,8 @@ public:
     /// everything since the previous call [ms] (for benchmarks: call it after each step).
     PassTimes drainPassTimes();
 
-    /// Current particles, in memory order (ids identify them). Waits for the GPU.
+    /// Current particles, in memory order (ids identify them), without the removed ones. Waits
+    /// for the GPU.
     std::vector<ParticleState> downloadParticles() const;
 
     /// Changes the simulation parameters from the next step on (the viewer's live panel).
@@ -267,8 +286,13 @@ public:
     void setEmittersEnabled(bool enabled);
     bool emittersEnabled() const;
 
-    /// Particles now live.
+    /// Slots in use: the particles live, and for a step or two after a removal the removed
+    /// ones not yet compacted away (readStats().particles counts the live ones exactly).
     std::uint32_t particleCount() const;
+    /// Particles live after the last step, exactly; they are slots 0 to n - 1 of the buffers
+    /// until the next addParticles. Once a particle may have been removed, a 4-byte readback
+    /// (waits for the GPU); otherwise particleCount().
+    std::uint32_t liveParticleCount() const;
     /// Particles at most.
     std::uint32_t capacity() const;
     /// Simulated time [s] and steps done.
