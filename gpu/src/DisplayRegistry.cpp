@@ -5,8 +5,8 @@
 #include <map>
 #include <mutex>
 
-#include <sluice_glad/egl.h>
 #include <pthread.h>
+#include <sluice_glad/egl.h>
 
 #include "Egl.h"
 #include "sluice/gpu/Context.h"

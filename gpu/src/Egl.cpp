@@ -350,7 +350,8 @@ Result<EglContext> createEglContext(const ContextOptions& options) {
     client.platformDevice = sluice_GLAD_EGL_EXT_platform_device != 0;
     client.deviceEnumeration =
         sluice_GLAD_EGL_EXT_device_enumeration != 0 || sluice_GLAD_EGL_EXT_device_base != 0;
-    client.deviceQuery = sluice_GLAD_EGL_EXT_device_query != 0 || sluice_GLAD_EGL_EXT_device_base != 0;
+    client.deviceQuery =
+        sluice_GLAD_EGL_EXT_device_query != 0 || sluice_GLAD_EGL_EXT_device_base != 0;
     client.platformSurfaceless = sluice_GLAD_EGL_MESA_platform_surfaceless != 0;
 
     std::vector<std::string> tried;

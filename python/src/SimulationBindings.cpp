@@ -112,6 +112,17 @@ void setParticles(PySimulation& s,
         raise(Family::Argument, ok.error());
 }
 
+// The particles as (positions (N, 3), velocities (N, 3), ids (N,)).
+nb::tuple particles(PySimulation& s) {
+    const std::vector<rt::ParticleState> p = s.current().downloadParticles();
+    auto* ids = new std::uint32_t[p.size()];
+    for (std::size_t i = 0; i < p.size(); ++i)
+        ids[i] = p[i].id;
+    nb::capsule owner(ids, [](void* q) noexcept { delete[] static_cast<std::uint32_t*>(q); });
+    return nb::make_tuple(vec3Array(p, false), vec3Array(p, true),
+                          nb::ndarray<nb::numpy, std::uint32_t, nb::ndim<1>>(ids, {p.size()}, owner));
+}
+
 // Adds (N, 3) positions with (N, 3) velocities (or none: at rest); the first new id.
 std::uint32_t addParticles(
     PySimulation& s, nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
@@ -287,18 +298,7 @@ void bindSimulation(nb::module_& m) {
              [](PySimulation& s) { return vec3Array(s.current().downloadParticles(), false); })
         .def("velocities",
              [](PySimulation& s) { return vec3Array(s.current().downloadParticles(), true); })
-        .def("particles",
-             [](PySimulation& s) {
-                 const std::vector<rt::ParticleState> p = s.current().downloadParticles();
-                 auto* ids = new std::uint32_t[p.size()];
-                 for (std::size_t i = 0; i < p.size(); ++i)
-                     ids[i] = p[i].id;
-                 nb::capsule owner(
-                     ids, [](void* q) noexcept { delete[] static_cast<std::uint32_t*>(q); });
-                 return nb::make_tuple(
-                     vec3Array(p, false), vec3Array(p, true),
-                     nb::ndarray<nb::numpy, std::uint32_t, nb::ndim<1>>(ids, {p.size()}, owner));
-             })
+        .def("particles", &particles)
         .def("solid_boundary_at", &solidBoundaryAt, nb::arg("points"))
         .def("set_particles", &setParticles, nb::arg("positions"), nb::arg("velocities"),
              nb::arg("ids"))
@@ -306,7 +306,7 @@ void bindSimulation(nb::module_& m) {
              nb::arg("velocities").none() = nb::none())
         .def("set_collider_pose", &setColliderPose, nb::arg("index"), nb::arg("translation"),
              nb::arg("rotation"))
-        .def_prop_ro("particle_count", [](PySimulation& s) { return s.sim->particleCount(); })
+        .def_prop_ro("particle_count", [](PySimulation& s) { return s.sim->liveParticleCount(); })
         .def_prop_ro("capacity", [](PySimulation& s) { return s.sim->capacity(); })
         .def_prop_ro("time", [](PySimulation& s) { return s.sim->time(); })
         .def_prop_ro("steps", [](PySimulation& s) { return s.sim->steps(); })

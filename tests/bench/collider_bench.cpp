@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "shared/Pbf.h"
+#include "BenchFigures.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/gpu/Buffer.h"
@@ -42,15 +43,8 @@ namespace {
 
 using namespace sluice;
 
-struct Figures {
-    double median = 0.0, lo = 0.0, hi = 0.0;
-};
-
-Figures figures(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v.front(), v.back()};
-}
+using bench::Figures;
+using bench::figures;
 
 int usage(const char* why) {
     std::fprintf(stderr,

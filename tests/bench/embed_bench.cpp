@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "BenchFigures.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/gpu/Gl.h"
@@ -29,15 +30,8 @@ namespace {
 using namespace sluice;
 using Clock = std::chrono::steady_clock;
 
-struct Figures {
-    double median = 0.0, lo = 0.0, hi = 0.0;
-};
-
-Figures figures(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v.front(), v.back()};
-}
+using bench::Figures;
+using bench::figures;
 
 double since(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

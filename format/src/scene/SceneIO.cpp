@@ -28,7 +28,6 @@ using detail::readNumber;
 constexpr detail::JsonFileKind kSceneKind{"the scene", "the scene file", "scene-file limit",
                                           kMaxSceneFileBytes};
 
-
 // Reads {"min": [..], "max": [..]} with max > min on every axis.
 void readMinMax(const rj::Value& value, const std::string& path, glm::vec3& min, glm::vec3& max) {
     const JsonObject o(value, path, {"min", "max"});

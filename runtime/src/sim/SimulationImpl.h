@@ -17,13 +17,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "render/GlObjects.h"
 #include "shared/Bodies.h"
 #include "shared/ChunkedDispatch.h"
 #include "shared/Pbf.h"
 #include "sim/BodySetup.h"
 #include "sim/ColliderBands.h"
 #include "sim/PrefixScan.h"
-#include "render/GlObjects.h"
 #include "sim/SparseGrids.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/asset/SdfSampler.h"
@@ -185,7 +185,7 @@ struct Simulation::Impl {
     std::vector<format::Drain> drains;       // the scene's, or setDrains'
     std::vector<format::Drain> removeBoxes;  // removeParticlesIn's, for the next substep only
     std::vector<std::uint32_t> removeIdList; // removeParticles', ascending, next substep only
-    bool removal = false; // some particle may have been removed (then for good)
+    bool removal = false;                    // some particle may have been removed (then for good)
     gpu::Buffer removeIdBuf;
     struct LiveRecord {
         gpu::Buffer word; // cellStart at the removed bucket: the live count after a step
@@ -195,7 +195,7 @@ struct Simulation::Impl {
     };
     std::array<LiveRecord, 3> liveRecords;
     std::size_t nextLive = 0;
-    std::uint64_t lastTrim = 0; // the step at whose end the count last dropped
+    std::uint64_t lastTrim = 0;      // the step at whose end the count last dropped
     std::uint32_t removedBucket = 0; // the removed particles' bucket in the last sort
     bool sortedWithRemoval = false;  // the last sort had it: cellStart there is the live count
 

@@ -16,6 +16,14 @@
 
 namespace sluice::rt::test {
 
+/// Raw bytes of the particles in memory order (position, velocity, id), for bit-for-bit checks.
+inline std::vector<unsigned char> particleBytes(const std::vector<ParticleState>& particles) {
+    std::vector<unsigned char> bytes(particles.size() * sizeof(ParticleState));
+    if (!particles.empty())
+        std::memcpy(bytes.data(), particles.data(), bytes.size());
+    return bytes;
+}
+
 /// The particles by id.
 inline std::unordered_map<std::uint32_t, ParticleState>
 byId(const std::vector<ParticleState>& particles) {

@@ -1,17 +1,16 @@
 // The calls a game loop makes between steps (docs/embedding.md): a scene built from default
 // parameters, collider poses set each frame, particles added, emitters switched without a burst,
-// the fixed-step driver and the view of the buffers.
+// the fixed-step driver and the view of the buffers. Removal is SimulationRemovalTest.cpp, the
+// GL contract and the reads without a wait SimulationGlContractTest.cpp.
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <set>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
-#include "sim/BodyTank.h"
 #include "sim/ParticleCompare.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/rt/sim/Simulation.h"
@@ -23,12 +22,7 @@ using gpu::test::GpuTest;
 
 class SimulationControl : public GpuTest {};
 
-std::vector<unsigned char> particleBytes(const std::vector<ParticleState>& particles) {
-    std::vector<unsigned char> bytes(particles.size() * sizeof(ParticleState));
-    if (!particles.empty())
-        std::memcpy(bytes.data(), particles.data(), bytes.size());
-    return bytes;
-}
+using test::particleBytes;
 
 // ---------------------------------------------------------------------------------------------
 // Parameters a program builds
@@ -260,135 +254,6 @@ TEST_F(SimulationControl, AddParticlesRefusesBadInputAndChangesNothing) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Particles the program removes
-
-bool inBox(glm::vec3 x, const format::Drain& box) {
-    return glm::all(glm::greaterThanEqual(x, box.min)) && glm::all(glm::lessThan(x, box.max));
-}
-
-std::set<std::uint32_t> idsOf(const std::vector<ParticleState>& particles) {
-    std::set<std::uint32_t> ids;
-    for (const ParticleState& p : particles)
-        ids.insert(p.id);
-    return ids;
-}
-
-// A column collapsing into a tank whose right third is a drain: with one substep a step, the
-// particles a step removes are exactly those whose position at its start lay in the drain.
-TEST_F(SimulationControl, DrainsRemoveExactlyTheParticlesThatEnterThem) {
-    format::Scene scene = testscene::smallScene({6, 8, 4}, 0.02f, 1);
-    scene.domainMax->x = 0.36f;
-    const format::Drain drain{{0.2f, 0.0f, 0.0f}, {0.36f, 0.32f, 0.08f}};
-    scene.drains.push_back(drain);
-    auto sim = Simulation::create(scene, {});
-    ASSERT_TRUE(sim) << sim.error().message();
-    std::vector<ParticleState> before = sim->downloadParticles();
-    std::size_t removedInAll = 0;
-    for (int step = 0; step < 40; ++step) {
-        std::set<std::uint32_t> expected;
-        for (const ParticleState& p : before)
-            if (!inBox(p.position, drain))
-                expected.insert(p.id);
-        removedInAll += before.size() - expected.size();
-        sim->step();
-        const std::vector<ParticleState> after = sim->downloadParticles();
-        ASSERT_EQ(idsOf(after), expected) << "step " << step;
-        for (const ParticleState& p : after)
-            ASSERT_TRUE(std::isfinite(p.position.x)) << "step " << step;
-        EXPECT_EQ(sim->readStats().particles, after.size()) << "step " << step;
-        before = after;
-    }
-    EXPECT_GT(removedInAll, 20u) << "the water reached the drain";
-    // The slots of the removed particles are given back a step or two after the removals stop.
-    ASSERT_TRUE(sim->setDrains({}));
-    glFinish(); // the test waits so the live count's copy is done; a game never needs to
-    for (int step = 0; step < 3; ++step)
-        sim->step();
-    EXPECT_EQ(sim->particleCount(), sim->readStats().particles);
-    EXPECT_EQ(sim->particleCount(), sim->downloadParticles().size());
-}
-
-TEST_F(SimulationControl, SpawnedWaterRunningIntoADrainLeavesTheCountWhereItStarted) {
-    // Weightless, so the pool stays where it is and the jet flies straight into the drain.
-    format::Scene scene = testscene::smallScene({6, 2, 6}, 0.02f, 2);
-    scene.simulation.gravity = glm::vec3(0.0f);
-    scene.simulation.capacity += 200;
-    scene.domainMax = glm::vec3(0.3f, 0.24f, 0.12f);
-    auto sim = Simulation::create(scene, {});
-    ASSERT_TRUE(sim) << sim.error().message();
-    ASSERT_TRUE(sim->setDrains({{{0.22f, 0.0f, 0.0f}, {0.3f, 0.24f, 0.12f}}}));
-    sim->step();
-    const std::uint32_t start = sim->readStats().particles;
-    ASSERT_EQ(start, 72u);
-    std::vector<glm::vec3> jet;
-    for (int i = 0; i < 4; ++i)
-        for (int k = 0; k < 5; ++k)
-            jet.emplace_back(0.12f + 0.02f * float(i), 0.14f, 0.02f + 0.02f * float(k));
-    auto first = sim->addParticles(jet, std::vector<glm::vec3>(jet.size(), {1.0f, 0.0f, 0.0f}));
-    ASSERT_TRUE(first) << first.error().message();
-    EXPECT_EQ(sim->readStats().particles, start) << "statistics of the last step";
-    sim->step();
-    EXPECT_EQ(sim->readStats().particles, start + 20) << "none has reached the drain yet";
-    for (int i = 0; i < 10; ++i) // 1 m/s for 1/6 s: 17 cm, past the drain's edge at 22 cm
-        sim->step();
-    EXPECT_EQ(sim->readStats().particles, start);
-    EXPECT_EQ(sim->liveParticleCount(), start);
-    for (const ParticleState& p : sim->downloadParticles())
-        EXPECT_LT(p.id, *first) << "a spawned particle is still there";
-}
-
-TEST_F(SimulationControl, RemovedByIdOrBoxTheOthersKeepTheirIds) {
-    format::Scene scene = testscene::smallScene({6, 4, 6}, 0.02f, 2);
-    SimulationOptions options;
-    options.deterministic = true;
-    auto sim = Simulation::create(scene, {}, options);
-    ASSERT_TRUE(sim) << sim.error().message();
-    sim->step();
-    const std::set<std::uint32_t> all = idsOf(sim->downloadParticles());
-    ASSERT_TRUE(sim->removeParticles({3, 7, 7, 100}));
-    // The top layer: y from 0.06 to 0.08 at rest.
-    ASSERT_TRUE(sim->removeParticlesIn({-1.0f, 0.065f, -1.0f}, {1.0f, 1.0f, 1.0f}));
-    sim->step();
-    std::set<std::uint32_t> expected = all;
-    for (std::uint32_t id : {3u, 7u, 100u})
-        expected.erase(id);
-    const std::set<std::uint32_t> now = idsOf(sim->downloadParticles());
-    for (std::uint32_t id : now)
-        EXPECT_TRUE(expected.count(id)) << "id " << id << " should be gone";
-    EXPECT_EQ(all.size() - now.size(), 3u + 36u) << "three by id, the top layer of 36 by the box";
-    // One-shot: the box removes nothing more at the next step.
-    sim->step();
-    EXPECT_EQ(idsOf(sim->downloadParticles()).size(), now.size());
-    // Removing an id twice is harmless.
-    ASSERT_TRUE(sim->removeParticles({3}));
-    sim->step();
-    EXPECT_EQ(idsOf(sim->downloadParticles()).size(), now.size());
-}
-
-TEST_F(SimulationControl, RemovalRefusesBadInputAndChangesNothing) {
-    format::Scene scene = testscene::smallScene({4, 4, 4});
-    auto sim = Simulation::create(scene, {});
-    ASSERT_TRUE(sim) << sim.error().message();
-    auto out = sim->removeParticles({2, 64});
-    ASSERT_FALSE(out);
-    EXPECT_EQ(out.error().code, ErrorCode::InvalidArgument);
-    EXPECT_NE(out.error().detail.find("id 64 was never given out"), std::string::npos);
-    out = sim->removeParticlesIn({0.0f, 0.1f, 0.0f}, {1.0f, 0.05f, 1.0f});
-    ASSERT_FALSE(out);
-    EXPECT_EQ(out.error().code, ErrorCode::InvalidArgument);
-    out = sim->removeParticlesIn({0.0f, std::nanf(""), 0.0f}, {1.0f, 1.0f, 1.0f});
-    ASSERT_FALSE(out);
-    EXPECT_EQ(out.error().code, ErrorCode::NonFinite);
-    out = sim->setDrains(std::vector<format::Drain>(9, {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}}));
-    ASSERT_FALSE(out);
-    EXPECT_EQ(out.error().code, ErrorCode::InvalidArgument);
-    EXPECT_TRUE(sim->drains().empty());
-    sim->step();
-    EXPECT_EQ(sim->readStats().particles, 64u);
-    EXPECT_EQ(sim->downloadParticles().size(), 64u);
-}
-
-// ---------------------------------------------------------------------------------------------
 // Emitters, the driver, the view
 
 TEST_F(SimulationControl, EmittersSwitchedBackOnDoNotReleaseTheLayersDueWhileOff) {
@@ -481,147 +346,6 @@ TEST_F(SimulationControl, ParticleViewNamesTheBuffersAndTheIdsOfTheSlots) {
             EXPECT_EQ(glm::vec3(positions[slot]), particles[slot].position);
         }
     }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Forces read without waiting
-
-TEST_F(SimulationControl, LatestBodiesAreACompletedStepsBodiesReadWithoutWaiting) {
-    format::Scene scene = bodytest::tankScene({0.24f, 0.24f}, 0.1f, 0.3f, 2);
-    scene.colliders.push_back(bodytest::cubeBody({0.12f, 0.12f, 0.12f}, 0.5f));
-    auto sim = Simulation::create(scene, {bodytest::cubeAsset(0.08f)});
-    ASSERT_TRUE(sim) << sim.error().message();
-    EXPECT_FALSE(sim->latestBodies()) << "no step has completed";
-    for (int i = 0; i < 4; ++i) {
-        sim->step();
-        // Whatever it returns is a step that has run, never a later one.
-        if (auto reading = sim->latestBodies()) {
-            EXPECT_LE(reading->step, sim->steps());
-        }
-    }
-    glFinish(); // the test waits so the newest copy is done; a game never needs to
-    auto reading = sim->latestBodies();
-    ASSERT_TRUE(reading);
-    EXPECT_EQ(reading->step, sim->steps());
-    EXPECT_DOUBLE_EQ(reading->time, sim->time());
-    const std::vector<BodyState> now = sim->bodies();
-    ASSERT_EQ(reading->bodies.size(), 1u);
-    EXPECT_EQ(reading->bodies[0].force, now[0].force);
-    EXPECT_EQ(reading->bodies[0].torque, now[0].torque);
-    EXPECT_EQ(reading->bodies[0].position, now[0].position);
-    EXPECT_GT(reading->bodies[0].force.y, 0.0f) << "the water holds the falling cube up";
-}
-
-TEST_F(SimulationControl, LatestBodiesIsEmptyWithoutBodies) {
-    auto sim = Simulation::create(testscene::smallScene({4, 4, 4}), {});
-    ASSERT_TRUE(sim) << sim.error().message();
-    sim->step();
-    glFinish();
-    EXPECT_FALSE(sim->latestBodies());
-}
-
-// ---------------------------------------------------------------------------------------------
-// GL citizenship: step() changes only the state docs/embedding.md lists
-
-struct GlState {
-    std::vector<GLint> storage, uniform, bufferTextures, textures2d;
-    GLint program = 0, indirect = 0, array = 0, vertexArray = 0, framebuffer = 0, active = 0;
-    GLint pack = 0, unpack = 0, genericStorage = 0, genericUniform = 0;
-};
-
-GlState readGlState() {
-    GlState s;
-    GLint storage = 0, uniform = 0, units = 0;
-    glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &storage);
-    glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &uniform);
-    glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &units);
-    for (GLint i = 0; i < storage; ++i)
-        glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, GLuint(i), &s.storage.emplace_back());
-    for (GLint i = 0; i < uniform; ++i)
-        glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, GLuint(i), &s.uniform.emplace_back());
-    glGetIntegerv(GL_ACTIVE_TEXTURE, &s.active);
-    for (GLint u = 0; u < std::min(units, 32); ++u) {
-        glActiveTexture(GLenum(GL_TEXTURE0 + u));
-        glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &s.bufferTextures.emplace_back());
-        glGetIntegerv(GL_TEXTURE_BINDING_2D, &s.textures2d.emplace_back());
-    }
-    glActiveTexture(GLenum(s.active));
-    glGetIntegerv(GL_CURRENT_PROGRAM, &s.program);
-    glGetIntegerv(GL_DISPATCH_INDIRECT_BUFFER_BINDING, &s.indirect);
-    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &s.array);
-    glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &s.vertexArray);
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s.framebuffer);
-    glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &s.pack);
-    glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &s.unpack);
-    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_BINDING, &s.genericStorage);
-    glGetIntegerv(GL_UNIFORM_BUFFER_BINDING, &s.genericUniform);
-    return s;
-}
-
-TEST_F(SimulationControl, StepChangesOnlyTheGlStateItDocuments) {
-    std::vector<format::ColliderAsset> assets;
-    const format::Scene scene = paddleScene(assets);
-    auto sim = Simulation::create(scene, assets);
-    ASSERT_TRUE(sim) << sim.error().message();
-    // A game's state: a sentinel buffer everywhere Sluice might bind one, a texture on every unit.
-    GLuint buffer = 0, texture = 0, bufferTexture = 0, vao = 0;
-    glCreateBuffers(1, &buffer);
-    glNamedBufferData(buffer, 256, nullptr, GL_STATIC_DRAW);
-    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-    glTextureStorage2D(texture, 1, GL_RGBA8, 4, 4);
-    glCreateTextures(GL_TEXTURE_BUFFER, 1, &bufferTexture);
-    glTextureBuffer(bufferTexture, GL_R32F, buffer);
-    glCreateVertexArrays(1, &vao);
-    const GlState before = [&] {
-        GlState probe = readGlState();
-        for (std::size_t i = 0; i < probe.storage.size(); ++i)
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(i), buffer);
-        for (std::size_t i = 0; i < probe.uniform.size(); ++i)
-            glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(i), buffer);
-        for (std::size_t u = 0; u < probe.textures2d.size(); ++u) {
-            glBindTextureUnit(GLuint(u), texture);
-            glBindTextureUnit(GLuint(u), bufferTexture);
-        }
-        glActiveTexture(GL_TEXTURE3);
-        glBindVertexArray(vao);
-        glBindBuffer(GL_ARRAY_BUFFER, buffer);
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buffer);
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, buffer);
-        return readGlState();
-    }();
-    ASSERT_EQ(before.storage.back(), GLint(buffer));
-    sim->step();
-    const GlState after = readGlState();
-    // Documented as changed: storage bindings 0 to 27 and the generic one, uniform bindings 0 and
-    // 1 and the generic one, buffer textures on units 0 to 6, the program, the indirect buffer.
-    for (std::size_t i = 28; i < before.storage.size(); ++i)
-        EXPECT_EQ(after.storage[i], before.storage[i]) << "storage binding " << i;
-    for (std::size_t i = 2; i < before.uniform.size(); ++i)
-        EXPECT_EQ(after.uniform[i], before.uniform[i]) << "uniform binding " << i;
-    for (std::size_t u = 0; u < before.textures2d.size(); ++u) {
-        EXPECT_EQ(after.textures2d[u], before.textures2d[u]) << "2D texture on unit " << u;
-        if (u >= 7) {
-            EXPECT_EQ(after.bufferTextures[u], before.bufferTextures[u]) << "unit " << u;
-        }
-    }
-    EXPECT_EQ(after.active, before.active);
-    EXPECT_EQ(after.array, before.array);
-    EXPECT_EQ(after.vertexArray, before.vertexArray);
-    EXPECT_EQ(after.framebuffer, before.framebuffer);
-    EXPECT_EQ(after.pack, before.pack);
-    EXPECT_EQ(after.unpack, before.unpack);
-    // The list is not longer than what changes: these did change.
-    EXPECT_NE(after.program, before.program);
-    EXPECT_NE(after.indirect, before.indirect);
-    EXPECT_NE(after.storage[0], before.storage[0]);
-    EXPECT_NE(after.uniform[0], before.uniform[0]);
-    EXPECT_NE(after.bufferTextures[0], before.bufferTextures[0]);
-    glBindVertexArray(0);
-    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    glDeleteVertexArrays(1, &vao);
-    glDeleteTextures(1, &bufferTexture);
-    glDeleteTextures(1, &texture);
-    glDeleteBuffers(1, &buffer);
 }
 
 } // namespace

@@ -13,6 +13,7 @@
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
 #include "sim/MartinMoyce.h"
+#include "sim/ParticleCompare.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -207,13 +208,7 @@ TEST_F(SimulationPhysics, DamBreakFrontDoesNotDependOnHowMuchOfTheWaterIsAtASide
     EXPECT_LE(sumDifference / checked, 0.05) << "mean |Z_4 - Z_1| / Z_1 over T >= 0.5";
 }
 
-// Raw bytes of the particles in memory order (position, velocity, id).
-std::vector<unsigned char> particleBytes(const std::vector<ParticleState>& particles) {
-    std::vector<unsigned char> bytes(particles.size() * sizeof(ParticleState));
-    if (!particles.empty())
-        std::memcpy(bytes.data(), particles.data(), bytes.size());
-    return bytes;
-}
+using test::particleBytes;
 
 TEST_F(SimulationPhysics, DeterministicRunsGiveIdenticalBytesAndStatistics) {
     format::Scene scene = martinMoyceScene(0.1f, 0.01f, 3); // a splashing flow

@@ -139,7 +139,7 @@ struct Scene {
     std::vector<FluidBlock> blocks;
     std::vector<Emitter> emitters;
     std::vector<SceneCollider> colliders;
-    std::vector<Drain> drains; ///< at most kMaxDrains
+    std::vector<Drain> drains;          ///< at most kMaxDrains
     std::optional<glm::vec3> domainMin; ///< particles stay inside [domainMin, domainMax] if set
     std::optional<glm::vec3> domainMax;
     Camera camera;
