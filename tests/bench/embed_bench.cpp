@@ -1,7 +1,7 @@
 // What the calls a game makes every frame cost beside the step itself (docs/embedding.md): a
 // collider pose set, the particle view taken and the bodies' forces read without waiting.
 //
-//   embed_bench COLLIDER.slc [--particles N] [--frames F] [--repeat R]
+//   embed_bench COLLIDER.slc [--particles N] [--frames F] [--repeat R] [--control 1]
 //
 // A scene built in code: a block of N particles (default 5000) in a tank, COLLIDER as a static
 // collider the game moves and again as a dynamic body the water floats. Frames alternate between
@@ -9,7 +9,8 @@
 // (setColliderPose to where it is, step(), particleView, latestBodies, then glFinish), F frames
 // of each per repeat (default 20), R repeats (default 5). It prints the median and range over
 // the repeats of each kind's mean frame time, their ratio, and the calls' own CPU time per frame,
-// each call timed alone. Not a ctest test. Say where it ran (llvmpipe on a CPU is not a GPU).
+// each call timed alone. --control 1 makes no call in the second kind of frame either: the ratio
+// the machine's noise alone gives (an A/A run). Not a ctest test. Say where it ran (llvmpipe on a CPU is not a GPU).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -75,7 +76,7 @@ int usage(const char* why) {
 int main(int argc, char** argv) {
     if (argc < 2)
         return usage("no collider given");
-    std::uint32_t particles = 5000, frames = 20, repeat = 5;
+    std::uint32_t particles = 5000, frames = 20, repeat = 5, control = 0;
     for (int i = 2; i + 1 < argc; i += 2) {
         const std::uint32_t value = std::uint32_t(std::strtoul(argv[i + 1], nullptr, 10));
         if (std::strcmp(argv[i], "--particles") == 0)
@@ -84,6 +85,8 @@ int main(int argc, char** argv) {
             frames = value;
         else if (std::strcmp(argv[i], "--repeat") == 0)
             repeat = value;
+        else if (std::strcmp(argv[i], "--control") == 0)
+            control = value;
         else
             return usage(argv[i]);
     }
@@ -115,17 +118,20 @@ int main(int argc, char** argv) {
 
             t0 = Clock::now();
             auto tc = Clock::now();
-            (void)sim->setColliderPose(0, at, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+            if (control == 0)
+                (void)sim->setColliderPose(0, at, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
             callMs += since(tc);
             sim->step();
             tc = Clock::now();
-            const rt::ParticleView view = sim->particleView();
-            const auto forces = sim->latestBodies();
+            if (control == 0) {
+                const rt::ParticleView view = sim->particleView();
+                const auto forces = sim->latestBodies();
+                if (view.count == 0 || (forces && forces->bodies.empty()))
+                    return usage("no particles or no body");
+            }
             callMs += since(tc);
             glFinish();
             embeddedMs += since(t0);
-            if (view.count == 0 || (forces && forces->bodies.empty()))
-                return usage("no particles or no body");
         }
         plain.push_back(plainMs / frames);
         embedded.push_back(embeddedMs / frames);
