@@ -119,4 +119,17 @@ inline format::Scene emptyScene(float spacing = 0.02f, std::uint32_t substeps = 
     return scene;
 }
 
+/// emptyScene with one nozzle at (0, 1, 0) pointing down: a 4 cm disc at 1 m/s from 0 to 10 s.
+inline format::Scene nozzleScene(std::uint32_t capacity, float spacing = 0.02f,
+                                 std::uint32_t substeps = 2) {
+    format::Scene scene = emptyScene(spacing, substeps, capacity);
+    format::Emitter nozzle;
+    nozzle.position = glm::vec3(0.0f, 1.0f, 0.0f);
+    nozzle.radius = 0.04f;
+    nozzle.speed = 1.0f;
+    nozzle.stop = 10.0f;
+    scene.emitters.push_back(nozzle);
+    return scene;
+}
+
 } // namespace sluice::testscene

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "scene/SceneReading.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/scene/SimulationLimits.h"
 #include "sluice/format/scene/SolverReach.h"
@@ -18,6 +19,7 @@ namespace {
 
 using detail::formatFloat;
 using detail::formatNumber;
+using scene_detail::vecText; // as the reader writes vectors in its messages
 
 constexpr std::uint32_t kMaxDefaultSubsteps = 64;
 constexpr double kCflNumber = 0.4; // a particle moves at most 0.4 h per substep
@@ -25,10 +27,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 bool finite(glm::vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-std::string vecText(glm::vec3 v) {
-    return "[" + formatFloat(v.x) + ", " + formatFloat(v.y) + ", " + formatFloat(v.z) + "]";
 }
 
 // The first problem found, with the field's path: "colliders[2].scale: -1 is out of range".

@@ -257,13 +257,7 @@ TEST_F(SimulationControl, AddParticlesRefusesBadInputAndChangesNothing) {
 // Emitters, the driver, the view
 
 TEST_F(SimulationControl, EmittersSwitchedBackOnDoNotReleaseTheLayersDueWhileOff) {
-    format::Scene scene = testscene::emptyScene(0.02f, 2, 4000);
-    format::Emitter nozzle;
-    nozzle.position = glm::vec3(0.0f, 1.0f, 0.0f);
-    nozzle.radius = 0.04f;
-    nozzle.speed = 1.0f;
-    nozzle.stop = 10.0f;
-    scene.emitters.push_back(nozzle);
+    const format::Scene scene = testscene::nozzleScene(4000);
     auto sim = Simulation::create(scene, {});
     ASSERT_TRUE(sim) << sim.error().message();
     sim->step();
@@ -276,7 +270,7 @@ TEST_F(SimulationControl, EmittersSwitchedBackOnDoNotReleaseTheLayersDueWhileOff
     EXPECT_EQ(sim->particleCount(), twoSteps);
     sim->setEmittersEnabled(true);
     sim->step();
-    const std::uint32_t disc = std::uint32_t(emitterDisc(nozzle, 0.02f).size());
+    const std::uint32_t disc = std::uint32_t(emitterDisc(scene.emitters[0], 0.02f).size());
     // One step of 1/60 s at 1 m/s owes at most one layer of 2 cm, or two where it starts one.
     EXPECT_GT(sim->particleCount(), twoSteps);
     EXPECT_LE(sim->particleCount(), twoSteps + 2 * disc);

@@ -394,13 +394,7 @@ TEST_F(SimulationPhysics, RejectedParametersNameTheirCodeAndChangeNothing) {
 }
 
 TEST_F(SimulationPhysics, EmittersSwitchedOffAddNothing) {
-    format::Scene scene = testscene::emptyScene(0.02f, 2, 1000);
-    format::Emitter nozzle;
-    nozzle.position = glm::vec3(0.0f, 1.0f, 0.0f);
-    nozzle.radius = 0.04f;
-    nozzle.speed = 1.0f;
-    nozzle.stop = 10.0f;
-    scene.emitters.push_back(nozzle);
+    const format::Scene scene = testscene::nozzleScene(1000);
     auto sim = Simulation::create(scene, {});
     ASSERT_TRUE(sim) << sim.error().message();
     sim->step();

@@ -183,9 +183,10 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
 /// Position Based Fluids on the GPU. Needs a current GL 4.5 context for its whole life.
 class Simulation {
 public:
-    /// Compiles the passes, fills the blocks and uploads the colliders (one per scene collider,
-    /// in order). Fails with GpuOutOfMemory when the buffers would not fit, InvalidArgument
-    /// when the colliders do not match the scene.
+    /// Completes the scene (format::completeScene: a scene built in code gets the reader's
+    /// defaults and checks, and its errors are returned), compiles the passes, fills the blocks
+    /// and uploads the colliders (one per scene collider, in order). Fails with GpuOutOfMemory
+    /// when the buffers would not fit, InvalidArgument when the colliders do not match the scene.
     static Result<Simulation> create(const format::Scene& scene,
                                      std::vector<format::ColliderAsset> colliders,
                                      const SimulationOptions& options = {});
