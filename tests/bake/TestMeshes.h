@@ -218,6 +218,45 @@ inline TriangleSoup uvSphereSoup(const glm::dvec3& center, double radius, int sl
     return soup;
 }
 
+/// Capsule along the y axis: a cylinder of radius `radius` from y = -halfAxis to +halfAxis closed
+/// by two half spheres, `slices` meridians and `stacks` bands of the sphere (even), its equator
+/// ring doubled at both ends of the cylinder. The largest gap to the true capsule is that of a
+/// uvSphereSoup of the same slices and stacks.
+inline TriangleSoup capsuleSoup(double radius, double halfAxis, int slices, int stacks) {
+    TriangleSoup soup;
+    const double pi = std::numbers::pi;
+    // Rings from the top pole down: the upper cap's on +halfAxis, the lower cap's on -halfAxis.
+    std::vector<std::pair<double, double>> rings; // (polar angle, y offset)
+    for (int ring = 1; ring <= stacks / 2; ++ring)
+        rings.push_back({pi * ring / stacks, halfAxis});
+    for (int ring = stacks / 2; ring < stacks; ++ring)
+        rings.push_back({pi * ring / stacks, -halfAxis});
+    // uvSphereSoup's vertices with their axes turned (x, y, z) -> (y, z, x), a rotation, so its
+    // outward winding holds.
+    soup.positions.push_back({0.0, radius + halfAxis, 0.0});
+    for (const auto& [polar, offset] : rings)
+        for (int s = 0; s < slices; ++s) {
+            const double azimuth = 2.0 * pi * s / slices;
+            soup.positions.push_back({radius * std::sin(polar) * std::sin(azimuth),
+                                      offset + radius * std::cos(polar),
+                                      radius * std::sin(polar) * std::cos(azimuth)});
+        }
+    const int last = int(rings.size());
+    auto at = [&](int ring, int s) { return unsigned(1 + (ring - 1) * slices + (s % slices)); };
+    for (int s = 0; s < slices; ++s)
+        soup.triangles.push_back({0, at(1, s), at(1, s + 1)});
+    for (int ring = 1; ring < last; ++ring)
+        for (int s = 0; s < slices; ++s) {
+            soup.triangles.push_back({at(ring, s), at(ring + 1, s), at(ring + 1, s + 1)});
+            soup.triangles.push_back({at(ring, s), at(ring + 1, s + 1), at(ring, s + 1)});
+        }
+    soup.positions.push_back({0.0, -radius - halfAxis, 0.0});
+    const unsigned south = unsigned(soup.positions.size() - 1);
+    for (int s = 0; s < slices; ++s)
+        soup.triangles.push_back({at(last, s), south, at(last, s + 1)});
+    return soup;
+}
+
 /// Torus around the z axis: `majorSegments` around the ring, `minorSegments` around the tube,
 /// each quad (a planar isosceles trapezoid) split into two outward triangles.
 inline TriangleSoup torusSoup(const glm::dvec3& center, double majorRadius, double minorRadius,

@@ -97,6 +97,47 @@ void checkAssetFile(const JsonObject& o, const std::string& resolved) {
         throwAt(ErrorCode::Io, o.pathOf("asset"), "collider asset is not a file: " + resolved);
 }
 
+// "shape": one key naming the kind, as a fluid block's: {"sphere": {"radius"}}, {"box":
+// {"size"}} or {"capsule": {"radius", "height"}}, each with an optional "voxel".
+ColliderShape readShape(const rj::Value& value, const std::string& path) {
+    const JsonObject o(value, path, {"sphere", "box", "capsule"});
+    if (int(o.has("sphere")) + int(o.has("box")) + int(o.has("capsule")) != 1)
+        throwAt(ErrorCode::BadMetadata, path,
+                "needs exactly one of \"sphere\", \"box\" and \"capsule\"");
+    ColliderShape shape;
+    shape.kind = o.has("sphere") ? ColliderShape::Kind::Sphere
+                 : o.has("box")  ? ColliderShape::Kind::Box
+                                 : ColliderShape::Kind::Capsule;
+    const char* kind = shapeName(shape.kind);
+    const JsonObject k(o.require(kind), o.pathOf(kind), {"radius", "size", "height", "voxel"});
+    for (const char* key : {"radius", "size", "height"}) {
+        const bool wanted = shape.kind == ColliderShape::Kind::Box
+                                ? key == std::string_view("size")
+                                : key == std::string_view("radius") ||
+                                      (key == std::string_view("height") &&
+                                       shape.kind == ColliderShape::Kind::Capsule);
+        if (k.has(key) && !wanted)
+            throwAt(ErrorCode::BadMetadata, k.pathOf(key),
+                    std::string("is not a key of a ") + kind);
+    }
+    if (shape.kind == ColliderShape::Kind::Box) {
+        shape.size = readVec3(k.require("size"), k.pathOf("size"));
+        for (int a = 0; a < 3; ++a)
+            if (!(shape.size[a] > 0.0f))
+                throwAt(ErrorCode::InvalidArgument, k.pathOf("size"),
+                        vecText(shape.size) + " must be > 0 on every axis");
+    } else {
+        shape.radius = readFloatIn(k.require("radius"), k.pathOf("radius"), above(0.0f));
+    }
+    if (shape.kind == ColliderShape::Kind::Capsule)
+        shape.height =
+            readFloatIn(k.require("height"), k.pathOf("height"), atLeast(2.0f * shape.radius),
+                        "at least 2 * radius: the capsule's length tip to tip");
+    if (const rj::Value* v = k.find("voxel"))
+        shape.voxelSize = readFloatIn(*v, k.pathOf("voxel"), above(0.0f));
+    return shape;
+}
+
 } // namespace
 
 float readFloatIn(const rj::Value& value, const std::string& path, const ParamRange& range) {
@@ -118,13 +159,21 @@ SceneCollider readCollider(const rj::Value& value, const std::string& path,
                            const fs::path& sceneFile, bool checkAssets) {
     const JsonObject o(
         value, path,
-        {"asset", "translation", "rotation", "scale", "friction", "motion", "dynamic"});
+        {"asset", "shape", "translation", "rotation", "scale", "friction", "motion", "dynamic"});
     SceneCollider c;
-    c.asset = detail::readString(o.require("asset"), o.pathOf("asset"));
-    if (c.asset.empty() || c.asset.find('\0') != std::string::npos)
-        throwAt(ErrorCode::BadMetadata, o.pathOf("asset"),
-                "expected a file path, got an empty string or one with a NUL byte");
-    c.resolvedPath = (sceneFile.parent_path() / fs::path(c.asset)).lexically_normal().string();
+    if (o.has("asset") == o.has("shape"))
+        throwAt(ErrorCode::BadMetadata, path,
+                o.has("asset") ? "has both \"asset\" and \"shape\"; a collider is one of them"
+                               : "missing required key \"asset\" (a baked collider) or \"shape\"");
+    if (const rj::Value* v = o.find("shape")) {
+        c.shape = readShape(*v, o.pathOf("shape"));
+    } else {
+        c.asset = detail::readString(o.require("asset"), o.pathOf("asset"));
+        if (c.asset.empty() || c.asset.find('\0') != std::string::npos)
+            throwAt(ErrorCode::BadMetadata, o.pathOf("asset"),
+                    "expected a file path, got an empty string or one with a NUL byte");
+        c.resolvedPath = (sceneFile.parent_path() / fs::path(c.asset)).lexically_normal().string();
+    }
     if (const rj::Value* v = o.find("translation"))
         c.translation = readVec3(*v, o.pathOf("translation"));
     if (const rj::Value* v = o.find("rotation"))
@@ -145,7 +194,7 @@ SceneCollider readCollider(const rj::Value& value, const std::string& path,
         c.dynamic = readDynamic(*dv, o.pathOf("dynamic"));
     }
 
-    if (checkAssets)
+    if (checkAssets && !c.shape)
         checkAssetFile(o, c.resolvedPath);
     return c;
 }

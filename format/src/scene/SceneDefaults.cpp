@@ -114,7 +114,25 @@ void checkEmitter(SceneCheck& check, const Emitter& e, const std::string& path, 
                        std::to_string(kMaxSceneParticles) + " particles (the limit)");
 }
 
+void checkShape(SceneCheck& check, const ColliderShape& s, const std::string& path) {
+    const std::string at = path + ".shape." + shapeName(s.kind);
+    if (s.kind == ColliderShape::Kind::Box) {
+        check.vec(at + ".size", s.size);
+        if (check.ok() && !(s.size.x > 0.0f && s.size.y > 0.0f && s.size.z > 0.0f))
+            check.fail(ErrorCode::InvalidArgument, at + ".size",
+                       vecText(s.size) + " must be > 0 on every axis");
+    } else {
+        check.number(at + ".radius", s.radius, above(0.0));
+    }
+    if (s.kind == ColliderShape::Kind::Capsule)
+        check.number(at + ".height", s.height,
+                     {2.0 * double(s.radius), kInf, false, false, "at least 2 * radius"});
+    check.number(at + ".voxel", s.voxelSize, above(0.0));
+}
+
 void checkCollider(SceneCheck& check, const SceneCollider& c, const std::string& path) {
+    if (c.shape)
+        checkShape(check, *c.shape, path);
     check.vec(path + ".translation", c.translation);
     check.vec(path + ".rotation", c.rotationDegrees);
     check.number(path + ".scale", c.scale, above(0.0));
@@ -243,6 +261,10 @@ float defaultKernelRadius(float spacing) {
     return float(kDefaultKernelSpacings) * spacing;
 }
 
+float defaultShapeVoxel(float spacing) {
+    return 0.5f * spacing;
+}
+
 float defaultScorrDeltaQ(float kernelRadius) {
     return static_cast<float>(0.2 * double(kernelRadius));
 }
@@ -330,6 +352,9 @@ Result<void> completeScene(Scene& scene) {
         p.scorrDeltaQ = defaultScorrDeltaQ(p.kernelRadius);
     if (p.vorticity == kDerived && std::isfinite(p.kernelRadius))
         p.vorticity = defaultVorticity(p.kernelRadius);
+    for (SceneCollider& c : done.colliders)
+        if (c.shape && c.shape->voxelSize == 0.0f)
+            c.shape->voxelSize = defaultShapeVoxel(p.spacing);
     for (Emitter& e : done.emitters)
         if (e.stop == 0.0f && std::isfinite(e.start))
             e.stop = e.start + kDefaultEmitterDuration;

@@ -302,6 +302,9 @@ Scene SceneParser::parse(const rj::Value& root) {
         for (rj::SizeType i = 0; i < colliders.Size(); ++i)
             m_scene.colliders.push_back(readCollider(
                 colliders[i], detail::joinIndex("colliders", i), m_file, m_options.checkAssets));
+        for (SceneCollider& c : m_scene.colliders)
+            if (c.shape && c.shape->voxelSize == 0.0f)
+                c.shape->voxelSize = defaultShapeVoxel(m_scene.simulation.spacing);
     }
     if (const rj::Value* v = o.find("drains")) {
         const rj::Value& drains = detail::requireArray(*v, "drains");

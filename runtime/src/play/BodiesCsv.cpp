@@ -51,7 +51,7 @@ std::string bodiesCsvRows(const format::Scene& scene, std::uint64_t step, double
         out += std::to_string(step);
         appendNumber(out, time);
         out += ',' + std::to_string(i) + ',' + std::to_string(b.collider) + ',';
-        out += csvField(b.collider < scene.colliders.size() ? scene.colliders[b.collider].asset
+        out += csvField(b.collider < scene.colliders.size() ? format::colliderName(scene.colliders[b.collider])
                                                             : std::string());
         appendVec3(out, b.pose.translation);
         appendVec3(out, b.position);

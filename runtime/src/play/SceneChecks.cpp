@@ -33,7 +33,7 @@ std::string vec(const glm::dvec3& v) {
 
 /// "scene.json: colliders[2] (crate.slc): " for a collider's messages.
 std::string colliderWhere(const format::Scene& scene, std::size_t c) {
-    return scene.path + ": colliders[" + std::to_string(c) + "] (" + scene.colliders[c].asset +
+    return scene.path + ": colliders[" + std::to_string(c) + "] (" + format::colliderName(scene.colliders[c]) +
            "): ";
 }
 
@@ -117,7 +117,7 @@ void checkColliderOverlap(const format::Scene& scene,
                                std::to_string(group.points.size()) + " particles start inside (" +
                                std::to_string(inside) + ") or within a particle radius (" +
                                number(radius) + " m) of colliders[" + std::to_string(c) + "] (" +
-                               scene.colliders[c].asset +
+                               format::colliderName(scene.colliders[c]) +
                                "); the solver will throw them out of it on the first step. Move "
                                "the fluid or the collider apart"});
         }
@@ -272,7 +272,7 @@ std::vector<std::string> describeColliders(const format::Scene& scene,
     std::vector<std::string> lines;
     for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
         const glm::dvec3 size = colliderWorldSize(scene.colliders[c], colliders[c]);
-        lines.push_back("colliders[" + std::to_string(c) + "] " + scene.colliders[c].asset + ": " +
+        lines.push_back("colliders[" + std::to_string(c) + "] " + format::colliderName(scene.colliders[c]) + ": " +
                         number(size.x) + " x " + number(size.y) + " x " + number(size.z) +
                         " m (scale " + number(scene.colliders[c].scale) + ")");
     }

@@ -100,7 +100,7 @@ nlohmann::json bodyTransformsJson(const format::Scene& scene, std::uint64_t step
         matrix.push_back({0.0f, 0.0f, 0.0f, 1.0f});
         list.push_back({
             {"collider", b.collider},
-            {"asset", scene.colliders[b.collider].asset},
+            {"asset", format::colliderName(scene.colliders[b.collider])},
             {"origin", vec3Json(pose.translation)},
             {"centreOfMass", vec3Json(b.position)},
             {"orientation", quatJson(pose.rotation)},

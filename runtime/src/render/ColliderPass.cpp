@@ -73,7 +73,7 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
             gpu::Texture3D::createR32F(asset.meta.dims, "collider " + std::to_string(i) + " SDF");
         if (!texture)
             return fail(texture.error().code,
-                         scene.colliders[i].resolvedPath + ": " + texture.error().detail);
+                         scene.path + ": colliders[" + std::to_string(i) + "]: " + texture.error().detail);
         texture->upload(asset.distances);
         collider.sdf = std::move(*texture);
         pass.m_colliders.push_back(std::move(collider));

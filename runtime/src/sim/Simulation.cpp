@@ -1,6 +1,7 @@
 // Simulation: creation from a scene and its colliders, live parameters, and the accessors
 // (the state is Simulation::Impl, SimulationImpl.h; the step is SimulationPasses.cpp).
 #include "sim/SimulationImpl.h"
+#include "sluice/format/asset/ShapeCollider.h"
 #include "sluice/format/scene/SceneDefaults.h"
 #include "sluice/format/scene/SimulationLimits.h"
 
@@ -58,7 +59,8 @@ Result<std::vector<format::ColliderAsset>> loadSceneColliders(const format::Scen
         const format::SceneCollider& collider = scene.colliders[c];
         const std::string path =
             collider.resolvedPath.empty() ? collider.asset : collider.resolvedPath;
-        auto asset = format::readAsset(path);
+        auto asset =
+            collider.shape ? format::shapeCollider(*collider.shape) : format::readAsset(path);
         if (!asset)
             return fail(asset.error().code, scene.path + ": colliders[" + std::to_string(c) +
                                                 "]: " + asset.error().detail);

@@ -108,10 +108,34 @@ struct DynamicBody {
     float restitution = 0.0f;               ///< share of the normal speed kept on impact, [0, 1]
 };
 
-/// A baked collider placed in the scene.
+/// A collider given by its shape instead of a baked asset: a sphere, a box or a capsule (a
+/// game's characters), centred on the collider's origin. Its distance field is computed in closed
+/// form at load (format::shapeCollider, ShapeCollider.h), so it needs no bake.
+struct ColliderShape {
+    enum class Kind { Sphere, Box, Capsule };
+    Kind kind = Kind::Sphere;
+    float radius = 0.0f;        ///< sphere and capsule [m], > 0
+    glm::vec3 size{0.0f};       ///< box: edge lengths along local x, y, z [m], each > 0
+    float height = 0.0f;        ///< capsule: tip to tip along local y [m], >= 2 * radius
+    float voxelSize = 0.0f;     ///< spacing of its sampled field [m]; 0: derived, spacing / 2
+};
+
+/// "sphere" | "box" | "capsule", as the scene file spells them.
+inline const char* shapeName(ColliderShape::Kind kind) {
+    switch (kind) {
+    case ColliderShape::Kind::Sphere: return "sphere";
+    case ColliderShape::Kind::Box: return "box";
+    case ColliderShape::Kind::Capsule: return "capsule";
+    }
+    return "shape";
+}
+
+/// A collider placed in the scene: a baked asset, or a shape.
 struct SceneCollider {
-    std::string asset;               ///< path as written in the file (relative to the scene)
+    std::string asset;               ///< path as written in the file (relative to the scene);
+                                     ///< empty for a shape
     std::string resolvedPath;        ///< absolute or cwd-relative path readScene resolved
+    std::optional<ColliderShape> shape; ///< set instead of an asset
     glm::vec3 translation{0.0f};     ///< [m]
     glm::vec3 rotationDegrees{0.0f}; ///< Euler X, Y, Z [degrees], applied Z * Y * X
     float scale = 1.0f;              ///< uniform scale, > 0 (SDFs only survive uniform scale)
@@ -122,6 +146,11 @@ struct SceneCollider {
     /// Set for a dynamic body; then the collider has no "motion" (velocities and keys are 0).
     std::optional<DynamicBody> dynamic;
 };
+
+/// What messages and tables call a collider: its asset path, or its shape's name.
+inline std::string colliderName(const SceneCollider& c) {
+    return c.shape ? std::string(shapeName(c.shape->kind)) : c.asset;
+}
 
 /// The camera sluice-play renders from.
 struct Camera {

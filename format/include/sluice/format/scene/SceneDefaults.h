@@ -22,6 +22,9 @@ float defaultScorrDeltaQ(float kernelRadius);
 /// The derived vorticity confinement epsilon: 0.01 * sqrt(9.81 * h) [m/s].
 float defaultVorticity(float kernelRadius);
 
+/// The derived voxel of a shape collider's field: spacing / 2 [m].
+float defaultShapeVoxel(float spacing);
+
 /// Substeps from a CFL estimate (docs/scene-format.md "Derived defaults"): the fastest a particle
 /// is likely to move is its start or exit speed plus a free fall over the scene's height, and one
 /// substep moves it at most 0.4 h; 1 to 64. Precondition: timeStep and kernelRadius > 0.
