@@ -8,6 +8,8 @@
 #define PBF_WITH_BODIES 1
 #define PBF_BODY_REACTION collisionReaction
 void collisionReaction(uint b, vec3 x, vec3 dx);
+#define PBF_SOLID_REACTION addSolidReaction
+void addSolidReaction(uint c, vec3 x, vec3 dx);
 #include "shared/PbfGlsl.h"
 #include "shared/FilmGlsl.h"
 #include "shared/BoundaryVolumeGlsl.h"
@@ -58,6 +60,34 @@ void addSums(uint b, bool held, vec3 x, vec3 dx) {
         addFixed(bodySumWord(b, push, axis), d[axis]);
     for (uint axis = 0u; axis < 3u; ++axis)
         addFixed(bodySumWord(b, moment, axis), m[axis]);
+}
+
+// A collider that is no body, its force measured, pushed a particle by dx ending at x: the
+// push and its moment about the collider's origin go into its slot of the sums, as a body's
+// reaction does (docs/embedding.md, "Forces on colliders"); pbf_collider_forces.comp turns
+// them into its force and torque.
+void addSolidReaction(uint c, vec3 x, vec3 dx) {
+    uint slot = colliders[c].forceSlot;
+    vec3 d = dx * (kSumUnitsPerH * P.invH);
+    vec3 m = cross(x - colliders[c].forcePoint, dx) * solidMomentScale(c);
+    for (uint axis = 0u; axis < 3u; ++axis)
+        addFixed(bodySumWord(slot, kBodySumPush, axis), d[axis]);
+    for (uint axis = 0u; axis < 3u; ++axis)
+        addFixed(bodySumWord(slot, kBodySumMoment, axis), m[axis]);
+}
+
+// The pressure pushes li * (share's gradient) each measured static or kinematic collider gave
+// the particle at x (the solids' push in main, taken apart by collider).
+void measureSolidPushes(vec3 x, float li) {
+    uint mask = P.staticColliders, c = 0u;
+    while (nextStaticCollider(mask, c)) {
+        if (colliders[c].forceSlot == kNoBody)
+            continue;
+        float share;
+        vec3 slope;
+        if (colliderBoundaryAt(c, x, share, slope) && allFinite(li * slope))
+            addSolidReaction(c, x, li * slope);
+    }
 }
 
 // Whether this particle is in the water where a body meets a wall or a static collider (within
@@ -280,8 +310,11 @@ void main() {
         addWallBoundary(xi, share, slope);
         addColliderBoundary(xi, share, slope);
         vec3 solidPush = li * slope;
-        if (allFinite(solidPush))
+        if (allFinite(solidPush)) {
             x += solidPush;
+            if (P.measuredForces != 0u && P.solidBoundary != 0u)
+                measureSolidPushes(xi, li);
+        }
         if (P.bodyCount != 0u)
             x = pushByBodies(xi, li, x, visit);
     }

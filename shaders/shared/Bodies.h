@@ -60,6 +60,10 @@ SLUICE_CONST uint kBodySumUsed = 77;
 /// Contact sample points of one body at most.
 SLUICE_CONST uint kMaxBodySamples = 2048;
 
+/// Fixed-point units of the push sums per kernel radius h: a body's sumScale and a measured
+/// collider's are this / h [1/m] (2^28: a push of h is 2^28, far below the 2^31 one add holds).
+SLUICE_CONST float kSumUnitsPerH = 268435456.0;
+
 /// The low word of component `axis` (0 x, 1 y, 2 z) of body `body`'s sum that starts at word
 /// `sum` (kBodySumPush, ...): the positive part's low and high words, then the negative part's
 /// (kBodySumNegative words on).
@@ -72,6 +76,7 @@ SLUICE_CONST uint kBindBodies = 22;        ///< GpuBody[]
 SLUICE_CONST uint kBindBodySums = 23;      ///< uint[kBodySumWords] per body
 SLUICE_CONST uint kBindBodySamples = 24;   ///< vec4 contact points, body-local [asset units]
 SLUICE_CONST uint kBindBodySteps = 25;     ///< GpuBodyStep[]: the body pass's state between sweeps
+SLUICE_CONST uint kBindColliderForces = 28; ///< GpuColliderForce[kMaxColliders]
 SLUICE_CONST uint kBindCollidersNear = 26; ///< uvec4 per sorted particle: the colliders that may
                                            ///< reach it in its substep and in the iteration
                                            ///< (CollidersNearGlsl.h)
@@ -102,6 +107,16 @@ struct GpuBody {
     /* 196 */ float contactDepth;   ///< deepest penetration of its contacts, last substep [m]
     /* 200 */ uint contacts;        ///< contact points that touched something, last substep
     /* 204 */ uint pad0;
+};
+
+/// The fluid's force on a collider that is no body, when measured (Simulation::measureForce):
+/// the mean over the step's substeps, the torque about its origin. Written by
+/// pbf_collider_forces.comp from the sums in the collider's slot (GpuCollider::forceSlot).
+struct GpuColliderForce {
+    /*   0 */ vec3 force;  ///< [N]
+    /*  12 */ float pad0;
+    /*  16 */ vec3 torque; ///< [N m]
+    /*  28 */ float pad1;
 };
 
 /// A body's pose in the body pass: centre of mass [m] and orientation.
@@ -165,6 +180,7 @@ static_assert(sluice::shared::kBodySumMoment == sluice::shared::kBodySumPush + 1
                   sluice::shared::kBodySumUsed == sluice::shared::kBodySumSurface + 1 &&
                   sluice::shared::kBodySumUsed <= sluice::shared::kBodySumWords,
               "the body sums' layout");
+static_assert(sizeof(sluice::shared::GpuColliderForce) == 32, "std430 size of GpuColliderForce");
 static_assert(sizeof(sluice::shared::GpuBodyPose) == 32, "std430 size of GpuBodyPose");
 static_assert(offsetof(sluice::shared::GpuBodyStep, startPosition) == 64 &&
                   offsetof(sluice::shared::GpuBodyStep, velocity) == 96 &&

@@ -10,6 +10,8 @@
 
 #ifndef __cplusplus
 
+#include "shared/BodySumsGlsl.h"
+
 vec4 quatMul(vec4 a, vec4 b) {
     return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
 }
@@ -28,21 +30,6 @@ mat3 rotationOf(vec4 q) {
 mat3 worldInvInertia(uint o, vec4 q) {
     mat3 r = rotationOf(q);
     return r * mat3(bodies[o].invInertia) * transpose(r);
-}
-
-// Component `axis` of body b's fixed-point sum that starts at word `sum` (shared/Bodies.h):
-// its positive part less its negative part, as a double (exact below 2^53).
-double sumAt(uint b, uint sum, uint axis) {
-    uint lo = bodySumWord(b, sum, axis);
-    double positive = double(bodySums[lo + 1u]) * 4294967296.0 + double(bodySums[lo]);
-    uint neg = lo + kBodySumNegative;
-    double negative = double(bodySums[neg + 1u]) * 4294967296.0 + double(bodySums[neg]);
-    return positive - negative;
-}
-
-// Body b's vector sum that starts at word `sum`.
-vec3 sumOf(uint b, uint sum) {
-    return vec3(sumAt(b, sum, 0u), sumAt(b, sum, 1u), sumAt(b, sum, 2u));
 }
 
 // Body b's contact point s relative to its centre of mass, in the asset's axes at world scale.

@@ -78,39 +78,51 @@ float colliderVolumeCorrection(uint c, vec3 q, out vec3 grad) {
     return value;
 }
 
-// Static and kinematic colliders as boundary volume (docs/pbf.md, "Boundary volume"): the
+// Static or kinematic collider c as boundary volume at x (docs/pbf.md, "Boundary volume"): the
 // share of a flat boundary at the collider's phi, from the surface the push-out keeps centres
 // r away from, so a particle resting on it sees the calibrated share, plus what the collider's
-// volume map adds at edges, corners and thin walls ("Volume maps"). Adds the share to
-// `boundary` and its gradient to `gradient`. Dynamic bodies are summed per body by the passes.
+// volume map adds at edges, corners and thin walls ("Volume maps"), and the share's gradient.
+// False where c holds no share of x's support.
+bool colliderBoundaryAt(uint c, vec3 x, out float share, out vec3 slope) {
+    vec3 q = colliderLocal(c, x);
+    vec3 normal;
+    float phi = colliderDistanceAt(c, q, normal);
+    float len = length(normal);
+    bool mapped = colliders[c].volumeMap != kNoVolumeMap;
+    share = 0.0;
+    slope = vec3(0.0);
+    // Without a gradient (the ridge of a concave edge's field, a sparse grid's inside tile)
+    // only a collider's map, outside it, says where the solid lies.
+    if (!(phi < PBF_H) || !(len > 0.0 || (mapped && phi >= 0.0)))
+        return false;
+    share = boundaryShare(phi);
+    slope = len > 0.0 ? boundaryShareSlope(phi) * (normal / len) : vec3(0.0);
+    if (mapped) {
+        // The share's own gradient: the field's gradient, shorter than 1 near an edge, as
+        // the map's values were taken against (pbf_volume_map.comp).
+        slope = boundaryShareSlope(phi) * normal;
+        vec3 mapGrad;
+        float more = colliderVolumeCorrection(c, q, mapGrad);
+        share += P.boundaryScale * more;
+        // R g / s, as (R^T / s)^T g.
+        slope += P.boundaryScale * (transpose(mat3(colliders[c].worldToGrid)) * mapGrad);
+        if (!(share > 0.0))
+            return false;
+    }
+    return true;
+}
+
+// Every static and kinematic collider's share at x (colliderBoundaryAt) added to `boundary`,
+// its gradient to `gradient`. Dynamic bodies are summed per body by the passes.
 void addColliderBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
     if (P.solidBoundary == 0u)
         return;
     uint mask = P.staticColliders, c = 0u;
     while (nextStaticCollider(mask, c)) {
-        vec3 q = colliderLocal(c, x);
-        vec3 normal;
-        float phi = colliderDistanceAt(c, q, normal);
-        float len = length(normal);
-        bool mapped = colliders[c].volumeMap != kNoVolumeMap;
-        // Without a gradient (the ridge of a concave edge's field, a sparse grid's inside tile)
-        // only a collider's map, outside it, says where the solid lies.
-        if (!(phi < PBF_H) || !(len > 0.0 || (mapped && phi >= 0.0)))
+        float share;
+        vec3 slope;
+        if (!colliderBoundaryAt(c, x, share, slope))
             continue;
-        float share = boundaryShare(phi);
-        vec3 slope = len > 0.0 ? boundaryShareSlope(phi) * (normal / len) : vec3(0.0);
-        if (mapped) {
-            // The share's own gradient: the field's gradient, shorter than 1 near an edge, as
-            // the map's values were taken against (pbf_volume_map.comp).
-            slope = boundaryShareSlope(phi) * normal;
-            vec3 mapGrad;
-            float more = colliderVolumeCorrection(c, q, mapGrad);
-            share += P.boundaryScale * more;
-            // R g / s, as (R^T / s)^T g.
-            slope += P.boundaryScale * (transpose(mat3(colliders[c].worldToGrid)) * mapGrad);
-            if (!(share > 0.0))
-                continue;
-        }
         boundary += share;
         gradient += slope;
     }

@@ -157,7 +157,8 @@ struct PbfParams {
     /* 196 */ uint removeIdCount; ///< ids in the kBindRemoveIds buffer
     /* 200 */ uint removal;       ///< 1 when a particle may have been removed: the passes after
                                   ///< the sort read the live count (PBF_LIVE)
-    /* 204 */ uint removalPad;
+    /* 204 */ uint measuredForces; ///< 1 when some collider that is no body has its force
+                                   ///< measured (GpuCollider::forceSlot)
     /* 208 */ vec4 drainMin[kMaxDrains]; ///< xyz: a box's minimum corner [m]
     /* 336 */ vec4 drainMax[kMaxDrains]; ///< xyz: its maximum corner [m]
 };
@@ -187,6 +188,10 @@ struct GpuCollider {
                               ///< per grid point (dense layout) or per voxel of each leaf (sparse,
                               ///< 512 a leaf in the tree's order), or kNoVolumeMap
                               ///< (BoundaryVolumeGlsl.h; docs/pbf.md, "Volume maps")
+    /* 208 */ vec3 forcePoint; ///< a collider that is no body: its origin at the substep's end,
+                               ///< which its measured torque is about [m]
+    /* 220 */ uint forceSlot;  ///< where its pushes are summed in the body sums (shared/Bodies.h)
+                               ///< when its force is measured, else kNoBody
 };
 // clang-format on
 
@@ -296,7 +301,9 @@ SLUICE_PBF_AT(GpuCollider, friction, 192);
 SLUICE_PBF_AT(GpuCollider, body, 196);
 SLUICE_PBF_AT(GpuCollider, gridKind, 200);
 SLUICE_PBF_AT(GpuCollider, volumeMap, 204);
-static_assert(sizeof(sluice::shared::GpuCollider) == 208, "std430 and std140 size of GpuCollider");
+SLUICE_PBF_AT(GpuCollider, forcePoint, 208);
+SLUICE_PBF_AT(GpuCollider, forceSlot, 220);
+static_assert(sizeof(sluice::shared::GpuCollider) == 224, "std430 and std140 size of GpuCollider");
 static_assert(sluice::shared::kMaxColliders * sizeof(sluice::shared::GpuCollider) <= 16384,
               "the colliders' uniform block fits the 16 KiB every GL 4.5 driver allows");
 SLUICE_PBF_AT(PbfIterationStats, errorHi, 4);

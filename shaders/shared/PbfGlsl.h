@@ -358,6 +358,15 @@ float colliderDistance(uint c, vec3 x, out vec3 normal) {
     return colliderDistanceAt(c, colliderLocal(c, x), normal);
 }
 
+// Fixed-point units per m^2 of collider c's measured moment sums (a push times its arm from
+// forcePoint): kSumUnitsPerH / h over the farthest its grid box (and h beyond it) reaches from its
+// origin, so no arm overflows one add. pbf_delta.comp sums with it, pbf_collider_forces.comp
+// reads with it.
+float solidMomentScale(uint c) {
+    vec3 corner = max(abs(colliders[c].origin), abs(colliders[c].boxMax));
+    return kSumUnitsPerH * P.invH / (colliders[c].scale * length(corner) + PBF_H);
+}
+
 // Steps c to the lowest set bit of `bits` (bit c of word c / 32), clearing it; false when none
 // is left.
 bool nextCollider(inout uvec2 bits, out uint c) {
@@ -407,6 +416,11 @@ vec3 collide(vec3 x, vec3 xOld, uvec2 near) {
         // A dynamic body takes the opposite of the push it gave (docs/bodies.md).
         if (colliders[c].body != kNoBody)
             PBF_BODY_REACTION(colliders[c].body, x, x - before);
+#endif
+#ifdef PBF_SOLID_REACTION
+        // A collider that is no body has its push summed when its force is measured.
+        if (colliders[c].body == kNoBody && colliders[c].forceSlot != kNoBody)
+            PBF_SOLID_REACTION(c, x, x - before);
 #endif
     }
     return x;

@@ -159,7 +159,8 @@ SceneCollider readCollider(const rj::Value& value, const std::string& path,
                            const fs::path& sceneFile, bool checkAssets) {
     const JsonObject o(
         value, path,
-        {"asset", "shape", "translation", "rotation", "scale", "friction", "motion", "dynamic"});
+        {"asset", "shape", "translation", "rotation", "scale", "friction", "motion", "dynamic",
+         "measureForce"});
     SceneCollider c;
     if (o.has("asset") == o.has("shape"))
         throwAt(ErrorCode::BadMetadata, path,
@@ -194,6 +195,14 @@ SceneCollider readCollider(const rj::Value& value, const std::string& path,
         c.dynamic = readDynamic(*dv, o.pathOf("dynamic"));
     }
 
+    if (const rj::Value* v = o.find("measureForce")) {
+        if (!v->IsBool())
+            throwAt(ErrorCode::BadMetadata, o.pathOf("measureForce"), "expected true or false");
+        c.measureForce = v->GetBool();
+        if (c.measureForce && c.dynamic)
+            throwAt(ErrorCode::BadMetadata, o.pathOf("measureForce"),
+                    "not allowed on a dynamic body: its force is always reported");
+    }
     if (checkAssets && !c.shape)
         checkAssetFile(o, c.resolvedPath);
     return c;

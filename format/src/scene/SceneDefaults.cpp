@@ -157,6 +157,9 @@ void checkCollider(SceneCheck& check, const SceneCollider& c, const std::string&
     }
     if (!c.dynamic || !check.ok())
         return;
+    if (c.measureForce)
+        return check.fail(ErrorCode::InvalidArgument, path + ".measureForce",
+                          "not allowed on a dynamic body: its force is always reported");
     const DynamicBody& d = *c.dynamic;
     if (moves)
         return check.fail(ErrorCode::InvalidArgument, path + ".dynamic",

@@ -19,7 +19,7 @@ namespace {
 
 // Fixed-point units of the reaction sums: a particle's correction is at most a few h, so
 // 2^28 / h keeps it in 32 bits with 28 bits below h (docs/bodies.md, "Reaction").
-constexpr double kSumUnitsPerH = 268435456.0;
+constexpr double kSumUnitsPerH = double(shared::kSumUnitsPerH);
 
 std::string colliderPath(std::size_t c) {
     return "colliders[" + std::to_string(c) + "].dynamic";

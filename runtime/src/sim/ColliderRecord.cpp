@@ -21,6 +21,7 @@ shared::GpuCollider colliderRecord(const format::ColliderAsset& asset, std::uint
     r.dims = asset.meta.dims;
     r.sdfOffset = sdfOffset;
     r.body = shared::kNoBody;
+    r.forceSlot = shared::kNoBody;
     r.volumeMap = shared::kNoVolumeMap;
     r.gridKind = asset.sparse() ? shared::kColliderSparse : shared::kColliderDense;
     return r;

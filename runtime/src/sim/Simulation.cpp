@@ -102,6 +102,7 @@ Result<Simulation> Simulation::create(const format::Scene& given,
         return bodies.error();
     impl->bodySetup = std::move(*bodies);
     impl->bodyCount = std::uint32_t(impl->bodySetup.records.size());
+    impl->forceMeter.reset(scene.colliders.size(), impl->bodyCount);
 
     if (auto ok = impl->compilePasses(); !ok)
         return ok.error();
@@ -117,6 +118,10 @@ Result<Simulation> Simulation::create(const format::Scene& given,
     if (auto ok = impl->allocateRemoval(1); !ok)
         return ok.error();
 
+    for (std::size_t c = 0; c < scene.colliders.size(); ++c)
+        if (scene.colliders[c].measureForce)
+            if (auto ok = impl->forceMeter.set(c, true, impl->colliderDefines()); !ok)
+                return ok.error();
     impl->uploadColliderGrids();
     if (auto ok = impl->buildVolumeMaps(); !ok)
         return ok.error();

@@ -65,8 +65,8 @@ Result<void> Simulation::Impl::allocate() {
         {&params, sizeof(shared::PbfParams), "params"},
         {&bodyBuf, std::max<std::uint64_t>(1, bodySetup.records.size()) * sizeof(shared::GpuBody),
          "bodies"},
-        {&bodySums,
-         std::max<std::uint64_t>(1, bodySetup.records.size()) * shared::kBodySumWords * u,
+        // The bodies' slots, then one per collider for its force when measured.
+        {&bodySums, (bodySetup.records.size() + scene.colliders.size() + 1) * shared::kBodySumWords * u,
          "body sums"},
         {&bodySamples, std::max<std::uint64_t>(1, bodySetup.samples.size()) * v4,
          "body contact points"},
@@ -290,6 +290,7 @@ void Simulation::Impl::uploadParams() {
     p.boundaryScale = k.boundaryScale;
     p.bodyOffset = k.bodyOffset;
     p.removal = removal ? 1u : 0u;
+    p.measuredForces = forceMeter.any() ? 1u : 0u;
     std::uint32_t boxes = 0;
     for (const std::vector<format::Drain>* list : {&drains, &removeBoxes})
         for (const format::Drain& d : *list) {
@@ -322,7 +323,10 @@ void Simulation::Impl::uploadColliders(double t0, double t1) {
         r.worldToGrid = glm::inverse(world);
         r.motion = poseMatrix(before) * r.worldToGrid;
         r.scale = now.scale;
-        // A static collider's record is uploaded once; a kinematic one's when it moved.
+        r.forcePoint = now.translation;
+        r.forceSlot = forceMeter.slotOf(c);
+        // A static collider's record is uploaded once; a kinematic one's when it moved (or its
+        // force is measured from now on, or no longer).
         if (std::memcmp(&uploaded, &r, sizeof(r)) != 0)
             colliderBuf.upload(std::span(&r, 1), c * sizeof(shared::GpuCollider));
     }

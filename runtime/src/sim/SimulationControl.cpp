@@ -161,4 +161,24 @@ ParticleView Simulation::particleView() const {
     return view;
 }
 
+Result<void> Simulation::measureForce(std::uint32_t collider, bool on) {
+    Impl& s = *m_impl;
+    if (collider >= s.scene.colliders.size())
+        return fail(ErrorCode::InvalidArgument,
+                    "measureForce: collider " + std::to_string(collider) + " of " +
+                        std::to_string(s.scene.colliders.size()));
+    if (s.bodySetup.bodyOfCollider[collider] != shared::kNoBody)
+        return fail(ErrorCode::InvalidArgument,
+                    "measureForce: collider " + std::to_string(collider) +
+                        " is a dynamic body; its force is in latestBodies()");
+    if (auto ok = s.forceMeter.set(collider, on, s.colliderDefines()); !ok)
+        return ok;
+    s.scene.colliders[collider].measureForce = on;
+    return {};
+}
+
+std::optional<ForcesReading> Simulation::latestForces() const {
+    return m_impl->forceMeter.latest();
+}
+
 } // namespace sluice::rt

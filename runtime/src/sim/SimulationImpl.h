@@ -22,6 +22,7 @@
 #include "shared/ChunkedDispatch.h"
 #include "shared/Pbf.h"
 #include "sim/BodySetup.h"
+#include "sim/ColliderForces.h"
 #include "sim/ColliderBands.h"
 #include "sim/PrefixScan.h"
 #include "sim/SparseGrids.h"
@@ -179,6 +180,7 @@ struct Simulation::Impl {
     };
     std::array<BodySnapshot, 3> bodySnapshots;
     std::size_t nextSnapshot = 0;
+    ColliderForceMeter forceMeter; // forces on static and kinematic colliders (measureForce)
     // Removal (docs/embedding.md, "Removing particles"). The predict pass sends the removed
     // particles to the bucket after the last, the sort puts them after the live ones, and the
     // CPU's count drops them once a fenced copy of the live count says how many there are.
@@ -280,6 +282,7 @@ struct Simulation::Impl {
     void solve();
     void applyVorticityAndXsph();
     void integrateBodies();
+    void measureColliderForces();
     void bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const;
     void memoryBarrier(GLbitfield bits) {
         glMemoryBarrier(bits);

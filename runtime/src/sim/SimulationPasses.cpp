@@ -46,6 +46,11 @@ void Simulation::Impl::substep() {
             bindSharedBuffers();
         integrateBodies();
     }
+    if (forceMeter.any()) {
+        if (count == 0 && bodyCount == 0)
+            bindSharedBuffers();
+        measureColliderForces();
+    }
     time = t1;
 }
 
@@ -235,6 +240,14 @@ void Simulation::Impl::integrateBodies() {
     end(Pass::Bodies);
 }
 
+// After the solve, the forces on the measured static and kinematic colliders
+// (pbf_collider_forces.comp): their push sums into force and torque, the sums zeroed.
+void Simulation::Impl::measureColliderForces() {
+    commands.dispatches += forceMeter.run(substepInStep == 0,
+                                          1.0f / float(std::max(1u, scene.simulation.substeps)));
+    memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
 void Simulation::step() {
     Impl& s = *m_impl;
     for (auto& timer : s.timers)
@@ -268,6 +281,8 @@ void Simulation::step() {
     ++s.steps;
     if (s.bodyCount > 0)
         s.snapshotBodies();
+    if (s.forceMeter.any())
+        s.forceMeter.snapshot(s.steps, s.time);
     if (s.removal)
         s.trimRemoved();
 }

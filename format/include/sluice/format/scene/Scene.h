@@ -145,6 +145,9 @@ struct SceneCollider {
     std::vector<ColliderKey> keys;          ///< keyframes; when present they replace the velocities
     /// Set for a dynamic body; then the collider has no "motion" (velocities and keys are 0).
     std::optional<DynamicBody> dynamic;
+    /// A static or kinematic collider: measure the fluid's force and torque on it
+    /// (Simulation::latestForces). A dynamic body's are always known.
+    bool measureForce = false;
 };
 
 /// What messages and tables call a collider: its asset path, or its shape's name.

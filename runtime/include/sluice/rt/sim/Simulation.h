@@ -161,6 +161,21 @@ struct BodiesReading {
     std::vector<BodyState> bodies;
 };
 
+/// The fluid's force on a static or kinematic collider whose force is measured
+/// (Simulation::measureForce): the mean over one step's substeps.
+struct ColliderForce {
+    std::uint32_t collider = 0; ///< index in the scene's colliders
+    glm::vec3 force{0.0f};      ///< [N]
+    glm::vec3 torque{0.0f};     ///< about the collider's origin (its pose's translation) [N m]
+};
+
+/// The measured colliders' forces as a completed step left them (Simulation::latestForces).
+struct ForcesReading {
+    std::uint64_t step = 0; ///< the step they are from (Simulation::steps() after it)
+    double time = 0.0;      ///< simulated time after that step [s]
+    std::vector<ColliderForce> colliders; ///< one per measured collider, in collider order
+};
+
 /// What Simulation::advance did with one frame's time.
 struct FrameAdvance {
     std::uint32_t steps = 0; ///< whole steps taken
@@ -250,6 +265,18 @@ public:
     /// fence, and this returns the newest copy whose fence has passed, typically a step or two
     /// behind. Empty until one has (and always in a scene without bodies).
     std::optional<BodiesReading> latestBodies() const;
+
+    /// Starts (or stops) measuring the fluid's force and torque on a static or kinematic
+    /// collider (the scene's "measureForce"): from the next step, every push it gives a particle
+    /// is summed, as a dynamic body's reaction is (docs/embedding.md, "Forces on colliders").
+    /// InvalidArgument for an index out of range or a dynamic body (its force is in
+    /// latestBodies); a GL error if the pass cannot be built.
+    Result<void> measureForce(std::uint32_t collider, bool on);
+
+    /// The measured colliders' forces as the newest step the GPU has finished left them, without
+    /// waiting (a copy and a fence per step, as latestBodies). Empty until one has, and while no
+    /// collider is measured.
+    std::optional<ForcesReading> latestForces() const;
 
     /// @}
 

@@ -1,0 +1,26 @@
+// GLSL only: reading the fixed-point sums of shared/Bodies.h (`bodySums`, which the including
+// pass declares): a body's reaction in the body pass, a measured collider's force in
+// pbf_collider_forces.comp.
+#ifndef SLUICE_SHARED_BODY_SUMS_GLSL_H
+#define SLUICE_SHARED_BODY_SUMS_GLSL_H
+
+#ifndef __cplusplus
+
+// Component `axis` of body b's fixed-point sum that starts at word `sum` (shared/Bodies.h):
+// its positive part less its negative part, as a double (exact below 2^53).
+double sumAt(uint b, uint sum, uint axis) {
+    uint lo = bodySumWord(b, sum, axis);
+    double positive = double(bodySums[lo + 1u]) * 4294967296.0 + double(bodySums[lo]);
+    uint neg = lo + kBodySumNegative;
+    double negative = double(bodySums[neg + 1u]) * 4294967296.0 + double(bodySums[neg]);
+    return positive - negative;
+}
+
+// Body b's vector sum that starts at word `sum`.
+vec3 sumOf(uint b, uint sum) {
+    return vec3(sumAt(b, sum, 0u), sumAt(b, sum, 1u), sumAt(b, sum, 2u));
+}
+
+#endif // !__cplusplus
+
+#endif // SLUICE_SHARED_BODY_SUMS_GLSL_H
