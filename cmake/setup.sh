@@ -26,7 +26,7 @@ packages=(
 )
 # Test data: third-party meshes (assimp's models, CGAL's data set).
 if [ "$mode" != demo ]; then
-  packages+=(assimp-testmodels libcgal-demo xvfb xauth libopenvdb-tools)
+  packages+=(assimp-testmodels libcgal-demo xvfb xauth libopenvdb-tools libepoxy-dev)
 fi
 
 # libFuzzer: clang with its sanitizer runtimes (libclang-rt-dev) and llvm-symbolizer (llvm).

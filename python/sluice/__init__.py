@@ -354,6 +354,17 @@ class Simulation:
         self._s.set_collider_pose(int(index), [float(t) for t in translation],
                                   [float(r) for r in rotation])
 
+    def measure_force(self, index: int, on: bool = True) -> None:
+        """Starts (or stops) measuring the water's force and torque on static or kinematic
+        collider ``index`` from the next step (the scene's ``measureForce``)."""
+        self._s.measure_force(int(index), bool(on))
+
+    def latest_forces(self) -> Optional[Dict[str, Any]]:
+        """The measured colliders' forces as the newest step the GPU has finished left them,
+        without waiting: ``None`` until there is one, else ``{"step", "time", "colliders":
+        {index: ((fx, fy, fz) [N], (tx, ty, tz) [N m] about its origin)}}``."""
+        return self._s.latest_forces()
+
     @property
     def stats(self) -> Dict[str, Any]:
         """The latest step's statistics, as each entry of ``sluice-play --stats-json``'s

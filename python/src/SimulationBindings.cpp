@@ -148,6 +148,24 @@ void setColliderPose(PySimulation& s, std::uint32_t index, std::array<float, 3> 
         raise(Family::Argument, ok.error());
 }
 
+// The measured colliders' forces of the newest completed step, without waiting: None until
+// there is one, else {"step", "time", "colliders": {index: (force (3,), torque (3,))}}.
+nb::object latestForces(PySimulation& s) {
+    const std::optional<rt::ForcesReading> reading = s.current().latestForces();
+    if (!reading)
+        return nb::none();
+    nb::dict colliders;
+    for (const rt::ColliderForce& f : reading->colliders)
+        colliders[nb::int_(f.collider)] = nb::make_tuple(
+            nb::make_tuple(f.force.x, f.force.y, f.force.z),
+            nb::make_tuple(f.torque.x, f.torque.y, f.torque.z));
+    nb::dict out;
+    out["step"] = reading->step;
+    out["time"] = reading->time;
+    out["colliders"] = colliders;
+    return out;
+}
+
 // The walls' and static colliders' boundary share at (N, 3) points: (shares (N,), gradients
 // (N, 3)), float32 (rt::Simulation::solidBoundaryAt).
 nb::tuple solidBoundaryAt(
@@ -306,6 +324,14 @@ void bindSimulation(nb::module_& m) {
              nb::arg("velocities").none() = nb::none())
         .def("set_collider_pose", &setColliderPose, nb::arg("index"), nb::arg("translation"),
              nb::arg("rotation"))
+        .def(
+            "measure_force",
+            [](PySimulation& s, std::uint32_t index, bool on) {
+                if (auto ok = s.current().measureForce(index, on); !ok)
+                    raise(Family::Argument, ok.error());
+            },
+            nb::arg("index"), nb::arg("on") = true)
+        .def("latest_forces", &latestForces)
         .def_prop_ro("particle_count", [](PySimulation& s) { return s.sim->liveParticleCount(); })
         .def_prop_ro("capacity", [](PySimulation& s) { return s.sim->capacity(); })
         .def_prop_ro("time", [](PySimulation& s) { return s.sim->time(); })

@@ -34,6 +34,8 @@ layout(std430, binding = kBindStats) buffer Stats {
 layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 
+#include "shared/BodySumsGlsl.h"
+
 // Adds round(value) to the sum whose positive part starts at word lo (shared/Bodies.h): its
 // magnitude to the positive or the negative 64-bit part, the high word only on a carry.
 // Integer adds commute, so the total is the same whatever order the particles add in.

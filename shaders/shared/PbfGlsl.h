@@ -358,15 +358,6 @@ float colliderDistance(uint c, vec3 x, out vec3 normal) {
     return colliderDistanceAt(c, colliderLocal(c, x), normal);
 }
 
-// Fixed-point units per m^2 of collider c's measured moment sums (a push times its arm from
-// forcePoint): kSumUnitsPerH / h over the farthest its grid box (and h beyond it) reaches from its
-// origin, so no arm overflows one add. pbf_delta.comp sums with it, pbf_collider_forces.comp
-// reads with it.
-float solidMomentScale(uint c) {
-    vec3 corner = max(abs(colliders[c].origin), abs(colliders[c].boxMax));
-    return kSumUnitsPerH * P.invH / (colliders[c].scale * length(corner) + PBF_H);
-}
-
 // Steps c to the lowest set bit of `bits` (bit c of word c / 32), clearing it; false when none
 // is left.
 bool nextCollider(inout uvec2 bits, out uint c) {

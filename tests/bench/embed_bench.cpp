@@ -2,6 +2,7 @@
 // collider pose set, the particle view taken and the bodies' forces read without waiting.
 //
 //   embed_bench COLLIDER.slc [--particles N] [--frames F] [--repeat R] [--control 1]
+//               [--measure 1]
 //
 // A scene built in code: a block of N particles (default 5000) in a tank, COLLIDER as a static
 // collider the game moves and again as a dynamic body the water floats. Frames alternate between
@@ -10,7 +11,10 @@
 // of each per repeat (default 20), R repeats (default 5). It prints the median and range over
 // the repeats of each kind's mean frame time, their ratio, and the calls' own CPU time per frame,
 // each call timed alone. --control 1 makes no call in the second kind of frame either: the ratio
-// the machine's noise alone gives (an A/A run). Not a ctest test. Say where it ran (llvmpipe on a CPU is not a GPU).
+// the machine's noise alone gives (an A/A run). --measure 1 also measures the moved collider's
+// force in the second kind of frame (measureForce on before the step, latestForces after it,
+// off again after the frame): the ratio is then what the measurement's GPU work adds. Not a
+// ctest test. Say where it ran (llvmpipe on a CPU is not a GPU).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -66,7 +70,7 @@ format::Scene benchScene(std::uint32_t particles, const std::string& collider) {
 int usage(const char* why) {
     std::fprintf(stderr,
                  "embed_bench: %s\nusage: embed_bench COLLIDER.slc [--particles N] [--frames F] "
-                 "[--repeat R]\n",
+                 "[--repeat R] [--control 1] [--measure 1]\n",
                  why);
     return 2;
 }
@@ -76,7 +80,7 @@ int usage(const char* why) {
 int main(int argc, char** argv) {
     if (argc < 2)
         return usage("no collider given");
-    std::uint32_t particles = 5000, frames = 20, repeat = 5, control = 0;
+    std::uint32_t particles = 5000, frames = 20, repeat = 5, control = 0, measure = 0;
     for (int i = 2; i + 1 < argc; i += 2) {
         const std::uint32_t value = std::uint32_t(std::strtoul(argv[i + 1], nullptr, 10));
         if (std::strcmp(argv[i], "--particles") == 0)
@@ -87,6 +91,8 @@ int main(int argc, char** argv) {
             repeat = value;
         else if (std::strcmp(argv[i], "--control") == 0)
             control = value;
+        else if (std::strcmp(argv[i], "--measure") == 0)
+            measure = value;
         else
             return usage(argv[i]);
     }
@@ -120,6 +126,8 @@ int main(int argc, char** argv) {
             auto tc = Clock::now();
             if (control == 0)
                 (void)sim->setColliderPose(0, at, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+            if (measure != 0)
+                (void)sim->measureForce(0, true);
             callMs += since(tc);
             sim->step();
             tc = Clock::now();
@@ -129,9 +137,13 @@ int main(int argc, char** argv) {
                 if (view.count == 0 || (forces && forces->bodies.empty()))
                     return usage("no particles or no body");
             }
+            if (measure != 0 && sim->latestForces() && sim->latestForces()->colliders.empty())
+                return usage("no force measured");
             callMs += since(tc);
             glFinish();
             embeddedMs += since(t0);
+            if (measure != 0)
+                (void)sim->measureForce(0, false);
         }
         plain.push_back(plainMs / frames);
         embedded.push_back(embeddedMs / frames);

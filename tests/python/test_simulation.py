@@ -215,3 +215,26 @@ def test_added_particles_get_new_ids_and_a_set_pose_moves_the_collider(scene: Pa
     with pytest.raises(sluice.Error, match="not finite"):
         sim.add_particles([[float("nan"), 0.0, 0.0]])
     assert sim.particle_count == len(after["ids"])
+
+
+def test_a_capsule_shape_and_a_measured_floor_from_python(scene: Path) -> None:
+    room = scene_dict("ball.slc")
+    room["fluid"] = [{"box": {"min": [-0.1, 0.0, -0.1], "max": [0.1, 0.06, 0.1]}}]
+    room["colliders"] = [
+        {"shape": {"box": {"size": [1.0, 0.1, 1.0]}}, "translation": [0.0, -0.05, 0.0],
+         "measureForce": True},
+        {"shape": {"capsule": {"radius": 0.03, "height": 0.2}}, "translation": [0.1, 0.2, 0.0]},
+    ]
+    sim = sluice.Simulation(room, base_dir=scene.parent)
+    assert sim.latest_forces() is None  # no step finished yet
+    sim.step(3)
+    sim.particles  # a readback: the GPU has finished every step
+    reading = sim.latest_forces()
+    assert reading is not None and reading["step"] == 3
+    force, torque = reading["colliders"][0]
+    assert force[1] < 0.0 and len(torque) == 3
+    sim.measure_force(0, False)
+    sim.step()
+    assert sim.latest_forces() is None
+    with pytest.raises(sluice.InvalidArgument, match="collider 2 of 2"):
+        sim.measure_force(2)

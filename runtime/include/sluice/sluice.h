@@ -64,6 +64,13 @@ typedef struct SluiceBody {
     float linearVelocity[3]; /**< [m/s] */
 } SluiceBody;
 
+/** The fluid's force on a static or kinematic collider whose force is measured. */
+typedef struct SluiceColliderForce {
+    uint32_t collider; /**< its index among the scene's colliders */
+    float force[3];    /**< mean over the step [N] */
+    float torque[3];   /**< about the collider's origin (its pose's translation) [N m] */
+} SluiceColliderForce;
+
 /** This thread's last failure: what and where, as a person reads it ("" if none). */
 const char* sluice_last_error(void);
 
@@ -95,6 +102,12 @@ SluiceStatus sluice_advance(SluiceSimulation* simulation, double seconds, uint32
  * `translation` x y z [m], `rotation` the quaternion x y z w (asset frame to world). */
 SluiceStatus sluice_set_collider_pose(SluiceSimulation* simulation, uint32_t collider,
                                       const float translation[3], const float rotation[4]);
+/** Moves a dynamic body at once (a respawn): its asset frame to `translation` x y z [m] and
+ * `rotation` x y z w, its centre of mass moving at `linearVelocity` [m/s] and turning at
+ * `angularVelocity` [rad/s] (either may be null: at rest), from the next step. */
+SluiceStatus sluice_teleport_body(SluiceSimulation* simulation, uint32_t collider,
+                                  const float translation[3], const float rotation[4],
+                                  const float linearVelocity[3], const float angularVelocity[3]);
 /** Adds `count` particles: `positions` x y z each [m], `velocities` x y z [m/s] or null for at
  * rest. Their ids are *firstId, *firstId + 1, ... (`firstId` may be null). */
 SluiceStatus sluice_add_particles(SluiceSimulation* simulation, const float* positions,
@@ -120,6 +133,15 @@ SluiceStatus sluice_read_particles(const SluiceSimulation* simulation, float* po
  * up to `capacity` of them into `out`, *count how many there are (0 until a step completed, and
  * in a scene without bodies), *step which step they are from (`step` may be null). */
 SluiceStatus sluice_latest_bodies(const SluiceSimulation* simulation, SluiceBody* out,
+                                  uint32_t capacity, uint32_t* count, uint64_t* step);
+/** Starts (on != 0) or stops measuring the fluid's force on a static or kinematic collider
+ * (the scene's "measureForce"), from the next step. A dynamic body is an error: its force is in
+ * sluice_latest_bodies. */
+SluiceStatus sluice_measure_force(SluiceSimulation* simulation, uint32_t collider, int on);
+/** The measured colliders' forces as the newest completed step left them, without waiting: up
+ * to `capacity` into `out`, *count how many there are (0 until a step completed, and while none
+ * is measured), *step which step they are from (`step` may be null). */
+SluiceStatus sluice_latest_forces(const SluiceSimulation* simulation, SluiceColliderForce* out,
                                   uint32_t capacity, uint32_t* count, uint64_t* step);
 /** Slots in use: the live particles and, for a step or two after a removal, removed ones not
  * yet compacted away (0 for null). */

@@ -198,6 +198,24 @@ SluiceStatus sluice_set_collider_pose(SluiceSimulation* simulation, uint32_t col
     });
 }
 
+SluiceStatus sluice_teleport_body(SluiceSimulation* simulation, uint32_t collider,
+                                  const float translation[3], const float rotation[4],
+                                  const float linearVelocity[3], const float angularVelocity[3]) {
+    return guarded("sluice_teleport_body", [&] {
+        if (!simulation || !translation || !rotation)
+            return nullArgument("sluice_teleport_body",
+                                !simulation ? "simulation"
+                                            : (!translation ? "translation" : "rotation"));
+        const auto vec = [](const float* v) {
+            return v ? glm::vec3(v[0], v[1], v[2]) : glm::vec3(0.0f);
+        };
+        auto done = simulation->simulation.teleportBody(
+            collider, vec(translation), glm::quat(rotation[3], rotation[0], rotation[1], rotation[2]),
+            vec(linearVelocity), vec(angularVelocity));
+        return done ? SLUICE_OK : failWith(done.error());
+    });
+}
+
 SluiceStatus sluice_add_particles(SluiceSimulation* simulation, const float* positions,
                                   const float* velocities, uint32_t count, uint32_t* firstId) {
     return guarded("sluice_add_particles", [&] {
@@ -314,6 +332,41 @@ SluiceStatus sluice_latest_bodies(const SluiceSimulation* simulation, SluiceBody
             o.orientation[1] = q.y;
             o.orientation[2] = q.z;
             o.orientation[3] = q.w;
+        }
+        return SLUICE_OK;
+    });
+}
+
+SluiceStatus sluice_measure_force(SluiceSimulation* simulation, uint32_t collider, int on) {
+    return guarded("sluice_measure_force", [&] {
+        if (!simulation)
+            return nullArgument("sluice_measure_force", "simulation");
+        auto done = simulation->simulation.measureForce(collider, on != 0);
+        return done ? SLUICE_OK : failWith(done.error());
+    });
+}
+
+SluiceStatus sluice_latest_forces(const SluiceSimulation* simulation, SluiceColliderForce* out,
+                                  uint32_t capacity, uint32_t* count, uint64_t* step) {
+    return guarded("sluice_latest_forces", [&] {
+        if (!simulation || !count || (!out && capacity > 0))
+            return nullArgument("sluice_latest_forces",
+                                !simulation ? "simulation" : (!count ? "count" : "out"));
+        *count = 0;
+        const auto reading = simulation->simulation.latestForces();
+        if (!reading)
+            return SLUICE_OK;
+        *count = std::uint32_t(reading->colliders.size());
+        if (step)
+            *step = reading->step;
+        for (std::size_t c = 0; c < std::min<std::size_t>(capacity, reading->colliders.size());
+             ++c) {
+            const sluice::rt::ColliderForce& f = reading->colliders[c];
+            out[c].collider = f.collider;
+            for (int a = 0; a < 3; ++a) {
+                out[c].force[a] = f.force[a];
+                out[c].torque[a] = f.torque[a];
+            }
         }
         return SLUICE_OK;
     });

@@ -72,6 +72,44 @@ Result<void> Simulation::setColliderPose(std::uint32_t collider, glm::vec3 trans
     return {};
 }
 
+Result<void> Simulation::teleportBody(std::uint32_t collider, glm::vec3 translation,
+                                      glm::quat rotation, glm::vec3 linearVelocity,
+                                      glm::vec3 angularVelocity) {
+    Impl& s = *m_impl;
+    const std::string what = "teleportBody: collider " + std::to_string(collider);
+    if (collider >= s.scene.colliders.size())
+        return fail(ErrorCode::InvalidArgument,
+                    what + " of " + std::to_string(s.scene.colliders.size()) + " colliders");
+    const std::uint32_t b = s.bodySetup.bodyOfCollider[collider];
+    if (b == shared::kNoBody)
+        return fail(ErrorCode::InvalidArgument,
+                    what + " is no dynamic body; place it with setColliderPose");
+    if (!finite(translation) || !finite(linearVelocity) || !finite(angularVelocity) ||
+        !finite(glm::vec3(rotation.x, rotation.y, rotation.z)) || !std::isfinite(rotation.w))
+        return fail(ErrorCode::NonFinite, what + ": a pose or velocity that is not finite");
+    const float length = glm::length(rotation);
+    if (!(length > 0.0f) || !std::isfinite(length))
+        return fail(ErrorCode::InvalidArgument, what + ": the rotation is a zero quaternion");
+    const glm::quat q = rotation / length;
+    // The record's first 64 bytes are the body's state; mass, inverse mass and collider are its
+    // set-up's, which never change.
+    shared::GpuBody record = s.bodySetup.records[b];
+    record.orientation = glm::vec4(q.x, q.y, q.z, q.w);
+    record.position = translation + q * (record.scale * record.centerLocal);
+    record.linearVelocity = linearVelocity;
+    record.angularVelocity = angularVelocity;
+    static_assert(offsetof(shared::GpuBody, invInertia) == 64);
+    s.bodyBuf.upload(&record, 64, std::size_t(b) * sizeof(shared::GpuBody));
+    // Its collider record as the body pass would write it, without motion: the jump is no
+    // velocity the push-out or friction should see.
+    shared::GpuCollider& r = s.colliderRecords[collider];
+    r.worldToGrid = glm::inverse(poseMatrix(bodyPose(record)));
+    r.boundCentre = record.position;
+    r.motion = glm::mat4(1.0f);
+    s.colliderBuf.upload(std::span(&r, 1), collider * sizeof(shared::GpuCollider));
+    return {};
+}
+
 Result<std::uint32_t> Simulation::addParticles(const std::vector<glm::vec3>& positions,
                                                const std::vector<glm::vec3>& velocities) {
     Impl& s = *m_impl;

@@ -164,6 +164,46 @@ static void readsBodiesWithoutWaiting(const char* sceneFile) {
     CHECK(isfinite(bodies[0].force[1]) && isfinite(bodies[0].centreOfMass[1]));
     CHECK(fabsf(bodies[0].orientation[3]) > 0.9f);
     CHECK(sluice_latest_bodies(sim, NULL, 2, &count, &step) == SLUICE_ERROR_INVALID_ARGUMENT);
+    {
+        const float to[3] = {0.12f, 0.2f, 0.12f}, turn[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+        const float up[3] = {0.0f, 0.5f, 0.0f};
+        CHECK(sluice_teleport_body(sim, 0, to, turn, up, NULL) == SLUICE_OK);
+        CHECK(sluice_teleport_body(sim, 3, to, turn, NULL, NULL) == SLUICE_ERROR_INVALID_ARGUMENT);
+        CHECK(sluice_teleport_body(sim, 0, NULL, turn, NULL, NULL) ==
+              SLUICE_ERROR_INVALID_ARGUMENT);
+        CHECK(sluice_step(sim) == SLUICE_OK);
+    }
+    sluice_simulation_destroy(sim);
+}
+
+/* Water resting on a measured box floor given by its shape, beside a capsule: the floor's force,
+ * read without waiting, carries the water down; a body cannot be measured. */
+static void measuresAShapeFloor(const char* sceneFile) {
+    static const char* kFloorScene =
+        "{\"simulation\": {\"spacing\": 0.02, \"substeps\": 2},"
+        " \"fluid\": [{\"box\": {\"min\": [0, 0, 0], \"max\": [0.12, 0.08, 0.12]}}],"
+        " \"colliders\": [{\"shape\": {\"box\": {\"size\": [0.3, 0.1, 0.3]}},"
+        "                  \"translation\": [0.06, -0.05, 0.06], \"measureForce\": true},"
+        "                 {\"shape\": {\"capsule\": {\"radius\": 0.03, \"height\": 0.2}},"
+        "                  \"translation\": [0.2, 0.1, 0.06]}],"
+        " \"domain\": {\"min\": [0, -0.1, 0], \"max\": [0.3, 0.3, 0.12]}}";
+    SluiceSimulation* sim = NULL;
+    CHECK(sluice_simulation_create_from_json(kFloorScene, sceneFile, &sim) == SLUICE_OK);
+    if (!sim)
+        return;
+    SluiceColliderForce forces[2];
+    uint32_t count = 7;
+    uint64_t step = 0;
+    for (int i = 0; i < 6 && count != 1; ++i) {
+        CHECK(sluice_step(sim) == SLUICE_OK);
+        CHECK(sluice_latest_forces(sim, forces, 2, &count, &step) == SLUICE_OK);
+    }
+    CHECK(count == 1 && step >= 1);
+    CHECK(forces[0].collider == 0);
+    CHECK(forces[0].force[1] < 0.0f); /* the water presses the floor down */
+    CHECK(sluice_measure_force(sim, 1, 1) == SLUICE_OK);
+    CHECK(sluice_measure_force(sim, 5, 1) == SLUICE_ERROR_INVALID_ARGUMENT);
+    CHECK(sluice_latest_forces(sim, NULL, 2, &count, &step) == SLUICE_ERROR_INVALID_ARGUMENT);
     sluice_simulation_destroy(sim);
 }
 
@@ -190,6 +230,7 @@ int main(int argc, char** argv) {
         movesAddsAndViews(sim);
     sluice_simulation_destroy(sim);
     readsBodiesWithoutWaiting(sceneFile);
+    measuresAShapeFloor(sceneFile);
     sluice_context_destroy(context);
     printf("%d passed, %d failed\n", g_passed, g_failed);
     return g_failed == 0 ? 0 : 1;

@@ -232,6 +232,16 @@ public:
     /// dynamic body or a zero quaternion; NonFinite for a non-finite number.
     Result<void> setColliderPose(std::uint32_t collider, glm::vec3 translation, glm::quat rotation);
 
+    /// Moves dynamic body `collider` at once, without sweeping through what lies between (a
+    /// respawn, a checkpoint): from the next step its asset frame is at `translation` [m] and
+    /// `rotation` (normalised here), moving at `linearVelocity` [m/s] (of its centre of mass) and
+    /// `angularVelocity` [rad/s, world]; the water and contacts take it from there.
+    /// InvalidArgument for an index out of range, a collider that is no dynamic body or a zero
+    /// quaternion; NonFinite for a non-finite number.
+    Result<void> teleportBody(std::uint32_t collider, glm::vec3 translation, glm::quat rotation,
+                              glm::vec3 linearVelocity = glm::vec3(0.0f),
+                              glm::vec3 angularVelocity = glm::vec3(0.0f));
+
     /// Adds particles at `positions` [m] with `velocities` [m/s] (empty: at rest; else one per
     /// position), uploading only them, and returns the first new id: they get first, first + 1,
     /// ... in order, and every other particle keeps its id. They join from the next step.
