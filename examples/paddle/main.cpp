@@ -66,8 +66,8 @@ format::Scene poolScene() {
     paddle.measureForce = true;
     scene.colliders.push_back(paddle);
     format::SceneCollider character;
-    character.shape = format::ColliderShape{.kind = format::ColliderShape::Kind::Capsule,
-                                            .radius = 0.06f, .height = 0.4f};
+    character.shape = format::ColliderShape{
+        .kind = format::ColliderShape::Kind::Capsule, .radius = 0.06f, .height = 0.4f};
     character.translation = {0.0f, 0.53f, 0.15f};
     scene.colliders.push_back(character);
     scene.drains.push_back({{0.35f, 0.3f, -0.15f}, {0.6f, 0.45f, 0.15f}}); // under the tap
@@ -206,8 +206,8 @@ int main(int argc, char** argv) {
     } // the simulation goes before its context
     glfwDestroyWindow(window);
     glfwTerminate();
-    std::printf("particles: %u at the start, %u after the tap, %u at the end\n",
-                report.startCount, report.afterTap, report.endCount);
+    std::printf("particles: %u at the start, %u after the tap, %u at the end\n", report.startCount,
+                report.afterTap, report.endCount);
     std::printf("water pixels: %ld; strongest push on the paddle: %.3f N\n", report.waterPixels,
                 report.strongestPush);
     if (!check)

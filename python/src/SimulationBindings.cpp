@@ -156,9 +156,9 @@ nb::object latestForces(PySimulation& s) {
         return nb::none();
     nb::dict colliders;
     for (const rt::ColliderForce& f : reading->colliders)
-        colliders[nb::int_(f.collider)] = nb::make_tuple(
-            nb::make_tuple(f.force.x, f.force.y, f.force.z),
-            nb::make_tuple(f.torque.x, f.torque.y, f.torque.z));
+        colliders[nb::int_(f.collider)] =
+            nb::make_tuple(nb::make_tuple(f.force.x, f.force.y, f.force.z),
+                           nb::make_tuple(f.torque.x, f.torque.y, f.torque.z));
     nb::dict out;
     out["step"] = reading->step;
     out["time"] = reading->time;

@@ -18,29 +18,13 @@ if(NOT XVFB_RUN)
     return()
 endif()
 
-function(run out_var)
-    execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out
-                    WORKING_DIRECTORY ${WORK_DIR})
-    if(NOT rc EQUAL 0)
-        list(JOIN ARGN " " command)
-        message(FATAL_ERROR "ExampleTest: `${command}` failed (${rc}):\n${out}")
-    endif()
-    set(${out_var} "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/ConsumerBuild.cmake)
 
 set(prefix ${WORK_DIR}/prefix)
 set(build ${WORK_DIR}/paddle)
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
-run(out ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-set(make_program "")
-if(MAKE_PROGRAM)
-    set(make_program -DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM})
-endif()
-run(out ${CMAKE_COMMAND} -S ${EXAMPLE_DIR} -B ${build} -G ${GENERATOR} ${make_program}
-    -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_BUILD_TYPE=Release
-    "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${LINKER_FLAGS}"
-    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+install_and_configure(${prefix} ${EXAMPLE_DIR} ${build})
 run(out ${CMAKE_COMMAND} --build ${build})
 # xvfb-run with its X authority file in the work folder (a temporary one races under ctest -j).
 run(out ${XVFB_RUN} -a -f ${WORK_DIR}/Xauthority -s "-screen 0 800x600x24"

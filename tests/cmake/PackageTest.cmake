@@ -13,29 +13,13 @@ foreach(var BUILD_DIR WORK_DIR CONSUMER_DIR MESH GENERATOR CXX_COMPILER)
     endif()
 endforeach()
 
-# Runs a command; stops the test with its output if it fails. Its output lands in `out_var`.
-function(run out_var)
-    execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-    if(NOT rc EQUAL 0)
-        list(JOIN ARGN " " command)
-        message(FATAL_ERROR "PackageTest: `${command}` failed (${rc}):\n${out}")
-    endif()
-    set(${out_var} "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/ConsumerBuild.cmake)
 
 set(prefix ${WORK_DIR}/prefix)
 set(build ${WORK_DIR}/consumer)
 file(REMOVE_RECURSE ${WORK_DIR})
 
-run(out ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-set(make_program "")
-if(MAKE_PROGRAM)
-    set(make_program -DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM})
-endif()
-run(out ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${build} -G ${GENERATOR} ${make_program}
-    -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_BUILD_TYPE=Release
-    "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${LINKER_FLAGS}"
-    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
+install_and_configure(${prefix} ${CONSUMER_DIR} ${build}
     -DSLUICE_EXPECTED_PREFIX=${prefix} -DSLUICE_TEST_MESH=${MESH})
 run(out ${CMAKE_COMMAND} --build ${build})
 

@@ -23,9 +23,12 @@ double capsuleHalfAxis(const ColliderShape& s) {
 // Half the shape's extent along each local axis [m].
 glm::dvec3 halfExtent(const ColliderShape& s) {
     switch (s.kind) {
-    case ColliderShape::Kind::Sphere: return glm::dvec3(s.radius);
-    case ColliderShape::Kind::Box: return 0.5 * glm::dvec3(s.size);
-    case ColliderShape::Kind::Capsule: return {s.radius, 0.5 * double(s.height), s.radius};
+    case ColliderShape::Kind::Sphere:
+        return glm::dvec3(s.radius);
+    case ColliderShape::Kind::Box:
+        return 0.5 * glm::dvec3(s.size);
+    case ColliderShape::Kind::Capsule:
+        return {s.radius, 0.5 * double(s.height), s.radius};
     }
     return glm::dvec3(0.0);
 }
@@ -62,7 +65,8 @@ std::string sizeProblem(const ColliderShape& s) {
 
 double shapeDistance(const ColliderShape& s, glm::dvec3 p) {
     switch (s.kind) {
-    case ColliderShape::Kind::Sphere: return glm::length(p) - double(s.radius);
+    case ColliderShape::Kind::Sphere:
+        return glm::length(p) - double(s.radius);
     case ColliderShape::Kind::Box: {
         const glm::dvec3 q = glm::abs(p) - 0.5 * glm::dvec3(s.size);
         const double inside = std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
@@ -102,8 +106,8 @@ MassProperties shapeMass(const ColliderShape& s) {
         const double ball = 4.0 / 3.0 * kPi * r * r * r;
         m.volume = cylinder + ball;
         iy = 0.5 * cylinder * r * r + 0.4 * ball * r * r;
-        ix = iz = cylinder * (a * a / 3.0 + r * r / 4.0) +
-                  ball * (0.4 * r * r + a * a + 0.75 * a * r);
+        ix = iz =
+            cylinder * (a * a / 3.0 + r * r / 4.0) + ball * (0.4 * r * r + a * a + 0.75 * a * r);
         break;
     }
     }
@@ -125,9 +129,9 @@ Result<ColliderAsset> shapeCollider(const ColliderShape& shape) {
     const double samples = (cells.x + 1.0) * (cells.y + 1.0) * (cells.z + 1.0);
     if (!(samples <= double(kMaxShapeSamples)))
         return fail(ErrorCode::SizeOverflow,
-                    std::string(kind) + ".voxel: " + number(voxel) + " m gives " +
-                        number(samples) + " samples, more than the limit " +
-                        std::to_string(kMaxShapeSamples) + "; give a larger voxel");
+                    std::string(kind) + ".voxel: " + number(voxel) + " m gives " + number(samples) +
+                        " samples, more than the limit " + std::to_string(kMaxShapeSamples) +
+                        "; give a larger voxel");
     ColliderAsset asset;
     ColliderMeta& meta = asset.meta;
     meta.dims = glm::uvec3(cells) + 1u;
@@ -144,8 +148,8 @@ Result<ColliderAsset> shapeCollider(const ColliderShape& shape) {
     for (std::uint32_t z = 0; z < meta.dims.z; ++z)
         for (std::uint32_t y = 0; y < meta.dims.y; ++y)
             for (std::uint32_t x = 0; x < meta.dims.x; ++x)
-                asset.distances[i++] = float(
-                    shapeDistance(shape, meta.origin + glm::dvec3(x, y, z) * voxel));
+                asset.distances[i++] =
+                    float(shapeDistance(shape, meta.origin + glm::dvec3(x, y, z) * voxel));
     return asset;
 }
 

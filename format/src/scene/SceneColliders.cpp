@@ -111,11 +111,11 @@ ColliderShape readShape(const rj::Value& value, const std::string& path) {
     const char* kind = shapeName(shape.kind);
     const JsonObject k(o.require(kind), o.pathOf(kind), {"radius", "size", "height", "voxel"});
     for (const char* key : {"radius", "size", "height"}) {
-        const bool wanted = shape.kind == ColliderShape::Kind::Box
-                                ? key == std::string_view("size")
-                                : key == std::string_view("radius") ||
-                                      (key == std::string_view("height") &&
-                                       shape.kind == ColliderShape::Kind::Capsule);
+        const bool wanted =
+            shape.kind == ColliderShape::Kind::Box
+                ? key == std::string_view("size")
+                : key == std::string_view("radius") || (key == std::string_view("height") &&
+                                                        shape.kind == ColliderShape::Kind::Capsule);
         if (k.has(key) && !wanted)
             throwAt(ErrorCode::BadMetadata, k.pathOf(key),
                     std::string("is not a key of a ") + kind);
@@ -157,10 +157,9 @@ std::string vecText(glm::vec3 v) {
 
 SceneCollider readCollider(const rj::Value& value, const std::string& path,
                            const fs::path& sceneFile, bool checkAssets) {
-    const JsonObject o(
-        value, path,
-        {"asset", "shape", "translation", "rotation", "scale", "friction", "motion", "dynamic",
-         "measureForce"});
+    const JsonObject o(value, path,
+                       {"asset", "shape", "translation", "rotation", "scale", "friction", "motion",
+                        "dynamic", "measureForce"});
     SceneCollider c;
     if (o.has("asset") == o.has("shape"))
         throwAt(ErrorCode::BadMetadata, path,

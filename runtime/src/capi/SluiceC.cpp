@@ -210,8 +210,9 @@ SluiceStatus sluice_teleport_body(SluiceSimulation* simulation, uint32_t collide
             return v ? glm::vec3(v[0], v[1], v[2]) : glm::vec3(0.0f);
         };
         auto done = simulation->simulation.teleportBody(
-            collider, vec(translation), glm::quat(rotation[3], rotation[0], rotation[1], rotation[2]),
-            vec(linearVelocity), vec(angularVelocity));
+            collider, vec(translation),
+            glm::quat(rotation[3], rotation[0], rotation[1], rotation[2]), vec(linearVelocity),
+            vec(angularVelocity));
         return done ? SLUICE_OK : failWith(done.error());
     });
 }

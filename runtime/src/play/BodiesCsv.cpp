@@ -51,8 +51,9 @@ std::string bodiesCsvRows(const format::Scene& scene, std::uint64_t step, double
         out += std::to_string(step);
         appendNumber(out, time);
         out += ',' + std::to_string(i) + ',' + std::to_string(b.collider) + ',';
-        out += csvField(b.collider < scene.colliders.size() ? format::colliderName(scene.colliders[b.collider])
-                                                            : std::string());
+        out += csvField(b.collider < scene.colliders.size()
+                            ? format::colliderName(scene.colliders[b.collider])
+                            : std::string());
         appendVec3(out, b.pose.translation);
         appendVec3(out, b.position);
         const glm::quat q = b.orientation;

@@ -33,8 +33,8 @@ std::string vec(const glm::dvec3& v) {
 
 /// "scene.json: colliders[2] (crate.slc): " for a collider's messages.
 std::string colliderWhere(const format::Scene& scene, std::size_t c) {
-    return scene.path + ": colliders[" + std::to_string(c) + "] (" + format::colliderName(scene.colliders[c]) +
-           "): ";
+    return scene.path + ": colliders[" + std::to_string(c) + "] (" +
+           format::colliderName(scene.colliders[c]) + "): ";
 }
 
 /// A group of starting particles with the JSON path and the time they appear.
@@ -272,9 +272,10 @@ std::vector<std::string> describeColliders(const format::Scene& scene,
     std::vector<std::string> lines;
     for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
         const glm::dvec3 size = colliderWorldSize(scene.colliders[c], colliders[c]);
-        lines.push_back("colliders[" + std::to_string(c) + "] " + format::colliderName(scene.colliders[c]) + ": " +
-                        number(size.x) + " x " + number(size.y) + " x " + number(size.z) +
-                        " m (scale " + number(scene.colliders[c].scale) + ")");
+        lines.push_back("colliders[" + std::to_string(c) + "] " +
+                        format::colliderName(scene.colliders[c]) + ": " + number(size.x) + " x " +
+                        number(size.y) + " x " + number(size.z) + " m (scale " +
+                        number(scene.colliders[c].scale) + ")");
     }
     return lines;
 }

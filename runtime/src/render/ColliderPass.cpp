@@ -72,8 +72,8 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
         auto texture =
             gpu::Texture3D::createR32F(asset.meta.dims, "collider " + std::to_string(i) + " SDF");
         if (!texture)
-            return fail(texture.error().code,
-                         scene.path + ": colliders[" + std::to_string(i) + "]: " + texture.error().detail);
+            return fail(texture.error().code, scene.path + ": colliders[" + std::to_string(i) +
+                                                  "]: " + texture.error().detail);
         texture->upload(asset.distances);
         collider.sdf = std::move(*texture);
         pass.m_colliders.push_back(std::move(collider));

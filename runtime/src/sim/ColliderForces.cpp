@@ -21,9 +21,8 @@ std::uint32_t ColliderForceMeter::slotOf(std::size_t c) const {
 Result<void> ColliderForceMeter::set(std::size_t c, bool on,
                                      const std::vector<gpu::ShaderDefine>& defines) {
     if (on && !m_pass.id()) {
-        auto pass = gpu::Program::compute("pbf_collider_forces.comp",
-                                          shaders::shaderSource("pbf_collider_forces.comp"),
-                                          defines);
+        auto pass = gpu::Program::compute(
+            "pbf_collider_forces.comp", shaders::shaderSource("pbf_collider_forces.comp"), defines);
         if (!pass)
             return pass.error();
         const std::size_t bytes = shared::kMaxColliders * sizeof(shared::GpuColliderForce);

@@ -66,7 +66,8 @@ Result<void> Simulation::Impl::allocate() {
         {&bodyBuf, std::max<std::uint64_t>(1, bodySetup.records.size()) * sizeof(shared::GpuBody),
          "bodies"},
         // The bodies' slots, then one per collider for its force when measured.
-        {&bodySums, (bodySetup.records.size() + scene.colliders.size() + 1) * shared::kBodySumWords * u,
+        {&bodySums,
+         (bodySetup.records.size() + scene.colliders.size() + 1) * shared::kBodySumWords * u,
          "body sums"},
         {&bodySamples, std::max<std::uint64_t>(1, bodySetup.samples.size()) * v4,
          "body contact points"},

@@ -202,9 +202,9 @@ ParticleView Simulation::particleView() const {
 Result<void> Simulation::measureForce(std::uint32_t collider, bool on) {
     Impl& s = *m_impl;
     if (collider >= s.scene.colliders.size())
-        return fail(ErrorCode::InvalidArgument,
-                    "measureForce: collider " + std::to_string(collider) + " of " +
-                        std::to_string(s.scene.colliders.size()));
+        return fail(ErrorCode::InvalidArgument, "measureForce: collider " +
+                                                    std::to_string(collider) + " of " +
+                                                    std::to_string(s.scene.colliders.size()));
     if (s.bodySetup.bodyOfCollider[collider] != shared::kNoBody)
         return fail(ErrorCode::InvalidArgument,
                     "measureForce: collider " + std::to_string(collider) +

@@ -243,8 +243,8 @@ void Simulation::Impl::integrateBodies() {
 // After the solve, the forces on the measured static and kinematic colliders
 // (pbf_collider_forces.comp): their push sums into force and torque, the sums zeroed.
 void Simulation::Impl::measureColliderForces() {
-    commands.dispatches += forceMeter.run(substepInStep == 0,
-                                          1.0f / float(std::max(1u, scene.simulation.substeps)));
+    commands.dispatches +=
+        forceMeter.run(substepInStep == 0, 1.0f / float(std::max(1u, scene.simulation.substeps)));
     memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 

@@ -21,7 +21,9 @@ void BodyReadout::update(const format::Scene& scene, const std::vector<BodyState
         BodyRow& row = m_rows[b];
         const std::string asset =
             state.collider < scene.colliders.size()
-                ? std::filesystem::path(format::colliderName(scene.colliders[state.collider])).filename().string()
+                ? std::filesystem::path(format::colliderName(scene.colliders[state.collider]))
+                      .filename()
+                      .string()
                 : std::string();
         if (restart || row.collider != state.collider || row.asset != asset) {
             row.collider = state.collider;

@@ -46,10 +46,10 @@ ColliderShape sphere(float radius, float voxel) {
 
 TEST(ShapeCollider, DistancesAreTheShapesOwn) {
     // Points whose distance follows from the geometry by hand.
-    const ColliderShape c = capsule(0.1f, 0.5f, 0.01f); // caps' centres at y = +-0.15
-    EXPECT_NEAR(shapeDistance(c, {0.3, 0.0, 0.0}), 0.2, 1e-7);     // beside the cylinder
-    EXPECT_NEAR(shapeDistance(c, {0.0, 0.45, 0.0}), 0.2, 1e-7);    // over the top tip
-    EXPECT_NEAR(shapeDistance(c, {0.0, 0.0, 0.0}), -0.1, 1e-7);    // on the axis
+    const ColliderShape c = capsule(0.1f, 0.5f, 0.01f);         // caps' centres at y = +-0.15
+    EXPECT_NEAR(shapeDistance(c, {0.3, 0.0, 0.0}), 0.2, 1e-7);  // beside the cylinder
+    EXPECT_NEAR(shapeDistance(c, {0.0, 0.45, 0.0}), 0.2, 1e-7); // over the top tip
+    EXPECT_NEAR(shapeDistance(c, {0.0, 0.0, 0.0}), -0.1, 1e-7); // on the axis
     EXPECT_NEAR(shapeDistance(c, {0.3, 0.45, 0.0}), std::sqrt(0.09 + 0.09) - 0.1, 1e-7);
     const ColliderShape b = box({0.2f, 0.4f, 0.6f}, 0.01f);
     EXPECT_NEAR(shapeDistance(b, {0.0, 0.0, 0.0}), -0.1, 1e-7); // nearest face: x
@@ -108,15 +108,15 @@ TEST(ShapeCollider, MassPropertiesAreExactAndMatchTheFieldsIntegral) {
     // knows nothing of the shape: within the integral's own error, a few tenths of a percent of
     // the volume and 2 % of the inertia (its smoothed edges weigh the box's corners, far from
     // the centre, 1.3 % heavier at 5 mm voxels on a 10 cm box).
-    for (const ColliderShape& shape :
-         {capsule(float(r), float(h), 0.005f), box({0.2f, 0.1f, 0.15f}, 0.005f),
-          sphere(0.1f, 0.005f)}) {
+    for (const ColliderShape& shape : {capsule(float(r), float(h), 0.005f),
+                                       box({0.2f, 0.1f, 0.15f}, 0.005f), sphere(0.1f, 0.005f)}) {
         auto asset = shapeCollider(shape);
         ASSERT_TRUE(asset);
         auto integrated = massPropertiesFromField(*asset);
         ASSERT_TRUE(integrated) << integrated.error().message();
         const MassProperties exact = *asset->meta.meshMass;
-        EXPECT_NEAR(integrated->volume, exact.volume, 0.005 * exact.volume) << shapeName(shape.kind);
+        EXPECT_NEAR(integrated->volume, exact.volume, 0.005 * exact.volume)
+            << shapeName(shape.kind);
         for (int i = 0; i < 3; ++i)
             EXPECT_NEAR(integrated->inertia[i][i], exact.inertia[i][i], 0.02 * exact.inertia[i][i])
                 << shapeName(shape.kind) << " axis " << i;
@@ -147,8 +147,8 @@ TEST(ShapeCollider, RefusesBadSizesByName) {
 const char* kFluid = R"("fluid": [{"box": {"min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}}])";
 
 Result<Scene> sceneWith(const std::string& collider) {
-    return parseScene(std::string("{") + kFluid + R"(, "colliders": [)" + collider + "]}",
-                      "s.json", {.checkAssets = false});
+    return parseScene(std::string("{") + kFluid + R"(, "colliders": [)" + collider + "]}", "s.json",
+                      {.checkAssets = false});
 }
 
 TEST(ShapeCollider, SceneKeysReadEachShapeWithTheDerivedVoxel) {

@@ -114,18 +114,21 @@ struct DynamicBody {
 struct ColliderShape {
     enum class Kind { Sphere, Box, Capsule };
     Kind kind = Kind::Sphere;
-    float radius = 0.0f;        ///< sphere and capsule [m], > 0
-    glm::vec3 size{0.0f};       ///< box: edge lengths along local x, y, z [m], each > 0
-    float height = 0.0f;        ///< capsule: tip to tip along local y [m], >= 2 * radius
-    float voxelSize = 0.0f;     ///< spacing of its sampled field [m]; 0: derived, spacing / 2
+    float radius = 0.0f;    ///< sphere and capsule [m], > 0
+    glm::vec3 size{0.0f};   ///< box: edge lengths along local x, y, z [m], each > 0
+    float height = 0.0f;    ///< capsule: tip to tip along local y [m], >= 2 * radius
+    float voxelSize = 0.0f; ///< spacing of its sampled field [m]; 0: derived, spacing / 2
 };
 
 /// "sphere" | "box" | "capsule", as the scene file spells them.
 inline const char* shapeName(ColliderShape::Kind kind) {
     switch (kind) {
-    case ColliderShape::Kind::Sphere: return "sphere";
-    case ColliderShape::Kind::Box: return "box";
-    case ColliderShape::Kind::Capsule: return "capsule";
+    case ColliderShape::Kind::Sphere:
+        return "sphere";
+    case ColliderShape::Kind::Box:
+        return "box";
+    case ColliderShape::Kind::Capsule:
+        return "capsule";
     }
     return "shape";
 }

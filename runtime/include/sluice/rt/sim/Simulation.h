@@ -171,8 +171,8 @@ struct ColliderForce {
 
 /// The measured colliders' forces as a completed step left them (Simulation::latestForces).
 struct ForcesReading {
-    std::uint64_t step = 0; ///< the step they are from (Simulation::steps() after it)
-    double time = 0.0;      ///< simulated time after that step [s]
+    std::uint64_t step = 0;               ///< the step they are from (Simulation::steps() after it)
+    double time = 0.0;                    ///< simulated time after that step [s]
     std::vector<ColliderForce> colliders; ///< one per measured collider, in collider order
 };
 
