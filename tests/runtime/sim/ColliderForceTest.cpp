@@ -3,6 +3,7 @@
 // of the water resting on it, a paddle feels the water it pushes, and measuring changes nothing
 // of the water.
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <glm/gtc/quaternion.hpp>
@@ -91,14 +92,41 @@ TEST_F(ColliderForces, AStaticWallTakesTheMomentumTheWaterLoses) {
     }
     const glm::dvec3 lost = before - momentum(*sim);
     // The water hit the wall and lost most of its momentum along x: the wall took it, to the
-    // float rounding of the sums (a few parts in 1e4 per step).
+    // fixed-point and float rounding of the sums (1.000001 of it on llvmpipe, 2026-12-07).
     ASSERT_GT(lost.x, 0.5 * before.x);
-    EXPECT_NEAR(impulse.x, lost.x, 0.01 * lost.x);
-    EXPECT_NEAR(impulse.y, lost.y, 0.01 * lost.x);
-    EXPECT_NEAR(impulse.z, lost.z, 0.01 * lost.x);
+    RecordProperty("impulse_over_momentum_lost", std::to_string(impulse.x / lost.x));
+    EXPECT_NEAR(impulse.x, lost.x, 0.001 * lost.x);
+    EXPECT_NEAR(impulse.y, lost.y, 0.001 * lost.x);
+    EXPECT_NEAR(impulse.z, lost.z, 0.001 * lost.x);
     // A symmetric splash about the wall's centre line turns it little: the angular impulse about
     // its origin is small against the linear one's moment arm of the block's half height.
     EXPECT_LT(glm::length(angular), 0.1 * 0.08 * impulse.x);
+}
+
+TEST_F(ColliderForces, AKinematicPaddleGivesTheWaterTheMomentumItTakes) {
+    // The same weightless water at rest, and a paddle the game sweeps into it at 0.5 m/s: the
+    // momentum the water gains is the opposite of the impulse the paddle reports.
+    format::Scene scene = throwAtWall(true);
+    scene.blocks[0].velocity = glm::vec3(0.0f);
+    scene.colliders[0] = boxShape({0.04f, 0.3f, 0.3f}, {-0.26f, 0.0f, 0.0f}, true);
+    auto sim = createWithShapes(scene);
+    ASSERT_TRUE(sim) << sim.error().message();
+    const glm::dvec3 before = momentum(*sim);
+    const double dt = sim->parameters().timeStep;
+    glm::dvec3 impulse(0.0);
+    glm::vec3 at(-0.26f, 0.0f, 0.0f);
+    for (int step = 0; step < 24; ++step) {
+        at.x += 0.5f * float(dt);
+        ASSERT_TRUE(sim->setColliderPose(0, at, glm::quat(1.0f, 0.0f, 0.0f, 0.0f)));
+        sim->step();
+        impulse += glm::dvec3(forcesOfThisStep(*sim).colliders.at(0).force) * dt;
+    }
+    const glm::dvec3 gained = momentum(*sim) - before;
+    ASSERT_GT(gained.x, 0.1 * 512 * sim->constants().mass * 0.5); // it did push the water
+    RecordProperty("impulse_over_momentum_gained", std::to_string(-impulse.x / gained.x));
+    EXPECT_NEAR(-impulse.x, gained.x, 0.001 * gained.x);
+    EXPECT_NEAR(-impulse.y, gained.y, 0.001 * gained.x);
+    EXPECT_NEAR(-impulse.z, gained.z, 0.001 * gained.x);
 }
 
 TEST_F(ColliderForces, MeasuringChangesNothingOfTheWater) {
@@ -132,9 +160,12 @@ TEST_F(ColliderForces, AFloorCarriesTheWeightOfTheWaterOnIt) {
         sim->step();
         mean += glm::dvec3(forcesOfThisStep(*sim).colliders.at(0).force) / double(steps);
     }
-    EXPECT_NEAR(mean.y, -weight, 0.05 * weight);
-    EXPECT_LT(std::abs(mean.x), 0.05 * weight);
-    EXPECT_LT(std::abs(mean.z), 0.05 * weight);
+    RecordProperty("floor_force_over_weight", std::to_string(-mean.y / weight));
+    // 0.9998 of the weight on llvmpipe (2026-12-07): the water is at rest to a few parts in 1e4
+    // over these 12 steps; 2 % leaves room for its last ripples.
+    EXPECT_NEAR(mean.y, -weight, 0.02 * weight);
+    EXPECT_LT(std::abs(mean.x), 0.02 * weight);
+    EXPECT_LT(std::abs(mean.z), 0.02 * weight);
 }
 
 TEST_F(ColliderForces, APaddleMovedThroughWaterFeelsItsDrag) {
