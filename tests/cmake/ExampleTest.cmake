@@ -27,6 +27,14 @@ file(MAKE_DIRECTORY ${WORK_DIR})
 install_and_configure(${prefix} ${EXAMPLE_DIR} ${build})
 run(out ${CMAKE_COMMAND} --build ${build})
 # xvfb-run with its X authority file in the work folder (a temporary one races under ctest -j).
-run(out ${XVFB_RUN} -a -f ${WORK_DIR}/Xauthority -s "-screen 0 800x600x24"
+# Under ASan without LeakSanitizer's scan: glfwTerminate unloads the GL driver, whose static
+# references to its caches LeakSanitizer then no longer sees (240 bytes in "<unknown module>"
+# on 2026-12-07), as in the viewer window's test; every other ASan check stays on.
+set(asan_options "detect_leaks=0")
+if(DEFINED ENV{ASAN_OPTIONS} AND NOT "$ENV{ASAN_OPTIONS}" STREQUAL "")
+    set(asan_options "$ENV{ASAN_OPTIONS}:detect_leaks=0")
+endif()
+run(out ${CMAKE_COMMAND} -E env ASAN_OPTIONS=${asan_options}
+    ${XVFB_RUN} -a -f ${WORK_DIR}/Xauthority -s "-screen 0 800x600x24"
     ${build}/paddle --check ${FRAMES})
 message(STATUS "ExampleTest:\n${out}")
