@@ -9,10 +9,13 @@
 
 #include <glm/geometric.hpp>
 
+#include "support/Json.h"
+
 namespace sluice::format {
 
 namespace {
 
+using detail::formatNumber; // numbers in messages as the scene reader writes them
 constexpr double kPi = std::numbers::pi;
 
 // Half the length of a capsule's axis segment, between its caps' centres [m].
@@ -37,27 +40,21 @@ bool positive(double v) {
     return std::isfinite(v) && v > 0.0;
 }
 
-std::string number(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return text;
-}
-
 // The first field of the shape out of range, as "radius: -1 must be > 0".
 std::string sizeProblem(const ColliderShape& s) {
     if (s.kind == ColliderShape::Kind::Box) {
         for (int a = 0; a < 3; ++a)
             if (!positive(s.size[a]))
-                return "size: " + number(s.size[a]) + " must be finite and > 0 on every axis";
+                return "size: " + formatNumber(s.size[a]) + " must be finite and > 0 on every axis";
     } else if (!positive(s.radius)) {
-        return "radius: " + number(s.radius) + " must be finite and > 0";
+        return "radius: " + formatNumber(s.radius) + " must be finite and > 0";
     }
     if (s.kind == ColliderShape::Kind::Capsule &&
         !(std::isfinite(s.height) && s.height >= 2.0f * s.radius))
-        return "height: " + number(s.height) + " must be at least 2 * radius (" +
-               number(2.0 * s.radius) + "): it runs tip to tip";
+        return "height: " + formatNumber(s.height) + " must be at least 2 * radius (" +
+               formatNumber(2.0 * s.radius) + "): it runs tip to tip";
     if (!positive(s.voxelSize))
-        return "voxel: " + number(s.voxelSize) + " must be finite and > 0";
+        return "voxel: " + formatNumber(s.voxelSize) + " must be finite and > 0";
     return {};
 }
 
@@ -129,7 +126,7 @@ Result<ColliderAsset> shapeCollider(const ColliderShape& shape) {
     const double samples = (cells.x + 1.0) * (cells.y + 1.0) * (cells.z + 1.0);
     if (!(samples <= double(kMaxShapeSamples)))
         return fail(ErrorCode::SizeOverflow,
-                    std::string(kind) + ".voxel: " + number(voxel) + " m gives " + number(samples) +
+                    std::string(kind) + ".voxel: " + formatNumber(voxel) + " m gives " + formatNumber(samples) +
                         " samples, more than the limit " + std::to_string(kMaxShapeSamples) +
                         "; give a larger voxel");
     ColliderAsset asset;

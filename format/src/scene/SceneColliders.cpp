@@ -109,17 +109,13 @@ ColliderShape readShape(const rj::Value& value, const std::string& path) {
                  : o.has("box")  ? ColliderShape::Kind::Box
                                  : ColliderShape::Kind::Capsule;
     const char* kind = shapeName(shape.kind);
-    const JsonObject k(o.require(kind), o.pathOf(kind), {"radius", "size", "height", "voxel"});
-    for (const char* key : {"radius", "size", "height"}) {
-        const bool wanted =
-            shape.kind == ColliderShape::Kind::Box
-                ? key == std::string_view("size")
-                : key == std::string_view("radius") || (key == std::string_view("height") &&
-                                                        shape.kind == ColliderShape::Kind::Capsule);
-        if (k.has(key) && !wanted)
-            throwAt(ErrorCode::BadMetadata, k.pathOf(key),
-                    std::string("is not a key of a ") + kind);
-    }
+    // Each kind's own keys: another kind's key is unknown here.
+    const std::string at = o.pathOf(kind);
+    const JsonObject k = shape.kind == ColliderShape::Kind::Box
+                             ? JsonObject(o.require(kind), at, {"size", "voxel"})
+                         : shape.kind == ColliderShape::Kind::Sphere
+                             ? JsonObject(o.require(kind), at, {"radius", "voxel"})
+                             : JsonObject(o.require(kind), at, {"radius", "height", "voxel"});
     if (shape.kind == ColliderShape::Kind::Box) {
         shape.size = readVec3(k.require("size"), k.pathOf("size"));
         for (int a = 0; a < 3; ++a)

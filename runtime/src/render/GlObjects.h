@@ -86,4 +86,17 @@ private:
     GLsync m_sync = nullptr;
 };
 
+/// The newest entry of a ring of fenced copies (each with a `fence`) whose fence has passed,
+/// without waiting: the entry before `next` (the next to be written), then the ones before it;
+/// null when none has. latestBodies and latestForces read their copies through it.
+template <class Ring> const typename Ring::value_type* newestPassed(const Ring& ring,
+                                                                   std::size_t next) {
+    for (std::size_t back = 1; back <= ring.size(); ++back) {
+        const auto& entry = ring[(next + ring.size() - back) % ring.size()];
+        if (entry.fence.pending() && entry.fence.signalled(false))
+            return &entry;
+    }
+    return nullptr;
+}
+
 } // namespace sluice::rt

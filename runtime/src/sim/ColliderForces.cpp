@@ -68,23 +68,17 @@ void ColliderForceMeter::snapshot(std::uint64_t step, double time) {
 std::optional<ForcesReading> ColliderForceMeter::latest() const {
     if (!any())
         return std::nullopt;
-    // Newest first: the slot before m_next, then the ones before it.
-    for (std::size_t back = 1; back <= m_snapshots.size(); ++back) {
-        const std::size_t n = m_snapshots.size();
-        const Snapshot& s = m_snapshots[(m_next + n - back) % n];
-        if (!s.fence.pending() || !s.fence.signalled(false))
-            continue;
-        const auto records = s.forces.download<shared::GpuColliderForce>(0, s.on.size());
-        ForcesReading reading;
-        reading.step = s.step;
-        reading.time = s.time;
-        for (std::size_t c = 0; c < s.on.size(); ++c)
-            if (s.on[c])
-                reading.colliders.push_back(
-                    {std::uint32_t(c), records[c].force, records[c].torque});
-        return reading;
-    }
-    return std::nullopt;
+    const Snapshot* s = newestPassed(m_snapshots, m_next);
+    if (s == nullptr)
+        return std::nullopt;
+    const auto records = s->forces.download<shared::GpuColliderForce>(0, s->on.size());
+    ForcesReading reading;
+    reading.step = s->step;
+    reading.time = s->time;
+    for (std::size_t c = 0; c < s->on.size(); ++c)
+        if (s->on[c])
+            reading.colliders.push_back({std::uint32_t(c), records[c].force, records[c].torque});
+    return reading;
 }
 
 } // namespace sluice::rt

@@ -242,19 +242,14 @@ std::optional<BodiesReading> Simulation::latestBodies() const {
     const Impl& s = *m_impl;
     if (s.bodyCount == 0)
         return std::nullopt;
-    // Newest first: the slot before nextSnapshot, then the ones before it.
-    for (std::size_t back = 1; back <= s.bodySnapshots.size(); ++back) {
-        const std::size_t n = s.bodySnapshots.size();
-        const Impl::BodySnapshot& snapshot = s.bodySnapshots[(s.nextSnapshot + n - back) % n];
-        if (!snapshot.fence.pending() || !snapshot.fence.signalled(false))
-            continue;
-        BodiesReading reading;
-        reading.step = snapshot.step;
-        reading.time = snapshot.time;
-        reading.bodies = s.bodyStates(snapshot.records.download<shared::GpuBody>(0, s.bodyCount));
-        return reading;
-    }
-    return std::nullopt;
+    const Impl::BodySnapshot* snapshot = newestPassed(s.bodySnapshots, s.nextSnapshot);
+    if (snapshot == nullptr)
+        return std::nullopt;
+    BodiesReading reading;
+    reading.step = snapshot->step;
+    reading.time = snapshot->time;
+    reading.bodies = s.bodyStates(snapshot->records.download<shared::GpuBody>(0, s.bodyCount));
+    return reading;
 }
 
 std::vector<ColliderPose> Simulation::colliderPoses() const {
