@@ -1,6 +1,15 @@
-# What the installed-package tests share (PackageTest.cmake, ExampleTest.cmake): running a
-# command that must succeed, and installing a build to a prefix and configuring a consumer
+# What the installed-package tests share (PackageTest.cmake, ExampleTest.cmake): their required
+# variables, running a command that must succeed, and installing a build to a prefix and configuring a consumer
 # project against it only.
+
+# Stops the test `test` unless every variable named after it was given with -D.
+function(require_variables test)
+    foreach(var ${ARGN})
+        if(NOT DEFINED ${var})
+            message(FATAL_ERROR "${test}: -D${var}=... is required")
+        endif()
+    endforeach()
+endfunction()
 
 # Runs a command; stops the test with its output if it fails. Its output lands in `out_var`.
 function(run out_var)

@@ -7,18 +7,13 @@
 # Variables: BUILD_DIR, WORK_DIR, EXAMPLE_DIR, FRAMES, GENERATOR, CXX_COMPILER; optional
 # MAKE_PROGRAM, and CXX_FLAGS and LINKER_FLAGS as the build used them (sanitizers).
 
-foreach(var BUILD_DIR WORK_DIR EXAMPLE_DIR FRAMES GENERATOR CXX_COMPILER)
-    if(NOT DEFINED ${var})
-        message(FATAL_ERROR "ExampleTest: -D${var}=... is required")
-    endif()
-endforeach()
+include(${CMAKE_CURRENT_LIST_DIR}/ConsumerBuild.cmake)
+require_variables(ExampleTest BUILD_DIR WORK_DIR EXAMPLE_DIR FRAMES GENERATOR CXX_COMPILER)
 find_program(XVFB_RUN xvfb-run)
 if(NOT XVFB_RUN)
     message(STATUS "ExampleTest: SKIP: xvfb-run is not installed (Debian: apt-get install xvfb)")
     return()
 endif()
-
-include(${CMAKE_CURRENT_LIST_DIR}/ConsumerBuild.cmake)
 
 set(prefix ${WORK_DIR}/prefix)
 set(build ${WORK_DIR}/paddle)

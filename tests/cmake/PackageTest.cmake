@@ -7,13 +7,8 @@
 # Variables: BUILD_DIR, WORK_DIR, CONSUMER_DIR, MESH, GENERATOR, CXX_COMPILER; optional
 # MAKE_PROGRAM, and CXX_FLAGS and LINKER_FLAGS as the build used them (sanitizers).
 
-foreach(var BUILD_DIR WORK_DIR CONSUMER_DIR MESH GENERATOR CXX_COMPILER)
-    if(NOT DEFINED ${var})
-        message(FATAL_ERROR "PackageTest: -D${var}=... is required")
-    endif()
-endforeach()
-
 include(${CMAKE_CURRENT_LIST_DIR}/ConsumerBuild.cmake)
+require_variables(PackageTest BUILD_DIR WORK_DIR CONSUMER_DIR MESH GENERATOR CXX_COMPILER)
 
 set(prefix ${WORK_DIR}/prefix)
 set(build ${WORK_DIR}/consumer)

@@ -67,7 +67,8 @@ Result<void> Simulation::Impl::allocate() {
          "bodies"},
         // The bodies' slots, then one per collider for its force when measured.
         {&bodySums,
-         (bodySetup.records.size() + scene.colliders.size() + 1) * shared::kBodySumWords * u,
+         std::max<std::uint64_t>(1, bodySetup.records.size() + scene.colliders.size()) *
+             shared::kBodySumWords * u,
          "body sums"},
         {&bodySamples, std::max<std::uint64_t>(1, bodySetup.samples.size()) * v4,
          "body contact points"},
