@@ -22,15 +22,14 @@ namespace {
 
 using namespace sluice;
 
-// The game's own shader: each slot of Sluice's position buffer is a point; a removed slot
-// (w = 1) is sent off screen.
+// The game's own shader: each slot of Sluice's position buffer is a point. The view's draw
+// command draws only the live particles, which lead the slots.
 const char* kVertex = R"(#version 450 core
 layout(location = 0) in vec4 position;
 uniform mat4 viewProjection;
 out float height;
 void main() {
-    gl_Position = position.w != 0.0 ? vec4(2.0, 2.0, 2.0, 1.0)
-                                    : viewProjection * vec4(position.xyz, 1.0);
+    gl_Position = viewProjection * vec4(position.xyz, 1.0);
     gl_PointSize = 4.0;
     height = position.y;
 })";
@@ -160,7 +159,8 @@ Report play(GLFWwindow* window, rt::Simulation& sim, int checkFrames) {
                            glm::value_ptr(viewProjection));
         glVertexArrayVertexBuffer(vao, 0, view.positions, 0, GLsizei(view.positionStride));
         glBindVertexArray(vao);
-        glDrawArrays(GL_POINTS, 0, GLsizei(view.count));
+        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, view.drawArgs);
+        glDrawArraysIndirect(GL_POINTS, nullptr);
         if (checkFrames && frame + 1 == checkFrames) {
             std::vector<unsigned char> pixels(std::size_t(width) * height * 4);
             glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());

@@ -348,11 +348,18 @@ class Simulation:
 
     def set_collider_pose(self, index: int, translation: Sequence[float],
                           rotation: Sequence[float] = (0.0, 0.0, 0.0, 1.0)) -> None:
-        """Places static or kinematic collider ``index`` at ``translation`` [m] and the
+        """Places static or kinematic collider ``index`` (or a body held with
+        ``set_body_kinematic``) at ``translation`` [m] and the
         quaternion ``rotation`` (x, y, z, w) by the end of the next step, moving there across
         its substeps (docs/embedding.md)."""
         self._s.set_collider_pose(int(index), [float(t) for t in translation],
                                   [float(r) for r in rotation])
+
+    def set_body_kinematic(self, index: int, kinematic: bool = True) -> None:
+        """Hands dynamic body ``index`` to the program (``kinematic``: from the next step it
+        goes only where ``set_collider_pose`` puts it, the water still feeling it and reporting
+        its force in ``bodies``) or back to the water (it keeps its last step's velocity)."""
+        self._s.set_body_kinematic(int(index), bool(kinematic))
 
     def measure_force(self, index: int, on: bool = True) -> None:
         """Starts (or stops) measuring the water's force and torque on static or kinematic

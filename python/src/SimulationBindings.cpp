@@ -325,6 +325,13 @@ void bindSimulation(nb::module_& m) {
         .def("set_collider_pose", &setColliderPose, nb::arg("index"), nb::arg("translation"),
              nb::arg("rotation"))
         .def(
+            "set_body_kinematic",
+            [](PySimulation& s, std::uint32_t index, bool kinematic) {
+                if (auto ok = s.current().setBodyKinematic(index, kinematic); !ok)
+                    raise(Family::Argument, ok.error());
+            },
+            nb::arg("index"), nb::arg("kinematic") = true)
+        .def(
             "measure_force",
             [](PySimulation& s, std::uint32_t index, bool on) {
                 if (auto ok = s.current().measureForce(index, on); !ok)

@@ -222,6 +222,12 @@ void startBody(uint b, vec3 sealedDx, vec3 sealedMoment) {
     takeFilmReaction(b, s);
     takeHeldReaction(b, s);
     pullByDrag(b, s);
+    // A kinematic body moves as the game placed it: at the velocities the CPU set for this step
+    // (Simulation::Impl::moveKinematicBodies). What the water gave it is still its force.
+    if (bodies[b].kinematic != 0u) {
+        s.v = bodies[b].linearVelocity;
+        s.w = bodies[b].angularVelocity;
+    }
     clearSums(b);
     GpuBodyStep work;
     work.poses[0].position = s.x0 + P.dt * s.v;
@@ -376,7 +382,10 @@ void sweepContacts(uint b, uint lane, uint sweep) {
     vec4 q0 = steps[b].startOrientation;
     vec3 x = posedPosition(b);
     vec4 q = posedOrientation(b);
-    sumLanes(lane, pairShare(b, lane, kLanes, x0, q0, x, q, first));
+    // A kinematic body takes no correction of its own (its inverse mass is 0): the bodies it
+    // meets take all of each, and the walls and static colliders do not stop it.
+    bool kinematic = bodies[b].kinematic != 0u; // the same for every lane
+    sumLanes(lane, kinematic ? noContacts() : pairShare(b, lane, kLanes, x0, q0, x, q, first));
     GpuBodyStep work;
     if (lead) {
         work = steps[b];
@@ -389,7 +398,9 @@ void sweepContacts(uint b, uint lane, uint sweep) {
     barrier();
     x = sPosition;
     q = sOrientation;
-    sumLanes(lane, wallAndStaticShare(b, unpackReach(sReach), lane, kLanes, x0, q0, x, q, first));
+    sumLanes(lane, kinematic ? noContacts()
+                             : wallAndStaticShare(b, unpackReach(sReach), lane, kLanes, x0, q0, x,
+                                                  q, first));
     if (lead) {
         applySums(first, x, q, work);
         work.poses[gPoseFrom ^ 1u].position = x;

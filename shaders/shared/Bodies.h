@@ -106,7 +106,8 @@ struct GpuBody {
     /* 192 */ float boundRadius;    ///< world radius of a sphere about the centre holding the solid [m]
     /* 196 */ float contactDepth;   ///< deepest penetration of its contacts, last substep [m]
     /* 200 */ uint contacts;        ///< contact points that touched something, last substep
-    /* 204 */ uint pad0;
+    /* 204 */ uint kinematic;       ///< 1 while the game moves it (Simulation::setBodyKinematic):
+                                    ///< its velocities are the game's, invMass and invInertia 0
 };
 
 /// The fluid's force on a collider that is no body, when measured (Simulation::measureForce):
@@ -169,6 +170,7 @@ SLUICE_BODY_AT(sampleOffset, 176);
 SLUICE_BODY_AT(friction, 184);
 SLUICE_BODY_AT(boundRadius, 192);
 SLUICE_BODY_AT(contacts, 200);
+SLUICE_BODY_AT(kinematic, 204);
 static_assert(sizeof(sluice::shared::GpuBody) == 208, "std430 size of GpuBody");
 static_assert(sluice::shared::kBodySumMoment == sluice::shared::kBodySumPush + 12 &&
                   sluice::shared::kBodySumHeldPush == sluice::shared::kBodySumMoment + 12 &&

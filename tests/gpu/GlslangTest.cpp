@@ -116,6 +116,7 @@ std::vector<ProgramCase> solverPrograms() {
         compute("PbfColliderForcesSdfStorage", runtimeSource, "pbf_collider_forces.comp",
                 {kSdfStorage}),
         compute("PbfBoundaryProbeSparse", runtimeSource, "pbf_boundary_probe.comp", {kSparse}),
+        compute("PbfCopyById", runtimeSource, "pbf_copy_by_id.comp"),
         compute("ColliderProbe", runtimeSource, "collider_probe.comp"),
         compute("ColliderProbeSparse", runtimeSource, "collider_probe.comp", {kSparse}),
         compute("ScanBlock", runtimeSource, "scan_block.comp"),

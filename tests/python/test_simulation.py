@@ -238,3 +238,24 @@ def test_a_capsule_shape_and_a_measured_floor_from_python(scene: Path) -> None:
     assert sim.latest_forces() is None
     with pytest.raises(sluice.InvalidArgument, match="collider 2 of 2"):
         sim.measure_force(2)
+
+
+def test_a_body_the_program_holds_stays_where_it_is_put(scene: Path) -> None:
+    room = scene_dict("ball.slc")
+    room["fluid"] = [{"box": {"min": [-0.1, -0.2, -0.1], "max": [0.1, -0.16, 0.1]}}]
+    room["colliders"] = [{"shape": {"box": {"size": [0.06, 0.06, 0.06]}},
+                          "translation": [0.0, 0.2, 0.0], "dynamic": {"density": 500}}]
+    sim = sluice.Simulation(room, base_dir=scene.parent)
+    with pytest.raises(sluice.InvalidArgument, match="setBodyKinematic"):
+        sim.set_collider_pose(0, (0.0, 0.15, 0.0))
+    sim.set_body_kinematic(0)
+    sim.set_collider_pose(0, (0.0, 0.15, 0.0))
+    sim.step(3)
+    held = sim.bodies[0]
+    assert held["kinematic"] and held["centreOfMass"][1] == pytest.approx(0.15, abs=1e-5)
+    sim.set_body_kinematic(0, False)
+    sim.step(3)  # falling from rest: about 1.3 cm in 3 steps
+    free = sim.bodies[0]
+    assert not free["kinematic"] and free["centreOfMass"][1] < 0.15 - 0.01
+    with pytest.raises(sluice.InvalidArgument, match="collider 1 of 1"):
+        sim.set_body_kinematic(1)

@@ -44,6 +44,8 @@ typedef struct SluiceParticleView {
     uint32_t positionStride; /**< [bytes] */
     uint32_t velocityStride; /**< [bytes] */
     uint32_t idStride;       /**< [bytes] */
+    uint32_t drawArgs;       /**< GL buffer: DrawArraysIndirectCommand {live particles, 1, 0, 0}
+                                  for glDrawArraysIndirect (the live particles lead the slots) */
 } SluiceParticleView;
 
 /** What sluice_advance did with one frame's time. */
@@ -98,7 +100,8 @@ SluiceStatus sluice_step(SluiceSimulation* simulation);
  * null). */
 SluiceStatus sluice_advance(SluiceSimulation* simulation, double seconds, uint32_t maxSteps,
                             SluiceFrameAdvance* out);
-/** Places a static or kinematic collider from the next step on, moving there across the step:
+/** Places a static or kinematic collider, or a body the game holds (sluice_set_body_kinematic),
+ * from the next step on, moving there across the step:
  * `translation` x y z [m], `rotation` the quaternion x y z w (asset frame to world). */
 SluiceStatus sluice_set_collider_pose(SluiceSimulation* simulation, uint32_t collider,
                                       const float translation[3], const float rotation[4]);
@@ -108,6 +111,12 @@ SluiceStatus sluice_set_collider_pose(SluiceSimulation* simulation, uint32_t col
 SluiceStatus sluice_teleport_body(SluiceSimulation* simulation, uint32_t collider,
                                   const float translation[3], const float rotation[4],
                                   const float linearVelocity[3], const float angularVelocity[3]);
+/** Hands dynamic body `collider` to the game (`kinematic` non-zero: from the next step it goes
+ * only where sluice_set_collider_pose puts it, the water still feeling it and reporting its
+ * force) or back to the water (0: it keeps its last step's velocity). Taking it waits for the GPU
+ * once. */
+SluiceStatus sluice_set_body_kinematic(SluiceSimulation* simulation, uint32_t collider,
+                                       int kinematic);
 /** Adds `count` particles: `positions` x y z each [m], `velocities` x y z [m/s] or null for at
  * rest. Their ids are *firstId, *firstId + 1, ... (`firstId` may be null). */
 SluiceStatus sluice_add_particles(SluiceSimulation* simulation, const float* positions,
@@ -125,6 +134,12 @@ SluiceStatus sluice_set_drains(SluiceSimulation* simulation, const float* boxes,
 /** The buffers to draw now. A slot whose position has w = 1 holds a removed particle not yet
  * compacted away: skip it. */
 SluiceStatus sluice_particle_view(const SluiceSimulation* simulation, SluiceParticleView* out);
+/** Copies the particles with ids firstId .. firstId + count - 1 into GL buffers the program
+ * owns, in id order, on the GPU without waiting: entry k of `positions` (vec4: xyz [m]) and of
+ * `velocities` (vec4: xyz [m/s]; 0 for none) is id firstId + k with w = 1 where that particle is
+ * live, all zero where it is not. Each buffer needs count * 16 bytes. */
+SluiceStatus sluice_copy_particles_by_id(SluiceSimulation* simulation, uint32_t positions,
+                                         uint32_t velocities, uint32_t firstId, uint32_t count);
 /** Copies up to `capacity` particles to the CPU (positions x y z, ids; either may be null) and
  * sets *count to how many there are. Waits for the GPU: for tools and tests, not every frame. */
 SluiceStatus sluice_read_particles(const SluiceSimulation* simulation, float* positions,

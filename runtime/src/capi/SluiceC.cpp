@@ -217,6 +217,16 @@ SluiceStatus sluice_teleport_body(SluiceSimulation* simulation, uint32_t collide
     });
 }
 
+SluiceStatus sluice_set_body_kinematic(SluiceSimulation* simulation, uint32_t collider,
+                                       int kinematic) {
+    return guarded("sluice_set_body_kinematic", [&] {
+        if (!simulation)
+            return nullArgument("sluice_set_body_kinematic", "simulation");
+        auto done = simulation->simulation.setBodyKinematic(collider, kinematic != 0);
+        return done ? SLUICE_OK : failWith(done.error());
+    });
+}
+
 SluiceStatus sluice_add_particles(SluiceSimulation* simulation, const float* positions,
                                   const float* velocities, uint32_t count, uint32_t* firstId) {
     return guarded("sluice_add_particles", [&] {
@@ -279,9 +289,20 @@ SluiceStatus sluice_particle_view(const SluiceSimulation* simulation, SluicePart
         if (!simulation || !out)
             return nullArgument("sluice_particle_view", !out ? "out" : "simulation");
         const sluice::rt::ParticleView v = simulation->simulation.particleView();
-        *out = SluiceParticleView{v.positions,      v.velocities,     v.ids,     v.count,
-                                  v.positionStride, v.velocityStride, v.idStride};
+        *out = SluiceParticleView{v.positions,      v.velocities,     v.ids,      v.count,
+                                  v.positionStride, v.velocityStride, v.idStride, v.drawArgs};
         return SLUICE_OK;
+    });
+}
+
+SluiceStatus sluice_copy_particles_by_id(SluiceSimulation* simulation, uint32_t positions,
+                                         uint32_t velocities, uint32_t firstId, uint32_t count) {
+    return guarded("sluice_copy_particles_by_id", [&] {
+        if (!simulation)
+            return nullArgument("sluice_copy_particles_by_id", "simulation");
+        auto done = simulation->simulation.copyParticlesById(
+            sluice::rt::ParticleCopyTarget{positions, velocities, firstId, count});
+        return done ? SLUICE_OK : failWith(done.error());
     });
 }
 

@@ -84,6 +84,7 @@ nlohmann::json bodiesJson(const std::vector<BodyState>& bodies) {
             {"torque", vec3Json(b.torque)},
             {"submergedShare", b.submergedShare},
             {"contacts", b.contacts},
+            {"kinematic", b.kinematic},
         });
     return out;
 }

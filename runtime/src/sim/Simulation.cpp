@@ -102,6 +102,7 @@ Result<Simulation> Simulation::create(const format::Scene& given,
         return bodies.error();
     impl->bodySetup = std::move(*bodies);
     impl->bodyCount = std::uint32_t(impl->bodySetup.records.size());
+    impl->kinematic.resize(impl->bodyCount);
     impl->forceMeter.reset(scene.colliders.size(), impl->bodyCount);
 
     if (auto ok = impl->compilePasses(); !ok)
@@ -132,6 +133,7 @@ Result<Simulation> Simulation::create(const format::Scene& given,
 
     if (auto ok = impl->fillBlocks(); !ok)
         return ok.error();
+    impl->updateDrawArgs();
     const std::uint32_t zero = 0;
     glClearNamedBufferData(impl->statsBuf.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     // Empty buckets: from here on, every scan leaves them so.

@@ -24,24 +24,11 @@ Result<void> Simulation::Impl::size(const SimulationOptions& o) {
     return {};
 }
 
-Result<void> Simulation::Impl::allocate() {
-    struct Alloc {
-        gpu::Buffer* buffer;
-        std::uint64_t bytes;
-        const char* label;
-    };
+std::vector<Simulation::Impl::BufferSpec> Simulation::Impl::bufferSpecs(std::uint64_t sdfBytes) {
     const std::uint64_t n = capacity;
     const std::uint64_t v4 = 16, u = 4;
-    GLint64 maxSsbo = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
-    const std::uint64_t sdfBytes = sdfBufferBytes(maxSsbo);
-    if (sdfBytes > 0xffffffffull) // GpuCollider::sdfOffset and PNanoVDB's addresses: 32 bits
-        return fail(ErrorCode::GpuOutOfMemory,
-                    scene.path + ": the colliders' grids take " + std::to_string(sdfBytes) +
-                        " bytes, more than the 4 GiB the solver can address; coarsen them or "
-                        "bake the large ones with `sluice-bake bake --sparse`");
     const bool withBodies = !bodySetup.records.empty(); // the colliders-near mask is theirs
-    const std::vector<Alloc> allocs = {
+    return {
         {&pos[0], n * v4, "pos 0"},
         {&pos[1], n * v4, "pos 1"},
         {&vel[0], n * v4, "vel 0"},
@@ -76,9 +63,24 @@ Result<void> Simulation::Impl::allocate() {
          std::max<std::uint64_t>(1, bodySetup.records.size()) * sizeof(shared::GpuBodyStep),
          "body pass state"},
         {&solveArgs, solveArgsBytes(maxIterations), "solve dispatch args"},
+        {&drawArgs, 4 * u, "draw args"}, // the view's DrawArraysIndirectCommand
     };
+}
+
+Result<void> Simulation::Impl::allocate() {
+    const std::uint64_t n = capacity;
+    const std::uint64_t v4 = 16, u = 4;
+    GLint64 maxSsbo = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxSsbo);
+    const std::uint64_t sdfBytes = sdfBufferBytes(maxSsbo);
+    if (sdfBytes > 0xffffffffull) // GpuCollider::sdfOffset and PNanoVDB's addresses: 32 bits
+        return fail(ErrorCode::GpuOutOfMemory,
+                    scene.path + ": the colliders' grids take " + std::to_string(sdfBytes) +
+                        " bytes, more than the 4 GiB the solver can address; coarsen them or "
+                        "bake the large ones with `sluice-bake bake --sparse`");
+    const std::vector<BufferSpec> allocs = bufferSpecs(sdfBytes);
     std::uint64_t total = 0;
-    for (const Alloc& a : allocs)
+    for (const BufferSpec& a : allocs)
         total += a.bytes;
     gpuBytes = total;
     // Per particle of capacity: the particle arrays (7 vec4, 5 uint; the vorticity omega lives
@@ -87,8 +89,8 @@ Result<void> Simulation::Impl::allocate() {
     // masks of the colliders near each particle (its substep's and its iteration's).
     bytesPerParticle = 7 * v4 + 5 * u + shared::kNeighbourMaskWords * u +
                        (u * (2 * std::uint64_t(tableSize) + 3) + n - 1) / n +
-                       (withBodies ? 4 * u : 0);
-    for (const Alloc& a : allocs) {
+                       (!bodySetup.records.empty() ? 4 * u : 0);
+    for (const BufferSpec& a : allocs) {
         if (maxSsbo > 0 && a.bytes > std::uint64_t(maxSsbo))
             return fail(ErrorCode::GpuOutOfMemory,
                         scene.path + ": the " + a.label + " buffer needs " +
@@ -348,6 +350,19 @@ void Simulation::Impl::append(const std::vector<ParticleState>& particles) {
     vel[cur].upload(v, std::size_t(count) * sizeof(glm::vec4));
     id[cur].upload(ids, std::size_t(count) * sizeof(std::uint32_t));
     count += std::uint32_t(particles.size());
+    if (!sortedWithRemoval)
+        updateDrawArgs();
+}
+
+void Simulation::Impl::updateDrawArgs() {
+    if (sortedWithRemoval && count > 0) {
+        glCopyNamedBufferSubData(cellStart.id(), drawArgs.id(),
+                                 GLintptr(removedBucket) * GLintptr(sizeof(std::uint32_t)), 0,
+                                 sizeof(std::uint32_t));
+        return;
+    }
+    const std::uint32_t command[4] = {count, 1, 0, 0}; // count, instances, first, base instance
+    drawArgs.upload(command);
 }
 
 // Compiles every pass of the step with the defines this simulation needs.

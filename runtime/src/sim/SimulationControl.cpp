@@ -46,11 +46,12 @@ Result<void> Simulation::setColliderPose(std::uint32_t collider, glm::vec3 trans
         return fail(ErrorCode::InvalidArgument, "setColliderPose: " + what + " of " +
                                                     std::to_string(s.scene.colliders.size()) +
                                                     " colliders");
-    if (s.scene.colliders[collider].dynamic)
+    const std::uint32_t body = s.bodySetup.bodyOfCollider[collider];
+    if (body != shared::kNoBody && !s.kinematic[body])
         return fail(ErrorCode::InvalidArgument,
                     "setColliderPose: " + what +
-                        " is a dynamic body, which the fluid moves; only static and kinematic "
-                        "colliders take a pose");
+                        " is a dynamic body, which the fluid moves; hand it to the game with "
+                        "setBodyKinematic first, or move it at once with teleportBody");
     if (!finite(translation) || !std::isfinite(rotation.x) || !std::isfinite(rotation.y) ||
         !std::isfinite(rotation.z) || !std::isfinite(rotation.w))
         return fail(ErrorCode::NonFinite,
@@ -59,16 +60,16 @@ Result<void> Simulation::setColliderPose(std::uint32_t collider, glm::vec3 trans
     if (!(length > 0.0f) || !std::isfinite(length))
         return fail(ErrorCode::InvalidArgument,
                     "setColliderPose: " + what + ": the rotation is a zero quaternion");
-    const float t0 = float(s.time);
-    const float t1 = float(s.time + double(s.k.dt) * std::max(1u, s.scene.simulation.substeps));
-    Impl::DrivenPose driven;
-    driven.from = s.poseOf(collider, t0);
-    driven.t0 = t0;
     // A unit quaternion as a float holds it is kept bit for bit (the same pose as a keyframe's).
     const glm::quat unit = std::abs(length - 1.0f) > 1e-5f ? rotation / length : rotation;
-    driven.to = ColliderPose{translation, unit, s.scene.colliders[collider].scale};
-    driven.t1 = t1;
-    s.driven[collider] = driven;
+    const ColliderPose to{translation, unit, s.scene.colliders[collider].scale};
+    if (body != shared::kNoBody) {
+        s.kinematic[body]->to = to;
+        return {};
+    }
+    const float t0 = float(s.time);
+    const float t1 = float(s.time + double(s.k.dt) * std::max(1u, s.scene.simulation.substeps));
+    s.driven[collider] = Impl::DrivenPose{s.poseOf(collider, t0), t0, to, t1};
     return {};
 }
 
@@ -77,37 +78,118 @@ Result<void> Simulation::teleportBody(std::uint32_t collider, glm::vec3 translat
                                       glm::vec3 angularVelocity) {
     Impl& s = *m_impl;
     const std::string what = "teleportBody: collider " + std::to_string(collider);
-    if (collider >= s.scene.colliders.size())
-        return fail(ErrorCode::InvalidArgument,
-                    what + " of " + std::to_string(s.scene.colliders.size()) + " colliders");
-    const std::uint32_t b = s.bodySetup.bodyOfCollider[collider];
-    if (b == shared::kNoBody)
-        return fail(ErrorCode::InvalidArgument,
-                    what + " is no dynamic body; place it with setColliderPose");
+    auto body = s.bodyOf("teleportBody", collider, "place it with setColliderPose");
+    if (!body)
+        return body.error();
+    const std::uint32_t b = *body;
     if (!finite(translation) || !finite(linearVelocity) || !finite(angularVelocity) ||
         !finite(glm::vec3(rotation.x, rotation.y, rotation.z)) || !std::isfinite(rotation.w))
         return fail(ErrorCode::NonFinite, what + ": a pose or velocity that is not finite");
     const float length = glm::length(rotation);
     if (!(length > 0.0f) || !std::isfinite(length))
         return fail(ErrorCode::InvalidArgument, what + ": the rotation is a zero quaternion");
-    const glm::quat q = rotation / length;
-    // The record's first 64 bytes are the body's state; mass, inverse mass and collider are its
-    // set-up's, which never change.
-    shared::GpuBody record = s.bodySetup.records[b];
-    record.orientation = glm::vec4(q.x, q.y, q.z, q.w);
-    record.position = translation + q * (record.scale * record.centerLocal);
-    record.linearVelocity = linearVelocity;
-    record.angularVelocity = angularVelocity;
+    const ColliderPose pose{translation, rotation / length, s.scene.colliders[collider].scale};
+    shared::GpuBody record = s.placedBody(b, pose);
+    if (std::optional<Impl::KinematicBody>& held = s.kinematic[b])
+        held = Impl::KinematicBody{pose, std::nullopt}; // its poses give its velocity
+    else {
+        record.linearVelocity = linearVelocity;
+        record.angularVelocity = angularVelocity;
+    }
+    // The record's first 64 bytes are the body's state; the rest is its set-up's.
     static_assert(offsetof(shared::GpuBody, invInertia) == 64);
     s.bodyBuf.upload(&record, 64, std::size_t(b) * sizeof(shared::GpuBody));
     // Its collider record as the body pass would write it, without motion: the jump is no
     // velocity the push-out or friction should see.
     shared::GpuCollider& r = s.colliderRecords[collider];
-    r.worldToGrid = glm::inverse(poseMatrix(bodyPose(record)));
+    r.worldToGrid = glm::inverse(poseMatrix(pose));
     r.boundCentre = record.position;
     r.motion = glm::mat4(1.0f);
     s.colliderBuf.upload(std::span(&r, 1), collider * sizeof(shared::GpuCollider));
     return {};
+}
+
+Result<void> Simulation::setBodyKinematic(std::uint32_t collider, bool kinematic) {
+    Impl& s = *m_impl;
+    auto body = s.bodyOf("setBodyKinematic", collider,
+                         "static and kinematic colliders take setColliderPose as they are");
+    if (!body)
+        return body.error();
+    const std::uint32_t b = *body;
+    if (s.kinematic[b].has_value() == kinematic)
+        return {};
+    const std::size_t at = std::size_t(b) * sizeof(shared::GpuBody);
+    if (kinematic) {
+        // Where the body is now: the GPU's record once every queued step is done.
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        shared::GpuBody record = s.bodyBuf.download<shared::GpuBody>(b, 1).at(0);
+        s.kinematic[b] = Impl::KinematicBody{bodyPose(record), std::nullopt};
+        const shared::GpuBody held = s.placedBody(b, s.kinematic[b]->at);
+        record.invMass = held.invMass;
+        record.invInertia = held.invInertia;
+        record.kinematic = held.kinematic;
+        s.bodyBuf.upload(&record, sizeof record, at);
+        return {};
+    }
+    // Back to the water, at the velocity its last step gave it: only the masses and the flag.
+    s.kinematic[b].reset();
+    const shared::GpuBody& setUp = s.bodySetup.records[b];
+    s.bodyBuf.upload(&setUp.invMass, sizeof setUp.invMass, at + offsetof(shared::GpuBody, invMass));
+    s.bodyBuf.upload(&setUp.invInertia, sizeof setUp.invInertia,
+                     at + offsetof(shared::GpuBody, invInertia));
+    s.bodyBuf.upload(&setUp.kinematic, sizeof setUp.kinematic,
+                     at + offsetof(shared::GpuBody, kinematic));
+    return {};
+}
+
+Result<std::uint32_t> Simulation::Impl::bodyOf(const std::string& call, std::uint32_t collider,
+                                               const char* otherwise) const {
+    const std::string what = call + ": collider " + std::to_string(collider);
+    if (collider >= scene.colliders.size())
+        return fail(ErrorCode::InvalidArgument,
+                    what + " of " + std::to_string(scene.colliders.size()) + " colliders");
+    const std::uint32_t b = bodySetup.bodyOfCollider[collider];
+    if (b == shared::kNoBody)
+        return fail(ErrorCode::InvalidArgument, what + " is no dynamic body; " + otherwise);
+    return b;
+}
+
+shared::GpuBody Simulation::Impl::placedBody(std::uint32_t b, const ColliderPose& pose) const {
+    shared::GpuBody record = bodySetup.records[b];
+    record.orientation =
+        glm::vec4(pose.rotation.x, pose.rotation.y, pose.rotation.z, pose.rotation.w);
+    record.position = pose.translation + pose.rotation * (record.scale * record.centerLocal);
+    record.linearVelocity = glm::vec3(0.0f);
+    record.angularVelocity = glm::vec3(0.0f);
+    if (kinematic[b]) {
+        record.invMass = 0.0f;
+        record.invInertia = glm::mat4(0.0f);
+        record.kinematic = 1;
+    }
+    return record;
+}
+
+void Simulation::Impl::moveKinematicBodies() {
+    const float stepTime = k.dt * float(std::max(1u, scene.simulation.substeps));
+    for (std::uint32_t b = 0; b < bodyCount; ++b) {
+        std::optional<KinematicBody>& held = kinematic[b];
+        if (!held)
+            continue;
+        const ColliderPose to = held->to.value_or(held->at);
+        shared::GpuBody record = placedBody(b, held->at);
+        const shared::GpuBody end = placedBody(b, to);
+        record.linearVelocity = (end.position - record.position) / stepTime;
+        // The turn from `at` to `to` the short way round, as a rotation vector over the step.
+        glm::quat turn = to.rotation * glm::conjugate(held->at.rotation);
+        if (turn.w < 0.0f)
+            turn = -turn;
+        const glm::vec3 axis(turn.x, turn.y, turn.z);
+        const float sine = glm::length(axis);
+        if (sine > 0.0f)
+            record.angularVelocity = axis / sine * (2.0f * std::atan2(sine, turn.w) / stepTime);
+        bodyBuf.upload(&record, 64, std::size_t(b) * sizeof(shared::GpuBody));
+        held = KinematicBody{to, std::nullopt};
+    }
 }
 
 Result<std::uint32_t> Simulation::addParticles(const std::vector<glm::vec3>& positions,
@@ -196,7 +278,14 @@ ParticleView Simulation::particleView() const {
     view.velocities = s.vel[s.cur].id();
     view.ids = s.id[s.cur].id();
     view.count = s.count;
+    view.drawArgs = s.drawArgs.id();
     return view;
+}
+
+Result<void> Simulation::copyParticlesById(const ParticleCopyTarget& target) {
+    Impl& s = *m_impl;
+    const ParticleSlots from{&s.pos[s.cur], &s.vel[s.cur], &s.id[s.cur], s.count};
+    return s.idOrderCopy.run(from, target);
 }
 
 Result<void> Simulation::measureForce(std::uint32_t collider, bool on) {

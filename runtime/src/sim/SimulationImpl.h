@@ -24,6 +24,7 @@
 #include "sim/BodySetup.h"
 #include "sim/ColliderBands.h"
 #include "sim/ColliderForces.h"
+#include "sim/ParticleCopy.h"
 #include "sim/PrefixScan.h"
 #include "sim/SparseGrids.h"
 #include "sluice/format/asset/AssetIO.h"
@@ -169,6 +170,13 @@ struct Simulation::Impl {
         float t1 = 0.0f;
     };
     std::vector<std::optional<DrivenPose>> driven; // per scene collider
+    // A dynamic body the game holds (setBodyKinematic): where its asset frame is at the next
+    // step's start, and where setColliderPose asked it to be at that step's end.
+    struct KinematicBody {
+        ColliderPose at;
+        std::optional<ColliderPose> to;
+    };
+    std::vector<std::optional<KinematicBody>> kinematic; // per body
     double carried = 0.0; // the frame time advance() has not stepped yet [s]
     // The bodies' records copied after each step, read back once their fence passes
     // (latestBodies); the oldest is overwritten, never waited for.
@@ -181,6 +189,8 @@ struct Simulation::Impl {
     std::array<BodySnapshot, 3> bodySnapshots;
     std::size_t nextSnapshot = 0;
     ColliderForceMeter forceMeter; // forces on static and kinematic colliders (measureForce)
+    IdOrderCopy idOrderCopy;       // copyParticlesById
+    gpu::Buffer drawArgs;          // the view's DrawArraysIndirectCommand (updateDrawArgs)
     // Removal (docs/embedding.md, "Removing particles"). The predict pass sends the removed
     // particles to the bucket after the last, the sort puts them after the live ones, and the
     // CPU's count drops them once a fenced copy of the live count says how many there are.
@@ -215,6 +225,14 @@ struct Simulation::Impl {
     /// Sizes that follow from the scene and the options: capacity, iteration cap, hash table,
     /// neighbour lanes, solve chunks. InvalidArgument when the passes would be too large.
     Result<void> size(const SimulationOptions& options);
+    /// A GPU buffer of the solver and its size [bytes].
+    struct BufferSpec {
+        gpu::Buffer* buffer;
+        std::uint64_t bytes;
+        const char* label;
+    };
+    /// Every buffer allocate() creates, with the SDF buffer's size `sdfBytes`.
+    std::vector<BufferSpec> bufferSpecs(std::uint64_t sdfBytes);
     Result<void> allocate();
     /// The SDF buffer's texel view, where sdfAsTexels (allocate ends with it).
     Result<void> viewSdfAsTexels();
@@ -257,7 +275,20 @@ struct Simulation::Impl {
     /// buffer and its texel view.
     void bindColliders() const;
     void uploadColliders(double t0, double t1);
+    /// The body of dynamic collider `collider`, for `call`'s messages; else InvalidArgument
+    /// ending with `otherwise`, what to do instead.
+    Result<std::uint32_t> bodyOf(const std::string& call, std::uint32_t collider,
+                                 const char* otherwise) const;
+    /// Body b's record from its set-up, its asset frame at `pose`, at rest; with the game's
+    /// zero inverse mass and inertia while it holds the body.
+    shared::GpuBody placedBody(std::uint32_t b, const ColliderPose& pose) const;
+    /// At a step's start: each body the game holds, at its pose, moving at the velocities that
+    /// take it to the pose setColliderPose set by the step's end (at rest without one).
+    void moveKinematicBodies();
     void append(const std::vector<ParticleState>& particles);
+    /// The view's draw command: the live particles, which lead the slots. After a sort that had
+    /// removed particles, their count as the sort left it (a GPU copy); else `count`.
+    void updateDrawArgs();
     /// The snapshot buffers of latestBodies (when there are bodies).
     Result<void> allocateBodySnapshots();
     /// Queues the copy of the bodies' records after a step, and its fence.

@@ -68,6 +68,8 @@ void Simulation::Impl::emit(double t0, double t1) {
     append(staging);
     uploadParams();
     uploadColliders(t0, t1);
+    if (substepInStep == 0)
+        moveKinematicBodies();
     end(Pass::Emit);
 }
 
@@ -285,6 +287,7 @@ void Simulation::step() {
         s.forceMeter.snapshot(s.steps, s.time);
     if (s.removal)
         s.trimRemoved();
+    s.updateDrawArgs();
 }
 
 } // namespace sluice::rt

@@ -199,6 +199,7 @@ Simulation::Impl::bodyStates(const std::vector<shared::GpuBody>& records) const 
         state.torque = r.torque;
         state.contacts = r.contacts;
         state.contactDepth = r.contactDepth;
+        state.kinematic = r.kinematic != 0;
         // The upward force over the weight of the water the whole body would displace.
         const glm::vec3 g = scene.simulation.gravity;
         const double weight = double(glm::dot(g, g)) * scene.simulation.restDensity * state.volume;

@@ -172,6 +172,21 @@ static void readsBodiesWithoutWaiting(const char* sceneFile) {
         CHECK(sluice_teleport_body(sim, 0, NULL, turn, NULL, NULL) ==
               SLUICE_ERROR_INVALID_ARGUMENT);
         CHECK(sluice_step(sim) == SLUICE_OK);
+        /* Held by the game, the body goes where it is put and stays there. */
+        const float held[3] = {0.1f, 0.2f, 0.1f};
+        CHECK(sluice_set_body_kinematic(sim, 3, 1) == SLUICE_ERROR_INVALID_ARGUMENT);
+        CHECK(sluice_set_collider_pose(sim, 0, held, turn) == SLUICE_ERROR_INVALID_ARGUMENT);
+        CHECK(sluice_set_body_kinematic(sim, 0, 1) == SLUICE_OK);
+        CHECK(sluice_set_collider_pose(sim, 0, held, turn) == SLUICE_OK);
+        CHECK(sluice_step(sim) == SLUICE_OK);
+        CHECK(sluice_step(sim) == SLUICE_OK);
+        CHECK(sluice_step(sim) == SLUICE_OK);
+        count = 0;
+        CHECK(sluice_latest_bodies(sim, bodies, 2, &count, &step) == SLUICE_OK);
+        CHECK(count == 1 && step >= 2); /* a step after the one that moved it */
+        CHECK(fabsf(bodies[0].centreOfMass[1] - held[1]) < 1e-3f); /* falling, 12 mm */
+        CHECK(sluice_set_body_kinematic(sim, 0, 0) == SLUICE_OK);
+        CHECK(sluice_step(sim) == SLUICE_OK);
     }
     sluice_simulation_destroy(sim);
 }

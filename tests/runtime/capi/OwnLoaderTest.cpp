@@ -73,6 +73,26 @@ int main() {
         for (int a = 0; a < 3; ++a)
             same = same && mine[4 * i + a] == positions[3 * i + a];
     check(same, "the game's copy equals Sluice's particles");
+
+    // Sluice's copy in id order into the game's buffer, and its draw command.
+    std::vector<std::uint32_t> ids(view.count);
+    check(sluice_read_particles(sim, positions.data(), ids.data(), view.count, &count) == SLUICE_OK,
+          "read particles and ids");
+    check(sluice_copy_particles_by_id(sim, copy, 0, 0, view.count) == SLUICE_OK, "copy by id");
+    glGetNamedBufferSubData(copy, 0, bytes, mine.data());
+    bool inIdOrder = true;
+    for (std::uint32_t i = 0; i < count; ++i)
+        for (int a = 0; a < 3; ++a)
+            inIdOrder = inIdOrder && ids[i] < count &&
+                        mine[4 * ids[i] + a] == positions[3 * i + a] &&
+                        mine[4 * ids[i] + 3] == 1.0f;
+    check(inIdOrder, "the copy by id puts each particle at its id");
+    check(sluice_copy_particles_by_id(sim, copy, 0, 0, view.count + 1) ==
+              SLUICE_ERROR_INVALID_ARGUMENT,
+          "a copy larger than the game's buffer is refused");
+    GLuint command[4] = {0, 0, 0, 0};
+    glGetNamedBufferSubData(view.drawArgs, 0, sizeof command, command);
+    check(command[0] == view.count && command[1] == 1, "the draw command counts the particles");
     glDeleteBuffers(1, &copy);
 
     sluice_simulation_destroy(sim);

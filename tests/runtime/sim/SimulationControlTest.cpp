@@ -342,49 +342,5 @@ TEST_F(SimulationControl, ParticleViewNamesTheBuffersAndTheIdsOfTheSlots) {
     }
 }
 
-// ---------------------------------------------------------------------------------------------
-// Dynamic bodies the game moves
-
-TEST_F(SimulationControl, ATeleportedBodyContinuesFromItsNewPoseAndVelocity) {
-    // A box shape as a dynamic body, high above a small pool: teleported to the other side of
-    // the tank, moving sideways, it falls from there under gravity alone for one step.
-    format::Scene scene = testscene::smallScene({4, 3, 4}, 0.02f, 2);
-    scene.domainMax = glm::vec3(0.6f, 0.6f, 0.6f);
-    format::SceneCollider crate;
-    format::ColliderShape shape;
-    shape.kind = format::ColliderShape::Kind::Box;
-    shape.size = glm::vec3(0.06f);
-    crate.shape = shape;
-    crate.translation = glm::vec3(0.1f, 0.4f, 0.1f);
-    crate.dynamic = format::DynamicBody{};
-    crate.dynamic->density = 500.0f;
-    scene.colliders.push_back(crate);
-    auto assets = loadSceneColliders(scene);
-    ASSERT_TRUE(assets) << assets.error().message();
-    auto sim = Simulation::create(scene, std::move(*assets));
-    ASSERT_TRUE(sim) << sim.error().message();
-    sim->step();
-    const glm::quat turned = glm::angleAxis(0.5f, glm::vec3(0.0f, 1.0f, 0.0f));
-    ASSERT_TRUE(sim->teleportBody(0, {0.45f, 0.45f, 0.4f}, turned, {0.3f, 0.0f, 0.0f}));
-    sim->step();
-    const BodyState body = sim->bodies().at(0);
-    const float dt = scene.simulation.timeStep;
-    // x moves at 0.3 m/s; y falls from rest by about g dt^2 (symplectic Euler over the
-    // substeps: between g dt^2 / 2 and g dt^2); the rotation is kept.
-    EXPECT_NEAR(body.position.x, 0.45f + 0.3f * dt, 1e-4f);
-    EXPECT_NEAR(body.position.z, 0.4f, 1e-4f);
-    EXPECT_LT(body.position.y, 0.45f - 0.5f * 9.81f * dt * dt * 0.9f);
-    EXPECT_GT(body.position.y, 0.45f - 9.81f * dt * dt * 1.1f);
-    EXPECT_NEAR(std::abs(glm::dot(body.orientation, turned)), 1.0f, 1e-5f);
-    EXPECT_NEAR(body.linearVelocity.x, 0.3f, 1e-4f);
-
-    // Bad input changes nothing.
-    EXPECT_EQ(sim->teleportBody(1, {}, turned).error().code, ErrorCode::InvalidArgument);
-    EXPECT_EQ(sim->teleportBody(0, {NAN, 0.0f, 0.0f}, turned).error().code, ErrorCode::NonFinite);
-    EXPECT_EQ(sim->teleportBody(0, {}, glm::quat(0.0f, 0.0f, 0.0f, 0.0f)).error().code,
-              ErrorCode::InvalidArgument);
-    EXPECT_EQ(sim->bodies().at(0).position, body.position);
-}
-
 } // namespace
 } // namespace sluice::rt

@@ -118,6 +118,7 @@ struct BodyState {
     /// Archimedes' submerged share (mean over the last step; 0 out of the water).
     double submergedShare = 0.0;
     std::uint32_t contacts = 0; ///< contact points touching a wall, collider or body
+    bool kinematic = false;     ///< the game moves it (Simulation::setBodyKinematic)
     float contactDepth = 0.0f;  ///< deepest of them before correction [m]
     ColliderPose pose;          ///< where the asset frame is: world = pose.toWorld(local)
 };
@@ -152,6 +153,21 @@ struct ParticleView {
     std::uint32_t positionStride = 16; ///< [bytes]
     std::uint32_t velocityStride = 16; ///< [bytes]
     std::uint32_t idStride = 4;        ///< [bytes]
+    /// GL buffer holding a DrawArraysIndirectCommand {live particles, 1, 0, 0} for
+    /// glDrawArraysIndirect: the live particles lead the slots, so it draws them and no removed
+    /// one, its count written on the GPU after each step (particles added since draw from the
+    /// next step once any was removed).
+    std::uint32_t drawArgs = 0;
+};
+
+/// Buffers the game owns that Simulation::copyParticlesById fills: entry k is the particle with
+/// id firstId + k.
+struct ParticleCopyTarget {
+    std::uint32_t positions = 0;  ///< GL buffer of at least 16 count bytes: vec4 per entry, xyz
+                                  ///< [m], w 1 where that particle is live, else all 0
+    std::uint32_t velocities = 0; ///< GL buffer as `positions` (xyz [m/s]), or 0 for none
+    std::uint32_t firstId = 0;    ///< the id of entry 0
+    std::uint32_t count = 0;      ///< entries
 };
 
 /// The dynamic bodies as a completed step left them (Simulation::latestBodies).
@@ -224,23 +240,45 @@ public:
     /// maxSteps 0.
     Result<FrameAdvance> advance(double frameSeconds, std::uint32_t maxSteps = 4);
 
-    /// Places a static or kinematic collider from the next step on: over that step it moves from
-    /// where it is now to `translation` [m] and `rotation` (asset frame -> world; normalised
-    /// here), linear in translation and slerped in rotation across the substeps, so friction and
-    /// the push-out see its velocity; then it stays there until the next call. Its scene motion
-    /// (velocities, keyframes) no longer applies. InvalidArgument for an index out of range, a
-    /// dynamic body or a zero quaternion; NonFinite for a non-finite number.
+    /// Places a static or kinematic collider, or a dynamic body the game holds
+    /// (setBodyKinematic), from the next step on: over that step it moves from where it is now
+    /// to `translation` [m] and `rotation` (asset frame -> world; normalised here), linear in
+    /// translation and slerped in rotation across the substeps, so friction and the push-out see
+    /// its velocity; then it stays there until the next call. Its scene motion (velocities,
+    /// keyframes) no longer applies. InvalidArgument for an index out of range, a dynamic body
+    /// the game does not hold or a zero quaternion; NonFinite for a non-finite number.
     Result<void> setColliderPose(std::uint32_t collider, glm::vec3 translation, glm::quat rotation);
 
     /// Moves dynamic body `collider` at once, without sweeping through what lies between (a
     /// respawn, a checkpoint): from the next step its asset frame is at `translation` [m] and
     /// `rotation` (normalised here), moving at `linearVelocity` [m/s] (of its centre of mass) and
-    /// `angularVelocity` [rad/s, world]; the water and contacts take it from there.
-    /// InvalidArgument for an index out of range, a collider that is no dynamic body or a zero
-    /// quaternion; NonFinite for a non-finite number.
+    /// `angularVelocity` [rad/s, world]; the water and contacts take it from there. A body the
+    /// game holds (setBodyKinematic) is placed there without motion and stays; the velocities
+    /// are then unused (its poses give it its velocity). InvalidArgument for an index out of range,
+    /// a collider that is no dynamic body or a zero quaternion; NonFinite for a non-finite number.
     Result<void> teleportBody(std::uint32_t collider, glm::vec3 translation, glm::quat rotation,
                               glm::vec3 linearVelocity = glm::vec3(0.0f),
                               glm::vec3 angularVelocity = glm::vec3(0.0f));
+
+    /// Copies the particles with ids firstId .. firstId + count - 1 into the game's buffers, in
+    /// id order (ParticleCopyTarget), on the GPU and without waiting: a draw, copy or compute
+    /// pass the game issues after it in this context reads the result. It changes the GL state
+    /// a step changes (docs/embedding.md). InvalidArgument, with nothing written, for a name
+    /// that is no buffer or a buffer smaller than count * 16 bytes; a GL error if its pass
+    /// cannot be built (on first use).
+    Result<void> copyParticlesById(const ParticleCopyTarget& target);
+
+    /// Hands dynamic body `collider` to the game (`kinematic` true) or back to the water
+    /// (false), from the next step. While kinematic it goes only where setColliderPose puts it
+    /// (reaching each pose at the end of the next step, across its substeps, as a kinematic
+    /// collider does) and otherwise stays still: gravity, the water and the contacts do not move
+    /// it, the water still feels it and its force and torque are still reported (bodies,
+    /// latestBodies), and a body it meets takes the whole correction. Handed back, it keeps the
+    /// velocity its last step's motion gave it (teleportBody gives it another). Taking a body
+    /// waits for the GPU once, to read where it is; giving it back does not wait. Either is a
+    /// no-op when the body already is so. InvalidArgument for an index out of range or a
+    /// collider that is no dynamic body.
+    Result<void> setBodyKinematic(std::uint32_t collider, bool kinematic);
 
     /// Adds particles at `positions` [m] with `velocities` [m/s] (empty: at rest; else one per
     /// position), uploading only them, and returns the first new id: they get first, first + 1,
