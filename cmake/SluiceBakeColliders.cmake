@@ -5,6 +5,7 @@
 #                         [VOXEL_SIZE <world units> | RESOLUTION <voxels>]
 #                         [BACKEND auto|gpu|cgal] [PADDING <voxels>] [SIGN auto|parity|winding]
 #                         [STORAGE f32|f16] [SCALE <factor>] [SPARSE [BAND <voxels>]]
+#                         [VOLUME_MAPS <support>...]
 #                         MESHES <mesh>...)
 #
 # Every mesh becomes its own custom command, so Ninja or Make schedules the bakes side by side:
@@ -12,7 +13,9 @@
 # folder; OUTPUT_DIR defaults to the current binary folder, relative ones are taken from it).
 # The options are those of `sluice-bake bake` (unset ones keep its defaults: RESOLUTION 64,
 # BACKEND auto, PADDING 3, SIGN auto, STORAGE f32, SCALE 1; SPARSE bakes narrow-band NanoVDB
-# assets, `bake --sparse`, with BAND 3). A custom target <name> depends on
+# assets, `bake --sparse`, with BAND 3). VOLUME_MAPS bakes the boundary model's volume map for
+# each support (a scene's kernel radius over the collider's placement scale, `bake
+# --volume-map`), so scenes of those radii load without building them. A custom target <name> depends on
 # every output (ALL adds it to the default build), and its SLUICE_COLLIDERS property lists them.
 #
 # Each step runs `sluice-bake batch` on a one-entry manifest written at configure time (only
@@ -53,7 +56,7 @@ endfunction()
 function(sluice_bake_colliders)
     cmake_parse_arguments(PARSE_ARGV 0 ARG "ALL;SPARSE"
                           "TARGET;OUTPUT_DIR;VOXEL_SIZE;RESOLUTION;BACKEND;PADDING;SIGN;STORAGE;SCALE;BAND"
-                          "MESHES")
+                          "MESHES;VOLUME_MAPS")
     set(fn sluice_bake_colliders)
     if(ARG_UNPARSED_ARGUMENTS)
         message(FATAL_ERROR "${fn}: unknown arguments: ${ARG_UNPARSED_ARGUMENTS}")
@@ -93,6 +96,13 @@ function(sluice_bake_colliders)
             string(APPEND settings ", \"${key}\": ${ARG_${option}}")
         endif()
     endforeach()
+    if(ARG_VOLUME_MAPS)
+        foreach(support IN LISTS ARG_VOLUME_MAPS)
+            _sluice_check_number(VOLUME_MAPS "${support}")
+        endforeach()
+        list(JOIN ARG_VOLUME_MAPS ", " supports)
+        string(APPEND settings ", \"volumeMaps\": [${supports}]")
+    endif()
     # The choices of each named option (kept here: a function sees its caller's variables, and
     # find_package(Sluice) may have run in another folder).
     set(BACKEND_choices auto gpu cgal)

@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "shared/Pbf.h"
 #include "BenchFigures.h"
+#include "shared/Pbf.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/gpu/Buffer.h"
@@ -35,8 +35,8 @@
 #include "sluice/gpu/Context.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
+#include "sluice/gpu/colliders/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/sim/ColliderRecord.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace {
@@ -90,8 +90,8 @@ struct ColliderGpu {
 int uploadColliders(const format::ColliderAsset (&assets)[2], ColliderGpu& g) {
     for (int k = 0; k < 2; ++k) {
         auto bytes = gpu::Buffer::createFrom(sdfBytes(assets[k]), "sdf");
-        const shared::GpuCollider one = rt::colliderRecord(assets[k], 0);
-        auto record = rt::colliderRecordBuffer(std::span(&one, 1));
+        const shared::GpuCollider one = gpu::colliderRecord(assets[k], 0);
+        auto record = gpu::colliderRecordBuffer(std::span(&one, 1));
         if (!bytes || !record)
             return usage("cannot allocate the collider buffers");
         auto view = gpu::BufferTexture::createR32F(*bytes, "sdf texels");
@@ -109,7 +109,7 @@ double timeLookups(const gpu::Program& probe, const ColliderGpu& g, int k,
                    const gpu::Buffer& pointBuf, const gpu::Buffer& out, std::size_t count) {
     const auto groups = std::uint32_t((count + shared::kPbfLocalSize - 1) / shared::kPbfLocalSize);
     gpu::GpuTimer timer;
-    rt::bindColliderRecords(g.records[k]);
+    gpu::bindColliderRecords(g.records[k]);
     g.sdf[k].bindStorage(shared::kBindSdf);
     g.texels[k].bindTexture(shared::kUnitSdfTexels);
     pointBuf.bindStorage(shared::kBindPosIn);

@@ -90,6 +90,9 @@ int checkArguments(const BakeArgs& args, BakeJob& job) {
     request.band = args.band;
     request.forSpacing = args.forSpacing;
     request.forKernelRadius = args.forKernelRadius;
+    request.volumeMaps = args.volumeMaps;
+    if (Result<void> maps = checkVolumeMapSupports(args.volumeMaps); !maps)
+        return reportBadInput(kCmd, "--volume-map: " + maps.error().detail);
     // bakeSettingsFor checks the backend first: an unknown one is refused here.
     Result<BakeSettings> settings = bakeSettingsFor(request);
     if (!settings)
@@ -272,6 +275,13 @@ int bakeField(const BakeArgs& args, BakeJob& job) {
     job.asset.emplace(std::move(asset->value()));
     if (job.backend != Backend::Gpu)
         job.phases.lap(args.sparse ? "sparse bake (cgal)" : "cgal bake");
+    if (!args.volumeMaps.empty()) {
+        if (Result<void> maps =
+                bakeVolumeMaps(*job.asset, args.volumeMaps, job.context.has_value());
+            !maps)
+            return reportFileError(kCmd, "cannot bake the volume maps of", args.mesh, maps.error());
+        job.phases.lap("volume maps");
+    }
     if (job.context) {
         // Now rather than at exit, so the profile sees it (eglTerminate joins llvmpipe's threads).
         job.context.reset();

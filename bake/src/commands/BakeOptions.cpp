@@ -61,6 +61,14 @@ void addBakeOptions(CLI::App& app, BakeArgs& args) {
                    "(default 2 x spacing)")
         ->needs(forSpacing)
         ->check(finiteNumber(false));
+    app.add_option("--volume-map", args.volumeMaps,
+                   "[world units] bake the boundary model's volume map for this kernel radius "
+                   "over the collider's placement scale (a scene of h = 0.04 placing it at "
+                   "scale 2: 0.02), so the scene loads without building it; repeat or list "
+                   "with commas, at most 8 (computed on the GPU: needs OpenGL 4.5)")
+        ->delimiter(',')
+        ->allow_extra_args(false)
+        ->check(finiteNumber(false));
     app.add_flag("-q,--quiet", args.quiet, "no progress bar and no summary");
     app.add_flag("--json", args.json, "print the summary as JSON");
     app.add_flag("--profile", args.profile,

@@ -92,6 +92,7 @@ Entry entryFor(const format::BatchEntry& manifestEntry) {
     args.band = request.band;
     args.forSpacing = request.forSpacing;
     args.forKernelRadius = request.forKernelRadius;
+    args.volumeMaps = request.volumeMaps;
     args.quiet = true;
     return entry;
 }
@@ -151,6 +152,8 @@ int bakeInChild(const BakeArgs& args) {
         words.insert(words.end(), {"--sparse", "--band", exactNumber(args.band)});
     if (args.forKernelRadius > 0.0)
         words.insert(words.end(), {"--for-kernel-radius", exactNumber(args.forKernelRadius)});
+    for (double support : args.volumeMaps)
+        words.insert(words.end(), {"--volume-map", exactNumber(support)});
     if (args.voxelSize > 0.0)
         words.insert(words.end(), {"--voxel-size", exactNumber(args.voxelSize)});
     else

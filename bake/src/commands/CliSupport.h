@@ -48,6 +48,7 @@ struct BakeArgs {
     double band = 3.0;   ///< [voxels] sparse: half-width of the band of exact values
     double forSpacing = 0.0;      ///< [world units] sparse: pick the band for this spacing (0: no)
     double forKernelRadius = 0.0; ///< [world units] with forSpacing: the kernel (0: default)
+    std::vector<double> volumeMaps; ///< [asset units] supports of the volume maps to bake
 };
 
 /// Binds the options of `bake` to `args` (BakeOptions.cpp).

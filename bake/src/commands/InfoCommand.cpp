@@ -85,6 +85,54 @@ nlohmann::ordered_json treeJson(const format::NanoVdbTreeStats& t) {
             {"background", t.background},   {"bytes", t.bytes}};
 }
 
+// What a volume map holds: its support, points, the share of them not 0, and its range.
+struct VolumeMapSummary {
+    double support = 0.0;
+    std::uint64_t points = 0;
+    std::uint64_t nonZero = 0;
+    float lo = 0.0f, hi = 0.0f;
+};
+
+std::vector<VolumeMapSummary> summarizeVolumeMaps(const format::ColliderAsset& asset) {
+    std::vector<VolumeMapSummary> out;
+    for (const format::VolumeMap& map : asset.volumeMaps) {
+        VolumeMapSummary s;
+        s.support = map.support;
+        s.points = map.values.size();
+        if (!map.values.empty())
+            s.lo = s.hi = map.values[0];
+        for (float v : map.values) {
+            s.nonZero += v != 0.0f;
+            s.lo = std::min(s.lo, v);
+            s.hi = std::max(s.hi, v);
+        }
+        out.push_back(s);
+    }
+    return out;
+}
+
+void printVolumeMaps(const format::ColliderAsset& asset) {
+    const std::vector<VolumeMapSummary> maps = summarizeVolumeMaps(asset);
+    if (maps.empty()) {
+        std::cout << "  volume maps   none (sluice-bake bake --volume-map H bakes one)\n";
+        return;
+    }
+    for (const VolumeMapSummary& s : maps)
+        std::cout << "  volume map    support " << num(s.support) << " asset units: " << s.points
+                  << " points, " << s.nonZero << " not 0, " << num(s.lo, 4) << " .. "
+                  << num(s.hi, 4) << '\n';
+}
+
+nlohmann::ordered_json volumeMapsJson(const format::ColliderAsset& asset) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const VolumeMapSummary& s : summarizeVolumeMaps(asset))
+        out.push_back({{"support", s.support},
+                       {"points", s.points},
+                       {"nonZero", s.nonZero},
+                       {"range", {s.lo, s.hi}}});
+    return out;
+}
+
 void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vdb,
                const format::AssetHeader& header, float lo, float hi) {
     const format::ColliderMeta& m = asset.meta;
@@ -127,6 +175,7 @@ void printText(const InfoArgs& args, const format::ColliderAsset& asset, bool vd
               << signMethodName(b.signUsed) << ", scale " << num(b.scale) << '\n'
               << "  mesh          " << describeMesh(m.mesh) << '\n';
     printMass(m.meshMass, header);
+    printVolumeMaps(asset);
     const format::ValidationFigures& v = m.validation;
     if (!v.known) {
         std::cout << "  validation    not recorded (sluice-bake validate --write)\n";
@@ -241,6 +290,7 @@ int runInfo(const InfoArgs& args) {
         out["tree"] = tree ? treeJson(*tree) : nlohmann::ordered_json(nullptr);
         out["bandServes"] = tree ? bandServesJson(asset->meta.bandWidth, asset->meta.voxelSize)
                                  : nlohmann::ordered_json(nullptr);
+        out["volumeMaps"] = volumeMapsJson(*asset);
         if (slice)
             out["slicePng"] = args.png;
         std::cout << out.dump(2) << '\n';

@@ -20,6 +20,7 @@ struct ValidateArgs {
     double maxError = kDefaultMaxErrorVoxels;
     bool maxErrorGiven = false;
     double maxSignErrors = kDefaultMaxSignErrorsPercent;
+    double maxMapError = kDefaultMaxMapError;
     std::string sign; ///< empty: the method the asset records
     std::uint64_t samples = ValidateOptions{}.samplePoints;
     std::uint64_t seed = ValidateOptions{}.seed;
@@ -36,6 +37,7 @@ ValidateRequest requestFor(const ValidateArgs& args) {
     if (args.maxErrorGiven)
         request.maxError = args.maxError;
     request.maxSignErrorsPercent = args.maxSignErrors;
+    request.maxMapError = args.maxMapError;
     // A .vdb grid records no bake, so its sign method is unknown: auto.
     request.levelSetSource = hasExtension(args.asset, ".vdb");
     return request;
@@ -67,6 +69,14 @@ void printReport(const ValidateArgs& args, const format::ColliderAsset& asset,
               << "  eikonal    |grad phi| median " << num(f.eikonalMedian, 4) << "  p99 "
               << num(f.eikonalP99, 4) << "  outside [0.5, 1.5] "
               << num(100.0 * f.eikonalOutsideShare, 3) << " %\n";
+    for (const VolumeMapCheck& c : outcome.volumeMaps)
+        std::cout << "  volume map support " << num(c.support) << ": " << c.pointsChecked
+                  << " points against brute force (" << kVolumeMapCheckSteps
+                  << " cells per support), max " << num(c.maxError, 3) << "  mean "
+                  << num(c.meanError, 3) << "   limit " << num(args.maxMapError, 3) << "  "
+                  << verdict(c.maxError <= args.maxMapError) << "; " << c.nonZeroBeyondReach
+                  << " of the " << c.zeroPoints << " points beyond its reach not 0  "
+                  << verdict(c.nonZeroBeyondReach == 0) << '\n';
     if (!asset.meta.sourceHash.empty() && asset.meta.sourceHash != mesh.sourceHash)
         std::cout << "  note       the mesh file's hash differs from the asset's source ("
                   << asset.meta.sourceFile << ")\n";
@@ -127,6 +137,11 @@ void addValidateOptions(CLI::App& app, ValidateArgs& args) {
            "[voxels] largest allowed |phi - phi_ref|; default 1e-3, plus the recorded "
            "quantization error for f16 assets")
         ->check(finiteNumber(true));
+    app.add_option("--max-map-error", args.maxMapError,
+                   "largest allowed |baked - brute force| of a volume map baked into the asset "
+                   "[share of the kernel's weight]")
+        ->check(finiteNumber(true))
+        ->capture_default_str();
     app.add_option("--max-sign-errors", args.maxSignErrors,
                    "[%] largest allowed share of sign mismatches (points within 1e-4 voxel of "
                    "the surface are not counted)")

@@ -14,6 +14,7 @@
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/support/Hash.h"
 #include "sluice/gpu/Context.h"
+#include "sluice/gpu/colliders/VolumeMap.h"
 
 namespace sluice::bake {
 namespace {
@@ -164,6 +165,8 @@ Result<BakeOutcome> bakeMesh(const ImportedMesh& mesh, const BakeRequest& reques
     if (!*asset)
         return asset->error();
     outcome.asset = std::move(asset->value());
+    if (auto maps = bakeVolumeMaps(outcome.asset, request.volumeMaps, gpu); !maps)
+        return maps.error();
     return outcome;
 }
 
@@ -173,6 +176,49 @@ Result<std::vector<std::byte>> encodeBaked(format::ColliderAsset& asset) {
         return encoded.error();
     asset.meta.quantizationError = encoded->quantizationError;
     return std::move(encoded->bytes);
+}
+
+Result<void> checkVolumeMapSupports(const std::vector<double>& supports) {
+    if (supports.size() > format::kMaxVolumeMaps)
+        return fail(ErrorCode::InvalidArgument, std::to_string(supports.size()) +
+                                                    " volume maps asked for; at most " +
+                                                    std::to_string(format::kMaxVolumeMaps));
+    for (std::size_t m = 0; m < supports.size(); ++m) {
+        if (!std::isfinite(supports[m]) || !(supports[m] > 0.0))
+            return fail(ErrorCode::InvalidArgument, "volume map support " +
+                                                        std::to_string(supports[m]) +
+                                                        " is not a number > 0");
+        for (std::size_t o = 0; o < m; ++o)
+            if (std::abs(supports[o] - supports[m]) <=
+                format::kVolumeMapSupportTolerance * supports[m])
+                return fail(ErrorCode::InvalidArgument, "volume map support " +
+                                                            std::to_string(supports[m]) +
+                                                            " is given twice");
+    }
+    return {};
+}
+
+Result<void> bakeVolumeMaps(format::ColliderAsset& asset, const std::vector<double>& supports,
+                            bool contextCurrent) {
+    if (supports.empty())
+        return {};
+    if (auto ok = checkVolumeMapSupports(supports); !ok)
+        return ok;
+    std::optional<Result<gpu::Context>> own;
+    if (!contextCurrent) {
+        own.emplace(gpu::Context::createHeadless());
+        if (!*own)
+            return fail(own->error().code,
+                        "volume maps are computed with OpenGL 4.5 compute shaders: " +
+                            own->error().detail);
+    }
+    for (double support : supports) {
+        auto values = gpu::computeVolumeMap(asset, support);
+        if (!values)
+            return values.error();
+        asset.volumeMaps.push_back({support, std::move(*values)});
+    }
+    return {};
 }
 
 std::string colliderMetaJson(const format::ColliderMeta& meta) {

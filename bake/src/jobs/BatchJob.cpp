@@ -1,6 +1,7 @@
 // One batch-manifest entry as a library call: the manifest's entries, freshness, and the bake.
 #include "sluice/bake/jobs/BatchJob.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "commands/CliSupport.h"
@@ -22,6 +23,14 @@ Error named(const std::string& what, const std::string& path, const Error& error
     return Error{error.code, (shown ? what : what + " '" + path + "'") + ": " + error.detail};
 }
 
+// Whether `asset` holds exactly the volume maps `supports` asks for.
+bool sameVolumeMaps(const format::ColliderAsset& asset, const std::vector<double>& supports) {
+    if (asset.volumeMaps.size() != supports.size())
+        return false;
+    return std::all_of(supports.begin(), supports.end(),
+                       [&](double s) { return asset.volumeMapFor(s) != nullptr; });
+}
+
 } // namespace
 
 BatchEntry batchEntryFor(const format::BatchEntry& collider) {
@@ -41,6 +50,7 @@ BatchEntry batchEntryFor(const format::BatchEntry& collider) {
     r.band = collider.band;
     r.forSpacing = collider.forSpacing;
     r.forKernelRadius = collider.forKernelRadius;
+    r.volumeMaps = collider.volumeMaps;
     return entry;
 }
 
@@ -84,7 +94,7 @@ std::optional<format::ColliderAsset> freshBatchOutput(const BatchEntry& entry) {
         (!byVoxelSize || meta.voxelSize == r.voxelSize) && meta.bake.padding == padding &&
         meta.bake.signMode == r.sign && meta.bake.scale == r.scale &&
         format::storageName(meta.storage) == r.storage && asset->sparse() == r.sparse &&
-        (!r.sparse || meta.bandWidth == *band);
+        (!r.sparse || meta.bandWidth == *band) && sameVolumeMaps(*asset, r.volumeMaps);
     if (!same)
         return std::nullopt;
     return std::move(*asset);

@@ -61,10 +61,31 @@ Result<ValidateOutcome> validateAsset(const format::ColliderAsset& asset, const 
     ValidateOutcome outcome;
     outcome.report = std::move(*report);
     outcome.maxError = request.maxError ? *request.maxError : defaultMaxError(asset);
-    outcome.withinLimits = outcome.report.figures.maxError <= outcome.maxError &&
-                           outcome.report.signMismatchPercent <= request.maxSignErrorsPercent;
+    outcome.volumeMaps = checkVolumeMaps(asset);
+    outcome.withinLimits =
+        outcome.report.figures.maxError <= outcome.maxError &&
+        outcome.report.signMismatchPercent <= request.maxSignErrorsPercent &&
+        std::all_of(outcome.volumeMaps.begin(), outcome.volumeMaps.end(),
+                    [&](const VolumeMapCheck& c) {
+                        return c.maxError <= request.maxMapError && c.nonZeroBeyondReach == 0;
+                    });
     return outcome;
 }
+
+namespace {
+nlohmann::ordered_json volumeMapChecksJson(const std::vector<VolumeMapCheck>& checks) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const VolumeMapCheck& c : checks)
+        out.push_back({{"support", c.support},
+                       {"pointsChecked", c.pointsChecked},
+                       {"maxError", c.maxError},
+                       {"meanError", c.meanError},
+                       {"worstPoint", c.worstPoint},
+                       {"zeroPoints", c.zeroPoints},
+                       {"nonZeroBeyondReach", c.nonZeroBeyondReach}});
+    return out;
+}
+} // namespace
 
 std::string validateReportJson(const ValidateOutcome& outcome, const format::ColliderAsset& asset,
                                const ImportedMesh& mesh, const std::string& assetName,
@@ -73,22 +94,25 @@ std::string validateReportJson(const ValidateOutcome& outcome, const format::Col
     const ValidationReport& report = outcome.report;
     const bool hashKnown = !asset.meta.sourceHash.empty();
     const bool hashMatches = asset.meta.sourceHash == mesh.sourceHash;
-    nlohmann::ordered_json out = {
-        {"asset", assetName},
-        {"mesh", meshName},
-        {"sampled", report.sampled},
-        {"referenceSign", format::signMethodName(report.referenceSign)},
-        {"signComparedPoints", report.signComparedPoints},
-        {"signMismatchPercent", report.signMismatchPercent},
-        {"bandPoints", report.bandPoints},
-        {"tilePoints", report.tilePoints},
-        {"figures", cli::toJson(report.figures)},
-        {"limits",
-         {{"maxError", outcome.maxError}, {"maxSignErrorsPercent", request.maxSignErrorsPercent}}},
-        {"withinLimits", outcome.withinLimits},
-        {"sourceHashMatches",
-         hashKnown ? nlohmann::ordered_json(hashMatches) : nlohmann::ordered_json()},
-        {"written", written}};
+    nlohmann::ordered_json out = {{"asset", assetName},
+                                  {"mesh", meshName},
+                                  {"sampled", report.sampled},
+                                  {"referenceSign", format::signMethodName(report.referenceSign)},
+                                  {"signComparedPoints", report.signComparedPoints},
+                                  {"signMismatchPercent", report.signMismatchPercent},
+                                  {"bandPoints", report.bandPoints},
+                                  {"tilePoints", report.tilePoints},
+                                  {"figures", cli::toJson(report.figures)},
+                                  {"volumeMaps", volumeMapChecksJson(outcome.volumeMaps)},
+                                  {"limits",
+                                   {{"maxError", outcome.maxError},
+                                    {"maxSignErrorsPercent", request.maxSignErrorsPercent},
+                                    {"maxMapError", request.maxMapError}}},
+                                  {"withinLimits", outcome.withinLimits},
+                                  {"sourceHashMatches", hashKnown
+                                                            ? nlohmann::ordered_json(hashMatches)
+                                                            : nlohmann::ordered_json()},
+                                  {"written", written}};
     return out.dump(2);
 }
 

@@ -113,7 +113,8 @@ void loadMass(InArchive& ar, std::optional<MassProperties>& mass) {
 
 // The field order below IS the file format; AssetHeader.h draws its start. Version 1.0 ends
 // with quantizationError. A later minor version appends fields at the end, read only when the
-// header's minor >= that minor: 1.1 appends meshMass, 1.2 the layout and band width.
+// header's minor >= that minor: 1.1 appends meshMass, 1.2 the layout and band width, 1.3 the
+// payload's split (saveSplit).
 void save(OutArchive& ar, const ColliderMeta& m) {
     ar(m.dims.x, m.dims.y, m.dims.z);
     ar(m.origin.x, m.origin.y, m.origin.z);
@@ -144,6 +145,25 @@ void save(OutArchive& ar, const ColliderMeta& m) {
     saveMass(ar, m.meshMass); // 1.1 (kAssetMinorMeshMass)
 
     ar(std::uint8_t(m.layout), m.bandWidth); // 1.2 (kAssetMinorSparse)
+}
+
+// 1.3 (kAssetMinorVolumeMaps): the samples' size, the map count, each map's support.
+void saveSplit(OutArchive& ar, const PayloadSplit& split) {
+    SLUICE_ASSERT(split.volumeMapSupports.size() <= kMaxVolumeMaps, "too many volume maps");
+    ar(split.samplesBytes, std::uint32_t(split.volumeMapSupports.size()));
+    for (double support : split.volumeMapSupports)
+        ar(support);
+}
+
+void loadSplit(InArchive& ar, PayloadSplit& split) {
+    std::uint32_t count = 0;
+    ar(split.samplesBytes, count);
+    if (count > kMaxVolumeMaps)
+        throw MetaError("volume map count " + std::to_string(count) + " exceeds the limit of " +
+                        std::to_string(kMaxVolumeMaps));
+    split.volumeMapSupports.resize(count);
+    for (double& support : split.volumeMapSupports)
+        ar(support);
 }
 
 void load(InArchive& ar, const SpanBuf& buf, std::uint16_t minor, ColliderMeta& m) {
@@ -216,19 +236,20 @@ Result<void> checkMassProperties(const MassProperties& mass) {
     return {};
 }
 
-std::vector<std::byte> encodeMeta(const ColliderMeta& meta) {
+std::vector<std::byte> encodeMeta(const ColliderMeta& meta, const PayloadSplit& split) {
     std::ostringstream os(std::ios::binary);
     {
         OutArchive ar(os, OutArchive::Options::LittleEndian());
         save(ar, meta);
+        saveSplit(ar, split);
     }
     const std::string s = std::move(os).str();
     const auto* p = reinterpret_cast<const std::byte*>(s.data());
     return std::vector<std::byte>(p, p + s.size());
 }
 
-Result<ColliderMeta> decodeMeta(std::span<const std::byte> bytes, std::uint16_t minor,
-                                const std::string& name) {
+Result<DecodedMeta> decodeMeta(std::span<const std::byte> bytes, std::uint16_t minor,
+                               const std::string& name) {
     auto bad = [&](const std::string& what) {
         return fail(ErrorCode::BadMetadata,
                     name + ": metadata block is invalid (" + what + "); re-bake with sluice-bake");
@@ -240,10 +261,13 @@ Result<ColliderMeta> decodeMeta(std::span<const std::byte> bytes, std::uint16_t 
 
     SpanBuf buf(bytes);
     std::istream is(&buf);
-    ColliderMeta meta;
+    DecodedMeta meta;
     try {
         InArchive ar(is, InArchive::Options::LittleEndian());
-        load(ar, buf, minor, meta);
+        load(ar, buf, minor, meta.meta);
+        meta.hasSplit = minor >= kAssetMinorVolumeMaps;
+        if (meta.hasSplit)
+            loadSplit(ar, meta.split);
     } catch (const MetaError& e) {
         return bad(e.what());
     } catch (const cereal::Exception& e) {

@@ -7,10 +7,11 @@
 #include "asset/AssetMeta.h"
 #include "asset/Bytes.h"
 #include "sluice/format/asset/AssetIO.h"
-#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/asset/GridSamples.h"
 #include "sluice/format/asset/Half.h"
-#include "sluice/format/support/Hash.h"
 #include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/support/Hash.h"
 
 namespace sluice::format {
 
@@ -61,7 +62,7 @@ Result<void> checkSections(const AssetHeader& h, const std::string& name) {
 
 // A sparse asset's metadata: fp32, a band, and a payload the size limit allows. dims only bound
 // the baked region, so their product is not limited; the grid's own checks come later.
-Result<std::uint64_t> checkSparseMeta(const ColliderMeta& m, const AssetHeader& h,
+Result<std::uint64_t> checkSparseMeta(const ColliderMeta& m, std::uint64_t samplesBytes,
                                       const std::string& name) {
     auto bad = [&](ErrorCode code, const std::string& what) {
         return fail(code, name + ": " + what + kRebake);
@@ -71,8 +72,8 @@ Result<std::uint64_t> checkSparseMeta(const ColliderMeta& m, const AssetHeader& 
                    "a sparse asset stores f32 values, not " + std::string(storageName(m.storage)));
     if (!std::isfinite(m.bandWidth) || !(m.bandWidth > 0.0))
         return bad(ErrorCode::BadMetadata, "band width is not a finite value > 0");
-    if (h.payloadSize > kMaxNanoVdbBytes)
-        return bad(ErrorCode::SizeOverflow, "NanoVDB payload of " + str(h.payloadSize) +
+    if (samplesBytes > kMaxNanoVdbBytes)
+        return bad(ErrorCode::SizeOverflow, "NanoVDB payload of " + str(samplesBytes) +
                                                 " bytes exceeds the limit of " +
                                                 str(kMaxNanoVdbBytes));
     return std::uint64_t(0);
@@ -99,8 +100,8 @@ Result<GridBytes> decodeSparse(std::span<const std::byte> payload, const Collide
     return grid;
 }
 
-// Value checks on decoded metadata, then the point count against the payload.
-Result<std::uint64_t> checkMeta(const ColliderMeta& m, const AssetHeader& h,
+// Value checks on decoded metadata, then the point count against the samples' bytes.
+Result<std::uint64_t> checkMeta(const ColliderMeta& m, std::uint64_t samplesBytes,
                                 const std::string& name) {
     auto bad = [&](ErrorCode code, const std::string& what) {
         return fail(code, name + ": " + what + kRebake);
@@ -130,7 +131,7 @@ Result<std::uint64_t> checkMeta(const ColliderMeta& m, const AssetHeader& h,
                    "grid extent overflows (voxel size " + std::to_string(m.voxelSize) + ")");
 
     if (m.layout == Layout::Sparse)
-        return checkSparseMeta(m, h, name);
+        return checkSparseMeta(m, samplesBytes, name);
     if (m.bandWidth != 0.0)
         return bad(ErrorCode::BadMetadata, "a dense asset with a band width");
 
@@ -141,8 +142,8 @@ Result<std::uint64_t> checkMeta(const ColliderMeta& m, const AssetHeader& h,
                                                 str(m.dims.z) + " exceeds the limit of " +
                                                 str(kMaxAssetPoints) + " points");
     const std::uint64_t expected = *points * bytesPerSample(m.storage); // <= 2^30, no overflow
-    if (h.payloadSize != expected)
-        return bad(ErrorCode::SizeMismatch, "payload is " + str(h.payloadSize) + " bytes but " +
+    if (samplesBytes != expected)
+        return bad(ErrorCode::SizeMismatch, "samples take " + str(samplesBytes) + " bytes but " +
                                                 str(*points) + " points need " + str(expected));
     return *points;
 }
@@ -166,6 +167,74 @@ Result<std::vector<float>> decodeSamples(std::span<const std::byte> payload, con
         out[n] = v;
     }
     return out;
+}
+
+// The payload's split as the metadata gives it (1.3 on), else all of it samples; the samples
+// must fit in it.
+Result<detail::PayloadSplit> payloadSplit(const detail::DecodedMeta& decoded, const AssetHeader& h,
+                                          const std::string& name) {
+    if (!decoded.hasSplit)
+        return detail::PayloadSplit{h.payloadSize, {}};
+    if (decoded.split.samplesBytes > h.payloadSize)
+        return fail(ErrorCode::SizeMismatch,
+                    name + ": the samples' " + str(decoded.split.samplesBytes) +
+                        " bytes exceed the payload's " + str(h.payloadSize) + kRebake);
+    return decoded.split;
+}
+
+// The volume maps after the samples: each support finite, > 0 and apart from the others, the
+// payload exactly the samples and the maps (each on a 16-byte boundary), every value finite.
+Result<std::vector<VolumeMap>> decodeVolumeMaps(std::span<const std::byte> payload,
+                                                const detail::PayloadSplit& split,
+                                                const ColliderAsset& asset,
+                                                const std::string& name) {
+    auto bad = [&](ErrorCode code, const std::string& what) {
+        return fail(code, name + ": " + what + kRebake);
+    };
+    const std::vector<double>& supports = split.volumeMapSupports;
+    if (supports.empty()) {
+        if (payload.size() != split.samplesBytes)
+            return bad(ErrorCode::SizeMismatch, "payload is " + str(payload.size()) +
+                                                    " bytes but its samples take " +
+                                                    str(split.samplesBytes));
+        return std::vector<VolumeMap>{};
+    }
+    const std::uint64_t points = volumeMapPoints(asset);
+    if (points > kMaxVolumeMapPoints)
+        return bad(ErrorCode::SizeOverflow, "volume maps of " + str(points) +
+                                                " points exceed the limit of " +
+                                                str(kMaxVolumeMapPoints));
+    const std::uint64_t mapBytes = points * 4;
+    const std::uint64_t stride = *detail::alignUp(mapBytes, kAssetPayloadAlignment);
+    const std::uint64_t first = *detail::alignUp(split.samplesBytes, kAssetPayloadAlignment);
+    const std::uint64_t expected = first + (supports.size() - 1) * stride + mapBytes;
+    if (payload.size() != expected)
+        return bad(ErrorCode::SizeMismatch, "payload is " + str(payload.size()) +
+                                                " bytes but the samples and " +
+                                                str(supports.size()) + " volume maps of " +
+                                                str(points) + " points need " + str(expected));
+    std::vector<VolumeMap> maps(supports.size());
+    for (std::size_t m = 0; m < maps.size(); ++m) {
+        const double s = supports[m];
+        if (!std::isfinite(s) || !(s > 0.0))
+            return bad(ErrorCode::BadMetadata, "volume map " + str(m) + " has support " +
+                                                   std::to_string(s) + ", not a finite value > 0");
+        for (std::size_t o = 0; o < m; ++o)
+            if (std::abs(maps[o].support - s) <= kVolumeMapSupportTolerance * s)
+                return bad(ErrorCode::BadMetadata,
+                           "volume maps " + str(o) + " and " + str(m) + " have the same support");
+        maps[m].support = s;
+        maps[m].values.resize(std::size_t(points));
+        const std::byte* in = payload.data() + first + m * stride;
+        for (std::size_t n = 0; n < maps[m].values.size(); ++n) {
+            const float v = std::bit_cast<float>(loadLE<std::uint32_t>(in + 4 * n));
+            if (!std::isfinite(v))
+                return bad(ErrorCode::NonFinite, "volume map " + str(m) + " point " + str(n) +
+                                                     " is " + (std::isnan(v) ? "NaN" : "infinite"));
+            maps[m].values[n] = v;
+        }
+    }
+    return maps;
 }
 
 } // namespace
@@ -211,29 +280,35 @@ Result<ColliderAsset> decodeAsset(std::span<const std::byte> bytes,
                     name + ": checksum " + hex64(checksum) + " differs from the stored " +
                         hex64(h.checksum) + " (file corrupted after writing)" + kRebake);
 
-    auto meta = detail::decodeMeta(bytes.subspan(h.metaOffset, h.metaSize), h.minor, name);
-    if (!meta)
-        return meta.error();
-    auto points = checkMeta(*meta, h, name);
+    auto decoded = detail::decodeMeta(bytes.subspan(h.metaOffset, h.metaSize), h.minor, name);
+    if (!decoded)
+        return decoded.error();
+    auto split = payloadSplit(*decoded, h, name);
+    if (!split)
+        return split.error();
+    const ColliderMeta& meta = decoded->meta;
+    auto points = checkMeta(meta, split->samplesBytes, name);
     if (!points)
         return points.error();
-    if (meta->layout == Layout::Sparse) {
-        auto grid = decodeSparse(bytes.subspan(h.payloadOffset, h.payloadSize), *meta, name);
+    const std::span<const std::byte> payload = bytes.subspan(h.payloadOffset, h.payloadSize);
+    const std::span<const std::byte> samplesBytes = payload.first(split->samplesBytes);
+    ColliderAsset asset;
+    asset.meta = meta;
+    if (meta.layout == Layout::Sparse) {
+        auto grid = decodeSparse(samplesBytes, meta, name);
         if (!grid)
             return grid.error();
-        ColliderAsset asset;
-        asset.meta = std::move(*meta);
         asset.grid = std::move(*grid);
-        return asset;
+    } else {
+        auto samples = decodeSamples(samplesBytes, meta, *points, name);
+        if (!samples)
+            return samples.error();
+        asset.distances = std::move(*samples);
     }
-    auto samples =
-        decodeSamples(bytes.subspan(h.payloadOffset, h.payloadSize), *meta, *points, name);
-    if (!samples)
-        return samples.error();
-
-    ColliderAsset asset;
-    asset.meta = std::move(*meta);
-    asset.distances = std::move(*samples);
+    auto maps = decodeVolumeMaps(payload, *split, asset, name);
+    if (!maps)
+        return maps.error();
+    asset.volumeMaps = std::move(*maps);
     return asset;
 }
 

@@ -8,10 +8,11 @@
 #include "asset/AssetMeta.h"
 #include "asset/Bytes.h"
 #include "sluice/format/asset/AssetIO.h"
-#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/asset/GridSamples.h"
 #include "sluice/format/asset/Half.h"
-#include "sluice/format/support/Hash.h"
 #include "sluice/format/asset/NanoVdbCheck.h"
+#include "sluice/format/support/AtomicFile.h"
+#include "sluice/format/support/Hash.h"
 
 namespace sluice::format {
 
@@ -21,6 +22,44 @@ using detail::storeLE;
 
 std::string str(std::uint64_t v) {
     return std::to_string(v);
+}
+
+// The volume maps as the reader accepts them: at most kMaxVolumeMaps of at most
+// kMaxVolumeMapPoints, supports finite, > 0 and apart, one finite value per map point.
+Result<void> checkVolumeMaps(const ColliderAsset& asset) {
+    auto bad = [](ErrorCode code, const std::string& what) {
+        return fail(code, "cannot write collider asset: " + what);
+    };
+    const std::vector<VolumeMap>& maps = asset.volumeMaps;
+    if (maps.empty())
+        return {};
+    if (maps.size() > kMaxVolumeMaps)
+        return bad(ErrorCode::InvalidArgument,
+                   str(maps.size()) + " volume maps, more than " + str(kMaxVolumeMaps));
+    const std::uint64_t points = volumeMapPoints(asset);
+    if (points > kMaxVolumeMapPoints)
+        return bad(ErrorCode::SizeOverflow, "a volume map of " + str(points) +
+                                                " points exceeds the limit of " +
+                                                str(kMaxVolumeMapPoints));
+    for (std::size_t m = 0; m < maps.size(); ++m) {
+        const double s = maps[m].support;
+        if (!std::isfinite(s) || !(s > 0.0))
+            return bad(ErrorCode::InvalidArgument,
+                       "volume map " + str(m) + " has support " + std::to_string(s));
+        for (std::size_t o = 0; o < m; ++o)
+            if (std::abs(maps[o].support - s) <= kVolumeMapSupportTolerance * s)
+                return bad(ErrorCode::InvalidArgument,
+                           "volume maps " + str(o) + " and " + str(m) + " have the same support");
+        if (maps[m].values.size() != points)
+            return bad(ErrorCode::InvalidArgument, "volume map " + str(m) + " has " +
+                                                       str(maps[m].values.size()) + " values for " +
+                                                       str(points) + " points");
+        for (std::size_t n = 0; n < maps[m].values.size(); ++n)
+            if (!std::isfinite(maps[m].values[n]))
+                return bad(ErrorCode::NonFinite,
+                           "volume map " + str(m) + " point " + str(n) + " is not finite");
+    }
+    return {};
 }
 
 // The writer refuses what the reader would reject, so every file it writes loads again.
@@ -85,7 +124,7 @@ Result<void> checkWritable(const ColliderAsset& asset) {
             return bad(ErrorCode::NonFinite,
                        "sample " + str(n) + " is " +
                            (std::isnan(asset.distances[n]) ? "NaN" : "infinite"));
-    return {};
+    return checkVolumeMaps(asset);
 }
 
 // max |stored - exact| [world units] over all samples, measured in double.
@@ -111,6 +150,11 @@ void storeSamples(const std::vector<float>& distances, Storage storage, std::byt
         storeLE(out + 2 * n, floatToHalf(distances[n]));
 }
 
+// [bytes] one volume map's values.
+std::uint64_t volumeMapBytes(const ColliderAsset& asset) {
+    return asset.volumeMaps.empty() ? 0 : volumeMapPoints(asset) * 4;
+}
+
 } // namespace
 
 std::uint32_t bytesPerSample(Storage storage) {
@@ -131,10 +175,19 @@ Result<EncodedAsset> encodeAsset(const ColliderAsset& asset) {
                        quantizationErrorOf(asset.distances, asset.meta.storage));
     ColliderMeta meta = asset.meta;
     meta.quantizationError = quantizationError;
-    const std::vector<std::byte> metaBytes = detail::encodeMeta(meta);
-    const std::uint64_t payloadSize = asset.sparse()
-                                          ? asset.grid.size()
-                                          : asset.pointCount() * bytesPerSample(asset.meta.storage);
+    detail::PayloadSplit split;
+    split.samplesBytes = asset.sparse() ? asset.grid.size()
+                                        : asset.pointCount() * bytesPerSample(asset.meta.storage);
+    for (const VolumeMap& map : asset.volumeMaps)
+        split.volumeMapSupports.push_back(map.support);
+    const std::vector<std::byte> metaBytes = detail::encodeMeta(meta, split);
+    // The maps after the samples, each on a 16-byte boundary.
+    const std::uint64_t mapBytes = volumeMapBytes(asset);
+    const std::uint64_t mapStride = *detail::alignUp(mapBytes, kAssetPayloadAlignment);
+    const std::uint64_t firstMap = *detail::alignUp(split.samplesBytes, kAssetPayloadAlignment);
+    const std::uint64_t payloadSize =
+        asset.volumeMaps.empty() ? split.samplesBytes
+                                 : firstMap + (asset.volumeMaps.size() - 1) * mapStride + mapBytes;
 
     AssetHeader header;
     header.metaOffset = kAssetHeaderSize;
@@ -154,6 +207,9 @@ Result<EncodedAsset> encodeAsset(const ColliderAsset& asset) {
     else
         storeSamples(asset.distances, asset.meta.storage,
                      encoded.bytes.data() + header.payloadOffset);
+    for (std::size_t m = 0; m < asset.volumeMaps.size(); ++m)
+        storeSamples(asset.volumeMaps[m].values, Storage::F32,
+                     encoded.bytes.data() + header.payloadOffset + firstMap + m * mapStride);
     header.checksum = xxh3(std::span(encoded.bytes).subspan(kAssetHeaderSize));
     const auto headerBytes = packAssetHeader(header);
     std::memcpy(encoded.bytes.data(), headerBytes.data(), headerBytes.size());

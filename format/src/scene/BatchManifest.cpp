@@ -1,10 +1,13 @@
 // Batch manifests: strict JSON, every field checked and named by its JSON path (Json.h's reads).
 #include "sluice/format/scene/BatchManifest.h"
 
+#include <cmath>
 #include <fstream>
 #include <new>
 #include <set>
 
+#include "sluice/format/asset/AssetHeader.h"
+#include "sluice/format/asset/ColliderAsset.h"
 #include "sluice/format/support/Suggest.h"
 #include "support/Json.h"
 
@@ -60,11 +63,30 @@ std::string pathString(const rj::Value& value, const std::string& path) {
     return text;
 }
 
+// "volumeMaps": at most kMaxVolumeMaps supports, each a number > 0, none given twice.
+std::vector<double> readVolumeMaps(const rj::Value& value, const std::string& at) {
+    const rj::Value& list = detail::requireArray(value, at);
+    if (list.Size() > kMaxVolumeMaps)
+        throwAt(ErrorCode::InvalidArgument, at,
+                std::to_string(list.Size()) + " volume maps; at most " +
+                    std::to_string(kMaxVolumeMaps));
+    std::vector<double> supports;
+    for (rj::SizeType n = 0; n < list.Size(); ++n) {
+        const double support = positiveNumber(list[n], detail::joinIndex(at, n), false);
+        for (double other : supports)
+            if (std::abs(other - support) <= kVolumeMapSupportTolerance * support)
+                throwAt(ErrorCode::InvalidArgument, detail::joinIndex(at, n),
+                        detail::formatNumber(support) + " is given twice");
+        supports.push_back(support);
+    }
+    return supports;
+}
+
 BatchEntry readEntry(const rj::Value& value, const std::string& path, const fs::path& folder) {
     const detail::JsonObject object(value, path,
                                     {"mesh", "output", "resolution", "voxelSize", "padding", "sign",
                                      "storage", "scale", "backend", "sparse", "band", "forSpacing",
-                                     "forKernelRadius"});
+                                     "forKernelRadius", "volumeMaps"});
     BatchEntry entry;
     entry.mesh = pathString(object.require("mesh"), object.pathOf("mesh"));
     entry.output = pathString(object.require("output"), object.pathOf("output"));
@@ -120,6 +142,8 @@ BatchEntry readEntry(const rj::Value& value, const std::string& path, const fs::
                     "a kernel radius goes with \"forSpacing\"");
         entry.forKernelRadius = positiveNumber(*v, object.pathOf("forKernelRadius"), false);
     }
+    if (const rj::Value* v = object.find("volumeMaps"))
+        entry.volumeMaps = readVolumeMaps(*v, object.pathOf("volumeMaps"));
     // As `bake --sparse` refuses it: a sparse asset stores f32.
     if (entry.sparse && entry.storage == "f16")
         throwAt(ErrorCode::InvalidArgument, object.pathOf("storage"),

@@ -84,6 +84,8 @@ Result<HeadlessRun> startRun(const HeadlessOptions& o, const format::Scene& scen
     auto sim = Simulation::create(scene, std::move(colliders), simOptions);
     if (!sim)
         return sim.error();
+    if (auto note = volumeMapNote(scene, sim->volumeMapLoad()); note && !o.quiet)
+        std::cerr << "sluice-play: " << *note << std::endl;
     const std::uint64_t every =
         o.statsEvery > 0 ? o.statsEvery : std::max<std::uint64_t>(1, o.steps / 20);
     std::optional<SurfaceReconstructor> surfaces;

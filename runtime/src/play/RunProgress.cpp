@@ -116,11 +116,11 @@ VolumeMapWork volumeMapWork(const format::Scene& scene,
         if (scene.colliders[c].dynamic)
             continue;
         const std::uint64_t points = volumeMapPoints(asset);
-        if (points > shared::kVolumeMapMaxPoints)
-            continue;
+        const double support = h / double(scene.colliders[c].scale);
+        if (points > shared::kVolumeMapMaxPoints || asset.volumeMapFor(support))
+            continue; // no map, or one baked with the collider
         // The quadrature's cells per h: every stride-th grid value, one read each, or
         // kVolumeMapSteps cells, each a trilinear read of 8 values.
-        const double support = h / double(scene.colliders[c].scale);
         const double stride = volumeMapStride(support, asset.meta.voxelSize);
         const double cells = support / asset.meta.voxelSize;
         const double perH = stride > 0.0 ? cells / stride : double(shared::kVolumeMapSteps);
@@ -142,11 +142,35 @@ std::optional<std::string> slowLoadWarning(const std::string& renderer, const Vo
                            double(std::max(cores, 1u));
     if (seconds <= kSlowLoadSeconds)
         return std::nullopt;
-    return "building the volume maps of \"boundary\": \"solids\" (" +
-           std::to_string(work.points) + " grid points) would take about " +
-           formatDuration(seconds) + " on " + renderer + " (software OpenGL on " +
-           std::to_string(cores) + " CPU cores) before the first step; a GPU, a coarser bake or " +
+    return "building the volume maps of \"boundary\": \"solids\" (" + std::to_string(work.points) +
+           " grid points) would take about " + formatDuration(seconds) + " on " + renderer +
+           " (software OpenGL on " + std::to_string(cores) +
+           " CPU cores) before the first step; maps baked with the " +
+           "colliders (sluice-bake bake --volume-map), a GPU, a coarser bake or " +
            "\"boundary\": \"bodies\" make it shorter";
+}
+
+namespace {
+std::string shortNumber(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", value);
+    return text;
+}
+} // namespace
+
+std::optional<std::string> volumeMapNote(const format::Scene& scene, const VolumeMapLoad& load) {
+    if (load.built == 0)
+        return std::nullopt;
+    std::string which;
+    for (std::uint32_t c : load.builtFor) {
+        const double support =
+            double(scene.simulation.kernelRadius) / double(scene.colliders[c].scale);
+        which += (which.empty() ? "" : ", ") + format::colliderName(scene.colliders[c]) +
+                 " (--volume-map " + shortNumber(support) + ")";
+    }
+    return "built " + std::to_string(load.built) + " volume map" + (load.built == 1 ? "" : "s") +
+           " at load in " + formatDuration(load.seconds) + ": " + which +
+           "; baked with the collider (sluice-bake bake --volume-map), a map loads at once";
 }
 
 std::optional<std::string> slowLoadWarning(const format::Scene& scene,

@@ -10,6 +10,7 @@
 
 #include "sluice/format/asset/ColliderAsset.h"
 #include "sluice/format/scene/Scene.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 
@@ -76,6 +77,10 @@ VolumeMapWork volumeMapWork(const format::Scene& scene,
 /// llvmpipe (docs/performance.md, "Volume maps at load").
 std::optional<std::string> slowLoadWarning(const std::string& renderer, const VolumeMapWork& work,
                                            unsigned cores);
+
+/// What a load that built volume maps says (nothing when all were baked or none is needed):
+/// how many, how long, and for each collider the bake option that would have saved it.
+std::optional<std::string> volumeMapNote(const format::Scene& scene, const VolumeMapLoad& load);
 
 /// slowLoadWarning for `scene` and its colliders on the current GL context's renderer, with the
 /// machine's cores: what sluice-play (headless and the window) and Python's Simulation say before

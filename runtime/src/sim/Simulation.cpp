@@ -1,6 +1,9 @@
 // Simulation: creation from a scene and its colliders, live parameters, and the accessors
 // (the state is Simulation::Impl, SimulationImpl.h; the step is SimulationPasses.cpp).
 #include "sim/SimulationImpl.h"
+
+#include <chrono>
+
 #include "sluice/format/asset/ShapeCollider.h"
 #include "sluice/format/scene/SceneDefaults.h"
 #include "sluice/format/scene/SimulationLimits.h"
@@ -124,8 +127,14 @@ Result<Simulation> Simulation::create(const format::Scene& given,
             if (auto ok = impl->forceMeter.set(c, true, impl->colliderDefines()); !ok)
                 return ok.error();
     impl->uploadColliderGrids();
+    const auto mapsStart = std::chrono::steady_clock::now();
     if (auto ok = impl->buildVolumeMaps(); !ok)
         return ok.error();
+    if (impl->volumeMapLoad.built > 0) {
+        glFinish(); // the load's report says how long building them took
+        impl->volumeMapLoad.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - mapsStart).count();
+    }
 
     const std::size_t ring = 8 + 2 * std::size_t(std::max(1u, scene.simulation.substeps));
     for (std::size_t p = 0; p < std::size_t(Pass::Count); ++p)

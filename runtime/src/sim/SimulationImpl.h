@@ -32,10 +32,14 @@
 #include "sluice/gpu/BufferTexture.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
+#include "sluice/gpu/colliders/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/sim/ColliderRecord.h"
 
 namespace sluice::rt {
+
+using gpu::bindColliderRecords;
+using gpu::colliderRecord;
+using gpu::kColliderRecordBytes;
 
 static_assert(shared::kMaxBodies == format::kMaxSceneColliders,
               "one body pass holds every dynamic body a scene may have");
@@ -134,6 +138,7 @@ struct Simulation::Impl {
         confine, stats, bodies;
     gpu::Program volumeMapPass, boundaryProbe; // compiled when first needed (VolumeMaps.cpp)
     float volumeMapsH = 0.0f;  // the kernel radius the volume maps were built for [m]
+    VolumeMapLoad volumeMapLoad; // what buildVolumeMaps last did
     bool volumeMapsFit = true; // false: they would not fit in the SDF buffer's storage block
     std::unique_ptr<PrefixScan> scan;
     gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
@@ -266,8 +271,11 @@ struct Simulation::Impl {
     /// The SDF buffer's size [bytes]: every grid, then the volume maps if they fit in a storage
     /// block of `maxBlockBytes` (and 4 GiB) with them; sets volumeMapsFit.
     std::uint64_t sdfBufferBytes(std::int64_t maxBlockBytes);
-    /// Computes every volume map for the current h (pbf_volume_map.comp).
+    /// Every volume map for the current h: baked with the collider where its asset has one for
+    /// this support, else computed (pbf_volume_map.comp). Sets volumeMapLoad (but its time).
     Result<void> buildVolumeMaps();
+    /// Collider c's kernel radius in its asset's units: h over its placement scale.
+    double supportOf(std::size_t c) const;
     /// The step's compile defines: the sparse reader when a collider is sparse, and
     /// SLUICE_SDF_STORAGE when the dense samples are read from storage (sdfAsTexels false).
     std::vector<gpu::ShaderDefine> colliderDefines() const;

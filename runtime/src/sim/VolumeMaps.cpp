@@ -4,6 +4,7 @@
 #include "sim/SimulationImpl.h"
 
 #include "sim/VolumeMapSize.h"
+#include "sluice/gpu/colliders/VolumeMapPass.h"
 
 namespace sluice::rt {
 
@@ -56,36 +57,48 @@ void Simulation::Impl::bindColliders() const {
 
 Result<void> Simulation::Impl::buildVolumeMaps() {
     volumeMapsH = k.h;
-    std::vector<std::size_t> mapped;
-    for (std::size_t c = 0; c < colliderRecords.size(); ++c)
-        if (colliderRecords[c].volumeMap != shared::kNoVolumeMap)
-            mapped.push_back(c);
-    if (mapped.empty())
+    volumeMapLoad = {};
+    // A map baked with the collider for this support is uploaded; the others are built here.
+    std::vector<std::size_t> toBuild;
+    for (std::size_t c = 0; c < colliderRecords.size(); ++c) {
+        if (colliderRecords[c].volumeMap == shared::kNoVolumeMap)
+            continue;
+        // A map built in code with the wrong number of values is built again, not uploaded.
+        const format::VolumeMap* baked = colliderAssets[c].volumeMapFor(supportOf(c));
+        if (baked && baked->values.size() == volumeMapPoints(c)) {
+            sdfBuf.upload(baked->values, std::size_t(colliderRecords[c].volumeMap) * sizeof(float));
+            ++volumeMapLoad.baked;
+        } else {
+            toBuild.push_back(c);
+        }
+    }
+    if (toBuild.empty())
         return {};
     if (!volumeMapPass.id()) {
-        const std::vector<gpu::ShaderDefine> defines = colliderDefines();
-        auto program = gpu::Program::compute("pbf_volume_map.comp",
-                                             shaders::shaderSource("pbf_volume_map.comp"), defines);
+        auto program = gpu::volumeMapProgram(colliderDefines());
         if (!program)
             return program.error();
         volumeMapPass = std::move(*program);
     }
     bindColliders();
     sdfBuf.bindStorage(shared::kBindVolumeMapOut);
-    for (std::size_t c : mapped) {
-        // The map is built in the collider's local units, at its scene scale.
-        volumeMapPass.set("uCollider", std::uint32_t(c));
-        const double support = double(k.h) / double(scene.colliders[c].scale);
-        volumeMapPass.set("uSupport", float(support));
-        volumeMapPass.set("uStride", volumeMapStride(support, colliderAssets[c].meta.voxelSize));
-        const auto points = std::uint32_t(volumeMapPoints(c));
-        volumeMapPass.set("uPoints", points);
-        // Not a step's command: commandCount() leaves it out.
-        volumeMapPass.dispatchChunked(glm::uvec3(groupsFor(points), 1, 1), kMaxGroupsPerDispatch);
-    }
+    // Each map in the collider's local units, at its scene scale. Not a step's command:
+    // commandCount() leaves them out.
+    for (std::size_t c : toBuild)
+        gpu::dispatchVolumeMap(volumeMapPass, std::uint32_t(c), colliderAssets[c], supportOf(c));
+    volumeMapLoad.built = std::uint32_t(toBuild.size());
+    volumeMapLoad.builtFor.assign(toBuild.begin(), toBuild.end());
     // The passes fetch the maps through the SDF buffer's texel view.
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     return {};
+}
+
+double Simulation::Impl::supportOf(std::size_t c) const {
+    return double(k.h) / double(scene.colliders[c].scale);
+}
+
+VolumeMapLoad Simulation::volumeMapLoad() const {
+    return m_impl->volumeMapLoad;
 }
 
 std::uint32_t Simulation::volumeMapCount() const {

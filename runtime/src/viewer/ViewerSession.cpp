@@ -28,6 +28,8 @@ Result<ViewerSession> ViewerSession::open(const std::string& scenePath, bool det
     auto sim = Simulation::create(*scene, *colliders, options);
     if (!sim)
         return sim.error();
+    if (auto note = volumeMapNote(*scene, sim->volumeMapLoad()))
+        std::cerr << "sluice-play: " << *note << std::endl;
     auto renderer = Renderer::create(*scene, *colliders, size);
     if (!renderer)
         return renderer.error();

@@ -11,7 +11,8 @@ the particle at distance d from each wall it faces (kernel radius h = 2 spacings
   corner       three walls (x < 0 or y < 0 or z < 0), phi = d;
   thin wall    a slab half a spacing thick (-s/2 < y < 0) with fluid on both sides, phi = d;
   convex edge  the fluid outside a solid's edge (y < 0 and x < 0), phi = sqrt(2) d;
-and for the domain box, the corner product 1 - (1 - B(d))^k of the walls patch (docs/wip).
+and for the domain box, the corner product 1 - (1 - B(d))^k of the walls patch (docs/history.md,
+"Boundary model", the walls patch of 2026-11-25).
 
     python3 tests/bench/pbf/boundary_shares.py [--cells 60]
 

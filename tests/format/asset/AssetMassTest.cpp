@@ -22,11 +22,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::size_t kMassBytes = 1 + 13 * 8;
 /// [bytes] the fields 1.2 appends after meshMass: u8 layout, f64 bandWidth.
 constexpr std::size_t kLayoutBytes = 1 + 8;
+/// [bytes] the fields 1.3 appends after those, without volume maps: u64 samples' size, u32 count.
+constexpr std::size_t kSplitBytes = 8 + 4;
 
-/// Offset in the file of the meshMass block of a current-version file that has one.
+/// Offset in the file of the meshMass block of a current-version file that has one (and no
+/// volume map).
 std::size_t massAt(std::span<const std::byte> bytes) {
     const AssetHeader h = headerOf(bytes);
-    return std::size_t(h.metaOffset + h.metaSize) - kLayoutBytes - kMassBytes;
+    return std::size_t(h.metaOffset + h.metaSize) - kSplitBytes - kLayoutBytes - kMassBytes;
 }
 
 /// Offset in the file of the meshMass double number `n` (0 volume, 1-3 centre, 4-12 inertia
@@ -62,8 +65,10 @@ TEST(AssetMass, IsStoredAfterTheVersion1_0FieldsAsAFlagAndThirteenDoubles) {
     const auto b = encodeOk(without);
     EXPECT_EQ(headerOf(a).minor, kAssetMinor);
     EXPECT_EQ(headerOf(a).metaSize, headerOf(b).metaSize + 13 * 8);
-    // Without: the flag 0, then only the 1.2 fields (layout 0 = dense, band width 0).
-    const std::size_t bEnd = std::size_t(headerOf(b).metaOffset + headerOf(b).metaSize);
+    // Without: the flag 0, then only the 1.2 fields (layout 0 = dense, band width 0), then the
+    // 1.3 split.
+    const std::size_t bEnd =
+        std::size_t(headerOf(b).metaOffset + headerOf(b).metaSize) - kSplitBytes;
     EXPECT_EQ(peek<std::uint8_t>(b, bEnd - kLayoutBytes - 1), 0u);
     EXPECT_EQ(peek<std::uint8_t>(b, bEnd - kLayoutBytes), 0u);
     EXPECT_EQ(peek<double>(b, bEnd - 8), 0.0);

@@ -116,10 +116,11 @@ TEST(AssetReader, LoadsTheCommittedVersion1_1FileWithMeshMassAsDense) {
     EXPECT_EQ(r->meta.meshMass->volume, expected.meta.meshMass->volume);
     EXPECT_EQ(r->meta.meshMass->centerOfMass, expected.meta.meshMass->centerOfMass);
     EXPECT_EQ(r->meta.meshMass->inertia, expected.meta.meshMass->inertia);
-    // Re-written, it becomes a current file: the same fields, and the 1.2 ones at their defaults.
+    // Re-written, it becomes a current file: the same fields, the 1.2 ones at their defaults (a
+    // layout byte and a band width) and the 1.3 split (the samples' size and no volume map).
     const auto rewritten = encodeOk(*r);
     EXPECT_EQ(headerOf(rewritten).minor, kAssetMinor);
-    EXPECT_EQ(headerOf(rewritten).metaSize, headerOf(*bytes).metaSize + 1 + 8);
+    EXPECT_EQ(headerOf(rewritten).metaSize, headerOf(*bytes).metaSize + 1 + 8 + 8 + 4);
     auto again = decodeAsset(rewritten, "rewritten.slc");
     ASSERT_TRUE(again.ok()) << again.error().message();
     ASSERT_TRUE(again->meta.meshMass.has_value());

@@ -1,5 +1,6 @@
 // Sparse (NanoVDB) collider assets: round trip, sampling, and hostile grid buffers.
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <numbers>
@@ -35,7 +36,11 @@ ErrorCode gridError(const ColliderAsset& a) {
 /// A file that passes every container check but carries `a`'s (possibly hostile) grid.
 std::vector<std::byte> fileWithGrid(const ColliderAsset& a) {
     const auto good = encodeOk(makeSparseSphere());
-    return assemble(metaOf(good), std::span(a.grid.data(), a.grid.size()));
+    // The metadata's samples' size (1.3: a u64, then the u32 map count, last) says the grid's.
+    std::vector<std::byte> meta(metaOf(good).begin(), metaOf(good).end());
+    const std::uint64_t samples = a.grid.size();
+    std::memcpy(meta.data() + meta.size() - 12, &samples, sizeof samples);
+    return assemble(meta, std::span(a.grid.data(), a.grid.size()));
 }
 
 /// The same field as a dense asset: every grid point read from the sparse tree.

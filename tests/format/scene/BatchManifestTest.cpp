@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -181,6 +182,22 @@ TEST(BatchManifest, ReadsABandForASpacingAndRejectsWhatBakeRejects) {
               ErrorCode::InvalidArgument);
     EXPECT_EQ(codeOf(secondEntryWith(R"("sparse": true, "forSpacing": "2cm")")),
               ErrorCode::BadMetadata);
+}
+
+TEST(BatchManifest, ReadsVolumeMapsAndRejectsWhatBakeRejects) {
+    auto manifest = format::parseBatchManifest(
+        secondEntryWith(R"("volumeMaps": [0.04, 0.0266667])"), "jobs/colliders.json");
+    ASSERT_TRUE(manifest.ok()) << manifest.error().message();
+    EXPECT_TRUE(manifest->colliders[0].volumeMaps.empty());
+    EXPECT_EQ(manifest->colliders[1].volumeMaps, (std::vector<double>{0.04, 0.0266667}));
+
+    EXPECT_EQ(errorOf(secondEntryWith(R"("volumeMaps": [0.04, 0.040001])")),
+              "jobs/colliders.json: colliders[1].volumeMaps[1]: 0.040001 is given twice");
+    EXPECT_EQ(errorOf(secondEntryWith(R"("volumeMaps": [1, 2, 3, 4, 5, 6, 7, 8, 9])")),
+              "jobs/colliders.json: colliders[1].volumeMaps: 9 volume maps; at most 8");
+    EXPECT_EQ(codeOf(secondEntryWith(R"("volumeMaps": [0])")), ErrorCode::InvalidArgument);
+    EXPECT_EQ(codeOf(secondEntryWith(R"("volumeMaps": 0.04)")), ErrorCode::BadMetadata);
+    EXPECT_EQ(codeOf(secondEntryWith(R"("volumeMaps": ["4cm"])")), ErrorCode::BadMetadata);
 }
 
 TEST(BatchManifest, RejectsTwoEntriesWritingTheSameOutput) {

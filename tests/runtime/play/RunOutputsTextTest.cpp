@@ -128,6 +128,23 @@ TEST(RunProgress, OnlyASoftwareRendererRunOfMinutesIsWarnedAbout) {
     EXPECT_FALSE(slowRunWarning(llvmpipe, 4725, 4, 6000, 64));
 }
 
+TEST(RunOutputsText, ALoadThatBuiltVolumeMapsSaysWhichAndTheOptionThatBakesThem) {
+    format::Scene scene;
+    scene.simulation.kernelRadius = 0.05f;
+    format::SceneCollider tank, ball;
+    tank.asset = "tank.slc";
+    ball.asset = "sphere.slc";
+    ball.scale = 0.4f;
+    scene.colliders = {tank, ball};
+    EXPECT_FALSE(volumeMapNote(scene, VolumeMapLoad{2, 0, 0.0, {}})); // every map baked
+    const auto note = volumeMapNote(scene, VolumeMapLoad{0, 2, 4.2, {0, 1}});
+    ASSERT_TRUE(note);
+    EXPECT_NE(note->find("built 2 volume maps at load in"), std::string::npos) << *note;
+    EXPECT_NE(note->find("tank.slc (--volume-map 0.05), sphere.slc (--volume-map 0.125)"),
+              std::string::npos)
+        << *note;
+}
+
 TEST(RunOutputsText, VolumeMapsThatWouldTakeLongOnASoftwareRendererAreWarnedAboutBeforeTheLoad) {
     const std::string llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
     auto tank = format::readAsset(std::filesystem::path(SLUICE_BUILD_ASSETS_DIR) / "tank.slc");
@@ -138,6 +155,12 @@ TEST(RunOutputsText, VolumeMapsThatWouldTakeLongOnASoftwareRendererAreWarnedAbou
     format::SceneCollider collider;
     collider.asset = "tank.slc";
     scene.colliders.push_back(collider);
+    // The shipped tank carries its map for this h; without it the load builds one.
+    ASSERT_NE(tank->volumeMapFor(0.04), nullptr);
+    const std::vector<format::ColliderAsset> baked{*tank};
+    scene.simulation.solidBoundary = true;
+    EXPECT_EQ(volumeMapWork(scene, baked).points, 0u);
+    tank->volumeMaps.clear();
     const std::vector<format::ColliderAsset> assets{*tank};
     // "bodies" builds none; the default "solids" one per static collider.
     scene.simulation.solidBoundary = false;

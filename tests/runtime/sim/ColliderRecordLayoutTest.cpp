@@ -14,8 +14,8 @@
 #include "shared/Bodies.h"
 #include "shared/Pbf.h"
 #include "sluice/gpu/Program.h"
+#include "sluice/gpu/colliders/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/sim/ColliderRecord.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -61,7 +61,7 @@ TEST_F(ColliderRecordLayout, TheUniformBlockHoldsTheCppRecordsMemberForMember) {
     auto stats = gpu::Program::compute("pbf_stats.comp", shaders::shaderSource("pbf_stats.comp"));
     ASSERT_TRUE(stats) << stats.error().message();
     EXPECT_EQ(property(stats->id(), GL_UNIFORM_BLOCK, "CollidersBlock", GL_BUFFER_DATA_SIZE),
-              GLint(kColliderRecordBytes));
+              GLint(gpu::kColliderRecordBytes));
     EXPECT_EQ(property(stats->id(), GL_UNIFORM_BLOCK, "CollidersBlock", GL_BUFFER_BINDING),
               GLint(shared::kBindCollidersUniform));
     // Every member of a std140 block is active; record 1 shows the array's stride too.

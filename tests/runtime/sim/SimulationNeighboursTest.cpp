@@ -14,7 +14,7 @@
 #include "RuntimeTestScenes.h"
 #include "shared/Pbf.h"
 #include "sim/NeighbourRecords.h"
-#include "sluice/rt/sim/ColliderRecord.h"
+#include "sluice/gpu/colliders/ColliderRecord.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -134,7 +134,7 @@ TEST_F(SimulationNeighbours, MemoryPerParticleStaysWithin212Bytes) {
         EXPECT_GE(sim->bytesPerParticle(), 148u + 4u * shared::kNeighbourMaskWords) << capacity;
         // Everything allocated, spread over the capacity: the particles' share and what every
         // scene has once (the parameters, the statistics, the colliders' uniform block).
-        const double once = 4096.0 + double(kColliderRecordBytes);
+        const double once = 4096.0 + double(gpu::kColliderRecordBytes);
         EXPECT_LE(double(sim->gpuBytes()) / capacity, 212.0 + once / capacity) << capacity;
     }
     for (std::uint32_t capacity : {1000u, 30000u}) {

@@ -14,6 +14,7 @@
 #include "ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
+#include "sluice/gpu/colliders/VolumeMap.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -321,6 +322,65 @@ TEST_F(VolumeMap, WaterInTheTanksCornerMatchesTheCpuReference) {
 
 TEST_F(VolumeMap, WaterInTheTanksCornerMatchesTheCpuReferenceOnAFineGrid) {
     expectCornerParity(0.375 * kSpacing);
+}
+
+TEST_F(VolumeMap, AMapBakedWithTheColliderIsTheOneTheSceneBuilds) {
+    Case c = cubeAndPlateCase();
+    auto built = Simulation::create(c.scene, c.assets);
+    ASSERT_TRUE(built) << built.error().detail;
+    VolumeMapLoad load = built->volumeMapLoad();
+    EXPECT_EQ(load.built, 2u);
+    EXPECT_EQ(load.baked, 0u);
+    EXPECT_EQ(load.builtFor, (std::vector<std::uint32_t>{0, 1}));
+    EXPECT_GT(load.seconds, 0.0);
+
+    // The cube's map baked for the scene's h; the plate's for another support only.
+    const double h = double(built->constants().h);
+    std::vector<format::ColliderAsset> assets = c.assets;
+    auto cubeMap = gpu::computeVolumeMap(assets[0], h);
+    ASSERT_TRUE(cubeMap) << cubeMap.error().message();
+    EXPECT_GT(std::count_if(cubeMap->begin(), cubeMap->end(), [](float v) { return v != 0.0f; }),
+              100); // its edges and corners
+    assets[0].volumeMaps.push_back({h, *cubeMap});
+    auto plateMap = gpu::computeVolumeMap(assets[1], 2.0 * h);
+    ASSERT_TRUE(plateMap) << plateMap.error().message();
+    assets[1].volumeMaps.push_back({2.0 * h, *plateMap});
+    auto baked = Simulation::create(c.scene, assets);
+    ASSERT_TRUE(baked) << baked.error().detail;
+    load = baked->volumeMapLoad();
+    EXPECT_EQ(load.baked, 1u);
+    EXPECT_EQ(load.built, 1u);
+    EXPECT_EQ(load.builtFor, (std::vector<std::uint32_t>{1}));
+
+    // Every share around the cube's edges and corners and the plate, bit for bit.
+    std::vector<glm::vec3> points;
+    for (float x = -0.03f; x <= 0.83f; x += 0.007f)
+        for (float y = -0.03f; y <= 0.23f; y += 0.005f)
+            points.push_back({x, y, 0.2f - 0.3f * x});
+    auto fromBuilt = built->solidBoundaryAt(points);
+    auto fromBaked = baked->solidBoundaryAt(points);
+    ASSERT_TRUE(fromBuilt && fromBaked);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < points.size(); ++i)
+        differ += (*fromBuilt)[i] != (*fromBaked)[i];
+    EXPECT_EQ(differ, 0u) << "of " << points.size() << " points";
+
+    // The baked map is what the scene reads: one changed by a tenth moves the shares near the
+    // cube's edges.
+    for (float& v : assets[0].volumeMaps[0].values)
+        v = v != 0.0f ? v + 0.1f : v;
+    auto altered = Simulation::create(c.scene, assets);
+    ASSERT_TRUE(altered) << altered.error().detail;
+    auto fromAltered = altered->solidBoundaryAt(points);
+    ASSERT_TRUE(fromAltered);
+    differ = 0;
+    for (std::size_t i = 0; i < points.size(); ++i)
+        differ += (*fromBuilt)[i] != (*fromAltered)[i];
+    EXPECT_GT(differ, 10u);
+
+    EXPECT_EQ(gpu::computeVolumeMap(assets[0], 0.0).error().code, ErrorCode::InvalidArgument);
+    EXPECT_EQ(gpu::computeVolumeMap(assets[0], std::nan("")).error().code,
+              ErrorCode::InvalidArgument);
 }
 
 } // namespace

@@ -18,8 +18,8 @@
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/BufferTexture.h"
 #include "sluice/gpu/Program.h"
+#include "sluice/gpu/colliders/ColliderRecord.h"
 #include "sluice/rt/RuntimeShaders.h"
-#include "sluice/rt/sim/ColliderRecord.h"
 
 namespace sluice {
 namespace {
@@ -64,16 +64,16 @@ protected:
         std::size_t denseWords = 0;
         for (const format::ColliderAsset* a : assets) {
             if (a->sparse()) {
-                records.push_back(rt::colliderRecord(*a, std::uint32_t(data.size())));
+                records.push_back(gpu::colliderRecord(*a, std::uint32_t(data.size())));
                 data.insert(data.end(), a->grid.begin(), a->grid.end());
                 data.resize((data.size() + 31) & ~std::size_t(31));
             } else {
-                records.push_back(rt::colliderRecord(*a, std::uint32_t(denseWords)));
+                records.push_back(gpu::colliderRecord(*a, std::uint32_t(denseWords)));
                 denseWords += a->distances.size();
             }
         }
         data.resize(std::max<std::size_t>(data.size(), 4));
-        auto colliderBuf = rt::colliderRecordBuffer(records);
+        auto colliderBuf = gpu::colliderRecordBuffer(records);
         auto sdfBuf = gpu::Buffer::createFrom(data, "sdf");
         auto pointBuf = gpu::Buffer::createFrom(points, "points");
         auto out = gpu::Buffer::create(points.size() * sizeof(glm::vec4), "samples");
@@ -90,7 +90,7 @@ protected:
         EXPECT_TRUE(program) << program.error().message();
         if (!program || !texels)
             return {};
-        rt::bindColliderRecords(*colliderBuf);
+        gpu::bindColliderRecords(*colliderBuf);
         sdfBuf->bindStorage(shared::kBindSdf);
         texels->bindTexture(shared::kUnitSdfTexels);
         pointBuf->bindStorage(shared::kBindPosIn);

@@ -35,7 +35,22 @@ struct BakeRequest {
     /// needs (bandForSpacing), instead of `band`.
     double forSpacing = 0.0;
     double forKernelRadius = 0.0; ///< [world units] with forSpacing: the kernel (0: default)
+    /// Supports to bake volume maps for [asset units: a scene's kernel radius over the
+    /// collider's placement scale], computed on the GPU (gpu::computeVolumeMap); at most
+    /// format::kMaxVolumeMaps.
+    std::vector<double> volumeMaps;
 };
+
+/// Whether `supports` may be baked as volume maps: at most format::kMaxVolumeMaps, each a number
+/// > 0, no two within format::kVolumeMapSupportTolerance. InvalidArgument naming the support.
+Result<void> checkVolumeMapSupports(const std::vector<double>& supports);
+
+/// Bakes a volume map of `asset` for each of `supports` (gpu::computeVolumeMap, of the field as
+/// the asset stores it) into asset.volumeMaps, in the current GL context when `contextCurrent`,
+/// else in a headless one opened here. Errors: checkVolumeMapSupports', no GL 4.5 context (its
+/// code, the message saying the maps need it), computeVolumeMap's.
+Result<void> bakeVolumeMaps(format::ColliderAsset& asset, const std::vector<double>& supports,
+                            bool contextCurrent);
 
 /// The band [voxels] `request` bakes with over `bounds` on `grid`: `band`, or for a sparse
 /// request with forSpacing the one bandForSpacing picks. Errors: bandForSpacing's.

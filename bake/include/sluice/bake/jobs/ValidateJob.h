@@ -8,6 +8,7 @@
 #include "sluice/bake/import/MeshImport.h"
 #include "sluice/bake/jobs/Progress.h"
 #include "sluice/bake/validate/Validate.h"
+#include "sluice/bake/validate/VolumeMapCheck.h"
 #include "sluice/format/asset/ColliderAsset.h"
 #include "sluice/format/support/Result.h"
 
@@ -18,6 +19,10 @@ namespace sluice::bake {
 /// near a thousandth of a voxel is a real disagreement.
 inline constexpr double kDefaultMaxErrorVoxels = 1e-3;
 
+/// Validate's default --max-map-error [share of the kernel's weight]: what a baked volume map may
+/// differ from the brute-force integration (VolumeMapCheck.h) by at its worst point.
+inline constexpr double kDefaultMaxMapError = 0.05;
+
 /// The options of `sluice-bake validate`, as it spells them.
 struct ValidateRequest {
     std::string sign; ///< empty: what the asset records (auto for .vdb)
@@ -25,6 +30,7 @@ struct ValidateRequest {
     std::uint64_t seed = ValidateOptions{}.seed;            ///< sampling seed
     std::optional<double> maxError;    ///< [voxels]; empty: defaultMaxError(asset)
     double maxSignErrorsPercent = 0.0; ///< [%]
+    double maxMapError = kDefaultMaxMapError; ///< volume maps: largest |baked - brute force|
     bool levelSetSource = false;       ///< the asset came from a .vdb grid
 };
 
@@ -32,7 +38,8 @@ struct ValidateRequest {
 struct ValidateOutcome {
     ValidationReport report;
     double maxError = 0.0; ///< [voxels] the limit applied
-    bool withinLimits = false;
+    std::vector<VolumeMapCheck> volumeMaps; ///< each baked volume map against brute force
+    bool withinLimits = false;              ///< the field's figures and every volume map's
 };
 
 /// [voxels] validate's default --max-error: 1e-3 plus, for fp16, the recorded quantization

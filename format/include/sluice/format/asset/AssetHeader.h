@@ -9,20 +9,21 @@
 namespace sluice::format {
 
 /*
- Collider asset file, version 1.2 (1.1: exact mesh mass properties; 1.2: the layout, sparse
- NanoVDB payloads). All integers little-endian; offsets and sizes in bytes.
+ Collider asset file, version 1.3 (1.1: exact mesh mass properties; 1.2: the layout, sparse
+ NanoVDB payloads; 1.3: volume maps baked with the collider). All integers little-endian;
+ offsets and sizes in bytes.
 
    offset  size  field
   +------+------+--------------------------------------------------------------------------+
   |    0 |    8 | magic  89 'S' 'L' 'C' 0D 0A 1A 0A   (PNG-style: catches text-mode copies)|
   |    8 |    2 | major version (u16) = 1      another major is rejected                   |
-  |   10 |    2 | minor version (u16) = 2      older minors load; newer ones are rejected  |
+  |   10 |    2 | minor version (u16) = 3      older minors load; newer ones are rejected  |
   |   12 |    4 | header size (u32) = 64                                                   |
   |   16 |    8 | file size (u64)              must equal the real size                    |
   |   24 |    8 | metadata offset (u64) = 64   (right after the header)                    |
   |   32 |    8 | metadata size (u64)          <= kMaxAssetMetaBytes                       |
   |   40 |    8 | payload offset (u64)         metadata end rounded up to 16               |
-  |   48 |    8 | payload size (u64)           dense: points * bytes per sample            |
+  |   48 |    8 | payload size (u64)           samples, then the volume maps (1.3)         |
   |   56 |    8 | checksum (u64)               XXH3-64 of bytes [64, file size)            |
   +------+------+--------------------------------------------------------------------------+
   |   64 |    m | metadata: cereal PortableBinary archive, little-endian (AssetMeta.cpp):  |
@@ -38,6 +39,9 @@ namespace sluice::format {
   |      |      |      inertia (3x3, row-major): 13 f64 = 104 bytes (absent in 1.0 files)  |
   |      |      | 1.2: u8 layout (0 dense, 1 sparse), f64 bandWidth [voxels] (absent in    |
   |      |      |      1.0 and 1.1 files, which are dense)                                 |
+  |      |      | 1.3: u64 samples size [bytes], u32 volume map count (<= kMaxVolumeMaps), |
+  |      |      |      then each map's support, f64 [asset units] (absent before 1.3: the  |
+  |      |      |      samples are the whole payload and there are no maps)                |
   +------+------+--------------------------------------------------------------------------+
   |      |  0-15| zero padding so the payload starts on a 16-byte boundary                 |
   +------+------+--------------------------------------------------------------------------+
@@ -47,6 +51,10 @@ namespace sluice::format {
   |      |      | leaf/lower/upper node arrays, root + tiles), exactly its mGridSize bytes;|
   |      |      | index (i, j, k) is the point origin + (i, j, k) * voxelSize. Checked by  |
   |      |      | checkNanoVdbGrid (NanoVdbCheck.h) before anything walks it.              |
+  |      |      | 1.3: the samples take the first `samples size` bytes; then each volume   |
+  |      |      | map, starting on a 16-byte boundary (zero padding before it): one f32    |
+  |      |      | per map point (volumeMapPoints: every grid point of a dense grid, 512 per|
+  |      |      | leaf of a sparse one, in the tree's leaf order), the map's points only.  |
   +------+------+--------------------------------------------------------------------------+
 
  The checksum covers everything after the header: metadata, padding and payload. The header
@@ -60,12 +68,17 @@ inline constexpr std::array<std::uint8_t, 8> kAssetMagic = {0x89, 'S',  'L',  'C
 /// Major version this build reads and writes; files with another major are rejected.
 inline constexpr std::uint16_t kAssetMajor = 1;
 /// Minor version this build writes; it reads this one and every older one.
-inline constexpr std::uint16_t kAssetMinor = 2;
+inline constexpr std::uint16_t kAssetMinor = 3;
 /// First minor version whose metadata has ColliderMeta::meshMass (1.1).
 inline constexpr std::uint16_t kAssetMinorMeshMass = 1;
 /// First minor version with the layout and band width fields, after meshMass (sparse NanoVDB
 /// payloads, 1.2). Older files are dense.
 inline constexpr std::uint16_t kAssetMinorSparse = 2;
+/// First minor version with the samples' size and the volume maps' supports, after the band
+/// width (1.3). Older files have no volume maps.
+inline constexpr std::uint16_t kAssetMinorVolumeMaps = 3;
+/// Most volume maps one asset holds (one per kernel radius it is baked for).
+inline constexpr std::uint32_t kMaxVolumeMaps = 8;
 /// [bytes] size of the fixed header; the metadata block starts right after it.
 inline constexpr std::size_t kAssetHeaderSize = 64;
 /// [bytes] the payload starts on a multiple of this (zero padding after the metadata).

@@ -18,10 +18,15 @@ namespace sluice::format {
 /// larger dims with SizeOverflow before allocating; writers refuse to write them.
 inline constexpr std::uint64_t kMaxAssetPoints = std::uint64_t(1) << 28;
 
-/// [bytes] largest file readAsset will load: header, largest metadata block, padding, and
-/// kMaxAssetPoints fp32 samples.
+/// Most points a volume map may have: 2^24, the largest map the solver builds
+/// (shared/Pbf.h, kVolumeMapMaxPoints).
+inline constexpr std::uint64_t kMaxVolumeMapPoints = std::uint64_t(1) << 24;
+
+/// [bytes] largest file readAsset will load: header, largest metadata block, padding,
+/// kMaxAssetPoints fp32 samples and kMaxVolumeMaps maps of kMaxVolumeMapPoints, each padded.
 inline constexpr std::uint64_t kMaxAssetFileBytes =
-    kAssetHeaderSize + kAssetMaxMetaBytes + kAssetPayloadAlignment + kMaxAssetPoints * 4;
+    kAssetHeaderSize + kAssetMaxMetaBytes + kAssetPayloadAlignment + kMaxAssetPoints * 4 +
+    kMaxVolumeMaps * (kMaxVolumeMapPoints * 4 + kAssetPayloadAlignment);
 
 /// Bytes per stored sample: 4 for F32, 2 for F16.
 std::uint32_t bytesPerSample(Storage storage);

@@ -1,6 +1,7 @@
 // The collider asset in memory: a dense or sparse (NanoVDB) signed distance grid plus provenance.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <new>
@@ -133,6 +134,19 @@ struct ColliderMeta {
     double bandWidth = 0.0; ///< [voxels] Sparse: half-width of the band of exact values, else 0
 };
 
+/// The boundary model's volume map of a collider for one kernel radius (docs/pbf.md, "Volume
+/// maps"), baked with it so that a scene of that radius loads without building it.
+struct VolumeMap {
+    double support = 0.0;      ///< the kernel radius over the placement scale [asset units], > 0
+    std::vector<float> values; ///< one per map point (volumeMapPoints), in that order
+};
+
+/// Relative difference within which a baked map's support is the one a scene asks for: the
+/// scene's h is a float and its scale divides it, so a support written with six digits
+/// (0.0266667 for 0.04 / 1.5) still matches; the map changes by about as much, far below its
+/// quadrature's own error.
+inline constexpr double kVolumeMapSupportTolerance = 1e-4;
+
 /// A collider: phi sampled at origin + (i, j, k) * voxelSize, negative inside, in world units.
 /// Dense: distances[i + dims.x * (j + dims.y * k)] (x fastest), `grid` empty.
 /// Sparse: `grid` is one NanoVDB float level set whose index (i, j, k) is that same point; voxels
@@ -143,10 +157,20 @@ struct ColliderAsset {
     ColliderMeta meta;
     std::vector<float> distances;
     GridBytes grid;
+    /// Volume maps baked with it (format 1.3 on): at most kMaxVolumeMaps, supports apart by
+    /// more than kVolumeMapSupportTolerance.
+    std::vector<VolumeMap> volumeMaps;
 
     /// True for a Sparse (NanoVDB) asset.
     bool sparse() const { return meta.layout == Layout::Sparse; }
 
+    /// The baked volume map for `support` [asset units], or null when none matches.
+    const VolumeMap* volumeMapFor(double support) const {
+        for (const VolumeMap& map : volumeMaps)
+            if (std::abs(map.support - support) <= kVolumeMapSupportTolerance * support)
+                return &map;
+        return nullptr;
+    }
     /// Number of grid points (dims.x * dims.y * dims.z), computed in 64 bits.
     std::uint64_t pointCount() const {
         return std::uint64_t(meta.dims.x) * meta.dims.y * meta.dims.z;

@@ -24,6 +24,12 @@ std::vector<SparseLeaf> sparseLeaves(const ColliderAsset& asset);
 /// The number of leaves of a sparse asset's tree (0 for a dense one), under the same condition.
 std::uint32_t sparseLeafCount(const ColliderAsset& asset);
 
+/// Points of an asset's volume map: one per grid point of a dense grid, 512 per leaf of a sparse
+/// one (its band's voxels, stored per leaf as its samples are).
+inline std::uint64_t volumeMapPoints(const ColliderAsset& asset) {
+    return asset.sparse() ? 512ull * sparseLeafCount(asset) : asset.pointCount();
+}
+
 /// Calls visit(glm::uvec3 ijk, float phi) for every sample the asset stores: every grid point
 /// of a dense asset; every leaf voxel of a sparse one inside the grid box (the band, and the
 /// leaves' other voxels). A sparse asset's tiles and background, whose |phi| is the band's, are

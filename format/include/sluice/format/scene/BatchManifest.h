@@ -36,6 +36,7 @@ struct BatchEntry {
     double band = 3.0;                ///< [voxels] sparse: the band's half-width, 1..64
     double forSpacing = 0.0;          ///< [world units] sparse: the band for this spacing (0: band)
     double forKernelRadius = 0.0;     ///< [world units] with forSpacing: the kernel (0: default)
+    std::vector<double> volumeMaps;   ///< [asset units] supports of the volume maps to bake
 };
 
 /// A manifest: { "colliders": [ { "mesh": ..., "output": ..., optional fields }, ... ] }.

@@ -170,6 +170,14 @@ struct ParticleCopyTarget {
     std::uint32_t count = 0;      ///< entries
 };
 
+/// How a simulation's volume maps were made (Simulation::volumeMapLoad).
+struct VolumeMapLoad {
+    std::uint32_t baked = 0; ///< taken from the assets, baked for the scene's kernel radius
+    std::uint32_t built = 0; ///< computed on the GPU
+    double seconds = 0.0;    ///< at load: the wall time of building them (0 when none was)
+    std::vector<std::uint32_t> builtFor; ///< the colliders whose map was built, ascending
+};
+
 /// The dynamic bodies as a completed step left them (Simulation::latestBodies).
 struct BodiesReading {
     std::uint64_t step = 0; ///< the step they are from (Simulation::steps() after it)
@@ -433,6 +441,11 @@ public:
     /// Static and kinematic colliders with a volume map (built when the scene starts with
     /// `"boundary": "solids"` and rebuilt when kernelRadius changes).
     std::uint32_t volumeMapCount() const;
+
+    /// How the volume maps were last made: taken from the colliders' assets (baked for this
+    /// kernel radius: `sluice-bake bake --volume-map`), or built on the GPU, and at load how
+    /// long building them took.
+    VolumeMapLoad volumeMapLoad() const;
 
     /// Particles of the fluid blocks left out at the start because their centre was inside a
     /// dynamic body.

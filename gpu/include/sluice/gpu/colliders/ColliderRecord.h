@@ -1,5 +1,5 @@
-// The solver's GPU record of a collider (shared/Pbf.h, GpuCollider) built from its asset: the
-// one rule the solver, its parity tests and the collider benchmark use.
+// The GPU record of a collider (shared/Pbf.h, GpuCollider) built from its asset: the one rule
+// the solver, the volume map bake, the parity tests and the collider benchmark use.
 #pragma once
 
 #include <cstddef>
@@ -10,7 +10,7 @@
 #include "sluice/format/asset/ColliderAsset.h"
 #include "sluice/gpu/Buffer.h"
 
-namespace sluice::rt {
+namespace sluice::gpu {
 
 /// The record of `asset` at the identity placement (unit scale, no rotation or motion), static
 /// (`body` = kNoBody) and without friction, its samples at `sdfOffset` in the SDF buffer:
@@ -25,10 +25,10 @@ inline constexpr std::size_t kColliderRecordBytes =
 
 /// A buffer of kColliderRecordBytes holding `records` (at most kMaxColliders; zeros after
 /// them). GpuOutOfMemory if it cannot be allocated; InvalidArgument for too many records.
-Result<gpu::Buffer> colliderRecordBuffer(std::span<const shared::GpuCollider> records);
+Result<Buffer> colliderRecordBuffer(std::span<const shared::GpuCollider> records);
 
 /// Binds a buffer from colliderRecordBuffer where the passes read it (the uniform block) and
 /// where the body pass writes it (the storage binding kBindColliders).
-void bindColliderRecords(const gpu::Buffer& records);
+void bindColliderRecords(const Buffer& records);
 
-} // namespace sluice::rt
+} // namespace sluice::gpu

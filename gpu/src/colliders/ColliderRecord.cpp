@@ -1,5 +1,5 @@
-// The solver's GPU record of a collider built from its asset (sluice/rt/ColliderRecord.h).
-#include "sluice/rt/sim/ColliderRecord.h"
+// The GPU record of a collider built from its asset (sluice/gpu/colliders/ColliderRecord.h).
+#include "sluice/gpu/colliders/ColliderRecord.h"
 
 #include <algorithm>
 #include <string>
@@ -7,7 +7,7 @@
 
 #include "shared/Bodies.h"
 
-namespace sluice::rt {
+namespace sluice::gpu {
 
 shared::GpuCollider colliderRecord(const format::ColliderAsset& asset, std::uint32_t sdfOffset) {
     shared::GpuCollider r{};
@@ -27,11 +27,11 @@ shared::GpuCollider colliderRecord(const format::ColliderAsset& asset, std::uint
     return r;
 }
 
-Result<gpu::Buffer> colliderRecordBuffer(std::span<const shared::GpuCollider> records) {
+Result<Buffer> colliderRecordBuffer(std::span<const shared::GpuCollider> records) {
     if (records.size() > shared::kMaxColliders)
         return fail(ErrorCode::InvalidArgument,
                     "more than " + std::to_string(shared::kMaxColliders) + " collider records");
-    auto buffer = gpu::Buffer::create(kColliderRecordBytes, "colliders");
+    auto buffer = Buffer::create(kColliderRecordBytes, "colliders");
     if (!buffer)
         return buffer;
     std::vector<shared::GpuCollider> full(shared::kMaxColliders, shared::GpuCollider{});
@@ -40,9 +40,9 @@ Result<gpu::Buffer> colliderRecordBuffer(std::span<const shared::GpuCollider> re
     return buffer;
 }
 
-void bindColliderRecords(const gpu::Buffer& records) {
+void bindColliderRecords(const Buffer& records) {
     records.bindBase(GL_UNIFORM_BUFFER, shared::kBindCollidersUniform);
     records.bindStorage(shared::kBindColliders);
 }
 
-} // namespace sluice::rt
+} // namespace sluice::gpu
