@@ -134,6 +134,13 @@ class Collider:
         """The file read or last saved; empty for a collider only in memory."""
         return self._c.path
 
+    @property
+    def volume_map_supports(self) -> List[float]:
+        """[asset units] the supports of the volume maps baked with it (``bake(volume_maps=)``,
+        ``sluice-bake bake --volume-map``); a scene whose kernel radius over the collider's scale
+        is one of them loads its map instead of building it."""
+        return list(self._c.volume_map_supports)
+
     def save(self, path: PathLike) -> None:
         """Writes the asset atomically, as ``sluice-bake bake -o`` does."""
         self._c.save(os.fspath(path))
@@ -191,7 +198,8 @@ def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int]
          voxel_size: Optional[float] = None, padding: float = 3.0, backend: str = "auto",
          sign: str = "auto", storage: str = "f32", scale: Optional[float] = None,
          sparse: bool = False, band: float = 3.0, for_spacing: Optional[float] = None,
-         for_kernel_radius: Optional[float] = None, progress: bool = True) -> Collider:
+         for_kernel_radius: Optional[float] = None, volume_maps: Sequence[float] = (),
+         progress: bool = True) -> Collider:
     """Bakes a mesh into a collider, as ``sluice-bake bake`` does (same grid, field, provenance
     and, once saved, bytes).
 
@@ -200,7 +208,9 @@ def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int]
     ``voxel_size`` [world units]. ``sparse=True`` bakes a narrow band of ``band`` voxels into a
     NanoVDB grid (``sluice-bake bake --sparse --band``), on either backend; ``for_spacing``
     [world units] picks the band a scene of that particle spacing needs instead (``--for-spacing``,
-    with ``for_kernel_radius`` for a scene's own kernel radius). The GIL is released
+    with ``for_kernel_radius`` for a scene's own kernel radius). ``volume_maps`` bakes the
+    boundary model's volume map for each support (a scene's kernel radius over the collider's
+    placement scale, ``--volume-map``; computed with OpenGL 4.5). The GIL is released
     while it runs; a progress bar shows for
     bakes over a second (tqdm where installed); Ctrl-C stops it (KeyboardInterrupt).
     """
@@ -228,6 +238,7 @@ def bake(mesh: Union[Mesh, PathLike, Tuple[Any, Any]], resolution: Optional[int]
             raise InvalidArgument("for_kernel_radius goes with for_spacing [InvalidArgument]",
                                   "InvalidArgument")
         request.for_kernel_radius = float(for_kernel_radius)
+    request.volume_maps = [float(h) for h in volume_maps]
     bar, callback, close = progress_hooks("baking " + m.source_file, progress)
     try:
         return Collider(_sluice.bake_mesh(m._m, request, bar, callback))

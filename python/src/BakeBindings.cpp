@@ -10,6 +10,7 @@
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
 
 #include "Errors.h"
 #include "sluice/bake/interop/VdbIO.h"
@@ -250,7 +251,8 @@ void bindRequests(nb::module_& m) {
         .def_rw("sparse", &bake::BakeRequest::sparse)
         .def_rw("band", &bake::BakeRequest::band)
         .def_rw("for_spacing", &bake::BakeRequest::forSpacing)
-        .def_rw("for_kernel_radius", &bake::BakeRequest::forKernelRadius);
+        .def_rw("for_kernel_radius", &bake::BakeRequest::forKernelRadius)
+        .def_rw("volume_maps", &bake::BakeRequest::volumeMaps);
 
     nb::class_<bake::ValidateRequest>(m, "ValidateRequest",
                                       "The options of one validation (as `sluice-bake validate`).")
@@ -321,6 +323,13 @@ void bindCollider(nb::module_& m) {
         .def_prop_ro("metadata_json",
                      [](const Collider& c) { return bake::colliderMetaJson(c.asset.meta); })
         .def_prop_ro("path", [](const Collider& c) { return c.path; })
+        .def_prop_ro("volume_map_supports",
+                     [](const Collider& c) {
+                         std::vector<double> supports;
+                         for (const format::VolumeMap& map : c.asset.volumeMaps)
+                             supports.push_back(map.support);
+                         return supports;
+                     })
         .def("save", &save, nb::arg("path"),
              "Writes the asset atomically (as the command line): replaced whole or untouched.")
         .def(

@@ -377,3 +377,18 @@ def test_a_tqdm_bar_shows_for_work_over_a_second(monkeypatch) -> None:
     close()
     assert shown == [("open", 100, "baking x"), ("update", 40), ("update", 60), ("close",)]
     assert progress_hooks("x", False)[:2] == (False, None)
+
+
+def test_volume_maps_bake_as_the_cli_bakes_them(sphere_obj: Path, tmp_path: Path) -> None:
+    cli_out = tmp_path / "cli.slc"
+    run_tool("sluice-bake", "bake", sphere_obj, "-o", cli_out, "--resolution", "20",
+             "--backend", "cgal", "--volume-map", "0.2", "--quiet")
+    collider = sluice.bake(sphere_obj, resolution=20, backend="cgal", volume_maps=[0.2],
+                           progress=False)
+    assert collider.volume_map_supports == [0.2]
+    collider.save(tmp_path / "py.slc")
+    assert (tmp_path / "py.slc").read_bytes() == cli_out.read_bytes()
+    assert sluice.read_asset(tmp_path / "py.slc").volume_map_supports == [0.2]
+    with pytest.raises(sluice.InvalidArgument, match="given twice"):
+        sluice.bake(sphere_obj, resolution=20, backend="cgal", volume_maps=[0.2, 0.2],
+                    progress=False)
