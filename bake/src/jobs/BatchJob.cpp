@@ -23,10 +23,9 @@ Error named(const std::string& what, const std::string& path, const Error& error
     return Error{error.code, (shown ? what : what + " '" + path + "'") + ": " + error.detail};
 }
 
-// Whether `asset` holds exactly the volume maps `supports` asks for.
-bool sameVolumeMaps(const format::ColliderAsset& asset, const std::vector<double>& supports) {
-    if (asset.volumeMaps.size() != supports.size())
-        return false;
+// Whether `asset` holds every volume map `supports` asks for. More are fine: a manifest that asks
+// for none (the demo's, beside the build's that baked them) keeps an asset's maps.
+bool holdsVolumeMaps(const format::ColliderAsset& asset, const std::vector<double>& supports) {
     return std::all_of(supports.begin(), supports.end(),
                        [&](double s) { return asset.volumeMapFor(s) != nullptr; });
 }
@@ -94,7 +93,7 @@ std::optional<format::ColliderAsset> freshBatchOutput(const BatchEntry& entry) {
         (!byVoxelSize || meta.voxelSize == r.voxelSize) && meta.bake.padding == padding &&
         meta.bake.signMode == r.sign && meta.bake.scale == r.scale &&
         format::storageName(meta.storage) == r.storage && asset->sparse() == r.sparse &&
-        (!r.sparse || meta.bandWidth == *band) && sameVolumeMaps(*asset, r.volumeMaps);
+        (!r.sparse || meta.bandWidth == *band) && holdsVolumeMaps(*asset, r.volumeMaps);
     if (!same)
         return std::nullopt;
     return std::move(*asset);

@@ -95,6 +95,36 @@ FileState stateOf(const fs::path& path) {
     return {readText(path), fs::last_write_time(path)};
 }
 
+TEST(Batch, VolumeMapsAskedForAreBakedAndAnAssetHoldingThemIsFresh) {
+    const BatchFolder f("batch-volume-maps");
+    json withMap = BatchFolder::entry("b b.obj", "b.slc");
+    withMap["volumeMaps"] = {0.5};
+    f.writeManifest(json::array({withMap}));
+    RunResult run = f.batch();
+    ASSERT_EQ(run.code, kExitOk) << shown(run);
+    EXPECT_EQ(statusOf(run.out, "b.slc"), "baked") << run.out;
+    auto asset = format::readAsset(f.dir / "b.slc");
+    ASSERT_TRUE(asset) << asset.error().message();
+    ASSERT_EQ(asset->volumeMaps.size(), 1u);
+    EXPECT_EQ(asset->volumeMaps[0].support, 0.5);
+    // Asked again, or not asked (the demo's manifest beside the build's): fresh, maps kept.
+    run = f.batch();
+    EXPECT_EQ(statusOf(run.out, "b.slc"), "fresh") << run.out;
+    f.writeManifest(json::array({BatchFolder::entry("b b.obj", "b.slc")}));
+    run = f.batch();
+    EXPECT_EQ(statusOf(run.out, "b.slc"), "fresh") << run.out;
+    EXPECT_EQ(format::readAsset(f.dir / "b.slc")->volumeMaps.size(), 1u);
+    // A support the asset lacks: baked again, with only the maps asked for.
+    withMap["volumeMaps"] = {0.6};
+    f.writeManifest(json::array({withMap}));
+    run = f.batch();
+    EXPECT_EQ(statusOf(run.out, "b.slc"), "baked") << run.out;
+    asset = format::readAsset(f.dir / "b.slc");
+    ASSERT_TRUE(asset) << asset.error().message();
+    ASSERT_EQ(asset->volumeMaps.size(), 1u);
+    EXPECT_EQ(asset->volumeMaps[0].support, 0.6);
+}
+
 TEST(Batch, ASecondRunWithNothingChangedBakesNothing) {
     const BatchFolder f("batch-second-run");
     RunResult run = f.batch();
