@@ -93,10 +93,10 @@ Vec3Array vec3Array(const std::vector<rt::ParticleState>& particles, bool veloci
 }
 
 // Replaces the particles with (N, 3) positions and velocities and (N,) ids.
-void setParticles(PySimulation& s,
-                  nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
-                  nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> vel,
-                  nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> ids) {
+void setParticles(
+    PySimulation& s, nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pos,
+    nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> vel,
+    nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> ids) {
     const std::size_t n = pos.shape(0);
     if (vel.shape(0) != n || ids.shape(0) != n)
         throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
@@ -119,8 +119,9 @@ nb::tuple particles(PySimulation& s) {
     for (std::size_t i = 0; i < p.size(); ++i)
         ids[i] = p[i].id;
     nb::capsule owner(ids, [](void* q) noexcept { delete[] static_cast<std::uint32_t*>(q); });
-    return nb::make_tuple(vec3Array(p, false), vec3Array(p, true),
-                          nb::ndarray<nb::numpy, std::uint32_t, nb::ndim<1>>(ids, {p.size()}, owner));
+    return nb::make_tuple(
+        vec3Array(p, false), vec3Array(p, true),
+        nb::ndarray<nb::numpy, std::uint32_t, nb::ndim<1>>(ids, {p.size()}, owner));
 }
 
 // Adds (N, 3) positions with (N, 3) velocities (or none: at rest); the first new id.
@@ -168,8 +169,9 @@ nb::object latestForces(PySimulation& s) {
 
 // The walls' and static colliders' boundary share at (N, 3) points: (shares (N,), gradients
 // (N, 3)), float32 (rt::Simulation::solidBoundaryAt).
-nb::tuple solidBoundaryAt(
-    PySimulation& s, nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pts) {
+nb::tuple
+solidBoundaryAt(PySimulation& s,
+                nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu> pts) {
     std::vector<glm::vec3> points(pts.shape(0));
     for (std::size_t i = 0; i < points.size(); ++i)
         points[i] = {pts(i, 0), pts(i, 1), pts(i, 2)};
@@ -258,17 +260,41 @@ bool setParam(format::SimulationParams& p, const std::string& key, nb::handle va
     return true;
 }
 
+// The calls a game loop makes (docs/embedding.md): particles added, colliders placed, bodies
+// held, forces measured and read.
+void bindGameCalls(nb::class_<PySimulation>& cls) {
+    cls.def("add_particles", &addParticles, nb::arg("positions"),
+            nb::arg("velocities").none() = nb::none())
+        .def("set_collider_pose", &setColliderPose, nb::arg("index"), nb::arg("translation"),
+             nb::arg("rotation"))
+        .def(
+            "set_body_kinematic",
+            [](PySimulation& s, std::uint32_t index, bool kinematic) {
+                if (auto ok = s.current().setBodyKinematic(index, kinematic); !ok)
+                    raise(Family::Argument, ok.error());
+            },
+            nb::arg("index"), nb::arg("kinematic") = true)
+        .def(
+            "measure_force",
+            [](PySimulation& s, std::uint32_t index, bool on) {
+                if (auto ok = s.current().measureForce(index, on); !ok)
+                    raise(Family::Argument, ok.error());
+            },
+            nb::arg("index"), nb::arg("on") = true)
+        .def("latest_forces", &latestForces);
+}
+
 } // namespace
 
 void bindSimulation(nb::module_& m) {
-    nb::class_<PySimulation>(m, "SimulationCore",
-                             "A PBF simulation on the GPU in its own headless GL context.")
-        .def_static(
-            "from_file",
-            [](const std::string& path, bool deterministic) {
-                return create(format::readScene(path), deterministic);
-            },
-            nb::arg("path"), nb::arg("deterministic") = false)
+    nb::class_<PySimulation> cls(m, "SimulationCore",
+                                 "A PBF simulation on the GPU in its own headless GL context.");
+    cls.def_static(
+           "from_file",
+           [](const std::string& path, bool deterministic) {
+               return create(format::readScene(path), deterministic);
+           },
+           nb::arg("path"), nb::arg("deterministic") = false)
         .def_static(
             "from_json",
             [](const std::string& text, const std::string& path, bool deterministic,
@@ -320,31 +346,13 @@ void bindSimulation(nb::module_& m) {
         .def("solid_boundary_at", &solidBoundaryAt, nb::arg("points"))
         .def("set_particles", &setParticles, nb::arg("positions"), nb::arg("velocities"),
              nb::arg("ids"))
-        .def("add_particles", &addParticles, nb::arg("positions"),
-             nb::arg("velocities").none() = nb::none())
-        .def("set_collider_pose", &setColliderPose, nb::arg("index"), nb::arg("translation"),
-             nb::arg("rotation"))
-        .def(
-            "set_body_kinematic",
-            [](PySimulation& s, std::uint32_t index, bool kinematic) {
-                if (auto ok = s.current().setBodyKinematic(index, kinematic); !ok)
-                    raise(Family::Argument, ok.error());
-            },
-            nb::arg("index"), nb::arg("kinematic") = true)
-        .def(
-            "measure_force",
-            [](PySimulation& s, std::uint32_t index, bool on) {
-                if (auto ok = s.current().measureForce(index, on); !ok)
-                    raise(Family::Argument, ok.error());
-            },
-            nb::arg("index"), nb::arg("on") = true)
-        .def("latest_forces", &latestForces)
         .def_prop_ro("particle_count", [](PySimulation& s) { return s.sim->liveParticleCount(); })
         .def_prop_ro("capacity", [](PySimulation& s) { return s.sim->capacity(); })
         .def_prop_ro("time", [](PySimulation& s) { return s.sim->time(); })
         .def_prop_ro("steps", [](PySimulation& s) { return s.sim->steps(); })
         .def_prop_ro("scene_path", [](PySimulation& s) { return s.sceneJson; })
         .def_prop_ro("renderer", [](PySimulation& s) { return s.context->info().renderer; });
+    bindGameCalls(cls);
 }
 
 } // namespace sluice::py

@@ -11,6 +11,7 @@
 #include "sluice/format/asset/Half.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/colliders/ColliderRecord.h"
+#include "sluice/gpu/colliders/SparseGrids.h"
 #include "sluice/gpu/colliders/VolumeMapPass.h"
 
 namespace sluice::gpu {
@@ -50,9 +51,9 @@ Result<std::vector<float>> computeVolumeMap(const format::ColliderAsset& asset, 
         return fail(ErrorCode::SizeOverflow,
                     "a volume map of " + std::to_string(points) + " points exceeds the limit of " +
                         std::to_string(format::kMaxVolumeMapPoints) + "; coarsen the bake");
-    // A sparse grid at a 32-byte aligned size, as the solver packs it; then the map.
-    const std::uint64_t gridBytes = asset.sparse() ? (asset.grid.size() + 31u) & ~std::uint64_t(31)
-                                                   : asset.pointCount() * sizeof(float);
+    // The grid as the solver packs it, then the map.
+    const std::uint64_t gridBytes =
+        asset.sparse() ? sparseSlotBytes(asset) : asset.pointCount() * sizeof(float);
     const std::uint64_t bytes = gridBytes + points * sizeof(float);
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);

@@ -7,7 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "sim/SparseGrids.h"
+#include "sluice/gpu/colliders/SparseGrids.h"
 #include "shared/Render.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "sluice/rt/sim/SceneSetup.h"
@@ -65,7 +65,7 @@ Result<ColliderPass> ColliderPass::create(const format::Scene& scene,
         if (asset.sparse()) {
             collider.sparse = true;
             collider.gridOffset = std::uint32_t(sparseBytes);
-            sparseBytes += sparseSlotBytes(asset);
+            sparseBytes += gpu::sparseSlotBytes(asset);
             pass.m_colliders.push_back(std::move(collider));
             continue;
         }

@@ -26,7 +26,7 @@
 #include "sim/ColliderForces.h"
 #include "sim/ParticleCopy.h"
 #include "sim/PrefixScan.h"
-#include "sim/SparseGrids.h"
+#include "sluice/gpu/colliders/SparseGrids.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/asset/SdfSampler.h"
 #include "sluice/gpu/BufferTexture.h"
@@ -40,6 +40,8 @@ namespace sluice::rt {
 using gpu::bindColliderRecords;
 using gpu::colliderRecord;
 using gpu::kColliderRecordBytes;
+using gpu::alignToGrid;
+using gpu::sparseSlotBytes;
 
 static_assert(shared::kMaxBodies == format::kMaxSceneColliders,
               "one body pass holds every dynamic body a scene may have");

@@ -1,12 +1,13 @@
 // How sparse colliders' NanoVDB grids are packed into one GPU buffer (the solver's SDF buffer,
-// the renderer's sparse buffer): back to back, each at a 32-byte aligned offset.
+// the renderer's sparse buffer, the volume map bake's): back to back, each at a 32-byte aligned
+// offset.
 #pragma once
 
 #include <cstdint>
 
 #include "sluice/format/asset/ColliderAsset.h"
 
-namespace sluice::rt {
+namespace sluice::gpu {
 
 /// `bytes` rounded up to NanoVDB's 32-byte alignment.
 inline std::uint64_t alignToGrid(std::uint64_t bytes) {
@@ -18,4 +19,4 @@ inline std::uint64_t sparseSlotBytes(const format::ColliderAsset& asset) {
     return alignToGrid(asset.grid.size());
 }
 
-} // namespace sluice::rt
+} // namespace sluice::gpu
