@@ -67,6 +67,9 @@ std::unique_ptr<PySimulation> create(Result<format::Scene> scene, bool determini
     if (!context)
         raise(Family::Simulation, context.error());
     out->context.emplace(std::move(*context));
+    if (scene->namesRemovedBoundaryModel)
+        nb::module_::import_("warnings")
+            .attr("warn")(scene->path + ": " + format::removedBoundaryModelWarning());
     if (auto warning = rt::slowLoadWarning(*scene, *colliders))
         nb::module_::import_("warnings").attr("warn")(*warning);
     rt::SimulationOptions options;
@@ -241,15 +244,7 @@ bool setParam(format::SimulationParams& p, const std::string& key, nb::handle va
         f(p.xsph);
     else if (key == "vorticity")
         f(p.vorticity);
-    else if (key == "boundary") {
-        const std::string model = nb::cast<std::string>(value);
-        const std::optional<bool> solids = format::solidBoundaryFromName(model);
-        if (!solids)
-            throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,
-                              "simulation.boundary: " + format::unknownBoundaryModel(model) +
-                                  " [InvalidArgument]");
-        p.solidBoundary = *solids;
-    } else if (key == "gravity") {
+    else if (key == "gravity") {
         nb::sequence g = nb::cast<nb::sequence>(value);
         if (nb::len(g) != 3)
             throw SluiceError(Family::Argument, ErrorCode::InvalidArgument,

@@ -118,29 +118,27 @@ void takeStopping(uint b, vec3 impulse, vec3 angular, float allowed, bool atPoin
 
 // The particles a wall held against the body: their pushes' reaction only stops the body moving
 // into them (along the reaction's direction), like a contact with no bounce; none of it pushes
-// the body away (docs/bodies.md).
-// With "solids" the contact is taken where the held impulse acts (the point of its line of
-// action nearest the centre), with that point's velocity and the body's effective mass there:
-// taken at the centre, the held impulse's moment spun a body the floor's layer held off-centre
-// (docs/bodies.md, "The film under a body").
+// the body away (docs/bodies.md). The contact is taken where the held impulse acts (the point of
+// its line of action nearest the centre), with that point's velocity and the body's effective
+// mass there: taken at the centre, the held impulse's moment spun a body the floor's layer held
+// off-centre (docs/bodies.md, "The film under a body").
 void takeHeldReaction(uint b, inout BodyStart s) {
     vec3 heldImpulse = -P.particleMass * P.invDt * sumOf(b, kBodySumHeldPush) / bodies[b].sumScale;
     vec3 heldAngular =
         -P.particleMass * P.invDt * sumOf(b, kBodySumHeldMoment) / bodies[b].momentScale;
-    takeStopping(b, heldImpulse, heldAngular, 0.0, P.solidBoundary != 0u, s);
+    takeStopping(b, heldImpulse, heldAngular, 0.0, true, s);
 }
 
 // The film model's excess (docs/bodies.md, "The film under a body"): what sealedReaction took
 // off the water under the body, as a particle's dx and its moment, is given back only as far as
-// it keeps the body from approaching the solid faster than kFilmDrain: the film drains, but no
-// faster than the water can be squeezed out sideways at this resolution.
-const float kFilmDrain = 0.05; // [m/s]
+// it keeps the body from approaching the solid faster than kFilmDrainSpeed: the film drains, but
+// no faster than the water can be squeezed out sideways at this resolution.
 vec3 gFilmDx = vec3(0.0);
 vec3 gFilmMoment = vec3(0.0);
 
 void takeFilmReaction(uint b, inout BodyStart s) {
     takeStopping(b, -P.particleMass * P.invDt * gFilmDx, -P.particleMass * P.invDt * gFilmMoment,
-                 kFilmDrain, false, s);
+                 kFilmDrainSpeed, false, s);
 }
 
 // The viewer's mouse spring, when it holds this body.
@@ -248,25 +246,13 @@ void startBody(uint b, vec3 sealedDx, vec3 sealedMoment) {
     steps[b] = work;
 }
 
-// Sealed contacts (docs/bodies.md): the water that pushed along a wall or a static collider
-// within h of it pushed `rim` [m] in all over the body's sides near the solid; the body's points
-// facing the solid within h should get as much per area from the water between. What the water
-// there gave (the under sum) is topped up to that, along its direction, so a body resting on
-// the floor with no water under it feels the pressure beside it, and one with a layer under it
-// no less. The lanes' shares are added in a fixed tree; every invocation calls it (barriers),
-// and each ends with the top-up (sealedDx, as a particle's dx) and its moment about the centre
-// of mass.
-// The contact points' areas add up to about 1.19 times a cube's faces at 8 points a side (the
-// cells along its edges hold points of the rounded field: docs/bodies.md, "The film under a
-// body"); the film model takes them at this share.
-const float kFilmAreaShare = 0.84;
-
-// The film model ("solids", docs/bodies.md, "The film under a body"): the faces over a solid
+// The film model (docs/bodies.md, "The film under a body"): the faces over a solid
 // within the sealed band get the water's pressure at their depth under the level, rho0 |g|
 // (level - y), across the solid, its moment along their own normals, their weight fading out
 // over the band's last spacing. Where the water under them gave less, it is topped up;
 // where it gave more, its pushes are scaled down to it, force and moment, and what is taken off
-// is given back only as far as it holds the body's approach to kFilmDrain (takeFilmReaction).
+// is given back only as far as it holds the body's approach to kFilmDrainSpeed
+// (takeFilmReaction). The contact points' areas count at kFilmAreaShare (Bodies.h).
 void filmReaction(uint b, uint word, out vec3 sealedDx, out vec3 sealedMoment) {
     vec3 sealed = sStep[0].xyz;
     float sealedLength = length(sealed);
@@ -294,45 +280,27 @@ void filmReaction(uint b, uint word, out vec3 sealedDx, out vec3 sealedMoment) {
     }
 }
 
-void sealedReaction(uint b, uint lane, float rim, out vec3 sealedDx, out vec3 sealedMoment) {
+// The film model's sums over the body's contact points (sealedShare), each lane's share added
+// in a fixed tree (the same order every run); every invocation calls it (barriers), and each
+// ends with the film's correction (sealedDx, as a particle's dx) and its moment about the
+// centre of mass.
+void sealedReaction(uint b, uint lane, out vec3 sealedDx, out vec3 sealedMoment) {
     uint word = bodySums[b * kBodySumWords + kBodySumSurface];
-    float level = P.solidBoundary != 0u ? surfaceLevel(b, word) : 0.0;
-    SealedSums sums =
-        sealedShare(b, lane, kLanes, bodies[b].position, bodies[b].orientation, level);
-    sStep[lane] = vec4(sums.sealed, sums.sideArea);
-    sTurn[lane] = vec4(sums.turn, sums.lowest);
+    SealedSums sums = sealedShare(b, lane, kLanes, bodies[b].position, bodies[b].orientation,
+                                  surfaceLevel(b, word));
+    sStep[lane] = vec4(sums.sealed, sums.head);
+    sTurn[lane] = vec4(sums.turn, 0.0);
     memoryBarrierShared();
     barrier();
     for (uint stride = kLanes >> 1; stride > 0u; stride >>= 1) {
         if (lane < stride) {
             sStep[lane] += sStep[lane + stride];
-            sTurn[lane] = vec4(sTurn[lane].xyz + sTurn[lane + stride].xyz,
-                               min(sTurn[lane].w, sTurn[lane + stride].w));
+            sTurn[lane] += sTurn[lane + stride];
         }
         memoryBarrierShared();
         barrier();
     }
-    sealedDx = vec3(0.0);
-    sealedMoment = vec3(0.0);
-    if (P.solidBoundary != 0u) {
-        filmReaction(b, word, sealedDx, sealedMoment);
-        return;
-    }
-    // Without the walls' boundary volume ("bodies"), where the layer at a wall packs, the rim's
-    // pressure taken as it is lifted a cube a tenth heavier than water off one water layer
-    // (docs/bodies.md, "Sealed contacts"): the sides count as covering the band from the lowest
-    // gap up, the rim's water all of it, which fades the top-up as the gap opens.
-    float band = rimBand();
-    float sideArea = sStep[0].w * band / max(band - sTurn[0].w, 1e-3 * band);
-    vec3 expected = sStep[0].w > 0.0 ? rim / sideArea * sStep[0].xyz : vec3(0.0);
-    float expectedLength = length(expected);
-    if (!(expectedLength > 0.0))
-        return;
-    vec3 along = expected / expectedLength;
-    vec3 under = sumOf(b, kBodySumUnder) / bodies[b].sumScale;
-    float topUp = max(0.0, expectedLength - dot(under, along)) / expectedLength;
-    sealedDx = topUp * expected;
-    sealedMoment = topUp * rim / sideArea * sTurn[0].xyz;
+    filmReaction(b, word, sealedDx, sealedMoment);
 }
 
 // The lanes' shares added in a fixed tree (the same order every run); lane 0 ends with the
@@ -418,19 +386,15 @@ void main() {
     // One work group per body: the dispatch launches exactly P.bodyCount groups.
     uint b = gl_WorkGroupID.x, lane = gl_LocalInvocationIndex;
     if (withStart != 0u) {
-        // The rim's sum is the same for every lane, so the lanes skip the sealed contacts and
-        // their barriers together when no water pushed along a solid.
-        float rim = float(sumAt(b, kBodySumRim, 0u)) / bodies[b].sumScale;
         vec3 sealedDx = vec3(0.0), sealedMoment = vec3(0.0);
-        // With "solids" the film model works where the body has water over it and its sphere,
-        // grown by the rim band, reaches a wall or a static collider: elsewhere no contact point
-        // lies within the band of a solid (sealedShare would find none).
-        bool sealedWork = P.solidBoundary != 0u
-                              ? bodySums[b * kBodySumWords + kBodySumSurface] != 0u &&
-                                    reachesAnything(reachOf(b, bodies[b].position, rimBand()))
-                              : rim > 0.0;
+        // The film model works where the body has water over it and its sphere, grown by the rim
+        // band, reaches a wall or a static collider: elsewhere no contact point lies within the
+        // band of a solid (sealedShare would find none). The test is the same for every lane,
+        // so the lanes skip the sums and their barriers together.
+        bool sealedWork = bodySums[b * kBodySumWords + kBodySumSurface] != 0u &&
+                          reachesAnything(reachOf(b, bodies[b].position, rimBand()));
         if (sealedWork)
-            sealedReaction(b, lane, rim, sealedDx, sealedMoment);
+            sealedReaction(b, lane, sealedDx, sealedMoment);
         memoryBarrierBuffer();
         barrier(); // every lane has read the rim's sums before the lead clears them
         if (lane == 0u)

@@ -1,6 +1,8 @@
 // PBF solve, second half of iteration k (docs/pbf.md 4.2-4.4): the early stop, the position
 // correction with s_corr (Macklin & Mueller 2013, eq. 10, 11), collisions and the domain box;
 // and in the dispatch that ends the solve, step 5 (velocity, x <- x*, the non-finite guard).
+// What the bodies and the measured colliders take from the corrections is the body coupling's
+// (shared/BodyCouplingGlsl.h), called at its four numbered points.
 #version 450 core
 
 #define PBF_NEIGHBOUR_PASS 1
@@ -35,135 +37,15 @@ layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatc
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 
 #include "shared/BodySumsGlsl.h"
+#include "shared/BodyCouplingGlsl.h"
 
-// Adds round(value) to the sum whose positive part starts at word lo (shared/Bodies.h): its
-// magnitude to the positive or the negative 64-bit part, the high word only on a carry.
-// Integer adds commute, so the total is the same whatever order the particles add in.
-void addFixed(uint lo, float value) {
-    int v = int(round(clamp(value, -2.0e9, 2.0e9)));
-    if (v == 0)
-        return;
-    uint word = v > 0 ? lo : lo + kBodySumNegative;
-    uint magnitude = uint(abs(v));
-    uint old = atomicAdd(bodySums[word], magnitude);
-    if (old + magnitude < old)
-        atomicAdd(bodySums[word + 1u], 1u);
-}
-
-// Body b pushed a particle by dx, which ends at x: the body takes the opposite impulse
-// -m dx / dt, summed here as dx and (x - c) x dx in fixed point (docs/bodies.md, "Reaction"),
-// into its push and moment sums, or with `held` into the held ones (shared/Bodies.h).
-void addSums(uint b, bool held, vec3 x, vec3 dx) {
-    uint push = held ? kBodySumHeldPush : kBodySumPush;
-    uint moment = held ? kBodySumHeldMoment : kBodySumMoment;
-    vec3 d = dx * bodies[b].sumScale;
-    vec3 m = cross(x - bodies[b].position, dx) * bodies[b].momentScale;
-    for (uint axis = 0u; axis < 3u; ++axis)
-        addFixed(bodySumWord(b, push, axis), d[axis]);
-    for (uint axis = 0u; axis < 3u; ++axis)
-        addFixed(bodySumWord(b, moment, axis), m[axis]);
-}
-
-// A collider that is no body, its force measured, pushed a particle by dx ending at x: the
-// push and its moment about the collider's origin go into its slot of the sums, as a body's
-// reaction does (docs/embedding.md, "Forces on colliders"); pbf_collider_forces.comp turns
-// them into its force and torque.
-void addSolidReaction(uint c, vec3 x, vec3 dx) {
-    uint slot = colliders[c].forceSlot;
-    vec3 d = dx * (kSumUnitsPerH * P.invH);
-    vec3 m = cross(x - colliders[c].forcePoint, dx) * solidMomentScale(c);
-    for (uint axis = 0u; axis < 3u; ++axis)
-        addFixed(bodySumWord(slot, kBodySumPush, axis), d[axis]);
-    for (uint axis = 0u; axis < 3u; ++axis)
-        addFixed(bodySumWord(slot, kBodySumMoment, axis), m[axis]);
-}
-
-// The pressure pushes li * (share's gradient) each measured static or kinematic collider gave
-// the particle at x (the solids' push in main, taken apart by collider).
-void measureSolidPushes(vec3 x, float li) {
-    uint mask = P.staticColliders, c = 0u;
-    while (nextStaticCollider(mask, c)) {
-        if (colliders[c].forceSlot == kNoBody)
-            continue;
-        float share;
-        vec3 slope;
-        if (colliderBoundaryAt(c, x, share, slope) && allFinite(li * slope))
-            addSolidReaction(c, x, li * slope);
-    }
-}
-
-// Whether this particle is in the water where a body meets a wall or a static collider (within
-// h + r of the solid, the body pass's rimBand; tested once, at the first reaction), and that
-// solid's normal.
-bool rimTested = false;
-bool inRim = false;
-vec3 rimNormal = vec3(0.0);
-vec3 rimX = vec3(0.0); // x*_i, where the test is made
-
-// Body b pushed a particle by dx: the body takes the reaction. A push on the water within the
-// rim band of a wall or a static collider (the rim: h + r, with "solids" h + 1.75 spacings) is
-// also summed by its direction (docs/bodies.md, "Sealed contacts"): along the solid, its length
-// into the rim sum (the pressure beside the body, per area of its sides near the solid); across
-// it, into the under sum (what the water between the body and the solid gives; with "solids"
-// its moment too, for the film model). The body pass tops the second up to the first.
-void addReaction(uint b, vec3 x, vec3 dx) {
-    addSums(b, false, x, dx);
-    if (!rimTested) {
-        rimTested = true;
-        inRim = nearestSolidWithin(rimX, rimBand(), rimNormal) < rimBand();
-    }
-    float len = length(dx);
-    if (!inRim || !(len > 0.0))
-        return;
-    if (abs(dot(dx, rimNormal)) < 0.5 * len) {
-        addFixed(bodySumWord(b, kBodySumRim, 0u), len * bodies[b].sumScale);
-    } else {
-        for (uint axis = 0u; axis < 3u; ++axis)
-            addFixed(bodySumWord(b, kBodySumUnder, axis), dx[axis] * bodies[b].sumScale);
-        if (P.solidBoundary != 0u) {
-            vec3 m = cross(x - bodies[b].position, dx) * bodies[b].momentScale;
-            for (uint axis = 0u; axis < 3u; ++axis)
-                addFixed(bodySumWord(b, kBodySumUnderMoment, axis), m[axis]);
-        }
-    }
-}
-
-// With "solids", a compressed particle (lambda != 0) records its height in the water column
-// over each body it lies under or beside (the film model's level, FilmGlsl.h surfaceWordOf),
-// once a substep.
-void recordSurface(vec3 x) {
-    for (uint b = 0u; b < P.bodyCount; ++b) {
-        // Most particles of a column are under its highest: the plain read (possibly stale, so
-        // never above the word) skips their atomics; the maximum is the same in any order.
-        uint word = surfaceWordOf(b, x);
-        uint at = b * kBodySumWords + kBodySumSurface;
-        if (word > bodySums[at])
-            atomicMax(bodySums[at], word);
-    }
-}
-
-// The body whose collision push-out (collide) moved this particle in this pass, and the sum of
-// those pushes, so that the part of them the domain clamp undoes is taken back (main, at the end).
-uint pushedBy = kNoBody;
-vec3 pushSum = vec3(0.0);
-
-// A collision push of body b on the particle: the body takes the reaction, and the push is
-// remembered.
-void collisionReaction(uint b, vec3 x, vec3 dx) {
-    addReaction(b, x, dx);
-    if (pushedBy == kNoBody || pushedBy == b) {
-        pushedBy = b;
-        pushSum += dx;
-    }
-}
-
-// The early stop (docs/pbf.md step 4.2). With the solids' boundary volume ("solids") it ends a
-// solve only after an even number of iterations: there the target is met after two or three,
-// and water at rest stopped after an odd number keeps stirring ("The early stop's parity").
+// The early stop (docs/pbf.md step 4.2). It ends a solve only after an even number of
+// iterations: the target is met after two or three, and water at rest stopped after an odd
+// number keeps stirring ("The early stop's parity").
 bool converged(uint k) {
     if (k < P.minIterations || P.targetDensityError <= 0.0 || iterations[k].particles == 0u)
         return false;
-    if (P.solidBoundary != 0u && (k & 1u) != 0u)
+    if ((k & 1u) != 0u)
         return false;
     float sum = (float(iterations[k].errorHi) * 4294967296.0 + float(iterations[k].errorLo)) /
                 kErrorFixedScale;
@@ -206,46 +88,6 @@ vec3 densityCorrection(uint i, vec3 xi, float li) {
     return dp;
 }
 
-// Each body's boundary volume pushes along its normal with the particle's own lambda (lambda_i
-// times the gradient lambda summed); the body takes the reaction.
-vec3 pushByBodies(vec3 xi, float li, vec3 x, uvec2 near) {
-    uint c;
-    while (nextCollider(near, c)) {
-        uint b = colliders[c].body;
-        if (b == kNoBody)
-            continue;
-        float phi;
-        vec3 normal;
-        if (!bodyBoundary(c, xi, phi, normal))
-            continue;
-        vec3 push = li * boundaryShareSlope(phi) * normal;
-        if (!allFinite(push))
-            continue;
-        x += push;
-        addReaction(b, x, push);
-    }
-    return x;
-}
-
-// A particle a body pushes into a wall is put back by the wall (from x to clamped): the body did
-// not move it that far. That part of its collision reaction moves to the held sums, of which the
-// body pass applies only what stops the body moving into the held particles (docs/bodies.md,
-// "Particles held against a wall"): a particle held between a body and the floor carries the
-// body as a grain of sand would, and no longer lifts it a little every iteration. The pressure
-// push keeps its whole reaction: the wall holding the particle is how the floor carries the
-// water's pressure.
-void holdAgainstWalls(vec3 x, vec3 clamped) {
-    if (pushedBy == kNoBody)
-        return;
-    vec3 undone = clamped - x;
-    vec3 back = sign(undone) * min(abs(undone), abs(pushSum));
-    back = mix(vec3(0.0), back, lessThan(pushSum * undone, vec3(0.0)));
-    if (any(notEqual(back, vec3(0.0)))) {
-        addSums(pushedBy, false, clamped, back);
-        addSums(pushedBy, true, clamped, -back);
-    }
-}
-
 // PBF step 5 (docs/pbf.md) for particle i, whose x* the solve ends with after `updates`
 // iterations that moved it: velocity from the correction, x <- x*, and the non-finite guard (a
 // particle whose x* or v is NaN or infinite is put back where it was, at rest, and counted, so
@@ -286,14 +128,12 @@ void main() {
         return; // one lane: no barriers below
 #endif
     vec3 xi = live ? pred[i].xyz : vec3(0.0);
-    rimX = xi;
     float li = live ? pred[i].w : 0.0;
     vec3 dp = live ? densityCorrection(i, xi, li) : vec3(0.0);
     dp = pbfLaneSum(vec4(dp, 0.0)).xyz; // every lane's share (uniform: all reach the barriers)
     if (!live || pbfLane != 0u)
         return;
-    if (P.solidBoundary != 0u && k == 0u && li != 0.0)
-        recordSurface(xi);
+    startCoupling(xi, k, li);
     // A non-finite correction is dropped before collide and clamp (GLSL min/max/clamp may turn
     // NaN into a finite corner), so it cannot reach the neighbours in the next iteration;
     // endSolve counts what still goes wrong.
@@ -312,13 +152,10 @@ void main() {
         addWallBoundary(xi, share, slope);
         addColliderBoundary(xi, share, slope);
         vec3 solidPush = li * slope;
-        if (allFinite(solidPush)) {
+        bool finitePush = allFinite(solidPush);
+        if (finitePush)
             x += solidPush;
-            if (P.measuredForces != 0u && P.solidBoundary != 0u)
-                measureSolidPushes(xi, li);
-        }
-        if (P.bodyCount != 0u)
-            x = pushByBodies(xi, li, x, visit);
+        x = couplePressure(xi, li, x, visit, finitePush);
     }
     if (!allFinite(x))
         x = xi;

@@ -30,35 +30,47 @@ SLUICE_CONST uint kNoBody = 0xffffffffu;
 /// only when the low word wraps (a two's-complement sum would carry every negative term's sign
 /// into it: twice the atomics, which were most of the reactions' cost, docs/bodies.md):
 ///
-///   word  0      12       24          36            48    52      64             76        80
-///         | push | moment | held push | held moment | rim | under | under moment | surface |
+///   word  0      12       24          36            48      60             72        73    80
+///         | push | moment | held push | held moment | under | under moment | surface | spare |
 ///
 /// `push` is the sum of the corrections dx the body gave particles [GpuBody::sumScale units of
 /// m], `moment` the sum of (x - c) x dx [momentScale units of m^2]; the held pair the same for
 /// the collision pushes a wall undid (the body takes only what stops it moving into the
 /// particles the wall holds, docs/bodies.md). Read and write them through bodySumWord.
-/// `rim` is one scalar in the same form (component 0 of a sum at word 48): the lengths of the
-/// pushes along a wall or a static collider the body gave the water within h of it [sumScale
-/// units of m], the pressure there; `under` the sum of the rest of those pushes, the ones
-/// across the solid, from the water between the body and the solid [sumScale units of m]. The
-/// body pass tops the second up to the first's pressure (docs/bodies.md, "Sealed contacts").
-/// With "solids" the film model (docs/bodies.md, "The film under a body") also sums the moment
-/// of `under` [momentScale units of m^2] and keeps, in the one plain word `surface`, the
-/// highest compressed water in the column over the body (FilmGlsl.h, surfaceWordOf), maxed with
-/// an integer atomic.
+/// `under` is the sum of the pushes across a wall or a static collider the body gave the water
+/// within the rim band of it, the water between the body and the solid [sumScale units of m],
+/// and `under moment` their moments [momentScale units of m^2]; the film model (docs/bodies.md,
+/// "The film under a body") holds them to the pressure of the water over the body, whose level
+/// is the one plain word `surface`: the highest compressed water in the column over the body
+/// (FilmGlsl.h, surfaceWordOf), maxed with an integer atomic.
 SLUICE_CONST uint kBodySumWords = 80;
 SLUICE_CONST uint kBodySumPush = 0;
 SLUICE_CONST uint kBodySumMoment = 12;
 SLUICE_CONST uint kBodySumHeldPush = 24;
 SLUICE_CONST uint kBodySumHeldMoment = 36;
-SLUICE_CONST uint kBodySumRim = 48;
-SLUICE_CONST uint kBodySumUnder = 52;
-SLUICE_CONST uint kBodySumUnderMoment = 64;
-SLUICE_CONST uint kBodySumSurface = 76;
+SLUICE_CONST uint kBodySumUnder = 48;
+SLUICE_CONST uint kBodySumUnderMoment = 60;
+SLUICE_CONST uint kBodySumSurface = 72;
 /// Words of a body's sums in use; the rest up to kBodySumWords are spare.
-SLUICE_CONST uint kBodySumUsed = 77;
+SLUICE_CONST uint kBodySumUsed = 73;
 /// Contact sample points of one body at most.
 SLUICE_CONST uint kMaxBodySamples = 2048;
+
+// The body coupling's tuned constants: the one table of them, with the measurement that set
+// each and the test that holds it, is docs/bodies.md, "Tuned constants" (with the surface
+// offset, format::kBodySurfaceOffsetSpacings, which the baker needs too).
+/// The share of the film model's contact points' area taken as the faces' (their areas sum to
+/// about 1.19 times a cube's faces at 8 points a side: the cells along its edges hold points of
+/// the rounded field).
+SLUICE_CONST float kFilmAreaShare = 0.84;
+/// How fast the film under a body drains [m/s]: the film model gives back what it took off the
+/// water under the body only as far as it holds the body's approach to the solid to this.
+SLUICE_CONST float kFilmDrainSpeed = 0.05;
+/// The sealed band, where a body's face over a wall or a static collider is held by the film
+/// model: within h + this many particle radii of the solid (at most three water layers).
+SLUICE_CONST float kSealedBandRadii = 2.5;
+/// The viewer's mouse spring on a body: its natural frequency [Hz], critically damped.
+SLUICE_CONST float kDragSpringHz = 3.0;
 
 /// Fixed-point units of the push sums per kernel radius h: a body's sumScale and a measured
 /// collider's are this / h [1/m] (2^28: a push of h is 2^28, far below the 2^31 one add holds).
@@ -175,8 +187,7 @@ static_assert(sizeof(sluice::shared::GpuBody) == 208, "std430 size of GpuBody");
 static_assert(sluice::shared::kBodySumMoment == sluice::shared::kBodySumPush + 12 &&
                   sluice::shared::kBodySumHeldPush == sluice::shared::kBodySumMoment + 12 &&
                   sluice::shared::kBodySumHeldMoment == sluice::shared::kBodySumHeldPush + 12 &&
-                  sluice::shared::kBodySumRim == sluice::shared::kBodySumHeldMoment + 12 &&
-                  sluice::shared::kBodySumUnder == sluice::shared::kBodySumRim + 4 &&
+                  sluice::shared::kBodySumUnder == sluice::shared::kBodySumHeldMoment + 12 &&
                   sluice::shared::kBodySumUnderMoment == sluice::shared::kBodySumUnder + 12 &&
                   sluice::shared::kBodySumSurface == sluice::shared::kBodySumUnderMoment + 12 &&
                   sluice::shared::kBodySumUsed == sluice::shared::kBodySumSurface + 1 &&

@@ -262,28 +262,20 @@ ContactSums wallAndStaticShare(uint b, Reach r, uint lane, uint lanes, vec3 x0, 
 }
 
 // What lane `lane` of `lanes` finds of body b's sealed contacts at its pose of the substep start
-// (x0, q0), over its points lane, lane + lanes, ... (docs/bodies.md, "Sealed contacts"):
-// - `sealed`: the sum of area * (n . m) m over the points within h of a wall or a static
-//   collider whose outward normal n faces it (more than 120 degrees from the solid's normal m),
-//   the water's push across the solid, and `turn` the sum of their moments (p - c) x ...;
-// - `sideArea`: the area of the points within the rim band of a solid whose normal runs along
-//   it (within 30 degrees of its plane): the sides the rim's water pushes;
-// - `lowest`: the smallest gap of the facing points (the rim band when none): the rim's water
-//   beside that gap presses no side of the body.
-// With "solids" (the film model, docs/bodies.md "The film under a body"), over the facing
-// points within the rim band, each by its head of water under `level` [m along up],
-// a = area * (level - height): `sealed` the sum of w a (n . m) m (w fading from 1 to 0 over the
-// sealed band's last spacing), `turn` the sum of the moments of w a n, `sideArea` the sum of
-// a (n . -m).
+// (x0, q0), over its points lane, lane + lanes, ... (the film model, docs/bodies.md, "The film
+// under a body"): over the points within the rim band of a wall or a static collider whose
+// outward normal n faces it (more than 120 degrees from the solid's normal m), each by its head
+// of water under `level` [m along up], a = area * (level - height): `sealed` the sum of
+// w a (n . m) m (w fading from 1 to 0 over the sealed band's last spacing), `turn` the sum of the
+// moments (p - c) x w a n, `head` the sum of a (n . -m).
 struct SealedSums {
     vec3 sealed;
     vec3 turn;
-    float sideArea;
-    float lowest;
+    float head;
 };
 
 SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, float level) {
-    SealedSums sums = SealedSums(vec3(0.0), vec3(0.0), 0.0, rimBand());
+    SealedSums sums = SealedSums(vec3(0.0), vec3(0.0), 0.0);
     float areaScale = bodies[b].scale * bodies[b].scale;
     for (uint s = lane; s < bodies[b].sampleCount; s += lanes) {
         vec4 point = samples[bodies[b].sampleOffset + s];
@@ -300,27 +292,15 @@ SealedSums sealedShare(uint b, uint lane, uint lanes, vec3 x0, vec4 q0, float le
             continue;
         vec3 normal = rotate(q0, grad / len);
         float facing = dot(normal, solidNormal);
-        float area = point.w * areaScale;
-        if (P.solidBoundary != 0u) {
-            if (facing < -0.5) {
-                // The film model: every face over the solid in the rim band, by its head of
-                // water; the sealed ones across the solid, their moments along their own
-                // normals (a push across the solid at a tilted face's points would tip the body
-                // further), their weight fading out over the sealed band's last spacing.
-                float head = area * max(0.0, level - dot(x0 + arm, upOf()));
-                float w = clamp((sealedBand() - gap) / (2.0 * PBF_RADIUS), 0.0, 1.0);
-                sums.sideArea += -facing * head;
-                sums.sealed += w * head * facing * solidNormal;
-                sums.turn += cross(arm, w * head * normal);
-            }
-        } else if (facing < -0.5 && gap < sealedBand()) {
-            vec3 push = area * facing * solidNormal;
-            sums.sealed += push;
-            sums.turn += cross(arm, push);
-            sums.lowest = min(sums.lowest, max(gap, 0.0));
-        } else if (abs(facing) < 0.5) {
-            sums.sideArea += area;
-        }
+        if (!(facing < -0.5))
+            continue;
+        // The sealed ones push across the solid, their moments along their own normals (a push
+        // across the solid at a tilted face's points would tip the body further).
+        float head = point.w * areaScale * max(0.0, level - dot(x0 + arm, upOf()));
+        float w = clamp((sealedBand() - gap) / (2.0 * PBF_RADIUS), 0.0, 1.0);
+        sums.head += -facing * head;
+        sums.sealed += w * head * facing * solidNormal;
+        sums.turn += cross(arm, w * head * normal);
     }
     return sums;
 }

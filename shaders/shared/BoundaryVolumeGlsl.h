@@ -11,7 +11,7 @@
 // which is within 1.3 % of the exact share in an edge or a corner. Adds the walls' share to
 // `boundary` and its gradient (outward from the fluid, into the walls) to `gradient`.
 void addWallBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
-    if (P.hasDomain == 0u || P.solidBoundary == 0u)
+    if (P.hasDomain == 0u)
         return;
     vec3 below = x - P.domainMin + PBF_RADIUS; // to the faces at the low ends of x, y and z
     vec3 above = P.domainMax - x + PBF_RADIUS; // and at the high ends
@@ -115,8 +115,6 @@ bool colliderBoundaryAt(uint c, vec3 x, out float share, out vec3 slope) {
 // Every static and kinematic collider's share at x (colliderBoundaryAt) added to `boundary`,
 // its gradient to `gradient`. Dynamic bodies are summed per body by the passes.
 void addColliderBoundary(vec3 x, inout float boundary, inout vec3 gradient) {
-    if (P.solidBoundary == 0u)
-        return;
     uint mask = P.staticColliders, c = 0u;
     while (nextStaticCollider(mask, c)) {
         float share;

@@ -5,12 +5,12 @@
 #define SLUICE_FILM_GLSL_H
 
 // How far from a wall or a static collider [m] a body's face over it counts as sealed
-// (docs/bodies.md, "Sealed contacts"): within h; with "solids", within h + 1.25 spacings, where
-// the water under the face is at most three layers thick and the film model holds it at the
-// pressure of the water over it ("The film under a body"). The rim is the water beside a body
-// within one particle radius more of the solid.
+// (docs/bodies.md, "The film under a body"): within h + kSealedBandRadii particle radii (1.25
+// spacings), where the water under the face is at most three layers thick and the film model
+// holds it at the pressure of the water over it. The rim is the water beside a body within
+// one particle radius more of the solid.
 float sealedBand() {
-    return P.solidBoundary != 0u ? PBF_H + 2.5 * PBF_RADIUS : PBF_H;
+    return PBF_H + kSealedBandRadii * PBF_RADIUS;
 }
 float rimBand() {
     return sealedBand() + PBF_RADIUS;

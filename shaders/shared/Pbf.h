@@ -129,7 +129,7 @@ struct PbfParams {
     /*  80 */ vec3 domainMin; ///< [m]
     /*  92 */ uint hasDomain; ///< 1 when a domain box is set, 0 otherwise
     /*  96 */ vec3 domainMax; ///< [m]
-    /* 108 */ uint solidBoundary; ///< 1: walls and static colliders add boundary volume
+    /* 108 */ uint pad108;
     // Counts.
     /* 112 */ uint particleCount; ///< particles now live
     /* 116 */ uint hashMask;      ///< hash table size - 1 (the size is a power of two)
@@ -269,7 +269,6 @@ SLUICE_PBF_AT(PbfParams, targetDensityError, 76);
 SLUICE_PBF_AT(PbfParams, domainMin, 80);
 SLUICE_PBF_AT(PbfParams, hasDomain, 92);
 SLUICE_PBF_AT(PbfParams, domainMax, 96);
-SLUICE_PBF_AT(PbfParams, solidBoundary, 108);
 SLUICE_PBF_AT(PbfParams, particleCount, 112);
 SLUICE_PBF_AT(PbfParams, minIterations, 124);
 SLUICE_PBF_AT(PbfParams, solveChunks, 128);

@@ -109,7 +109,7 @@ def test_entries_can_be_given_as_dicts(tmp_path: Path) -> None:
     assert sparse[0]["status"] == "baked", sparse[0]
     meta = sluice.read_asset(tmp_path / "s.slc").metadata
     assert (meta["layout"], meta["bandWidth"]) == ("sparse", 2.0)
-    # A band for a particle spacing: 1 m over 8 voxels, 2.15 x 0.1 m / 0.125 m + sqrt(3) = 3.45.
+    # A band for a particle spacing: 1 m over 8 voxels, 2.05 x 0.1 m / 0.125 m + sqrt(3) = 3.37.
     spaced = sluice.bake_many(
         [{"mesh": mesh, "output": tmp_path / "f.slc", "resolution": 8, "backend": "cgal",
           "sparse": True, "forSpacing": 0.1}], executor=ProcessPoolExecutor(max_workers=1))

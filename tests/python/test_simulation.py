@@ -98,16 +98,10 @@ def test_live_parameters_change_the_run(scene: Path) -> None:
     params = sim.parameters
     assert params["gravity"] == [0.0, 0.0, 0.0] and params["maxIterations"] == 3
     assert params["xsph"] == pytest.approx(0.02)
-    assert params["boundary"] == "solids", "the default boundary model"
-    offset = params["derived"]["bodySurfaceOffset"]
-    sim.set_parameters(boundary="bodies")
-    assert sim.parameters["boundary"] == "bodies"
-    # The bodies' surface offset is calibrated per model (docs/bodies.md): 0.05 spacings with
-    # "solids", 0.15 with "bodies".
-    assert sim.parameters["derived"]["bodySurfaceOffset"] == pytest.approx(offset * 3, rel=1e-5)
-    with pytest.raises(sluice.InvalidArgument, match="unknown boundary model"):
-        sim.set_parameters(boundary="walls")
-    sim.set_parameters(boundary="solids")
+    # One boundary model: nothing to choose while running.
+    assert "boundary" not in params
+    with pytest.raises(sluice.InvalidArgument, match="simulation.boundary: not a parameter"):
+        sim.set_parameters(boundary="bodies")
     falling = sluice.Simulation(scene)
     sim.step(3)
     falling.step(3)
@@ -171,16 +165,15 @@ def test_a_floating_box_reports_its_state_as_sluice_play_does(tmp_path: Path) ->
 
 
 def test_the_solids_boundary_share_is_probed_where_walls_and_colliders_meet(scene: Path) -> None:
-    # With "solids" the domain's walls and the ball (2.5 cm radius) add boundary volume: a
-    # particle radius from the floor it is the flat share, in the domain's corner three walls'
-    # (the walls' product, docs/pbf.md), on the ball's top some (past its grid box, padded by 3
-    # voxels, its volume map does not reach: the flat closed form), far from everything none.
-    # "solids" is the default; with "bodies", none.
+    # The domain's walls and the ball (2.5 cm radius) add boundary volume: a particle radius
+    # from the floor it is the flat share, in the domain's corner three walls' (the walls'
+    # product, docs/pbf.md), on the ball's top some (past its grid box, padded by 3 voxels, its
+    # volume map does not reach: the flat closed form), far from everything none.
     r = 0.01
     points = [[0.0, -0.2 + r, 0.0], [-0.2 + r, -0.2 + r, -0.2 + r], [0.0, 0.025 + r, 0.0],
               [0.0, 0.3, 0.0]]
     solids = scene_dict("ball.slc")
-    solids["simulation"]["boundary"] = "solids"
+    solids["simulation"]["boundary"] = "solids"  # the one model, named as older scenes may
     sim = sluice.Simulation(solids, base_dir=scene.parent)
     share, slope = sim.solid_boundary_at(points)
     assert share.shape == (4,) and slope.shape == (4, 3)
@@ -192,10 +185,12 @@ def test_the_solids_boundary_share_is_probed_where_walls_and_colliders_meet(scen
     assert slope[0, 1] < 0.0  # the floor's share falls going up
     default = sluice.Simulation(scene_dict("ball.slc"), base_dir=scene.parent)
     assert np.array_equal(default.solid_boundary_at(points)[0], share), "the default is solids"
-    walls_without = scene_dict("ball.slc")
-    walls_without["simulation"]["boundary"] = "bodies"
-    bodies = sluice.Simulation(walls_without, base_dir=scene.parent)
-    assert not bodies.solid_boundary_at(points)[0].any()
+    # A scene naming the removed model plays with the one model, with a warning.
+    removed = scene_dict("ball.slc")
+    removed["simulation"]["boundary"] = "bodies"
+    with pytest.warns(UserWarning, match='"bodies" was removed'):
+        bodies = sluice.Simulation(removed, base_dir=scene.parent)
+    assert np.array_equal(bodies.solid_boundary_at(points)[0], share)
 
 
 def test_added_particles_get_new_ids_and_a_set_pose_moves_the_collider(scene: Path) -> None:

@@ -68,15 +68,12 @@ float ReferencePbf::boundaryShareSlope(float phi) const {
 glm::vec4 ReferencePbf::solidBoundaryAt(glm::vec3 x) const {
     float boundary = 0.0f;
     glm::vec3 gradient(0.0f);
-    if (m_params.solidBoundary)
-        addSolidBoundary(x, time(), boundary, gradient);
+    addSolidBoundary(x, time(), boundary, gradient);
     return {gradient, boundary};
 }
 
 void ReferencePbf::addSolidBoundary(glm::vec3 x, float t1, float& boundary,
                                     glm::vec3& gradient) const {
-    if (!m_params.solidBoundary)
-        return;
     const float r = m_c.radius;
     const float h = m_c.h;
     if (m_hasDomain) {
@@ -324,67 +321,14 @@ double ReferencePbf::nearestSolidWithin(glm::vec3 x, double limit, float t1,
 }
 
 // A push of the body on a particle of the rim (within the rim band of a solid at x*_i), which
-// ends at x: along the solid (within 60 degrees of its plane), its length into the body's rim
-// sum; across it, into the under sum (with "solids" its moment too).
+// ends at x: across the solid (within 60 degrees of its normal), into the under sums, with its
+// moment (the film model's, ReferenceFilm.cpp).
 void ReferencePbf::addRim(Body& body, glm::vec3 x, glm::vec3 dx) {
     const double len = glm::length(glm::dvec3(dx));
-    if (!m_inRim || !(len > 0.0))
+    if (!m_inRim || !(len > 0.0) || !(std::abs(glm::dot(glm::dvec3(dx), m_rimNormal)) >= 0.5 * len))
         return;
-    if (std::abs(glm::dot(glm::dvec3(dx), m_rimNormal)) < 0.5 * len) {
-        body.rimPush += len;
-    } else {
-        body.underDx += glm::dvec3(dx);
-        if (m_params.solidBoundary)
-            body.underMoment +=
-                glm::cross(glm::dvec3(x) - glm::dvec3(body.centerOfMass), glm::dvec3(dx));
-    }
-}
-
-// The body's points within h of a wall or a static collider facing it (normals more than 120
-// degrees apart) should get across the solid, per area (times the cosine), what the rim pushed
-// in all over the area of the body's sides within h + r of a solid (normals within 30 degrees
-// of its plane, counted as covering the band from the lowest facing gap up); what the water
-// between gave (the under sum) is topped up to that along its direction, and the top-up added
-// to the body's sums like the particles' pushes.
-void ReferencePbf::addSealedContacts(Body& body, float t1) {
-    if (m_params.solidBoundary) {
-        addFilm(body, t1);
-        return;
-    }
-    if (!(body.rimPush > 0.0))
-        return;
-    const double h = double(m_c.h);
-    const double band = rimBand();
-    glm::dvec3 sealed(0.0), turn(0.0);
-    double sideArea = 0.0, lowest = band;
-    for (const glm::vec4& point : body.contactPoints) {
-        PointOverSolid p;
-        if (!pointOverSolid(body, point, band, t1, p))
-            continue;
-        const double facing = glm::dot(p.normal, p.solidNormal);
-        if (facing < -0.5 && p.gap < h) {
-            const glm::dvec3 push = p.area * facing * p.solidNormal;
-            sealed += push;
-            turn += glm::cross(glm::dvec3(p.world) - glm::dvec3(body.centerOfMass), push);
-            lowest = std::min(lowest, std::max(p.gap, 0.0));
-        } else if (std::abs(facing) < 0.5) {
-            sideArea += p.area;
-        }
-    }
-    if (!(sideArea > 0.0))
-        return;
-    // The sides count as covering the band from the lowest gap up (the top-up fades as the gap
-    // opens).
-    sideArea *= band / std::max(band - lowest, 1e-3 * band);
-    const glm::dvec3 expected = body.rimPush / sideArea * sealed;
-    const double expectedLength = glm::length(expected);
-    if (!(expectedLength > 0.0))
-        return;
-    const double topUp =
-        std::max(0.0, expectedLength - glm::dot(body.underDx, expected / expectedLength)) /
-        expectedLength;
-    body.sumDx += topUp * expected;
-    body.sumMoment += topUp * body.rimPush / sideArea * turn;
+    body.underDx += glm::dvec3(dx);
+    body.underMoment += glm::cross(glm::dvec3(x) - glm::dvec3(body.centerOfMass), glm::dvec3(dx));
 }
 
 } // namespace sluice::ref

@@ -1,4 +1,4 @@
-// The CPU reference's film model ("solids", docs/bodies.md "The film under a body"), as
+// The CPU reference's film model (docs/bodies.md, "The film under a body"), as
 // shaders/pbf/pbf_bodies.comp (filmReaction, takeFilmReaction), shared/BodyContactsGlsl.h
 // (sealedShare) and shared/FilmGlsl.h (surfaceWordOf, surfaceLevel) do it, in double.
 #include "ReferencePbf.h"
@@ -14,7 +14,6 @@ namespace sluice::ref {
 namespace {
 
 constexpr double kSurfaceUnits = 65536.0;
-constexpr double kFilmAreaShare = 0.84f; // as the shader's float constant
 
 glm::dvec3 upOf(glm::vec3 gravity) {
     const double g = glm::length(glm::dvec3(gravity));
@@ -25,7 +24,7 @@ glm::dvec3 upOf(glm::vec3 gravity) {
 
 double ReferencePbf::sealedBand() const {
     const double h = double(m_c.h), r = double(m_c.radius);
-    return m_params.solidBoundary ? h + 2.5 * r : h;
+    return h + double(shared::kSealedBandRadii) * r;
 }
 
 double ReferencePbf::rimBand() const {
@@ -105,7 +104,8 @@ void ReferencePbf::addFilm(Body& body, float t1) {
     const double share = std::min(1.0, sealedLength / heads);
     const double given = glm::dot(body.underDx, along);
     const double dt = double(m_c.dt);
-    const double expected = kFilmAreaShare * g * dt * dt / double(m_c.volume) * heads;
+    const double expected =
+        double(shared::kFilmAreaShare) * g * dt * dt / double(m_c.volume) * heads;
     if (given < expected) {
         const double add = (expected - given) * share;
         body.sumDx += add * along;

@@ -36,7 +36,7 @@ ReferencePbf::ReferencePbf(const format::Scene& scene, std::vector<ReferenceColl
         SLUICE_ASSERT(c.asset != nullptr, "ReferencePbf: collider without an asset");
         Collider collider{c.placement, format::SdfSampler(*c.asset)};
         collider.asset = c.asset;
-        if (m_params.solidBoundary && !c.placement.dynamic)
+        if (!c.placement.dynamic)
             collider.volumeMap = buildVolumeMap(*c.asset, collider.sampler,
                                                 double(m_c.h) / double(c.placement.scale));
         if (c.placement.dynamic) {
@@ -198,30 +198,28 @@ void ReferencePbf::finishBodySubstep(double share) {
     const float t1 = timeAt(m_substepIndex + 1);
     for (Body& b : m_bodies) {
         const glm::dvec3 before = b.sumDx;
-        addSealedContacts(b, t1);
+        addFilm(b, t1);
         b.sealedForce += share * (-m * (b.sumDx - before) / (dt * dt));
         b.force += share * (-m * b.sumDx / (dt * dt));
         b.torque += share * (-m * b.sumMoment / (dt * dt));
-        // The film model's excess ("solids"), then the held particles' reaction: only the part
-        // that stops the body moving into them, from its velocity after gravity and the rest of
-        // the reaction (pbf_bodies.comp); with "solids" the held contact where it acts. The
-        // reference's bodies do not turn: the spin only decides these shares.
+        // The film model's excess, then the held particles' reaction: only the part that stops
+        // the body moving into them, from its velocity after gravity and the rest of the
+        // reaction (pbf_bodies.comp), the held contact where it acts. The reference's bodies do
+        // not turn: the spin only decides these shares.
         BodyMotion motion;
         if (b.mass > 0.0) {
             motion.v = b.velocity + dt * glm::dvec3(m_params.gravity) - m * b.sumDx / dt / b.mass;
             motion.w = b.angularVelocity + b.invInertia * (-m * b.sumMoment / dt);
         }
-        takeStopping(b, -m * b.filmDx / dt, -m * b.filmMoment / dt, kFilmDrain, false, share,
-                     motion);
+        takeStopping(b, -m * b.filmDx / dt, -m * b.filmMoment / dt, double(shared::kFilmDrainSpeed),
+                     false, share, motion);
         const glm::dvec3 heldImpulse = -m * b.heldDx / dt;
         b.heldForce += share * heldImpulse / dt;
-        takeStopping(b, heldImpulse, -m * b.heldMoment / dt, 0.0, m_params.solidBoundary, share,
-                     motion);
+        takeStopping(b, heldImpulse, -m * b.heldMoment / dt, 0.0, true, share, motion);
         b.sumDx = glm::dvec3(0.0);
         b.sumMoment = glm::dvec3(0.0);
         b.heldDx = glm::dvec3(0.0);
         b.heldMoment = glm::dvec3(0.0);
-        b.rimPush = 0.0;
         b.underDx = glm::dvec3(0.0);
         b.underMoment = glm::dvec3(0.0);
         b.surface = 0;
@@ -337,14 +335,14 @@ void ReferencePbf::solve() {
         double errorSum = 0.0;
         for (std::size_t i = 0; i < n; ++i)
             errorSum += constraintAndLambda(i, pairW, pairGrad, t1);
-        // "solids": the film model's level over each body (ReferenceFilm.cpp).
-        if (k == 0 && m_params.solidBoundary && !m_bodies.empty())
+        // The film model's level over each body (ReferenceFilm.cpp).
+        if (k == 0 && !m_bodies.empty())
             for (std::size_t i = 0; i < n; ++i)
                 if (m_lambda[i] != 0.0f)
                     recordSurface(m_predicted[i]);
-        // 4.2 Early exit on the mean compression; with "solids" after an even count only.
+        // 4.2 Early exit on the mean compression, after an even count only.
         const double meanError = n > 0 ? errorSum / double(n) : 0.0;
-        const bool countAllowed = !m_params.solidBoundary || k % 2 == 0;
+        const bool countAllowed = k % 2 == 0;
         if (k >= m_params.minIterations && countAllowed && m_params.targetDensityError > 0.0f &&
             meanError <= m_params.targetDensityError)
             break;

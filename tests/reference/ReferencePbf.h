@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "shared/Bodies.h"
 #include "sluice/format/asset/ColliderAsset.h"
 #include "sluice/format/asset/SdfSampler.h"
 #include "sluice/format/scene/Scene.h"
@@ -42,7 +43,7 @@ struct ReferenceCollider {
     double mass = 0.0;
     glm::vec3 linearVelocity{0.0f};
     /// Bodies only: its angular velocity at the substep start [rad/s] and inverse inertia about
-    /// the centre of mass, both in the world at `bodyPose` [1/(kg m^2)]. With "solids" the held
+    /// the centre of mass, both in the world at `bodyPose` [1/(kg m^2)]. The held
     /// particles' contact is taken where it acts, with the body's spin and effective mass there
     /// (pbf_bodies.comp, takeHeldReaction); a zero inverse inertia takes it at the centre.
     glm::vec3 angularVelocity{0.0f};
@@ -120,7 +121,7 @@ public:
     /// their held pose, from their zero level set); +inf without colliders.
     float colliderDistance(glm::vec3 x, float t) const;
     /// The walls' and static colliders' boundary share at `x` now (w) and its gradient (xyz),
-    /// as rt::Simulation::solidBoundaryAt gives it ("solids"; 0 otherwise).
+    /// as rt::Simulation::solidBoundaryAt gives it.
     glm::vec4 solidBoundaryAt(glm::vec3 x) const;
 
     /// Dynamic bodies, in scene order of their colliders.
@@ -153,7 +154,7 @@ private:
         format::SdfSampler sampler;
         std::uint32_t body = kNoBody; // index into m_bodies, or kNoBody
         const format::ColliderAsset* asset = nullptr;
-        std::vector<float> volumeMap; // static, with "solids": per grid point (docs/pbf.md)
+        std::vector<float> volumeMap; // static colliders: per grid point (docs/pbf.md)
     };
 
     /// A dynamic body: where it is held and its reaction sums.
@@ -171,12 +172,11 @@ private:
         glm::dvec3 heldMoment{0.0};           // [m^2]
         glm::dvec3 heldForce{0.0};            // of heldDx, before the share [N]
         std::vector<glm::vec4> contactPoints; // asset frame; w: area [asset units^2]
-        double rimPush = 0.0;        // its pushes along a solid within h + r of it, lengths [m]
         glm::dvec3 underDx{0.0};     // its pushes across a solid within h + r of it [m]
-        glm::dvec3 underMoment{0.0}; // "solids": their moments (x - c) x dx [m^2]
+        glm::dvec3 underMoment{0.0}; // their moments (x - c) x dx [m^2]
         double boundRadius = 0.0;    // as the GPU's: contact points' reach + a voxel [m]
-        std::uint32_t surface = 0;   // "solids": the film model's level word (FilmGlsl.h)
-        glm::dvec3 filmDx{0.0};      // "solids": what the film model took off the water under
+        std::uint32_t surface = 0;   // the film model's level word (FilmGlsl.h)
+        glm::dvec3 filmDx{0.0};      // what the film model took off the water under
         glm::dvec3 filmMoment{0.0};  // it, given back as far as it holds the approach
         glm::dvec3 sealedForce{0.0}; // of the sealed contacts, in force [N]
         glm::dvec3 force{0.0};       // of the last substep, or the mean over the last step [N]
@@ -213,7 +213,6 @@ private:
     double sealedBand() const;
     double rimBand() const;
     void addRim(Body& body, glm::vec3 x, glm::vec3 dx);
-    void addSealedContacts(Body& body, float t1);
     void recordSurface(glm::vec3 x);
     void addFilm(Body& body, float t1);
     double surfaceBase(const Body& body) const;
@@ -224,8 +223,6 @@ private:
     };
     void takeStopping(Body& body, glm::dvec3 impulse, glm::dvec3 angular, double allowed,
                       bool atPoint, double share, BodyMotion& motion);
-    /// The film model's drain (pbf_bodies.comp, kFilmDrain) [m/s].
-    static constexpr double kFilmDrain = 0.05f;
     void addReaction(Body& body, glm::vec3 x, glm::vec3 dx);
     void addHeld(Body& body, glm::vec3 x, glm::vec3 dx);
     void startBodyStep();

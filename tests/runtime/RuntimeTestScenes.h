@@ -72,7 +72,6 @@ inline format::SimulationParams defaultParams(float spacing, std::uint32_t subst
     p.vorticity = 0.01f * std::sqrt(9.81f * p.kernelRadius);
     p.gravity = glm::vec3(0.0f, -9.81f, 0.0f);
     p.capacity = capacity;
-    p.solidBoundary = true;
     return p;
 }
 

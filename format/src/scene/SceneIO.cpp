@@ -141,10 +141,10 @@ void SceneParser::readSimulation(const rj::Value* value) {
     m_givenCapacity = intIn("capacity", p.capacity);
     if (const rj::Value* v = o.find("boundary")) {
         const std::string text = detail::readString(*v, o.pathOf("boundary"));
-        const std::optional<bool> solids = solidBoundaryFromName(text);
-        if (!solids)
+        const BoundaryModelName model = boundaryModelNamed(text);
+        if (model == BoundaryModelName::Unknown)
             throwAt(ErrorCode::InvalidArgument, o.pathOf("boundary"), unknownBoundaryModel(text));
-        p.solidBoundary = *solids;
+        m_scene.namesRemovedBoundaryModel = model == BoundaryModelName::Removed;
     }
 }
 

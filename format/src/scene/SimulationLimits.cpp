@@ -101,21 +101,24 @@ std::string rangeProblem(double value, const std::string& shown, const ParamRang
     return problem;
 }
 
-const char* boundaryModelName(bool solidBoundary) {
-    return solidBoundary ? "solids" : "bodies";
-}
-
-std::optional<bool> solidBoundaryFromName(std::string_view name) {
-    for (bool solids : {true, false})
-        if (name == boundaryModelName(solids))
-            return solids;
-    return std::nullopt;
+BoundaryModelName boundaryModelNamed(std::string_view name) {
+    if (name == "solids")
+        return BoundaryModelName::Solids;
+    if (name == "bodies")
+        return BoundaryModelName::Removed;
+    return BoundaryModelName::Unknown;
 }
 
 std::string unknownBoundaryModel(std::string_view name) {
     return "unknown boundary model \"" + detail::displayKey(std::string(name)) +
-           "\"; expected \"solids\" (walls, colliders and bodies add boundary volume) or "
-           "\"bodies\" (only dynamic bodies do)";
+           "\"; there is one, \"solids\" (the walls, colliders and bodies add boundary volume), "
+           "the default: leave the key out";
+}
+
+std::string removedBoundaryModelWarning() {
+    return "simulation.boundary: \"bodies\" was removed; the walls, colliders and bodies all add "
+           "boundary volume now (\"solids\", the only model: docs/pbf.md, \"Boundary volume\"), "
+           "so this scene plays with it; remove the key to silence this";
 }
 
 Result<void> checkSimulationParams(const SimulationParams& p) {

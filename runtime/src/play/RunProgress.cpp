@@ -108,8 +108,6 @@ std::optional<std::string> slowRunWarning(const std::string& renderer, std::uint
 VolumeMapWork volumeMapWork(const format::Scene& scene,
                             const std::vector<format::ColliderAsset>& colliders) {
     VolumeMapWork work;
-    if (!scene.simulation.solidBoundary)
-        return work;
     const double h = scene.simulation.kernelRadius; // set by readScene
     for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
         const format::ColliderAsset& asset = colliders[c];
@@ -142,12 +140,12 @@ std::optional<std::string> slowLoadWarning(const std::string& renderer, const Vo
                            double(std::max(cores, 1u));
     if (seconds <= kSlowLoadSeconds)
         return std::nullopt;
-    return "building the volume maps of \"boundary\": \"solids\" (" + std::to_string(work.points) +
+    return "building the colliders' volume maps (" + std::to_string(work.points) +
            " grid points) would take about " + formatDuration(seconds) + " on " + renderer +
            " (software OpenGL on " + std::to_string(cores) +
            " CPU cores) before the first step; maps baked with the " +
-           "colliders (sluice-bake bake --volume-map), a GPU, a coarser bake or " +
-           "\"boundary\": \"bodies\" make it shorter";
+           "colliders (sluice-bake bake --volume-map), a GPU or a coarser bake make it "
+           "shorter";
 }
 
 namespace {

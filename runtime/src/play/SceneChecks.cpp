@@ -11,6 +11,7 @@
 #include "sim/BodySetup.h"
 #include "sluice/format/asset/GridSamples.h"
 #include "sluice/format/asset/SdfSampler.h"
+#include "sluice/format/scene/SimulationLimits.h"
 #include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
@@ -254,9 +255,18 @@ void checkIterations(const format::Scene& scene, std::vector<PlayWarning>& out) 
              "\"minIterations\" below \"maxIterations\")"});
 }
 
+// "boundary": "bodies" names the boundary model that was removed: the scene plays with the one
+// there is (the format reader accepts the key, so an older scene still plays).
+void checkBoundaryModel(const format::Scene& scene, std::vector<PlayWarning>& out) {
+    if (scene.namesRemovedBoundaryModel)
+        out.push_back(
+            {"removed-boundary-model", scene.path + ": " + format::removedBoundaryModelWarning()});
+}
+
 std::vector<PlayWarning> checkScene(const format::Scene& scene,
                                     const std::vector<format::ColliderAsset>& colliders) {
     std::vector<PlayWarning> out;
+    checkBoundaryModel(scene, out);
     const std::vector<Spawn> groups = spawns(scene);
     checkDomain(scene, groups, out);
     checkColliderOverlap(scene, colliders, groups, out);

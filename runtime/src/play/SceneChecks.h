@@ -16,7 +16,8 @@ namespace sluice::rt {
 struct PlayWarning {
     std::string kind; ///< short stable name: "outside-domain", "fluid-in-collider",
                       ///< "collider-scale", "body-density", "body-outside-domain",
-                      ///< "screenshot-after-end", "unused-option"
+                      ///< "screenshot-after-end", "unused-option", "odd-iterations",
+                      ///< "removed-boundary-model"
     std::string text; ///< the whole message: where (scene file and JSON path), what, what to do
 };
 
@@ -50,7 +51,9 @@ glm::dvec3 colliderWorldSize(const format::SceneCollider& collider,
 ///  - body-density: a dynamic body's density (given, or its mass over its volume) is outside
 ///    kBodyDensityMin to kBodyDensityMax;
 ///  - body-outside-domain: a dynamic body's inside grid points at its start pose are partly or
-///    all outside the domain box.
+///    all outside the domain box;
+///  - odd-iterations: every substep runs the same odd number of solver iterations;
+///  - removed-boundary-model: the scene names "boundary": "bodies", which was removed.
 /// Each text starts with the scene file and the JSON path ("scene.json: fluid[0]: ...").
 std::vector<PlayWarning> checkScene(const format::Scene& scene,
                                     const std::vector<format::ColliderAsset>& colliders);

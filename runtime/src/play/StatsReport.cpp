@@ -138,7 +138,6 @@ nlohmann::json parametersJson(const format::SimulationParams& p, const PbfConsta
         {"vorticity", p.vorticity},
         {"gravity", {p.gravity.x, p.gravity.y, p.gravity.z}},
         {"capacity", p.capacity},
-        {"boundary", format::boundaryModelName(p.solidBoundary)},
         {"derived",
          {{"particleMass", k.mass},
           {"particleRadius", k.radius},

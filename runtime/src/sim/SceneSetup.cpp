@@ -95,9 +95,7 @@ PbfConstants deriveConstants(const format::SimulationParams& params) {
     c.spikyGrad = float(-45.0 / (kPi * std::pow(h, 6)));
     c.dt = float(double(params.timeStep) / double(params.substeps));
     c.boundaryScale = share > 0.0 ? float(behind / wSum / share) : 1.0f;
-    c.bodyOffset = float((params.solidBoundary ? format::kBodySurfaceOffsetSpacingsWithSolids
-                                               : format::kBodySurfaceOffsetSpacings) *
-                         s);
+    c.bodyOffset = float(format::kBodySurfaceOffsetSpacings * s);
     return c;
 }
 

@@ -266,7 +266,6 @@ void Simulation::Impl::uploadParams() {
         p.domainMax = *scene.domainMax - glm::vec3(k.radius);
         p.hasDomain = 1;
     }
-    p.solidBoundary = scene.simulation.solidBoundary ? 1u : 0u;
     // A dense grid of h-wide cells over the domain box replaces the hash when it needs no more
     // buckets than the hash table holds (docs/performance.md, "Done"): no hash collisions, and
     // the three cells of a row are one contiguous range of sorted particles. h may change

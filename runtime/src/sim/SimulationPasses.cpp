@@ -2,6 +2,8 @@
 // sort, solve, velocity, vorticity and XSPH, bodies; then the step's statistics.
 #include "sim/SimulationImpl.h"
 
+#include <numbers>
+
 namespace sluice::rt {
 
 void Simulation::Impl::bindParticles(const gpu::Buffer& posIn, const gpu::Buffer& velIn) const {
@@ -216,7 +218,7 @@ void Simulation::Impl::integrateBodies() {
     bodies.set("dragBody", drag ? drag->body : shared::kNoBody);
     bodies.set("dragAnchor", drag ? drag->anchor : glm::vec3(0.0f));
     bodies.set("dragTarget", drag ? drag->target : glm::vec3(0.0f));
-    bodies.set("dragOmega", 2.0f * 3.14159265f * 3.0f);
+    bodies.set("dragOmega", 2.0f * std::numbers::pi_v<float> * shared::kDragSpringHz);
     bodies.set("firstSubstep", substepInStep == 0 ? 1u : 0u);
     bodies.set("substepShare", 1.0f / float(std::max(1u, scene.simulation.substeps)));
     bodies.use();

@@ -13,7 +13,7 @@ std::uint64_t Simulation::Impl::volumeMapPoints(std::size_t c) const {
 }
 
 bool Simulation::Impl::mapsCollider(std::size_t c) const {
-    return scene.simulation.solidBoundary && bodySetup.bodyOfCollider[c] == shared::kNoBody &&
+    return bodySetup.bodyOfCollider[c] == shared::kNoBody &&
            volumeMapPoints(c) <= shared::kVolumeMapMaxPoints;
 }
 

@@ -135,10 +135,6 @@ void simulationParameters(ViewerUi& ui, ViewerActions& actions) {
     if (ImGui::SliderInt("substeps", &substeps, 1, 16))
         p.substeps = std::uint32_t(substeps);
     actions.applyParameters |= edited();
-    // "boundary": "solids" (docs/pbf.md, "Boundary volume"): applied at once, like a slider
-    // released.
-    actions.applyParameters |=
-        ImGui::Checkbox("walls and colliders in the density", &p.solidBoundary);
 }
 
 void renderModes(ViewerUi& ui) {

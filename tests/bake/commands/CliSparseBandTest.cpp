@@ -49,12 +49,12 @@ TEST(CliSparseBand, ForSpacingPicksTheSmallestBandADynamicBodyThereNeeds) {
         EXPECT_GE(format::largestSpacingForBand(asset.meta.bandWidth, voxel, true), spacing);
         EXPECT_GE(format::largestSpacingForBand(asset.meta.bandWidth, voxel, false), spacing);
     }
-    // 2 cm at 32 voxels over 0.5 m (15.6 mm voxels): h + 0.15 s = 4.3 cm, 2.75 + 1.73 voxels.
+    // 2 cm at 32 voxels over 0.5 m (15.6 mm voxels): h + 0.05 s = 4.1 cm, 2.62 + 1.73 voxels.
     EXPECT_EQ(bakeSparse(dir, {"--for-spacing", "0.02"}).meta.bandWidth, 5.0);
-    // A larger kernel reaches farther: 4 x 2 cm is 5.3 + 1.7 voxels.
+    // A larger kernel reaches farther: 8.1 cm is 5.18 + 1.73 voxels.
     EXPECT_EQ(
         bakeSparse(dir, {"--for-spacing", "0.02", "--for-kernel-radius", "0.08"}).meta.bandWidth,
-        8.0);
+        7.0);
 }
 
 TEST(CliSparseBand, InfoSaysWhichSpacingsABandServes) {
@@ -67,11 +67,12 @@ TEST(CliSparseBand, InfoSaysWhichSpacingsABandServes) {
     ASSERT_EQ(js.code, kExitOk) << shown(js);
     const json info = json::parse(js.out);
     const double voxel = asset.meta.voxelSize;
-    // (5 - sqrt 3) voxels exact: twice that for a particle radius, / 2.15 for a body's kernel.
+    // (5 - sqrt 3) voxels exact: twice that for a particle radius, / 2.05 for a body's kernel
+    // (h = 2 s and the surface offset, 0.05 s).
     EXPECT_NEAR(info["bandServes"]["staticSpacing"].get<double>(),
                 2.0 * (5.0 - std::sqrt(3.0)) * voxel, 1e-9);
     EXPECT_NEAR(info["bandServes"]["dynamicSpacing"].get<double>(),
-                (5.0 - std::sqrt(3.0)) * voxel / 2.15, 1e-9);
+                (5.0 - std::sqrt(3.0)) * voxel / 2.05, 1e-9);
     // A dense asset has no band.
     const RunResult dense = runBake(dir, {"bake", kSphereObj.string(), "-o",
                                           (dir / "d.slc").string(), "--resolution", "8", "-q"});

@@ -57,7 +57,6 @@ void expectSameParams(const SimulationParams& a, const SimulationParams& b) {
     EXPECT_EQ(a.xsph, b.xsph);
     EXPECT_EQ(a.vorticity, b.vorticity);
     EXPECT_EQ(a.gravity, b.gravity);
-    EXPECT_EQ(a.solidBoundary, b.solidBoundary);
     EXPECT_EQ(a.capacity, b.capacity);
 }
 

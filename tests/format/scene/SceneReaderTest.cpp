@@ -175,10 +175,11 @@ TEST(SceneReader, KeepsEveryExplicitSimulationValue) {
     EXPECT_EQ(p.capacity, 100u);
 }
 
-TEST(SceneReader, ReadsTheBoundaryModelAndRefusesAnUnknownOne) {
-    EXPECT_TRUE(parseOk(kMinimal).simulation.solidBoundary) << "the default is \"solids\"";
-    EXPECT_TRUE(parseOk(withSimulation(R"("boundary": "solids")")).simulation.solidBoundary);
-    EXPECT_FALSE(parseOk(withSimulation(R"("boundary": "bodies")")).simulation.solidBoundary);
+TEST(SceneReader, ReadsTheBoundaryModelNotesTheRemovedOneAndRefusesAnUnknownOne) {
+    EXPECT_FALSE(parseOk(kMinimal).namesRemovedBoundaryModel);
+    EXPECT_FALSE(parseOk(withSimulation(R"("boundary": "solids")")).namesRemovedBoundaryModel);
+    // "bodies" was removed: the scene still reads (sluice-play warns), with the one model.
+    EXPECT_TRUE(parseOk(withSimulation(R"("boundary": "bodies")")).namesRemovedBoundaryModel);
     expectError(withSimulation(R"("boundary": "walls")"), ErrorCode::InvalidArgument,
                 {"simulation.boundary", "unknown boundary model \"walls\"", "\"solids\""});
     expectError(withSimulation(R"("boundary": true)"), ErrorCode::BadMetadata,

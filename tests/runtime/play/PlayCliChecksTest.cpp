@@ -66,6 +66,30 @@ TEST(SluicePlayChecks, WarnsAboutABallOutsideTheDomainAndStillRuns) {
     EXPECT_NE(run.err.find("[outside-domain]\n"), std::string::npos) << run.err;
 }
 
+// "boundary": "bodies" names the boundary model that was removed: the scene plays with the one
+// model there is, after a warning that says so (--strict makes it an error, below).
+TEST(SluicePlayChecks, WarnsAboutTheRemovedBoundaryModelAndPlaysWithTheOneModel) {
+    const fs::path dir = tempDir("removed-boundary");
+    const fs::path scene = writeScene(dir, "old.json", R"({"simulation": {"spacing": 0.05,
+        "boundary": "bodies"}, "fluid": [{"box": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}}],
+        "domain": {"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}})");
+    const auto run = play(dir, {scene.string(), "--headless", "--steps", "2", "--quiet"});
+    ASSERT_EQ(run.code, 0) << shown(run);
+    EXPECT_NE(run.err.find("sluice-play: warning: " + scene.string() +
+                           ": simulation.boundary: \"bodies\" was removed; the walls, colliders "
+                           "and bodies all add boundary volume now"),
+              std::string::npos)
+        << run.err;
+    EXPECT_NE(run.err.find("[removed-boundary-model]\n"), std::string::npos) << run.err;
+    // "solids", the one model's name, and no key at all say nothing.
+    const fs::path named = writeScene(dir, "named.json", R"({"simulation": {"spacing": 0.05,
+        "boundary": "solids"}, "fluid": [{"box": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}}],
+        "domain": {"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}})");
+    const auto quiet = play(dir, {named.string(), "--headless", "--steps", "1", "--quiet"});
+    ASSERT_EQ(quiet.code, 0) << shown(quiet);
+    EXPECT_EQ(quiet.err.find("warning"), std::string::npos) << quiet.err;
+}
+
 TEST(SluicePlayChecks, StrictStopsBeforeTheFirstStepAndWritesNothing) {
     const fs::path dir = tempDir("strict");
     const fs::path scene = writeScene(dir, "ball.json", kBallOutside);
@@ -133,7 +157,11 @@ INSTANTIATE_TEST_SUITE_P(
                      R"({"simulation": {"spacing": 0.05, "targetDensityError": 0,
                          "maxIterations": 3},
                          "fluid": [{"box": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}}]})",
-                     "every substep runs 3 solver iterations, an odd count"}),
+                     "every substep runs 3 solver iterations, an odd count"},
+        SceneMistake{"removedBoundaryModel",
+                     R"({"simulation": {"spacing": 0.05, "boundary": "bodies"},
+                         "fluid": [{"box": {"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}}]})",
+                     "scene.json: simulation.boundary: \"bodies\" was removed"}),
     CaseName{});
 
 struct OptionMistake {

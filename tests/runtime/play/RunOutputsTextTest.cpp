@@ -158,14 +158,10 @@ TEST(RunOutputsText, VolumeMapsThatWouldTakeLongOnASoftwareRendererAreWarnedAbou
     // The shipped tank carries its map for this h; without it the load builds one.
     ASSERT_NE(tank->volumeMapFor(0.04), nullptr);
     const std::vector<format::ColliderAsset> baked{*tank};
-    scene.simulation.solidBoundary = true;
     EXPECT_EQ(volumeMapWork(scene, baked).points, 0u);
     tank->volumeMaps.clear();
     const std::vector<format::ColliderAsset> assets{*tank};
-    // "bodies" builds none; the default "solids" one per static collider.
-    scene.simulation.solidBoundary = false;
-    EXPECT_EQ(volumeMapWork(scene, assets).points, 0u);
-    scene.simulation.solidBoundary = true;
+    // Without a baked map the load builds one per static collider.
     const VolumeMapWork work = volumeMapWork(scene, assets);
     EXPECT_EQ(work.points, 514596u); // the tank's grid
     // h = 5.33 of its 7.5 mm cells: a support ball of 635 cells a point.

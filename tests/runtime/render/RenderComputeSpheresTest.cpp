@@ -70,7 +70,7 @@ TEST_F(RenderTest, SmallSpheresInComputeDrawTheSamePixelsAsTheImpostors) {
 // (the view depth back from the window depth, the thickness in micrometres): the same picture
 // to rounding, far and close (measured: no pixel off by more than 2).
 TEST_F(RenderTest, SmallSpheresInComputeGiveTheSameFluidSurface) {
-    Stage stage(waveSphereAsBodies(), true);
+    Stage stage(waveSphere(), true);
     ASSERT_TRUE(stage.ok());
     for (int step = 0; step < 6; ++step)
         stage.sim->step();
@@ -91,7 +91,7 @@ TEST_F(RenderTest, SmallSpheresInComputeGiveTheSameFluidSurface) {
 // A packed block seen from afar: every sphere a few pixels, touching its neighbours. The two
 // paths may differ only where touching spheres tie in depth (measured: no pixel).
 TEST_F(RenderTest, SmallSpheresInComputeDrawAPackedBlockAsTheImpostorsDo) {
-    Stage stage(waveSphereAsBodies(), true);
+    Stage stage(waveSphere(), true);
     ASSERT_TRUE(stage.ok());
     const PathDiff d = computeAgainstRaster(stage, {});
     ASSERT_GT(d.water, 3000u);

@@ -250,7 +250,7 @@ TEST_F(RenderTest, SpeedColoursFastParticlesWarmAndSlowOnesCool) {
 }
 
 TEST_F(RenderTest, DeterministicRunsRenderIdenticalImages) {
-    const format::Scene scene = waveSphereAsBodies();
+    const format::Scene scene = waveSphere();
     for (const SurfaceMode surface : {SurfaceMode::Spheres, SurfaceMode::Fluid}) {
         RenderSettings settings;
         settings.surface = surface;

@@ -36,15 +36,12 @@ inline format::Scene sceneFromJson(const std::string& json) {
     return scene ? std::move(*scene) : format::Scene{};
 }
 
-/// The build's wave-sphere.json with "boundary": "bodies", for tests that compare pictures, not
-/// the water: each load then skips the ball's volume map (about 9 s on llvmpipe).
-inline format::Scene waveSphereAsBodies() {
+/// The build's wave-sphere.json (its colliders carry the volume maps it needs, baked by the
+/// build, so a load takes a fraction of a second on llvmpipe).
+inline format::Scene waveSphere() {
     auto scene = format::readScene(kAssets / "wave-sphere.json");
     EXPECT_TRUE(scene) << scene.error().message();
-    if (!scene)
-        return format::Scene{};
-    scene->simulation.solidBoundary = false;
-    return std::move(*scene);
+    return scene ? std::move(*scene) : format::Scene{};
 }
 
 /// The scene's colliders, read from the build's assets.

@@ -231,31 +231,14 @@ TEST_F(BodyParity, WaterThrownAtTwoBodiesMatchesTheCpuReference) {
 // particles' centres at, moving towards that wall at 0.2 m/s: the column of water between is
 // pushed into the wall, which puts it back. What the wall undoes of the box's push-out is the
 // held reaction, of which the box takes only what stops it (docs/bodies.md, "Particles held
-// against a wall").
-BodyScene boxPressingWaterIntoAWall(bool solids) {
+// against a wall"), where it acts, with the body's spin after the rest of the reaction and its
+// effective mass there (pbf_bodies.comp, takeHeldReaction); the film model holds the faces
+// within its band of the wall and the floor at the water's head.
+TEST_F(BodyParity, ABodyPressingWaterIntoAWallMatchesTheCpuReference) {
     BodyScene b = tankWithFloor();
-    b.scene.simulation.solidBoundary = solids;
     addBox(b, {-0.04, -0.04, -0.04}, {0.04, 0.04, 0.04}, glm::vec3(0.052f, 0.08f, 0.161f),
            glm::vec3(0.0f), 1.0f, 0.0f);
     b.scene.colliders.back().dynamic->linearVelocity = glm::vec3(-0.2f, 0.0f, 0.0f);
-    return b;
-}
-
-TEST_F(BodyParity, ABodyPressingWaterIntoAWallMatchesTheCpuReference) {
-    const BodyScene b = boxPressingWaterIntoAWall(false);
-    const Parity p = runOneSubstep(b, true);
-    // Measured on llvmpipe: 18.1 N held, of which the box takes about a sixth (its 0.2 m/s
-    // times 0.256 kg against the held impulse); parity 1.7e-6 h, force 7.5e-6, torque 8.6e-6.
-    std::printf("held force on the reference: %.4f N\n", p.held);
-    EXPECT_GT(p.held, 0.1) << "the wall must hold particles against the box";
-    expectParity(p, b);
-}
-
-// With "solids" the held contact is taken where it acts, with the body's spin after the rest of
-// the reaction and its effective mass there (pbf_bodies.comp, takeHeldReaction), and the film
-// model holds the faces within its band of the wall and the floor at the water's head.
-TEST_F(BodyParity, ABodyPressingWaterIntoASolidWallMatchesTheCpuReference) {
-    const BodyScene b = boxPressingWaterIntoAWall(true);
     // The torque is that of a lever under 1 mm here: compared below against the film's push.
     const Parity p = runOneSubstep(b, true, 1, false);
     std::printf("held force on the reference: %.4f N; sealed (%.4f, %.4f, %.4f) N\n", p.held,
@@ -264,7 +247,7 @@ TEST_F(BodyParity, ABodyPressingWaterIntoASolidWallMatchesTheCpuReference) {
     EXPECT_GT(glm::length(p.sealed), 1.0) << "the film model holds the faces by the wall";
     EXPECT_LT(p.position, 1e-4 * b.scene.simulation.kernelRadius);
     // Along the held impulse (+x) to 1e-4 of the held force: measured 7e-4 N of 18.4 N; taken
-    // at the centre, as the reference did before it had the point of action, 9e-3 N.
+    // at the centre (not where it acts), 9e-3 N.
     EXPECT_LT(std::abs(p.forceGpu.x - p.forceCpu.x), 1e-4 * p.held);
     // The rest to a thousandth of the film's push, as the sealed box's below (and the torque to
     // that push times the box's half width): measured 8e-3 N of 20.8 N and 3e-4 N m. The film
@@ -274,18 +257,15 @@ TEST_F(BodyParity, ABodyPressingWaterIntoASolidWallMatchesTheCpuReference) {
     EXPECT_LT(glm::length(p.torqueGpu - p.torqueCpu), 1e-3 * glm::length(p.sealed) * 0.04);
 }
 
-// One substep of the sealed box below on the GPU and on the CPU reference, with or without the
-// walls' boundary volume ("solids"; the top-up takes the rim's pressure as it is there, and
-// fades as the gap opens without it).
-void expectSealedParity(bool solids) {
+// One substep of a box sealed on the floor on the GPU and on the CPU reference: an 8 x 4 x 8 cm
+// box in the middle of the tank, its bottom 4 mm above the floor under 12 cm of water, no
+// particle fits under it, and the film model gives its bottom the pressure of the water over it
+// (docs/bodies.md, "The film under a body"). Its grid (5 mm) is placed off the particles'
+// lattice (2 cm): at 0.16 m every particle beside it sat on a plane of its grid, where the
+// trilinear field's gradient jumps, and the GPU (float) and the reference (double) rounded to
+// cells on either side: 1.1e-3 h apart after the substep, against 1.7e-6 h here.
+TEST_F(BodyParity, ABodySealedOnTheFloorMatchesTheCpuReference) {
     BodyScene b = tankWithFloor();
-    b.scene.simulation.solidBoundary = solids;
-    // An 8 x 4 x 8 cm box in the middle of the tank, its bottom 4 mm above the floor under 12 cm
-    // of water: no particle fits under it, so the water beside it at the floor gives its bottom
-    // that pressure (docs/bodies.md, "Sealed contacts"). Its grid (5 mm) is placed off the
-    // particles' lattice (2 cm): at 0.16 m every particle beside it sat on a plane of its grid,
-    // where the trilinear field's gradient jumps, and the GPU (float) and the reference (double)
-    // rounded to cells on either side: 1.1e-3 h apart after the substep, against 1.7e-6 h here.
     addBox(b, {-0.04, -0.02, -0.04}, {0.04, 0.02, 0.04}, glm::vec3(0.1613f, 0.024f, 0.1613f),
            glm::vec3(0.0f), 1.0f, 0.0f);
     SimulationOptions options;
@@ -295,7 +275,6 @@ void expectSealedParity(bool solids) {
     ref::ReferencePbf cpu(b.scene, referenceColliders(b, gpu->bodies()));
     gpu->step();
     cpu.substep();
-    std::printf("%s: ", solids ? "solids" : "bodies");
     const glm::dvec3 sealed = cpu.bodySealedForce(0);
     const glm::dvec3 fGpu(gpu->bodies().at(0).force), fCpu = cpu.bodyForce(0);
     const double particles = maxPositionDifference(gpu->downloadParticles(), cpu.particles());
@@ -306,20 +285,10 @@ void expectSealedParity(bool solids) {
     EXPECT_GT(sealed.y, 1.0) << "the sealed bottom is pushed up";
     EXPECT_LT(std::abs(sealed.x) + std::abs(sealed.z), 1e-3 * sealed.y) << "across the floor";
     EXPECT_LT(particles, 1e-4 * b.scene.simulation.kernelRadius);
-    // The fluid's force, sealed push included, to a thousandth of that push (measured: 1e-5 N of
-    // 5.4 N). Until the reference took the contact points' normals in the GPU's cells they
-    // differed by 2.5 % of it: a point on the box's edge lies on its grid's planes, its normal
-    // is the one face's in one cell and the other's in the next, and a point counted as a side
-    // in one and as facing the floor in the other changes the push.
+    // The fluid's force, sealed push included, to a thousandth of that push. A point on the
+    // box's edge lies on its grid's planes, its normal is the one face's in one cell and the
+    // other's in the next: the reference takes the contact points' normals in the GPU's cells.
     EXPECT_LT(glm::length(fGpu - fCpu), 1e-3 * glm::length(sealed));
-}
-
-TEST_F(BodyParity, ABodySealedOnTheFloorMatchesTheCpuReference) {
-    expectSealedParity(false);
-}
-
-TEST_F(BodyParity, ABodySealedOnTheFloorWithSolidWallsMatchesTheCpuReference) {
-    expectSealedParity(true);
 }
 
 } // namespace

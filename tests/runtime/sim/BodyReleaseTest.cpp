@@ -36,10 +36,9 @@ struct Released {
 };
 
 // `tank` and `depth` default to that tank; the water's level is measured over the whole floor.
-Released releaseCube(float ratio, float y, bool solids, float seconds,
-                     float tank = kSide + 8 * kSpacing, float depth = kDeep) {
+Released releaseCube(float ratio, float y, float seconds, float tank = kSide + 8 * kSpacing,
+                     float depth = kDeep) {
     format::Scene scene = tankScene(glm::vec2(tank), depth, 1.0f);
-    scene.simulation.solidBoundary = solids;
     scene.colliders.push_back(cubeBody(glm::vec3(0.5f * tank, y, 0.5f * tank), ratio));
     SimulationOptions options;
     options.deterministic = true;
@@ -79,10 +78,10 @@ void expectHealthy(const Released& r, const char* what) {
 
 // Issue 25: at 1.0 a cube neither rises nor sinks more than one particle spacing in 3 s,
 // anywhere in the water column: with one water layer under it, in the middle, and with one layer
-// over it. With "solids" every wall adds its boundary volume, so the water keeps its height and
-// its pressure at the floor (docs/pbf.md, "Boundary volume").
+// over it. Every wall adds its boundary volume, so the water keeps its height and its pressure
+// at the floor (docs/pbf.md, "Boundary volume").
 void expectNeutralStays(const char* where, float y) {
-    const Released r = releaseCube(1.0f, y, true, 3.0f);
+    const Released r = releaseCube(1.0f, y, 3.0f);
     std::printf("neutral cube released %s (centre %.3f m): ends at %.4f m, at most %.2f "
                 "spacings from its start in 3 s\n",
                 where, y, r.body.position.y, r.farthest / kSpacing);
@@ -105,10 +104,9 @@ TEST_F(BodyReleases, ABodyAsDenseAsTheWaterStaysWhereItIsReleasedOneLayerUnderTh
 TEST_F(BodyReleases, ALightBodyDroppedIntoDeepWaterComesBackUpAndFloats) {
     // Issue 25: 0.5 dropped from 0.3 m above the water into water two cube sizes deep plunges,
     // comes back up and floats at its draft, touching nothing (a rock at half the water's
-    // density dropped into shallow water used to stay on the floor). The default boundary
-    // model.
+    // density dropped into shallow water used to stay on the floor).
     const float start = kDeep + 0.3f + 0.5f * kSide;
-    const Released r = releaseCube(0.5f, start, false, 3.0f);
+    const Released r = releaseCube(0.5f, start, 3.0f);
     std::printf("cube at 0.5 dropped from 0.3 m: lowest centre %.4f m, ends at %.4f m, submerged "
                 "share %.3f over the last second, %u contacts\n",
                 r.lowest, r.body.position.y, r.lastSecondShare, r.body.contacts);
@@ -122,66 +120,54 @@ TEST_F(BodyReleases, ALightBodyDroppedIntoDeepWaterComesBackUpAndFloats) {
 }
 
 // Issue 25: cubes resting flat on the floor of the filled tank from the start, no water under
-// them (a crate placed before the room floods). The water meeting the floor around each gives
-// its sealed bottom the pressure there (docs/bodies.md, "Sealed contacts"). Before, every such
-// cube stayed on the floor, the fluid's force on it 0.
-Released restOnTheFloor(float ratio, bool solids = false) {
+// them (a crate placed before the room floods). The film model gives the faces over the floor
+// the pressure of the water over them (docs/bodies.md, "The film under a body").
+Released restOnTheFloor(float ratio) {
     const float resting = 0.5f * kSide;
-    const Released r = releaseCube(ratio, resting, solids, 3.0f);
-    std::printf("cube at %.1f resting on the floor%s: ends at %.4f m (at most %.4f m from its "
+    const Released r = releaseCube(ratio, resting, 3.0f);
+    std::printf("cube at %.1f resting on the floor: ends at %.4f m (at most %.4f m from its "
                 "start), lowest face %.4f m, share %.3f by force and %.3f by draft over the "
                 "last second, %u contacts\n",
-                ratio, solids ? " (solids)" : "", r.body.position.y, r.farthest,
-                lowestPoint(r.body, kSide), r.lastSecondShare, r.draft, r.body.contacts);
+                ratio, r.body.position.y, r.farthest, lowestPoint(r.body, kSide), r.lastSecondShare,
+                r.draft, r.body.contacts);
     expectHealthy(r, "resting on the floor");
     return r;
 }
 
-TEST_F(BodyReleases, ALightBodyRestingOnTheFloorRisesAndFloats) {
-    // 0.5 rises and floats, touching nothing, the fluid carrying its weight. (0.7 leaves the
-    // floor but stops on the first water layer under it: docs/bodies.md, "Known limits".)
-    const Released r = restOnTheFloor(0.5f);
-    EXPECT_GT(r.body.position.y, 0.5f * kSide + 4 * kSpacing) << "it must rise";
-    EXPECT_NEAR(r.lastSecondShare, 0.5, 0.1) << "it floats";
-    EXPECT_EQ(r.body.contacts, 0u);
-}
-
 // Issue 25: light cubes resting on the floor rise and float at their Archimedes draft within
-// 0.05. With "solids" the floor's boundary volume lets the water layers that get under a cube
-// carry the pressure there, and the sealed top-up takes the rim's pressure as it is
-// (docs/bodies.md, "Sealed contacts"); with the default model 0.7 stops two spacings up ("Known
-// limits").
+// 0.05, touching nothing: the floor's boundary volume lets the water layers that get under a
+// cube carry the pressure there, and the film model holds them to it (docs/bodies.md, "The film
+// under a body").
 void expectRisesToItsDraft(float ratio) {
-    const Released r = restOnTheFloor(ratio, true);
+    const Released r = restOnTheFloor(ratio);
     EXPECT_GT(r.body.position.y, 0.5f * kSide + 4 * kSpacing) << "it must rise";
     EXPECT_NEAR(r.draft, ratio, 0.05) << "it floats at its draft";
     EXPECT_EQ(r.body.contacts, 0u);
 }
 
-TEST_F(BodyReleases, WithSolidWallsABodyAtThreeTenthsRestingOnTheFloorRisesToItsDraft) {
+TEST_F(BodyReleases, ABodyAtThreeTenthsRestingOnTheFloorRisesToItsDraft) {
     expectRisesToItsDraft(0.3f);
 }
 
-TEST_F(BodyReleases, WithSolidWallsABodyAtHalfRestingOnTheFloorRisesToItsDraft) {
+TEST_F(BodyReleases, ABodyAtHalfRestingOnTheFloorRisesToItsDraft) {
     expectRisesToItsDraft(0.5f);
 }
 
-TEST_F(BodyReleases, WithSolidWallsABodyAtSevenTenthsRestingOnTheFloorRisesToItsDraft) {
+TEST_F(BodyReleases, ABodyAtSevenTenthsRestingOnTheFloorRisesToItsDraft) {
     expectRisesToItsDraft(0.7f);
 }
 
-// Issue 25, with "solids": SimulationBodies.ABodyATenthLighterThanWaterFloatsAndOneATenthHeavier
+// Issue 25: SimulationBodies.ABodyATenthLighterThanWaterFloatsAndOneATenthHeavier
 // Sinks's releases (a 0.4 m tank 0.2 m deep, each cube's top level with the surface, its lowest
 // face two water layers over the floor). With the walls' volume the water stands at its volume's
-// height there, so 0.9 has to rise and 1.1 to sink through the layers under them, which held
-// both where they were put until the film model (docs/bodies.md, "The film under a body"):
-// 0.9 stayed at 0.1202 m all under water, 1.1 at 0.1176 m.
-TEST_F(BodyReleases, WithSolidWallsATenthLighterRisesOffTheLayersUnderItAndATenthHeavierSinks) {
+// height there, so 0.9 has to rise and 1.1 to sink through the layers under them, as the film
+// model lets them (docs/bodies.md, "The film under a body").
+TEST_F(BodyReleases, ATenthLighterRisesOffTheLayersUnderItAndATenthHeavierSinks) {
     const float tank = 0.4f, depth = 0.2f;
     const float start = depth - 0.5f * kSide;
-    const Released light = releaseCube(0.9f, start, true, 2.5f, tank, depth);
-    const Released heavy = releaseCube(1.1f, start, true, 4.0f, tank, depth);
-    std::printf("with solids, released at the surface: 0.9 ends at %.4f m (draft %.3f), 1.1 at "
+    const Released light = releaseCube(0.9f, start, 2.5f, tank, depth);
+    const Released heavy = releaseCube(1.1f, start, 4.0f, tank, depth);
+    std::printf("released at the surface: 0.9 ends at %.4f m (draft %.3f), 1.1 at "
                 "%.4f m (lowest face %.4f m)\n",
                 light.body.position.y, light.draft, heavy.body.position.y,
                 lowestPoint(heavy.body, kSide));

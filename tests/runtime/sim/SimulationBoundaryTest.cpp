@@ -1,7 +1,6 @@
 // Still water against walls and static colliders (docs/pbf.md, "Boundary volume"): with the
-// solids' boundary volume in the density ("boundary": "solids") water at rest keeps the height
-// its volume gives and its first layer against a wall is as dense as the bulk; with only the
-// bodies' ("bodies") the layers at the walls pack.
+// solids' boundary volume in the density, water at rest keeps the height its volume gives and
+// its first layer against a wall is as dense as the bulk.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -87,8 +86,7 @@ StillWater measure(const std::vector<ParticleState>& particles, glm::vec3 lo, gl
 /// Water 10 spacings deep filling the inside [lo, lo + (15, 10, 15) s] of a tank, released at
 /// the rest spacing with the shipped early stop and played for 3 s, deterministic.
 StillWater settle(format::Scene scene, std::vector<format::ColliderAsset> assets, glm::vec3 lo,
-                  glm::vec3 hi, bool solids, const char* what) {
-    scene.simulation.solidBoundary = solids;
+                  glm::vec3 hi, const char* what) {
     scene.simulation.targetDensityError = 0.005f;
     SimulationOptions options;
     options.deterministic = true;
@@ -106,10 +104,9 @@ StillWater settle(format::Scene scene, std::vector<format::ColliderAsset> assets
     EXPECT_EQ(worst.nonFinite, 0u) << what;
     EXPECT_EQ(worst.insideColliders, 0u) << what;
     const StillWater w = measure(sim->downloadParticles(), lo, hi);
-    std::printf("%s, %s: surface %+.2f %% of the volume's height; per s^3: bulk %.3f, floor "
+    std::printf("%s: surface %+.2f %% of the volume's height; per s^3: bulk %.3f, floor "
                 "layer %.3f, wall layer %.3f, corner column %.3f\n",
-                what, solids ? "solids" : "bodies", 100 * w.surfaceError, w.bulk, w.floor, w.wall,
-                w.corner);
+                what, 100 * w.surfaceError, w.bulk, w.floor, w.wall, w.corner);
     return w;
 }
 
@@ -128,13 +125,7 @@ void expectStill(const StillWater& w, const char* what) {
 TEST_F(SimulationBoundary, StillWaterInTheDomainBoxKeepsItsVolumeAndItsWallLayers) {
     format::Scene scene = testscene::smallScene(kWater, kSpacing, 4);
     const glm::vec3 lo = *scene.domainMin, hi = *scene.domainMax;
-    const StillWater solids = settle(scene, {}, lo, hi, true, "domain box");
-    expectStill(solids, "domain box");
-    // Without the walls' volume the floor layer packs and the surface sinks (measured on
-    // llvmpipe: floor layer 1.4 times the bulk, surface 9 % low): the measure sees the defect.
-    const StillWater bodies = settle(scene, {}, lo, hi, false, "domain box");
-    EXPECT_GT(bodies.floor / bodies.bulk, 1.2);
-    EXPECT_LT(bodies.surfaceError, -0.04);
+    expectStill(settle(scene, {}, lo, hi, "domain box"), "domain box");
 }
 
 TEST_F(SimulationBoundary, StillWaterInATankColliderKeepsItsVolumeAndItsWallLayers) {
@@ -152,7 +143,7 @@ TEST_F(SimulationBoundary, StillWaterInATankColliderKeepsItsVolumeAndItsWallLaye
     format::SceneCollider tank;
     tank.asset = "tank.slc";
     scene.colliders.push_back(tank);
-    expectStill(settle(scene, std::move(assets), lo, hi, true, "tank collider"), "tank collider");
+    expectStill(settle(scene, std::move(assets), lo, hi, "tank collider"), "tank collider");
 }
 
 } // namespace

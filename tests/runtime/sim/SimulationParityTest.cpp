@@ -54,38 +54,34 @@ ParityScene parityScene() {
 // table's 8192 buckets, so the solver uses the dense grid; the same box reaching up to y = 100 m
 // (nothing gets there) needs 5 x 2525 x 7 cells and the solver hashes instead.
 // Each grid also with the neighbour passes split over lanes (4 and 8 invocations per particle,
-// the layouts a GPU picks for small scenes): the same sums in another fixed order.
-// And each grid with the walls and static colliders in the density ("boundary": "solids",
-// docs/pbf.md "Boundary volume"): the walls and both colliders then add boundary volume.
+// the layouts a GPU picks for small scenes): the same sums in another fixed order. The walls
+// and both colliders add boundary volume (docs/pbf.md, "Boundary volume").
 struct ParityCase {
     bool dense;
     std::uint32_t lanes;
-    bool solids = false;
 };
 
 void PrintTo(const ParityCase& c, std::ostream* os) {
-    *os << (c.dense ? "dense grid, " : "hash, ") << c.lanes << " lanes"
-        << (c.solids ? ", solids' boundary volume" : "");
+    *os << (c.dense ? "dense grid, " : "hash, ") << c.lanes << " lanes";
 }
 
 class SimulationParity : public GpuTest, public ::testing::WithParamInterface<ParityCase> {};
 
-INSTANTIATE_TEST_SUITE_P(
-    Grids, SimulationParity,
-    ::testing::Values(ParityCase{true, 1}, ParityCase{false, 1}, ParityCase{true, 4},
-                      ParityCase{false, 8}, ParityCase{true, 1, true}, ParityCase{false, 8, true}),
-    [](const auto& param) {
-        return std::string(param.param.dense ? "Dense" : "Hash") +
-               (param.param.lanes > 1 ? std::to_string(param.param.lanes) + "Lanes" : "") +
-               (param.param.solids ? "Solids" : "");
-    });
+INSTANTIATE_TEST_SUITE_P(Grids, SimulationParity,
+                         ::testing::Values(ParityCase{true, 1}, ParityCase{false, 1},
+                                           ParityCase{true, 4}, ParityCase{false, 8}),
+                         [](const auto& param) {
+                             return std::string(param.param.dense ? "Dense" : "Hash") +
+                                    (param.param.lanes > 1
+                                         ? std::to_string(param.param.lanes) + "Lanes"
+                                         : "");
+                         });
 
 TEST_P(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfterTwenty) {
     ParityScene p = parityScene();
     const bool dense = GetParam().dense;
     if (!dense)
         p.scene.domainMax->y = 100.0f;
-    p.scene.simulation.solidBoundary = GetParam().solids;
     std::vector<ref::ReferenceCollider> refColliders;
     for (std::size_t c = 0; c < p.assets.size(); ++c)
         refColliders.push_back({&p.assets[c], p.scene.colliders[c]});
@@ -146,7 +142,7 @@ TEST_P(SimulationParity, AgreesWithTheCpuReferenceAfterOneStepAndStaysCloseAfter
 
 // The neighbour passes fetch other particles' positions, velocities, masks and cell ranges
 // through texel views, or read them from the storage blocks where a buffer is past the GL's
-// texel-buffer limit: the same bits, on both grids, over lanes and with the solids' boundary.
+// texel-buffer limit: the same bits, on both grids and over lanes.
 // Five steps of the parity scene (vorticity and XSPH on, the ball moving in): a view that read
 // the wrong buffer, or nothing (an unbound unit reads zeros), would move particles in the first.
 TEST_P(SimulationParity, TheStorageReadsGiveTheTexelViewsBits) {
@@ -155,7 +151,6 @@ TEST_P(SimulationParity, TheStorageReadsGiveTheTexelViewsBits) {
         ParityScene p = parityScene();
         if (!GetParam().dense)
             p.scene.domainMax->y = 100.0f;
-        p.scene.simulation.solidBoundary = GetParam().solids;
         SimulationOptions options;
         options.deterministic = true;
         options.neighbourLanes = GetParam().lanes;

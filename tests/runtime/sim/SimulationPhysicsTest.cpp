@@ -41,11 +41,9 @@ double rmsSpeed(const std::vector<ParticleState>& particles) {
 // spacing and played for 5 s: it sloshes after the release and comes to rest. The residual
 // motion is chaotic (a late rearrangement of a few surface particles changes a single step's
 // rms speed tenfold between runs), so it is averaged over the last second. Every particle must
-// stay in the tank. `solids`: the walls add boundary volume (docs/pbf.md, "Boundary volume").
-ColumnAtRest settleColumn(float targetDensityError, std::uint32_t maxIterations,
-                          bool solids = false) {
+// stay in the tank. The walls add boundary volume (docs/pbf.md, "Boundary volume").
+ColumnAtRest settleColumn(float targetDensityError, std::uint32_t maxIterations) {
     format::Scene scene = testscene::smallScene({8, 16, 8}, 0.02f, 4);
-    scene.simulation.solidBoundary = solids;
     scene.simulation.targetDensityError = targetDensityError;
     scene.simulation.maxIterations = maxIterations;
     auto sim = Simulation::create(scene, {});
@@ -72,13 +70,12 @@ ColumnAtRest settleColumn(float targetDensityError, std::uint32_t maxIterations,
     for (const ParticleState& p : sim->downloadParticles())
         EXPECT_TRUE(glm::all(glm::greaterThanEqual(p.position, lo)) &&
                     glm::all(glm::lessThanEqual(p.position, hi)));
-    std::printf(
-        "column (%s, target %.3f, max %u iterations): rms speed %.4f m/s at 0.5 s, %.4f m/s "
-        "over 4-5 s; at 5 s density error avg %.4f %% max %.4f %%, max speed %.4f m/s, "
-        "%u iterations\n",
-        solids ? "solids" : "bodies", targetDensityError, maxIterations, column.sloshRms,
-        column.restRms, 100 * column.stats.avgDensityError, 100 * column.stats.maxDensityError,
-        column.stats.maxSpeed, column.stats.iterations);
+    std::printf("column (target %.3f, max %u iterations): rms speed %.4f m/s at 0.5 s, %.4f m/s "
+                "over 4-5 s; at 5 s density error avg %.4f %% max %.4f %%, max speed %.4f m/s, "
+                "%u iterations\n",
+                targetDensityError, maxIterations, column.sloshRms, column.restRms,
+                100 * column.stats.avgDensityError, 100 * column.stats.maxDensityError,
+                column.stats.maxSpeed, column.stats.iterations);
     return column;
 }
 
@@ -99,28 +96,16 @@ void expectSettled(const ColumnAtRest& column, double restShare, double speedSha
 }
 
 TEST_F(SimulationPhysics, HydrostaticColumnWithFixedIterationsComesToRest) {
-    // Four iterations every substep. Measured on llvmpipe (8 runs): rms 0.053-0.054 m/s at
-    // 0.5 s, 0.0005-0.0061 m/s over 4-5 s, so the motion falls ninefold or more (usually fifty).
+    // Four iterations every substep: the motion falls to under a third of the slosh.
     expectSettled(settleColumn(0.0f, 4), 0.3, 0.05);
 }
 
-TEST_F(SimulationPhysics, HydrostaticColumnWithTheShippedEarlyStopStaysBelowOnePercent) {
-    // The shipped early stop, with "bodies" (the default boundary model until 2026-12-07): stop
-    // iterating once the mean compression is under 0.5 % (at most 8 iterations), after any
-    // count. At rest the mean sits just under the target and the iteration count changes
-    // between substeps, which keeps the column stirring: measured on llvmpipe (5 runs), rms
-    // 0.056-0.069 m/s at 0.5 s and 0.0089-0.0094 m/s over 4-5 s, ten times the
-    // fixed-iteration column but still a sixth of the slosh.
-    expectSettled(settleColumn(0.005f, 8), 0.5, 0.1);
-}
-
-TEST_F(SimulationPhysics, HydrostaticColumnWithSolidWallsAndTheShippedEarlyStopComesToRest) {
-    // The same with the walls' boundary volume ("solids", the default). There the mean
-    // compression meets the target after two or three iterations, and a column stopped after an
-    // odd number keeps stirring (docs/pbf.md, "The early stop's parity": 0.043 and 0.058 m/s in
-    // two runs when the stop took any count), so with "solids" it stops after an even count
-    // only. Measured on llvmpipe: 0.040 m/s at 0.5 s, 0.0144 m/s over 4-5 s.
-    const ColumnAtRest column = settleColumn(0.005f, 8, true);
+TEST_F(SimulationPhysics, HydrostaticColumnWithTheShippedEarlyStopComesToRest) {
+    // The shipped early stop: the mean compression meets the target after two or three
+    // iterations, and a column stopped after an odd number keeps stirring (docs/pbf.md, "The
+    // early stop's parity"), so it stops after an even count only. Measured on llvmpipe: 0.040
+    // m/s at 0.5 s, 0.0144 m/s over 4-5 s.
+    const ColumnAtRest column = settleColumn(0.005f, 8);
     EXPECT_EQ(column.oddCounts, 0) << "steps that ended after an odd number of iterations";
     expectSettled(column, 0.5, 0.1);
 }
@@ -169,7 +154,7 @@ std::vector<FrontPoint> damBreakFront(std::uint32_t depth) {
 
 TEST_F(SimulationPhysics, DamBreakFrontFollowsMartinAndMoyceWithinFifteenPercent) {
     // Every point from T = 0.5 within 15 % of the experiment, and the mean deviation at most
-    // 9 %: measured 8.0 % (all ahead, at most 14.4 % at T = 0.99) with "solids" on llvmpipe,
+    // 9 %: measured 8.0 % (all ahead, at most 14.4 % at T = 0.99) on llvmpipe,
     // where SPlisHSPlasH's PBF in 2D runs 4.9 % (volume maps) and 10.5 % (boundary particles)
     // from it (tests/bench/pbf/martin_moyce.py; docs/pbf.md, "The Martin & Moyce front").
     double sumDeviation = 0.0;
@@ -190,8 +175,7 @@ TEST_F(SimulationPhysics, DamBreakFrontFollowsMartinAndMoyceWithinFifteenPercent
 TEST_F(SimulationPhysics, DamBreakFrontDoesNotDependOnHowMuchOfTheWaterIsAtASideWall) {
     // The walls parallel to the flow hold the water without dragging it: the front in a tank
     // one particle deep (all the water against both side walls) and in one four deep agree
-    // within 5 % on average from T = 0.5. Measured on llvmpipe: 2.3 % (at most 4.7 %) with
-    // "solids"; with "bodies", whose wall layers pack, the one-deep front runs 20 % behind.
+    // within 5 % on average from T = 0.5. Measured on llvmpipe: 2.3 % (at most 4.7 %).
     const std::vector<FrontPoint> deep = damBreakFront(4);
     const std::vector<FrontPoint> thin = damBreakFront(1);
     ASSERT_EQ(deep.size(), thin.size());

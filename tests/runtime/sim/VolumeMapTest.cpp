@@ -75,7 +75,6 @@ struct Case {
 // out, sampled every `voxel`), so its inside has flat faces, concave edges and corners.
 Case tankCase(double voxel = 0.5 * kSpacing) {
     Case c{testscene::emptyScene(kSpacing), {}, {}};
-    c.scene.simulation.solidBoundary = true;
     const glm::dvec3 lo(0.0), hi(0.3);
     c.assets.push_back(testscene::assetOverBox(lo, hi, voxel, 0.06, [lo, hi](const glm::dvec3& p) {
         return -testasset::boxSdf(p, lo, hi);
@@ -91,7 +90,6 @@ Case tankCase(double voxel = 0.5 * kSpacing) {
 // on both sides (a thin wall).
 Case cubeAndPlateCase() {
     Case c{testscene::emptyScene(kSpacing), {}, {}};
-    c.scene.simulation.solidBoundary = true;
     const glm::dvec3 cubeLo(0.0), cubeHi(0.2);
     const glm::dvec3 plateLo(0.5, 0.0, 0.0), plateHi(0.8, 0.5 * kSpacing, 0.3);
     c.assets.push_back(testscene::boxColliderAsset(cubeLo, cubeHi, 0.5 * kSpacing));
@@ -211,17 +209,6 @@ TEST_F(VolumeMap, TheMapsFollowAChangeOfTheKernelRadius) {
         {{"floor at h = 3 s", {m, r, m}, r, 0.01}, {"corner at h = 3 s", {r, r, r}, r, 0.05}});
 }
 
-TEST_F(VolumeMap, ASceneStartedWithTheBodiesModelHasNone) {
-    Case c = tankCase();
-    c.scene.simulation.solidBoundary = false;
-    auto sim = Simulation::create(c.scene, std::move(c.assets));
-    ASSERT_TRUE(sim) << sim.error().detail;
-    EXPECT_EQ(sim->volumeMapCount(), 0u);
-    auto shares = sim->solidBoundaryAt({glm::vec3(0.01f, 0.01f, 0.15f)});
-    ASSERT_TRUE(shares);
-    EXPECT_EQ((*shares)[0].w, 0.0f); // walls and colliders are not in the density
-}
-
 TEST_F(VolumeMap, MapsThatWouldNotFitTheGridsStorageBlockLeaveTheClosedForm) {
     // Two boxes whose grids fill 60 % of the GL's largest storage block (128 MiB on llvmpipe):
     // their maps would take as much again, so neither gets one and the scene still loads.
@@ -232,7 +219,6 @@ TEST_F(VolumeMap, MapsThatWouldNotFitTheGridsStorageBlockLeaveTheClosedForm) {
         GTEST_SKIP() << "storage blocks of " << block << " bytes: the grids would be too large";
     const double side = std::cbrt(pointsEach);
     format::Scene scene = testscene::emptyScene(kSpacing);
-    scene.simulation.solidBoundary = true;
     std::vector<format::ColliderAsset> assets;
     for (int b = 0; b < 2; ++b) {
         const glm::dvec3 lo(2.0 * b, 0.0, 0.0), hi = lo + glm::dvec3(0.5);

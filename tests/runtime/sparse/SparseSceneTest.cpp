@@ -61,11 +61,10 @@ format::Scene dropScene(const fs::path& dir, const std::string& asset) {
 
 using SparseScene = gpu::test::GpuTest;
 
-/// The drop scene in the tank baked dense and sparse on one grid, played 15 steps each with
-/// `boundary` "solids" or not: returns the particles' differing positions at the end (the
-/// dense bake asked for the padding the sparse one raises to, band + 1, so both sample the same
-/// grid points).
-std::size_t denseAndSparseDiffer(const char* name, int band, bool solids) {
+/// The drop scene in the tank baked dense and sparse on one grid, played 15 steps each: returns
+/// the particles' differing positions at the end (the dense bake asked for the padding the
+/// sparse one raises to, band + 1, so both sample the same grid points).
+std::size_t denseAndSparseDiffer(const char* name, int band) {
     const fs::path dir = tempDir(name);
     bakeTank(dir, "dense.slc", {"--padding", std::to_string(band + 1)});
     bakeTank(dir, "sparse.slc", {"--sparse", "--band", std::to_string(band)});
@@ -73,7 +72,6 @@ std::size_t denseAndSparseDiffer(const char* name, int band, bool solids) {
     for (const char* asset : {"dense.slc", "sparse.slc"}) {
         format::Scene scene = dropScene(dir, asset);
         scene.simulation.maxIterations = 3;
-        scene.simulation.solidBoundary = solids;
         auto colliders = loadSceneColliders(scene);
         EXPECT_TRUE(colliders) << colliders.error().message();
         if (!colliders)
@@ -106,18 +104,11 @@ std::size_t denseAndSparseDiffer(const char* name, int band, bool solids) {
 }
 
 TEST_F(SparseScene, TheTankBakedDenseAndSparseOnOneGridPlaysTheSameRunBitForBit) {
-    // Every distance a particle of radius 1 cm reads lies within the band (4 voxels of 7.5 mm,
-    // checkColliderBands), where both hold the same exact values: the two runs must agree to the
-    // last bit.
-    EXPECT_EQ(denseAndSparseDiffer("sparse-scene-tank", 4, false), 0u);
-}
-
-TEST_F(SparseScene, WithTheSolidsBoundaryTheSparseTankStillPlaysTheDenseRunBitForBit) {
-    // "boundary": "solids" reads the tank's phi up to h = 4 cm (docs/pbf.md, "Boundary volume"),
+    // The boundary volume reads the tank's phi up to h = 4 cm (docs/pbf.md, "Boundary volume"),
     // exact in a band of 8 voxels of 7.5 mm (4 cm / 7.5 mm + sqrt(3) = 7.07): the sparse path of
-    // the boundary volume gives the dense one's bits. (With the 5-voxel band every particle's
+    // the boundary volume gives the dense one's bits. (With a 5-voxel band every particle's
     // bits differed after 15 steps: the share past the band is left out, docs/pbf.md.)
-    EXPECT_EQ(denseAndSparseDiffer("sparse-scene-tank-solids", 8, true), 0u);
+    EXPECT_EQ(denseAndSparseDiffer("sparse-scene-tank", 8), 0u);
 }
 
 // The boundary share ("solids") at points of the tank's inside corner at (-0.37, 0.03, -0.22)
@@ -139,7 +130,6 @@ TEST_F(SparseScene, TheSparseTanksVolumeMapGivesTheDenseOnesShares) {
     std::vector<std::vector<glm::vec4>> shares;
     for (const char* asset : {"dense.slc", "sparse.slc"}) {
         format::Scene scene = dropScene(dir, asset);
-        scene.simulation.solidBoundary = true;
         auto colliders = loadSceneColliders(scene);
         ASSERT_TRUE(colliders) << colliders.error().message();
         auto sim = Simulation::create(scene, std::move(*colliders));
@@ -167,7 +157,6 @@ TEST_F(SparseScene, WaterInTheSparseTanksCornerMatchesTheCpuReference) {
     const fs::path dir = tempDir("sparse-scene-tank-parity");
     bakeTank(dir, "sparse.slc", {"--sparse", "--band", "8"});
     format::Scene scene = dropScene(dir, "sparse.slc");
-    scene.simulation.solidBoundary = true;
     scene.blocks.clear();
     format::FluidBlock block;
     block.min = glm::vec3(-0.37f, 0.03f, -0.22f);
@@ -214,7 +203,7 @@ TEST_F(SparseScene, WaterInTheSparseTanksCornerMatchesTheCpuReference) {
 TEST_F(SparseScene, ALargerKernelRadiusIsRefusedWhenADynamicBodysBandCannotHoldIt) {
     // The committed sparse sphere (band 2 voxels of 0.05 m, radius 0.2 m) as a body, with the
     // mass properties a closed mesh's bake stores. At 6 mm spacing and h = 12 mm its boundary
-    // reads phi up to h + 0.15 spacing = 12.9 mm: 0.26 + sqrt(3) = 1.99 voxels, inside the band.
+    // reads phi up to h + 0.05 spacing = 12.3 mm: 0.25 + sqrt(3) = 1.98 voxels, inside the band.
     const fs::path dir = tempDir("sparse-body-h");
     auto asset = format::readAsset(fs::path(SLUICE_SOURCE_DIR) /
                                    "tests/fuzz/corpus/asset_reader/sphere-sparse.slc");
@@ -233,7 +222,7 @@ TEST_F(SparseScene, ALargerKernelRadiusIsRefusedWhenADynamicBodysBandCannotHoldI
     auto sim = Simulation::create(*scene, std::move(*colliders));
     ASSERT_TRUE(sim) << sim.error().message();
 
-    // h = 18 mm reads 18.9 mm: 2.11 voxels, past the band. Refused, nothing changed.
+    // h = 18 mm reads 18.3 mm: 2.1 voxels, past the band. Refused, nothing changed.
     format::SimulationParams wide = sim->parameters();
     wide.kernelRadius = 0.018f;
     auto refused = sim->setParameters(wide);

@@ -49,11 +49,6 @@ struct SimulationParams {
     float vorticity = kDerived;        ///< vorticity confinement epsilon [m/s], 0 = off;
                                        ///< kDerived: 0.01 * sqrt(9.81 * h)
     glm::vec3 gravity{0.0f, -9.81f, 0.0f}; ///< [m/s^2]
-    bool solidBoundary = true;             ///< true ("boundary": "solids", the default): the
-                                           ///< domain's walls and static colliders add boundary
-                                           ///< volume to the density, as bodies do; false
-                                           ///< ("bodies"): only dynamic bodies do (docs/pbf.md,
-                                           ///< "Boundary volume")
     std::uint32_t capacity = 0; ///< most particles; 0: derived, the blocks + everything emitters
                                 ///< emit between start and stop (stop defaults start + 10 s)
 };
@@ -178,6 +173,10 @@ struct Scene {
     std::optional<glm::vec3> domainMin; ///< particles stay inside [domainMin, domainMax] if set
     std::optional<glm::vec3> domainMax;
     Camera camera;
+    /// The file named `"boundary": "bodies"`, a boundary model no longer there: the walls and
+    /// every collider add boundary volume now (docs/pbf.md, "Boundary volume"), and
+    /// sluice-play warns (docs/scene-format.md).
+    bool namesRemovedBoundaryModel = false;
 };
 
 } // namespace sluice::format

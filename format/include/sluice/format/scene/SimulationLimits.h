@@ -36,15 +36,17 @@ std::string rangeProblem(double value, const std::string& shown, const ParamRang
 /// parameter and its range for one out of range ("xsph: 5 is out of range [0, 1]").
 Result<void> checkSimulationParams(const SimulationParams& p);
 
-/// The name of a boundary model ("simulation.boundary", docs/scene-format.md): "solids" when
-/// SimulationParams::solidBoundary, else "bodies".
-const char* boundaryModelName(bool solidBoundary);
+/// What a "simulation.boundary" value names (docs/scene-format.md): the one boundary model
+/// there is ("solids", the walls and every collider and body adding boundary volume), the one
+/// removed in format 1.x ("bodies", only dynamic bodies adding it), or neither.
+enum class BoundaryModelName { Solids, Removed, Unknown };
+BoundaryModelName boundaryModelNamed(std::string_view name);
 
-/// SimulationParams::solidBoundary for a model's name; empty for an unknown name.
-std::optional<bool> solidBoundaryFromName(std::string_view name);
-
-/// What an unknown model name is told: `unknown boundary model "NAME"; expected ...`, the name
-/// shown escaped and cut short as the scene reader shows keys.
+/// What an unknown model name is told: `unknown boundary model "NAME"; ...`, the name shown
+/// escaped and cut short as the scene reader shows keys.
 std::string unknownBoundaryModel(std::string_view name);
+
+/// What a scene naming the removed model ("bodies") is told: it plays with the one model.
+std::string removedBoundaryModelWarning();
 
 } // namespace sluice::format

@@ -8,14 +8,9 @@
 
 namespace sluice::format {
 
-/// Bodies' fluid-facing surface lies this many particle spacings inside phi = 0
-/// (docs/bodies.md, "Surface offset").
-inline constexpr double kBodySurfaceOffsetSpacings = 0.15;
-
-/// The same offset when walls and static colliders have boundary volume too ("boundary":
-/// "solids"), calibrated on floating cubes (docs/bodies.md, "Surface offset"). Smaller than the
-/// one above, so the bands below, which use that one, serve both.
-inline constexpr double kBodySurfaceOffsetSpacingsWithSolids = 0.05;
+/// Bodies' fluid-facing surface lies this many particle spacings inside phi = 0, calibrated on
+/// floating cubes (docs/bodies.md, "Surface offset"; the tuned-constants table).
+inline constexpr double kBodySurfaceOffsetSpacings = 0.05;
 
 /// The kernel radius h a scene gets unless it sets one, in particle spacings.
 inline constexpr double kDefaultKernelSpacings = 2.0;
