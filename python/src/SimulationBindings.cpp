@@ -16,7 +16,7 @@
 
 #include "Errors.h"
 #include "play/RunProgress.h"
-#include "play/StatsReport.h"
+#include "output/StatsReport.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/scene/SimulationLimits.h"
 #include "sluice/gpu/Context.h"

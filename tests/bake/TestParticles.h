@@ -41,7 +41,7 @@ inline std::vector<glm::dvec3> latticeBlock(const glm::dvec3& corner, int counts
     return points;
 }
 
-/// The bytes sluice-play --dump-ply writes for `points` (runtime/src/play/PlyWriter.cpp):
+/// The bytes sluice-play --dump-ply writes for `points` (runtime/src/output/PlyWriter.cpp):
 /// binary little-endian, float x y z vx vy vz and uint id, velocities zero; with a
 /// "comment particle_radius RADIUS" line after the first comment when `radius` is not empty.
 inline std::string sluicePlayPly(const std::vector<glm::dvec3>& points,

@@ -1,7 +1,7 @@
 // Private: particle positions (and radii) out of a PLY point file, for `surface`.
 //
 // sluice-play --dump-ply writes binary little-endian files with one "vertex" element of
-// float x y z vx vy vz and uint id (runtime/src/play/PlyWriter.cpp); other tools add a
+// float x y z vx vy vz and uint id (runtime/src/output/PlyWriter.cpp); other tools add a
 // per-vertex "radius", and sluice-play records its particle radius in the header as
 // "comment particle_radius R". The header goes through the same hardened reader as `bake`'s PLY
 // pre-flight check (import/PlyHeader.h), asking for points instead of a mesh; the body is

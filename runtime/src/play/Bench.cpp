@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "play/SceneChecks.h"
-#include "play/StatsReport.h"
+#include "output/StatsReport.h"
 #include "shared/Pbf.h"
 #include "sluice/format/support/AtomicFile.h"
 #include "sluice/gpu/Context.h"

@@ -15,7 +15,7 @@
 #include "play/Bench.h"
 #include "play/PlayHeadless.h"
 #include "play/PlayOptions.h"
-#include "play/RunOutputs.h"
+#include "output/RunOutputs.h"
 #include "play/SceneChecks.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/support/CliErrors.h"

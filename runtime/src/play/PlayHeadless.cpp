@@ -15,11 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "capture/CaptureHeadless.h"
-#include "play/BodiesCsv.h"
+#include "output/BodiesCsv.h"
 #include "play/Interrupt.h"
 #include "play/RunProgress.h"
 #include "play/SceneChecks.h"
-#include "play/StatsReport.h"
+#include "output/StatsReport.h"
 #include "sluice/format/support/AtomicFile.h"
 #include "sluice/format/support/Suggest.h"
 #include "sluice/gpu/Context.h"

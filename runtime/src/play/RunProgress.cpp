@@ -9,7 +9,7 @@
 
 #include <unistd.h>
 
-#include "sim/VolumeMapSize.h"
+#include "colliders/VolumeMapSize.h"
 #include "sluice/gpu/Gl.h"
 
 namespace sluice::rt {

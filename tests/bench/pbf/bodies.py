@@ -6,15 +6,15 @@ The crates (assets/crate.obj baked by the build, scaled so N of them fit side by
 just above the water at half its density and land during the warm-up. Each run reports the
 median GPU step time and its passes; the coupling's cost is the step time over the fluid-only
 run's (the boundary volume in the lambda and delta passes and the reaction sums) plus the body
-pass itself, both from the same run. Results: docs/results/pbf_bodies_<machine>.json.
+pass itself, both from the same run. Each round runs every count once, so the ratio of a
+count's step to the fluid-only step of the same round is an interleaved pair; the summary gives
+the median of those pairs and their range, as well as the ratio of the medians. Results:
+docs/results/pbf_bodies_<machine>.json.
 
-    python3 tests/bench/pbf/bodies.py --build build/dev --repeat 3
+    python3 tests/bench/pbf/bodies.py --build build/dev --repeat 5 --bodies 0,12,16,64
 
-The scenes play "solids", the default (--boundary bodies: without the walls' boundary volume;
-docs/pbf.md, "Boundary volume").
 With --resting the crates start on the floor under the water (--density 1200: they stay there),
-so the sealed contacts work every substep: their cost is the step against the same scene on a
-build without them.
+so the film model works every substep.
 """
 
 import json
@@ -35,7 +35,7 @@ DOMAIN = {"min": [-0.37, 0.0, -0.22], "max": [0.37, 0.6, 0.22]}
 CRATE = 0.12  # [m] side of assets/crate.obj
 
 
-def make_scene(bodies, spacing, resting=False, density=500, boundary="bodies"):
+def make_scene(bodies, spacing, resting=False, density=500):
     colliders = []
     if bodies:
         k = math.ceil(math.sqrt(bodies))
@@ -44,13 +44,13 @@ def make_scene(bodies, spacing, resting=False, density=500, boundary="bodies"):
         for i in range(bodies):
             x = -0.35 + (i % k + 0.5) * cell_x
             z = -0.21 + (i // k + 0.5) * cell_z
-            # Just above the water, or resting on the floor under it (their bottoms sealed
-            # against the floor: docs/bodies.md, "Sealed contacts").
+            # Just above the water, or resting on the floor under it (their bottoms held by the
+            # film model: docs/bodies.md, "The film under a body").
             y = 0.5 * size if resting else POOL["max"][1] + 0.6 * size + 0.01
             colliders.append({"asset": "crate.slc", "scale": size / CRATE,
                               "translation": [x, y, z], "dynamic": {"density": density}})
     return {"version": 1, "name": f"bodies-{bodies}",
-            "simulation": {"spacing": spacing, "boundary": boundary},
+            "simulation": {"spacing": spacing},
             "fluid": [{"box": POOL}],
             "colliders": colliders,
             "domain": DOMAIN}
@@ -62,16 +62,14 @@ def main():
                   ("--spacing", dict(type=float, default=0.02)),
                   ("--resting", dict(action="store_true",
                                      help="crates start on the pool's floor, under the water")),
-                  ("--density", dict(type=float, default=500.0, help="the crates' [kg/m^3]")),
-                  ("--boundary", dict(default="solids", choices=["bodies", "solids"],
-                                      help="the scenes' boundary model (docs/pbf.md)"))],
+                  ("--density", dict(type=float, default=500.0, help="the crates' [kg/m^3]"))],
         warmup=30, steps=10, repeat=3, repeat_help="runs per body count, interleaved",
         results_name="pbf_bodies")
     counts = [int(c) for c in a.bodies.split(",")]
     runs = []
     for rep in range(a.repeat):
         for n in counts:
-            scene = make_scene(n, a.spacing, a.resting, a.density, a.boundary)
+            scene = make_scene(n, a.spacing, a.resting, a.density)
             path = os.path.join(assets, f"bench-bodies-{n}.json")
             with open(path, "w") as f:
                 json.dump(scene, f, indent=4)
@@ -98,6 +96,11 @@ def main():
                "medianBodiesPassMs": statistics.median(passes)}
         if base and n:
             row["stepOverFluidOnly"] = med / statistics.median(base)
+            pairs = [r["stepMs"] / b["stepMs"] for r in runs if r["bodies"] == n
+                     for b in runs if b["bodies"] == 0 and b["repeat"] == r["repeat"]]
+            row["pairRatios"] = pairs
+            row["medianPairRatio"] = statistics.median(pairs)
+            row["rangePairRatio"] = [min(pairs), max(pairs)]
             row["couplingShareOfStep"] = 1.0 - statistics.median(base) / med
             row["bodyPassShareOfStep"] = row["medianBodiesPassMs"] / med
         summary.append(row)
@@ -105,7 +108,7 @@ def main():
     doc = {"what": "sluice-play --bench with dynamic bodies (tests/bench/pbf/bodies.py)",
            "date": sweep.utc_now(),
            "machineName": a.machine, "machine": sweep.machine_info(),
-           "resting": a.resting, "density": a.density, "boundary": a.boundary,
+           "resting": a.resting, "density": a.density,
            "warmup": a.warmup, "steps": a.steps, "runs": runs, "summary": summary}
     sweep.write_results(a.out, doc)
     return 0

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ProgramRun.h"
-#include "play/BodiesCsv.h"
+#include "output/BodiesCsv.h"
 #include "render/RenderTestSupport.h"
 
 namespace sluice::rt {

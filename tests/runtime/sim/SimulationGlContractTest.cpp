@@ -7,7 +7,7 @@
 
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
-#include "sim/BodyTank.h"
+#include "bodies/BodyTank.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/rt/sim/Simulation.h"
 

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sim/ColliderBands.h"
+#include "colliders/ColliderBands.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/scene/SolverReach.h"

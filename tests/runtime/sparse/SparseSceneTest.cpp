@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "ParticleCompare.h"
+#include "sim/ParticleCompare.h"
 #include "ProgramRun.h"
 #include "ReferencePbf.h"
 #include "sluice/format/asset/AssetIO.h"

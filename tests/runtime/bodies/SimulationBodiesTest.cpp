@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "BodyTank.h"
+#include "bodies/BodyTank.h"
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
 #include "sluice/rt/sim/Simulation.h"

@@ -1,6 +1,6 @@
 // Forces on static and kinematic colliders: the measured set, the substep's pass and the
 // copies read back once their fence has passed.
-#include "sim/ColliderForces.h"
+#include "colliders/ColliderForces.h"
 
 #include "shared/Bodies.h"
 #include "shared/Pbf.h"

@@ -8,7 +8,7 @@
 
 #include "ProgramRun.h"
 
-#include "play/RunOutputs.h"
+#include "output/RunOutputs.h"
 
 namespace sluice::rt {
 namespace {

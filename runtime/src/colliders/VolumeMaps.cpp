@@ -3,7 +3,7 @@
 // probe (pbf_boundary_probe.comp) that reads the walls' and colliders' share at points.
 #include "sim/SimulationImpl.h"
 
-#include "sim/VolumeMapSize.h"
+#include "colliders/VolumeMapSize.h"
 #include "sluice/gpu/colliders/VolumeMapPass.h"
 
 namespace sluice::rt {

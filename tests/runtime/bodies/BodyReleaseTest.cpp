@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "BodyTank.h"
+#include "bodies/BodyTank.h"
 #include "GpuTest.h"
 #include "sluice/rt/sim/Simulation.h"
 

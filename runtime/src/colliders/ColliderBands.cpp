@@ -1,5 +1,5 @@
 // Sparse colliders' bands against the distances the solver reads.
-#include "sim/ColliderBands.h"
+#include "colliders/ColliderBands.h"
 
 #include <cmath>
 #include <cstdio>

@@ -10,7 +10,7 @@
 
 #include "sluice/format/asset/AssetIO.h"
 
-#include "play/BodiesCsv.h"
+#include "output/BodiesCsv.h"
 #include "play/RunProgress.h"
 
 namespace sluice::rt {

@@ -1,5 +1,5 @@
 // The trajectory table: header, rows, atomic write.
-#include "play/BodiesCsv.h"
+#include "output/BodiesCsv.h"
 
 #include <cstdio>
 #include <span>

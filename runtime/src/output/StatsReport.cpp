@@ -1,5 +1,5 @@
 // Formatting of step statistics for people (table) and programs (JSON).
-#include "play/StatsReport.h"
+#include "output/StatsReport.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // Output paths: every check before the first folder is created, then the folders.
-#include "play/RunOutputs.h"
+#include "output/RunOutputs.h"
 
 #include <filesystem>
 #include <system_error>

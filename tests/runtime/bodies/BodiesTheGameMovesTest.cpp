@@ -9,7 +9,7 @@
 
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
-#include "sim/BodyTank.h"
+#include "bodies/BodyTank.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {

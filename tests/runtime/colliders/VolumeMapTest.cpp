@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "ParticleCompare.h"
+#include "sim/ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
 #include "sluice/gpu/colliders/VolumeMap.h"
