@@ -21,7 +21,8 @@ function(sluice_embed_shaders target)
     foreach(src IN LISTS ARG_SOURCES)
         list(APPEND abs_sources ${SLUICE_SHADER_DIR}/${src})
     endforeach()
-    file(GLOB shared_headers CONFIGURE_DEPENDS ${SLUICE_SHADER_DIR}/shared/*.h)
+    file(GLOB shared_headers CONFIGURE_DEPENDS ${SLUICE_SHADER_DIR}/shared/*.h
+         ${SLUICE_SHADER_DIR}/glsl/*.h)
     list(APPEND shared_headers ${NANOVDB_INCLUDE_DIR}/nanovdb/PNanoVDB.h)
     list(JOIN ARG_SOURCES "|" src_list)
     add_custom_command(

@@ -7,7 +7,7 @@
 #version 450 core
 #extension GL_ARB_shader_group_vote : enable
 
-#include "shared/SdfBakeGlsl.h"
+#include "glsl/SdfBakeGlsl.h"
 #include "shared/ChunkedDispatch.h"
 
 layout(local_size_x = kBakeLocalSize) in;

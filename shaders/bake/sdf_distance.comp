@@ -5,12 +5,12 @@
 //
 // Each invocation owns a block of 2 x 2 x 4 grid points: it fetches every node and triangle once
 // for its 16 points (loads are what llvmpipe pays for most), tests node boxes against each
-// point's own best distance (walkBlock, shared/SdfBakeGlsl.h), and starts from the nearest
+// point's own best distance (walkBlock, glsl/SdfBakeGlsl.h), and starts from the nearest
 // triangles of the 8 coarse points around the block.
 #version 450 core
 #extension GL_ARB_shader_group_vote : enable
 
-#include "shared/SdfBakeGlsl.h"
+#include "glsl/SdfBakeGlsl.h"
 #include "shared/ChunkedDispatch.h"
 
 layout(local_size_x = kBakeLocalSize) in;

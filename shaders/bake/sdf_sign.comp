@@ -9,7 +9,7 @@
 #version 450 core
 #extension GL_ARB_shader_group_vote : enable
 
-#include "shared/SdfBakeGlsl.h"
+#include "glsl/SdfBakeGlsl.h"
 #include "shared/ChunkedDispatch.h"
 
 layout(local_size_x = kBakeLocalSize) in;
@@ -65,7 +65,7 @@ const float kBakePi = 3.14159265358979;
 // Fast winding number at p (Barill et al. 2018): exact solid angles of the triangles of near
 // leaves, and for a node farther than beta times its radius (sec. 3.2) its dipole term
 // (p~ - q) . n~ / |p~ - q|^3 (eq. 14, in units of 4 pi). Walks the preorder links like walkBlock
-// (shared/SdfBakeGlsl.h); the order is fixed per point, so the float sum is the same on every
+// (glsl/SdfBakeGlsl.h); the order is fixed per point, so the float sum is the same on every
 // run.
 float fastWindingNumber(vec3 p) {
     float sum = 0.0; // [sr]
@@ -131,7 +131,7 @@ vec4 layerSolidAngles(vec3 a, vec3 b, vec3 c, vec3 q0, vec3 q1, float z) {
     return omega;
 }
 
-// The fast winding numbers [sr] of a block's 16 points (blockPoints, shared/SdfBakeGlsl.h),
+// The fast winding numbers [sr] of a block's 16 points (blockPoints, glsl/SdfBakeGlsl.h),
 // walked together: a node counts as far only if it is far from every point of the block (its
 // centroid farther than beta radii from the block's box), so each point's sum is at least as
 // exact as its own walk would give.

@@ -12,8 +12,8 @@
 #define PBF_WITH_COLLIDERS 1
 #define PBF_COLLIDERS_WRITABLE 1
 #define PBF_WITH_BODIES 1
-#include "shared/PbfGlsl.h"
-#include "shared/FilmGlsl.h"
+#include "glsl/PbfGlsl.h"
+#include "glsl/FilmGlsl.h"
 
 // Invocations of a body's work group, chosen by Simulation (bodyGroupSize): kBodyLanes on a
 // GPU, kBodyLanesSoftware on a software renderer.
@@ -63,7 +63,7 @@ shared vec3 sPosition;
 shared vec4 sOrientation;
 shared uvec2 sReach;
 
-#include "shared/BodyContactsGlsl.h"
+#include "glsl/BodyContactsGlsl.h"
 
 // One body through the start: its pose at the substep start (x0, q0), its velocity after the
 // fluid's reaction, gravity and the drag (v, w), and the fluid's force and torque.

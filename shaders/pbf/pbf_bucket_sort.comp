@@ -2,7 +2,7 @@
 // the counting atomics left. Buckets hold a handful of particles, so insertion sort.
 #version 450 core
 
-#include "shared/PbfGlsl.h"
+#include "glsl/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

@@ -7,14 +7,14 @@
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
-#include "shared/PbfGlsl.h"
+#include "glsl/PbfGlsl.h"
 
 layout(local_size_x = 64) in;
 
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 layout(std430, binding = kBindColliderForces) buffer Forces { GpuColliderForce forces[]; };
 
-#include "shared/BodySumsGlsl.h"
+#include "glsl/BodySumsGlsl.h"
 
 // The first substep of a step starts the means again; each adds its share.
 uniform uint firstSubstep;

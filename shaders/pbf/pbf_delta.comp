@@ -2,7 +2,7 @@
 // correction with s_corr (Macklin & Mueller 2013, eq. 10, 11), collisions and the domain box;
 // and in the dispatch that ends the solve, step 5 (velocity, x <- x*, the non-finite guard).
 // What the bodies and the measured colliders take from the corrections is the body coupling's
-// (shared/BodyCouplingGlsl.h), called at its four numbered points.
+// (glsl/BodyCouplingGlsl.h), called at its four numbered points.
 #version 450 core
 
 #define PBF_NEIGHBOUR_PASS 1
@@ -12,10 +12,10 @@
 void collisionReaction(uint b, vec3 x, vec3 dx);
 #define PBF_SOLID_REACTION addSolidReaction
 void addSolidReaction(uint c, vec3 x, vec3 dx);
-#include "shared/PbfGlsl.h"
-#include "shared/FilmGlsl.h"
-#include "shared/BoundaryVolumeGlsl.h"
-#include "shared/CollidersNearGlsl.h"
+#include "glsl/PbfGlsl.h"
+#include "glsl/FilmGlsl.h"
+#include "glsl/BoundaryVolumeGlsl.h"
+#include "glsl/CollidersNearGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 
@@ -36,8 +36,8 @@ layout(std430, binding = kBindStats) buffer Stats {
 layout(std430, binding = kBindSolveArgs) writeonly buffer SolveArgs { PbfDispatchArgs args[]; };
 layout(std430, binding = kBindBodySums) buffer BodySums { uint bodySums[]; };
 
-#include "shared/BodySumsGlsl.h"
-#include "shared/BodyCouplingGlsl.h"
+#include "glsl/BodySumsGlsl.h"
+#include "glsl/BodyCouplingGlsl.h"
 
 // The early stop (docs/pbf.md step 4.2). It ends a solve only after an even number of
 // iterations: the target is met after two or three, and water at rest stopped after an odd

@@ -5,9 +5,9 @@
 #define PBF_NEIGHBOUR_PASS 1
 #define PBF_WITH_COLLIDERS 1
 #define PBF_WITH_BODIES 1
-#include "shared/PbfGlsl.h"
-#include "shared/BoundaryVolumeGlsl.h"
-#include "shared/CollidersNearGlsl.h"
+#include "glsl/PbfGlsl.h"
+#include "glsl/BoundaryVolumeGlsl.h"
+#include "glsl/CollidersNearGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

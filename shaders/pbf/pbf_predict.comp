@@ -7,7 +7,7 @@
 // nothing per substep.
 #version 450 core
 
-#include "shared/PbfGlsl.h"
+#include "glsl/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

@@ -6,7 +6,7 @@
 // between the two).
 #version 450 core
 
-#include "shared/PbfGlsl.h"
+#include "glsl/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

@@ -1,7 +1,7 @@
 // Counting sort, scatter half: every particle claims slot start[bucket] + rank.
 #version 450 core
 
-#include "shared/PbfGlsl.h"
+#include "glsl/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

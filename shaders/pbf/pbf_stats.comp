@@ -4,7 +4,7 @@
 
 #define PBF_WITH_COLLIDERS 1
 #define PBF_WITH_BODIES 1
-#include "shared/PbfGlsl.h"
+#include "glsl/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

@@ -2,7 +2,7 @@
 #version 450 core
 
 #define PBF_NEIGHBOUR_PASS 1
-#include "shared/PbfGlsl.h"
+#include "glsl/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

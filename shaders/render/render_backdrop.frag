@@ -2,7 +2,7 @@
 // one. Drawn first, with the depth test off, so it also clears colour and depth.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 in vec2 vUv;
 layout(location = 0) out vec4 outColour;

@@ -10,12 +10,12 @@
 // it is glass, translucent, after the particles, so the fluid inside a container stays visible.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 #ifdef SLUICE_SPARSE_COLLIDERS
 layout(std430, binding = kRenderBindSparse) readonly buffer SparseBuf { uint sparseWords[]; };
 #define pnanovdb_buf_data sparseWords
-#include "shared/NanoVdbGlsl.h"
+#include "glsl/NanoVdbGlsl.h"
 uniform uint uGridOffset;   // the collider's grid in SparseBuf [bytes]
 pnanovdb_readaccessor_t gAccessor; // set in main(), then reused by every lookup of the pixel
 #else
@@ -39,7 +39,7 @@ const int kMaxLayers = 4;
 #ifdef SLUICE_SPARSE_COLLIDERS
 const int kMaxSteps = 512;
 
-// Trilinear in the grid box, as the solver samples (shared/PbfGlsl.h, sampleCollider).
+// Trilinear in the grid box, as the solver samples (glsl/PbfGlsl.h, sampleCollider).
 float sdf(vec3 p) {
     vec3 g = clamp((p - uGridOrigin) / uVoxel, vec3(0.0), uDims - 1.0);
     vec3 cellLo = min(floor(g), uDims - 2.0);

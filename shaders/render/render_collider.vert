@@ -2,7 +2,7 @@
 // gl_VertexID, no vertex buffer), placed in the world by the collider's pose.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 uniform mat4 uLocalToWorld; // collider local [asset units] -> world [m]
 uniform vec3 uBoxMin;       // grid box, local [asset units]

@@ -2,7 +2,7 @@
 // edge e runs along axis e / 4, and e % 4 picks which of the four parallel edges.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 uniform vec3 uDomainMin; // [m]
 uniform vec3 uDomainMax; // [m]

@@ -8,7 +8,7 @@
 // The fluid variants test against the opaque scene's depth themselves (sampled, not attached).
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 in vec3 vViewPos;
 flat in vec3 vCentre;

@@ -7,7 +7,7 @@
 // F.reverseOrder is 1: whichever of the two runs nearer to front to back for the camera.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 layout(std430, binding = kRenderBindPositions) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = kRenderBindVelocities) readonly buffer Velocities { vec4 velocities[]; };

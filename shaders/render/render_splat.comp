@@ -19,7 +19,7 @@
 #version 450 core
 
 #include "shared/ChunkedDispatch.h"
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 layout(local_size_x = kSplatLocalSize) in;
 

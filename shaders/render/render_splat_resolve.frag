@@ -4,7 +4,7 @@
 // after (the larger spheres, the glass walls) is tested against it.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 layout(std430, binding = kRenderBindPositions) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = kRenderBindVelocities) readonly buffer Velocities { vec4 velocities[]; };

@@ -2,7 +2,7 @@
 // reflected by Schlick's Fresnel term, so its shape reads and it looks like water.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 in vec3 vWorld;
 in vec3 vNormal;

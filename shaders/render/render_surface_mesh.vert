@@ -3,7 +3,7 @@
 // storage buffers.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 #include "shared/Surface.h"
 
 // Positions and normals as packed float triples (std430 would pad a vec3 array to 16 bytes).

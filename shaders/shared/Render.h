@@ -13,7 +13,7 @@ SLUICE_CONST uint kRenderBindFrame = 0;
 SLUICE_CONST uint kRenderBindPositions = 0;  ///< vec4 x (xyz) [m]
 SLUICE_CONST uint kRenderBindVelocities = 1; ///< vec4 v (xyz) [m/s], w = density error C_i
 // The collider programs' sparse variant (SLUICE_SPARSE_COLLIDERS): every sparse collider's
-// NanoVDB grid, back to back at 32-byte aligned offsets (shared/NanoVdbGlsl.h).
+// NanoVDB grid, back to back at 32-byte aligned offsets (glsl/NanoVdbGlsl.h).
 SLUICE_CONST uint kRenderBindSparse = 3;     ///< uint[]
 // The small spheres' compute pass (render_splat.comp): the particles too large for it, listed
 // for the impostor draw, and that draw's indirect arguments.

@@ -1,4 +1,4 @@
-// Layouts, bindings and constants of the GPU SDF bake (shaders/sdf_*.comp, shared/SdfBakeGlsl.h).
+// Layouts, bindings and constants of the GPU SDF bake (shaders/sdf_*.comp, glsl/SdfBakeGlsl.h).
 // Shared by GLSL and C++ (bake/src/gpu/Bvh.cpp builds the texel arrays, GpuBaker.cpp uploads them).
 // bake/src/gpu/GpuBaker.cpp describes the passes.
 //

@@ -9,7 +9,7 @@
 // SurfaceKernel, packed.
 #version 450 core
 
-#include "shared/SurfaceKernelGlsl.h"
+#include "glsl/SurfaceKernelGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

@@ -2,7 +2,7 @@
 // prefix scan can give every block a contiguous run of particle indices.
 #version 450 core
 
-#include "shared/SurfaceKernelGlsl.h"
+#include "glsl/SurfaceKernelGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

@@ -4,7 +4,7 @@
 // on the atomics; nothing after depends on it (surface_anisotropy.comp sums in fixed point).
 #version 450 core
 
-#include "shared/SurfaceKernelGlsl.h"
+#include "glsl/SurfaceKernelGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

@@ -8,7 +8,7 @@
 // so the loops unroll and the line stays in registers.
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "glsl/SurfaceGlsl.h"
 
 #ifndef SLUICE_BLUR_AXIS
 #define SLUICE_BLUR_AXIS 0

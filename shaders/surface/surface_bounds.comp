@@ -4,7 +4,7 @@
 // (the same result from any order).
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "glsl/SurfaceGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

@@ -1,7 +1,7 @@
 // The list of stored blocks: activeBlock[slot] = the block's index, in block order.
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "glsl/SurfaceGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

@@ -5,7 +5,7 @@
 // along x, y and z: the 9 x 9 rows of 9 samples (local 0 .. 8) are read once into bit masks.
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "glsl/SurfaceGlsl.h"
 
 layout(local_size_x = kSurfaceBlockRows) in;
 

@@ -4,7 +4,7 @@
 // (a thin sheet, a droplet) counts for the volume it has, as in splashsurf's colour field.
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "glsl/SurfaceGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

@@ -3,7 +3,7 @@
 // three blur passes (surface_blur.comp) then spread the deposit with the Gaussian.
 #version 450 core
 
-#include "shared/SurfaceKernelGlsl.h"
+#include "glsl/SurfaceKernelGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

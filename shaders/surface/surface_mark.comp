@@ -2,7 +2,7 @@
 // crossing edge always starts in a stored block): blockFlag = 1. Same value from any order.
 #version 450 core
 
-#include "shared/SurfaceKernelGlsl.h"
+#include "glsl/SurfaceKernelGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

@@ -3,7 +3,7 @@
 // atomics, so any order gives the same sums.
 #version 450 core
 
-#include "shared/SurfaceKernelGlsl.h"
+#include "glsl/SurfaceKernelGlsl.h"
 
 layout(local_size_x = kSurfaceLocalSize) in;
 

@@ -5,7 +5,7 @@
 // the edge it lies on. Each triangle faces out of the fluid (down the field).
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "glsl/SurfaceGlsl.h"
 
 layout(local_size_x = kSurfaceBlockRows) in;
 

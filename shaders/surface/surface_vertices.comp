@@ -7,7 +7,7 @@
 // rows side by side in one vector), each reading the field through the blocks round it.
 #version 450 core
 
-#include "shared/SurfaceGlsl.h"
+#include "glsl/SurfaceGlsl.h"
 
 layout(local_size_x = kSurfaceBlockRows) in;
 

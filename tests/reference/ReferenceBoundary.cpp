@@ -12,7 +12,7 @@
 namespace sluice::ref {
 
 // The gradient of the trilinear field at local point p, in the cell the GPU's float arithmetic
-// puts p in (shared/PbfGlsl.h, sampleCollider), the values and the derivative in double. A body's
+// puts p in (glsl/PbfGlsl.h, sampleCollider), the values and the derivative in double. A body's
 // contact points lie on its grid's planes, where the cells on either side give different
 // gradients (an edge point's normal is the face's on one side, the other face's on the other),
 // and double arithmetic may round to the other cell.

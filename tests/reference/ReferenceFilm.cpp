@@ -1,6 +1,6 @@
 // The CPU reference's film model (docs/bodies.md, "The film under a body"), as
-// shaders/pbf/pbf_bodies.comp (filmReaction, takeFilmReaction), shared/BodyContactsGlsl.h
-// (sealedShare) and shared/FilmGlsl.h (surfaceWordOf, surfaceLevel) do it, in double.
+// shaders/pbf/pbf_bodies.comp (filmReaction, takeFilmReaction), glsl/BodyContactsGlsl.h
+// (sealedShare) and glsl/FilmGlsl.h (surfaceWordOf, surfaceLevel) do it, in double.
 #include "ReferencePbf.h"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // What the dense and the sparse GPU bakes share: their opening (the soup, the BVH on the GPU,
-// the programs of a point layout, shaders/shared/SdfBakeGlsl.h), the slabs of the fine pass and
+// the programs of a point layout, shaders/glsl/SdfBakeGlsl.h), the slabs of the fine pass and
 // the sign lists between them. GpuBaker.cpp describes the passes; GpuSparseBaker.cpp runs them
 // over brick lists.
 #pragma once
@@ -60,7 +60,7 @@ struct GpuBvh {
     }
 };
 
-/// Which points the bake's programs compute (shaders/shared/SdfBakeGlsl.h).
+/// Which points the bake's programs compute (shaders/glsl/SdfBakeGlsl.h).
 enum class BakeLayout {
     Dense,  ///< the whole grid
     Sparse, ///< the bricks of a list (SDF_SPARSE)

@@ -394,7 +394,7 @@ Result<void> Simulation::Impl::compilePasses() {
         std::uint64_t(capacity) * shared::kNeighbourMaskWords, std::uint64_t(tableSize) + 1);
     neighboursAsTexels =
         !options.neighboursFromStorage && mostNeighbourTexels <= gpu::BufferTexture::maxTexels();
-    // NanoVDB's reader (shared/NanoVdbGlsl.h) is compiled in only when a collider needs it.
+    // NanoVDB's reader (glsl/NanoVdbGlsl.h) is compiled in only when a collider needs it.
     std::vector<gpu::ShaderDefine> defines = colliderDefines();
     if (!neighboursAsTexels)
         defines.push_back({"SLUICE_NEIGHBOURS_STORAGE", "1"});

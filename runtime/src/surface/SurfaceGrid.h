@@ -37,7 +37,7 @@ inline float particleVolume(const SurfaceOptions& o) {
     return 8.0f * o.particleRadius * o.particleRadius * o.particleRadius;
 }
 
-/// Sets the grid's uniforms of the surface passes (shared/SurfaceGlsl.h) on `program`: origin,
+/// Sets the grid's uniforms of the surface passes (glsl/SurfaceGlsl.h) on `program`: origin,
 /// cell, samples, blocks, support, particle volume, iso (fixed point) and the kernels' kind.
 void setGridUniforms(const gpu::Program& program, const SurfaceGrid& g, const SurfaceOptions& o);
 

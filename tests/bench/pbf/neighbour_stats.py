@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Counts what the 27-cell neighbour loop of shaders/shared/PbfGlsl.h visits, per particle, on a
+"""Counts what the 27-cell neighbour loop of shaders/glsl/PbfGlsl.h visits, per particle, on a
 particle state written by `sluice-play --dump-ply`: bucket entries visited (candidates, hash
 collisions included), candidates in the 27 true cells, and true neighbours (|x_i - x_j| < h).
 

@@ -1,4 +1,4 @@
-// The solver's GLSL collider sampler (sampleCollider in shared/PbfGlsl.h, NanoVDB's PNanoVDB.h
+// The solver's GLSL collider sampler (sampleCollider in glsl/PbfGlsl.h, NanoVDB's PNanoVDB.h
 // for sparse grids) against the CPU sampler of the same field (format::SdfSampler), on 10^5+
 // points: in the band, near the surface, deep inside, outside the band and outside the box.
 #include <algorithm>

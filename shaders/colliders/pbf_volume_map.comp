@@ -11,7 +11,7 @@
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
-#include "shared/PbfGlsl.h"
+#include "glsl/PbfGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

@@ -4,8 +4,8 @@
 #version 450 core
 
 #define PBF_WITH_COLLIDERS 1
-#include "shared/PbfGlsl.h"
-#include "shared/BoundaryVolumeGlsl.h"
+#include "glsl/PbfGlsl.h"
+#include "glsl/BoundaryVolumeGlsl.h"
 
 layout(local_size_x = kPbfLocalSize) in;
 

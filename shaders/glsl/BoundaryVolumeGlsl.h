@@ -1,6 +1,6 @@
 // Walls and static colliders as boundary volume in the density (docs/pbf.md, "Boundary volume"
 // and "Volume maps"): the lambda and delta passes, the volume map pass and the boundary probe.
-// Include after shared/PbfGlsl.h with PBF_WITH_COLLIDERS defined.
+// Include after glsl/PbfGlsl.h with PBF_WITH_COLLIDERS defined.
 #ifndef SLUICE_BOUNDARY_VOLUME_GLSL_H
 #define SLUICE_BOUNDARY_VOLUME_GLSL_H
 

@@ -11,7 +11,7 @@
 // fragment-shader version, a texture fetch per tap, took 1.7 ms a pass).
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 layout(local_size_x = kFluidSmoothTile, local_size_y = kFluidSmoothTile) in;
 

@@ -1,5 +1,5 @@
 // GLSL only: the fixed-point sums of shared/Bodies.h (`bodySums`, which the including pass
-// declares after shared/PbfGlsl.h): reading a body's reaction in the body pass or a measured
+// declares after glsl/PbfGlsl.h): reading a body's reaction in the body pass or a measured
 // collider's force in pbf_collider_forces.comp, and the measured colliders' moment scale.
 #ifndef SLUICE_SHARED_BODY_SUMS_GLSL_H
 #define SLUICE_SHARED_BODY_SUMS_GLSL_H

@@ -1,6 +1,6 @@
 // The sealed contacts' bands and the film model's level over a body (docs/bodies.md, "Sealed
 // contacts" and "The film under a body"): the delta and body passes. Include after
-// shared/PbfGlsl.h.
+// glsl/PbfGlsl.h.
 #ifndef SLUICE_FILM_GLSL_H
 #define SLUICE_FILM_GLSL_H
 

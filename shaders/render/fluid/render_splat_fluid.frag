@@ -4,7 +4,7 @@
 // The larger spheres are drawn over it afterwards by the impostors from the list.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 layout(location = 0) out float outValue;
 

@@ -2,7 +2,7 @@
 // docs/bodies.md): quaternions, inertia, a contact's correction (Mueller et al. 2020), the
 // shares of a body's corrections against the other bodies and against the walls and static
 // colliders. Include it after the pass's declarations it reads: the body records and colliders
-// (PBF_WITH_BODIES, PBF_WITH_COLLIDERS, shared/PbfGlsl.h), the contact points `samples`, the
+// (PBF_WITH_BODIES, PBF_WITH_COLLIDERS, glsl/PbfGlsl.h), the contact points `samples`, the
 // reaction sums `bodySums`, and every body's pose at the sweep's start, `posedPosition(o)` and
 // `posedOrientation(o)`.
 #ifndef SLUICE_SHARED_BODY_CONTACTS_GLSL_H
@@ -10,7 +10,7 @@
 
 #ifndef __cplusplus
 
-#include "shared/BodySumsGlsl.h"
+#include "glsl/BodySumsGlsl.h"
 
 vec4 quatMul(vec4 a, vec4 b) {
     return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));

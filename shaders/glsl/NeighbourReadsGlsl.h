@@ -1,5 +1,5 @@
 // GLSL only: how the neighbour passes read other particles' data (PbfGlsl.h's neighbour
-// macros call these accessors). Included by shared/PbfGlsl.h after the parameter block.
+// macros call these accessors). Included by glsl/PbfGlsl.h after the parameter block.
 #ifndef SLUICE_SHARED_NEIGHBOUR_READS_GLSL_H
 #define SLUICE_SHARED_NEIGHBOUR_READS_GLSL_H
 

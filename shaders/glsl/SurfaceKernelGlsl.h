@@ -3,7 +3,7 @@
 #ifndef SLUICE_SHARED_SURFACE_KERNEL_GLSL_H
 #define SLUICE_SHARED_SURFACE_KERNEL_GLSL_H
 
-#include "shared/SurfaceGlsl.h"
+#include "glsl/SurfaceGlsl.h"
 
 uniform bool uAnisotropic;
 uniform bool uWeighted; // the density-normalised field's second pass: each particle's weight

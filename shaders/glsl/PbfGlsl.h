@@ -76,7 +76,7 @@ bool allFinite(vec3 v) {
     return all(notEqual(exponent, uvec3(0x7f800000u)));
 }
 
-#include "shared/NeighbourReadsGlsl.h"
+#include "glsl/NeighbourReadsGlsl.h"
 
 // The candidate ranges of particle i: the sorted particles a neighbour search from i's start
 // cell visits (docs/pbf.md step 3). START[] (x* at the substep start, sorted) chooses the cell.
@@ -231,7 +231,7 @@ bool bodyOutOfReach(uint c, vec3 x, float reach) {
 // One block for dense and sparse grids alike (a driver may allow as few as 8 per shader).
 layout(std430, binding = kBindSdf) readonly buffer SdfBuf { uint sdfWords[]; };
 #define pnanovdb_buf_data sdfWords
-#include "shared/NanoVdbGlsl.h"
+#include "glsl/NanoVdbGlsl.h"
 
 // The dense grids' samples and the volume maps are fetched through the SDF buffer's texel view:
 // on llvmpipe a storage read at an index that differs between lanes is a loop over the lanes
@@ -261,7 +261,7 @@ void denseCorners(uint base, uvec3 dims, uvec3 b, out float v[8]) {
 }
 
 // The eight samples of collider c's cell with lower corner b, as v[x + 2y + 4z]: from the dense
-// grid, or through a NanoVDB read accessor for a sparse one (shared/NanoVdbGlsl.h).
+// grid, or through a NanoVDB read accessor for a sparse one (glsl/NanoVdbGlsl.h).
 void colliderCorners(uint c, uvec3 b, out float v[8]) {
 #ifdef SLUICE_SPARSE_COLLIDERS
     if (colliders[c].gridKind == kColliderSparse) {

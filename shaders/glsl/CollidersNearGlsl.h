@@ -1,5 +1,5 @@
 // GLSL only: the colliders near each particle of a substep (docs/bodies.md, "Bodies near a
-// particle"), for the solve's passes. Include it after shared/PbfGlsl.h with PBF_WITH_BODIES and
+// particle"), for the solve's passes. Include it after glsl/PbfGlsl.h with PBF_WITH_BODIES and
 // PBF_WITH_COLLIDERS (it reads the body and collider records and the parameter block).
 #ifndef SLUICE_SHARED_COLLIDERS_NEAR_GLSL_H
 #define SLUICE_SHARED_COLLIDERS_NEAR_GLSL_H

@@ -7,8 +7,8 @@
 //   3. collisionReaction (by collide) each body's collision push-out, through
 //                                    PBF_BODY_REACTION;
 //   4. holdAgainstWalls(x, clamped)  the part of those push-outs the domain's walls undid.
-// Include after shared/PbfGlsl.h, shared/FilmGlsl.h, shared/BoundaryVolumeGlsl.h,
-// shared/CollidersNearGlsl.h and the `bodySums` buffer with shared/BodySumsGlsl.h.
+// Include after glsl/PbfGlsl.h, glsl/FilmGlsl.h, glsl/BoundaryVolumeGlsl.h,
+// glsl/CollidersNearGlsl.h and the `bodySums` buffer with glsl/BodySumsGlsl.h.
 #ifndef SLUICE_SHARED_BODY_COUPLING_GLSL_H
 #define SLUICE_SHARED_BODY_COUPLING_GLSL_H
 

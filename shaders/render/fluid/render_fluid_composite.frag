@@ -4,7 +4,7 @@
 // Writes every pixel: the opaque scene where there is no fluid in front of it.
 #version 450 core
 
-#include "shared/RenderGlsl.h"
+#include "glsl/RenderGlsl.h"
 
 layout(binding = kRenderUnitSceneColour) uniform sampler2D uSceneColour;
 layout(binding = kRenderUnitSceneDepth) uniform sampler2D uSceneDepth;
