@@ -434,8 +434,8 @@ class Simulation:
 
     def solid_boundary_at(self, points: Any) -> Tuple[np.ndarray, np.ndarray]:
         """The boundary volume the domain's walls and the static and kinematic colliders add to
-        a particle's density at each of the (N, 3) points [m], as the solver adds it with
-        ``"boundary": "solids"`` (zeros with ``"bodies"``), volume maps included (docs/pbf.md,
+        a particle's density at each of the (N, 3) points [m], as the solver adds it, volume
+        maps included (docs/pbf.md,
         "Volume maps"): ``(shares (N,) float32 of rho / rho0, gradients (N, 3) float32 [1/m])``.
         """
         pts = np.ascontiguousarray(np.asarray(points, dtype=np.float32).reshape(-1, 3))

@@ -1,4 +1,4 @@
-// The body coupling in the solve's delta pass (docs/bodies.md, "The body pass"): what the
+// The body coupling in the solve's delta pass (docs/bodies.md, "Reaction"): what the
 // dynamic bodies and the measured colliders take from one particle's corrections. The fluid's
 // pass (pbf_delta.comp) computes the fluid; it calls this part at four points of main, and
 // this part alone writes the reaction sums (shared/Bodies.h):

@@ -172,7 +172,7 @@ private:
         glm::dvec3 heldMoment{0.0};           // [m^2]
         glm::dvec3 heldForce{0.0};            // of heldDx, before the share [N]
         std::vector<glm::vec4> contactPoints; // asset frame; w: area [asset units^2]
-        glm::dvec3 underDx{0.0};     // its pushes across a solid within h + r of it [m]
+        glm::dvec3 underDx{0.0};              // its pushes across a solid in its rim band [m]
         glm::dvec3 underMoment{0.0}; // their moments (x - c) x dx [m^2]
         double boundRadius = 0.0;    // as the GPU's: contact points' reach + a voxel [m]
         std::uint32_t surface = 0;   // the film model's level word (FilmGlsl.h)
@@ -254,7 +254,7 @@ private:
     rt::EmitterSchedule m_schedule;
     std::uint32_t m_nextId = 0;
     std::uint64_t m_substepIndex = 0;
-    bool m_inRim = false;        // the particle being corrected is within h + r of a solid
+    bool m_inRim = false;        // the particle being corrected is in the rim band of a solid
     glm::dvec3 m_rimNormal{0.0}; // and that solid's normal
 
     std::vector<rt::ParticleState> m_particles;

@@ -3,6 +3,7 @@
 #include "ReferencePbf.h"
 
 #include "sluice/format/asset/GridSamples.h"
+#include "sluice/format/asset/VolumeMapQuadrature.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,22 +35,12 @@ bool inGridBox(const format::ColliderAsset& a, glm::dvec3 q) {
 double correctionAt(const format::ColliderAsset& asset, const format::SdfSampler& sampler,
                     glm::dvec3 q, double phi, glm::dvec3 n, double support, double d) {
     const int steps = int(float(support) / float(d)); // as the shader divides, in float
-    double weights = 0.0, solid = 0.0, plane = 0.0;
-    for (int k = -steps; k <= steps; ++k)
-        for (int j = -steps; j <= steps; ++j)
-            for (int i = -steps; i <= steps; ++i) {
-                const glm::dvec3 o = glm::dvec3(i, j, k) * d;
-                const double a = 1.0 - glm::dot(o, o) / (support * support);
-                if (!(a > 0.0))
-                    continue;
-                const double w = a * a * a;
-                weights += w;
-                if (!inGridBox(asset, q + o))
-                    continue;
-                solid += w * std::clamp(0.5 - sampler.value(q + o) / d, 0.0, 1.0);
-                plane += w * std::clamp(0.5 - (phi + glm::dot(n, o)) / d, 0.0, 1.0);
-            }
-    return (solid - plane) / weights;
+    return format::volumeMapQuadrature(support, d, steps, phi, n,
+                                       [&](glm::dvec3 o) -> std::optional<double> {
+                                           if (!inGridBox(asset, q + o))
+                                               return std::nullopt;
+                                           return double(sampler.value(q + o));
+                                       });
 }
 
 // The quadrature's cell: a whole number of grid cells when the grid has at least kSteps cells

@@ -10,6 +10,7 @@
 
 #include "sluice/format/asset/GridSamples.h"
 #include "sluice/format/asset/SdfSampler.h"
+#include "sluice/format/asset/VolumeMapQuadrature.h"
 
 namespace sluice::bake {
 namespace {
@@ -36,23 +37,12 @@ double bruteForceShare(const format::SdfSampler& field, glm::ivec3 p, double phi
     const format::ColliderMeta& m = field.asset().meta;
     const glm::dvec3 q = m.origin + glm::dvec3(p) * m.voxelSize;
     const double d = support / kVolumeMapCheckSteps;
-    double weights = 0.0, solid = 0.0, plane = 0.0;
-    for (int k = -kVolumeMapCheckSteps; k <= kVolumeMapCheckSteps; ++k)
-        for (int j = -kVolumeMapCheckSteps; j <= kVolumeMapCheckSteps; ++j)
-            for (int i = -kVolumeMapCheckSteps; i <= kVolumeMapCheckSteps; ++i) {
-                const glm::dvec3 o = glm::dvec3(i, j, k) * d;
-                const double a = 1.0 - glm::dot(o, o) / (support * support);
-                if (!(a > 0.0))
-                    continue;
-                const double w = a * a * a;
-                weights += w;
-                if (!field.contains(q + o))
-                    continue; // past the grid the bake takes the field as flat: both shares 0
-                const double phiHere = field.value(q + o);
-                solid += w * std::clamp(0.5 - phiHere / d, 0.0, 1.0);
-                plane += w * std::clamp(0.5 - (phi + glm::dot(n, o)) / d, 0.0, 1.0);
-            }
-    return (solid - plane) / weights;
+    return format::volumeMapQuadrature(
+        support, d, kVolumeMapCheckSteps, phi, n, [&](glm::dvec3 o) -> std::optional<double> {
+            if (!field.contains(q + o))
+                return std::nullopt; // past the grid the bake takes the field as flat: both 0
+            return double(field.value(q + o));
+        });
 }
 
 // phi at grid point p and the unit normal there, as the bake takes them: the trilinear cell

@@ -236,7 +236,7 @@ glm::dvec3 colliderWorldSize(const format::SceneCollider& collider,
 }
 
 // A solve that always runs the same odd number of iterations leaves water at rest stirring
-// (docs/pbf.md, "The early stop's parity": 6 to 130 times the rest motion of the even counts
+// (docs/pbf.md, "The early stop's parity": 31 to 130 times the rest motion of the even counts
 // beside it). With the early stop on, the count changes from substep to substep: no warning.
 void checkIterations(const format::Scene& scene, std::vector<PlayWarning>& out) {
     const format::SimulationParams& p = scene.simulation;

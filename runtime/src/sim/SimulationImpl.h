@@ -1,6 +1,7 @@
-// Private: the state of a Simulation (Simulation::Impl) and the small helpers its sources share:
-// Simulation.cpp (creation, parameters), SimulationBuffers.cpp (buffers, uploads, programs),
-// SimulationPasses.cpp (the step, pass by pass) and SimulationReadback.cpp (what comes back).
+// Private: the state of a Simulation (Simulation::Impl, made of the groups in their own headers)
+// and the small helpers its sources share: Simulation.cpp (creation, parameters),
+// SimulationBuffers.cpp (buffers, uploads, programs), SimulationPasses.cpp (the step, pass by
+// pass) and SimulationReadback.cpp (what comes back).
 #pragma once
 
 #include "sluice/rt/sim/Simulation.h"
@@ -17,22 +18,24 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "colliders/ColliderBands.h"
+#include "colliders/ColliderState.h"
 #include "render/GlObjects.h"
 #include "shared/Bodies.h"
 #include "shared/ChunkedDispatch.h"
 #include "shared/Pbf.h"
-#include "sim/BodySetup.h"
-#include "colliders/ColliderBands.h"
-#include "colliders/ColliderForces.h"
-#include "sim/ParticleCopy.h"
-#include "sim/PrefixScan.h"
-#include "sluice/gpu/colliders/SparseGrids.h"
+#include "sim/BodyBuffers.h"
+#include "sim/NeighbourGrid.h"
+#include "sim/ParticleBuffers.h"
+#include "sim/ParticleRemoval.h"
+#include "sim/StepStatistics.h"
 #include "sluice/format/asset/AssetIO.h"
 #include "sluice/format/asset/SdfSampler.h"
 #include "sluice/gpu/BufferTexture.h"
 #include "sluice/gpu/GpuTimer.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/gpu/colliders/ColliderRecord.h"
+#include "sluice/gpu/colliders/SparseGrids.h"
 #include "sluice/rt/RuntimeShaders.h"
 
 namespace sluice::rt {
@@ -110,117 +113,38 @@ inline std::uint32_t neighbourLanesFor(std::uint32_t capacity) {
     return lanes;
 }
 
-struct Simulation::Impl {
+// A Simulation's state, grouped by concept, each group with its own header: the particles, the
+// neighbour grid, the colliders, the bodies, the statistics and the removal; what is left here
+// is the scene, the derived constants, the programs of the passes and the clock. The methods,
+// which work across the groups, are defined by topic in Simulation.cpp, SimulationBuffers.cpp,
+// SimulationPasses.cpp, SimulationControl.cpp, SimulationReadback.cpp and
+// colliders/VolumeMaps.cpp.
+struct Simulation::Impl : ParticleBuffers,
+                          NeighbourGrid,
+                          ColliderState,
+                          BodyBuffers,
+                          StepStatistics,
+                          ParticleRemoval {
     format::Scene scene;
     PbfConstants k;
     SimulationOptions options;
-    std::uint32_t capacity = 0;
-    std::uint32_t tableSize = 0;
     std::uint32_t maxIterations = 0;
-    std::uint32_t count = 0;
-    std::uint32_t nextId = 0;
-    int cur = 0; // which of pos/vel/id [2] holds the current particles
     double time = 0.0;
     std::uint64_t steps = 0;
-    bool capacityReached = false;
-    bool emittersOn = true;
     std::uint64_t gpuBytes = 0;
     std::uint64_t bytesPerParticle = 0;
-    EmitterSchedule emitters;
-    std::vector<format::ColliderAsset> colliderAssets;
-    std::vector<shared::GpuCollider> colliderRecords;
-    BodySetup bodySetup;
-    std::uint32_t bodyCount = 0;
-    std::uint32_t removedAtSpawn = 0; // particles of the blocks that started inside a body
-    std::optional<BodyDrag> drag;     // the viewer's mouse spring
-    std::uint32_t substepInStep = 0;  // which substep of the step is running
-    std::uint32_t lanes = 1;          // invocations per particle of the neighbour passes
+    std::uint32_t substepInStep = 0; // which substep of the step is running
+    double carried = 0.0;            // the frame time advance() has not stepped yet [s]
 
     gpu::Program predict, scatter, bucketSort, reorder, scatterReorder, lambda, delta, vorticity,
         confine, stats, bodies;
-    gpu::Program volumeMapPass, boundaryProbe; // compiled when first needed (VolumeMaps.cpp)
-    float volumeMapsH = 0.0f;  // the kernel radius the volume maps were built for [m]
-    VolumeMapLoad volumeMapLoad; // what buildVolumeMaps last did
-    bool volumeMapsFit = true; // false: they would not fit in the SDF buffer's storage block
-    std::unique_ptr<PrefixScan> scan;
-    gpu::Buffer pos[2], vel[2], id[2], pred[2], predStart;
-    gpu::Buffer cellCount, cellStart, hash, rank, sortedToOld, statsBuf;
-    gpu::Buffer neighbourMask; // uint[kNeighbourMaskWords] per particle of capacity
-    gpu::Buffer collidersNear; // uvec4 per particle of capacity: its substep's collider mask and
-                               // its iteration's list
-    gpu::Buffer colliderBuf, sdfBuf, params;
-    // The SDF buffer's texel view, which the passes fetch dense grids and volume maps through
-    // (PbfGlsl.h, sdfAt); empty when sdfAsTexels is false and they read the storage block.
-    gpu::BufferTexture sdfTexels;
-    bool sdfAsTexels = true; // set by compilePasses: every grid and map fits a texel view
-    // The texel views the neighbour passes fetch other particles' data through
-    // (NeighbourReadsGlsl.h), one per buffer they read at neighbours' indices; made once, as the
-    // buffers never grow. Empty when neighboursAsTexels is false and they read storage blocks.
-    struct NeighbourTexels {
-        gpu::BufferTexture start, pred[2], pos[2], vel[2], mask, cellStart;
-    } neighbourTexels;
-    bool neighboursAsTexels = true; // set by compilePasses: every such buffer fits a view
-    // GpuBody[], fixed-point sums, contact points, the body pass's state between its dispatches
-    gpu::Buffer bodyBuf, bodySums, bodySamples, bodySteps;
+    gpu::Buffer params;    // the parameter block (PbfParams)
     gpu::Buffer solveArgs; // PbfDispatchArgs[maxIterations * solveChunks], see Pbf.h
     std::uint32_t solveChunks = 1;
     std::optional<shared::PbfParams> uploadedParams; // what the parameter block holds
-    GpuCommandCount commands; // queued by the substeps and the step statistics, all steps
-    std::vector<gpu::GpuTimer> timers;
-    std::array<std::uint64_t, std::size_t(Pass::Count)> drainedNs{}; // totals at the last drain
-    std::vector<ParticleState> staging;
-    // A pose a program set (setColliderPose): the collider moves from `from` at t0 to `to` at t1.
-    struct DrivenPose {
-        ColliderPose from;
-        float t0 = 0.0f;
-        ColliderPose to;
-        float t1 = 0.0f;
-    };
-    std::vector<std::optional<DrivenPose>> driven; // per scene collider
-    // A dynamic body the game holds (setBodyKinematic): where its asset frame is at the next
-    // step's start, and where setColliderPose asked it to be at that step's end.
-    struct KinematicBody {
-        ColliderPose at;
-        std::optional<ColliderPose> to;
-    };
-    std::vector<std::optional<KinematicBody>> kinematic; // per body
-    double carried = 0.0; // the frame time advance() has not stepped yet [s]
-    // The bodies' records copied after each step, read back once their fence passes
-    // (latestBodies); the oldest is overwritten, never waited for.
-    struct BodySnapshot {
-        gpu::Buffer records;
-        Fence fence;
-        std::uint64_t step = 0;
-        double time = 0.0;
-    };
-    std::array<BodySnapshot, 3> bodySnapshots;
-    std::size_t nextSnapshot = 0;
-    ColliderForceMeter forceMeter; // forces on static and kinematic colliders (measureForce)
-    IdOrderCopy idOrderCopy;       // copyParticlesById
-    gpu::Buffer drawArgs;          // the view's DrawArraysIndirectCommand (updateDrawArgs)
-    // Removal (docs/embedding.md, "Removing particles"). The predict pass sends the removed
-    // particles to the bucket after the last, the sort puts them after the live ones, and the
-    // CPU's count drops them once a fenced copy of the live count says how many there are.
-    std::vector<format::Drain> drains;       // the scene's, or setDrains'
-    std::vector<format::Drain> removeBoxes;  // removeParticlesIn's, for the next substep only
-    std::vector<std::uint32_t> removeIdList; // removeParticles', ascending, next substep only
-    bool removal = false;                    // some particle may have been removed (then for good)
-    gpu::Buffer removeIdBuf;
-    struct LiveRecord {
-        gpu::Buffer word; // cellStart at the removed bucket: the live count after a step
-        Fence fence;
-        std::uint64_t step = 0;
-        std::uint32_t count = 0; // slots in use then
-    };
-    std::array<LiveRecord, 3> liveRecords;
-    std::size_t nextLive = 0;
-    std::uint64_t lastTrim = 0;      // the step at whose end the count last dropped
-    std::uint32_t removedBucket = 0; // the removed particles' bucket in the last sort
-    bool sortedWithRemoval = false;  // the last sort had it: cellStart there is the live count
 
     explicit Impl(const format::Scene& s)
-        : scene(s), emitters(s), driven(s.colliders.size()), drains(s.drains),
-          removal(!s.drains.empty()) {}
+        : ParticleBuffers(s), ColliderState(s.colliders.size()), ParticleRemoval(s), scene(s) {}
 
     /// Where static or kinematic collider c is at time t [s]: its set pose, else its scene motion.
     ColliderPose poseOf(std::size_t c, float t) const {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The Martin & Moyce (1952) dam-break front: Sluice's two boundary models against SPlisHSPlasH
+"""The Martin & Moyce (1952) dam-break front: Sluice against SPlisHSPlasH
 and the experiment, in one run.
 
 The setup is SimulationPhysics.DamBreakFrontFollowsMartinAndMoyceWithinFifteenPercent's
@@ -12,10 +12,10 @@ as Z = x / a, at T = t sqrt(2 g / a) after every 1/60 s step; the deviation from
 experiment is |Z - Z_MM| / Z_MM over the steps with T >= 0.5 (the test's 16 points).
 
 Runs, each one process:
-  - Sluice with "boundary": "solids" and with "bodies" (the Python package of --build),
-  - the same two with the tank one particle deep (the nearest Sluice, which is 3D, comes to 2D),
+  - Sluice (the Python package of --build), its walls adding boundary volume,
+  - the same with the tank one particle deep (the nearest Sluice, which is 3D, comes to 2D),
   - SPlisHSPlasH's PBF (pip install pysplishsplash) in 2D ("sim2D") on the same lattice, time
-    step and parameters, with Bender et al. 2019 volume maps (the model "solids" implements;
+    step and parameters, with Bender et al. 2019 volume maps (the model Sluice implements;
     in 3D its volume map integrates 27,000 points per map node, hours on two cores) and with
     Akinci et al. 2012 boundary particles (its box grown by s / 2, as
     tests/bench/pbf/vs_splishsplash.py does, so the water has the same room).
@@ -96,32 +96,32 @@ def deviation(curve):
 # Sluice
 # --------------------------------------------------------------------------------------------
 
-def sluice_scene(boundary, depth):
+def sluice_scene(depth):
     h = 2.0 * SPACING
     return {
-        "version": 1, "name": "martin-moyce-%s" % boundary,
+        "version": 1, "name": "martin-moyce-%d" % depth,
         "simulation": {
             "spacing": SPACING, "kernelRadius": h, "restDensity": 1000.0, "timeStep": FRAME,
             "substeps": SUBSTEPS, "minIterations": 2, "maxIterations": 8,
             "targetDensityError": 0.005, "relaxation": 0.01, "scorrK": 0.1, "scorrN": 4.0,
             "scorrDeltaQ": 0.2 * h, "xsph": 0.01, "vorticity": 0.01 * math.sqrt(G * h),
-            "gravity": [0.0, -G, 0.0], "boundary": boundary,
+            "gravity": [0.0, -G, 0.0],
         },
         "fluid": [{"box": {"min": [0.0, 0.0, 0.0], "max": [A, 2 * A, depth * SPACING]}}],
         "domain": {"min": [0.0, 0.0, 0.0], "max": [5 * A, 3 * A, depth * SPACING]},
     }
 
 
-def run_sluice(build, boundary, depth):
+def run_sluice(build, depth):
     sys.path.insert(0, os.path.join(build, "python"))
     import sluice
 
-    sim = sluice.Simulation(sluice_scene(boundary, depth))
+    sim = sluice.Simulation(sluice_scene(depth))
     curve = []
     while sim.time * time_scale() < T_STOP:
         sim.step(1, progress=False)
         curve.append((sim.time * time_scale(), front_of(sim.positions.tolist())))
-    return {"solver": "Sluice PBF, \"boundary\": \"%s\", %d deep" % (boundary, depth),
+    return {"solver": "Sluice PBF, %d deep" % depth,
             "particles": sim.particle_count, "curve": curve}
 
 
@@ -218,7 +218,7 @@ def main():
     ap.add_argument("--out", help="results JSON")
     args = ap.parse_args()
 
-    runs = [run_sluice(args.build, b, d) for d in (args.depth, 1) for b in ("solids", "bodies")]
+    runs = [run_sluice(args.build, d) for d in (args.depth, 1)]
     if args.splishsplash_python:
         work = tempfile.mkdtemp(prefix="sluice-mm-")
         unit_box = splishsplash_unit_box(args.splishsplash_python)

@@ -40,12 +40,10 @@ TANKS = {
 }
 
 
-def scene(name, spacing, depth, boundary=None, extra=None):
+def scene(name, spacing, depth, extra=None):
     lo, hi, colliders, domain = TANKS[name]
     top = lo[1] + depth
     sim = {"spacing": spacing}
-    if boundary:
-        sim["boundary"] = boundary
     sim.update(extra or {})
     return {"version": 1, "name": f"still-{name}", "simulation": sim,
             "fluid": [{"box": {"min": lo, "max": [hi[0], top, hi[2]]}}],
@@ -98,7 +96,6 @@ def main():
     p.add_argument("--spacing", type=float, default=0.02)
     p.add_argument("--depth", type=float, default=0.16, help="[m] water depth at the start")
     p.add_argument("--tanks", default="box,baked")
-    p.add_argument("--boundary", help="the scene's simulation.boundary (solids or bodies)")
     p.add_argument("--set", default="{}", help="JSON object merged into simulation")
     p.add_argument("--json")
     a = p.parse_args()
@@ -110,7 +107,7 @@ def main():
         for name in a.tanks.split(","):
             path = os.path.join(assets if TANKS[name][2] else tmp, f"still-{name}.json")
             with open(path, "w") as f:
-                json.dump(scene(name, a.spacing, a.depth, a.boundary, json.loads(a.set)), f)
+                json.dump(scene(name, a.spacing, a.depth, json.loads(a.set)), f)
             frames = os.path.join(tmp, name)
             try:
                 subprocess.run([play, path, "--headless", "--deterministic", "--quiet",
@@ -122,8 +119,7 @@ def main():
             last = sorted(f for f in os.listdir(frames) if f.endswith(".ply"))[-1]
             r = measure(read_ply(os.path.join(frames, last)).astype(np.float64),
                         TANKS[name][0], TANKS[name][1], a.spacing)
-            r.update(tank=name, seconds=a.seconds, spacing=a.spacing,
-                     boundary=a.boundary or "default")
+            r.update(tank=name, seconds=a.seconds, spacing=a.spacing)
             out.append(r)
             print(f"{name:5s} {r['particles']} particles, {a.seconds:g} s: surface "
                   f"{100 * r['surfaceError']:+.1f} % of the volume's height "

@@ -145,8 +145,7 @@ TEST_F(SimulationBodies, ABodyATenthLighterThanWaterFloatsAndOneATenthHeavierSin
 
 TEST_F(SimulationBodies, AHeavyBodySinksToTheFloorWithoutSinkingIntoIt) {
     // Released under water, its bottom half way down to the floor. It comes to rest on the
-    // floor or on the last layer of water it traps there (docs/bodies.md, "Known limits": the
-    // domain's floor has no boundary volume, so nothing squeezes that layer out sideways).
+    // floor or on the last layer of water it traps there (docs/bodies.md, "Known limits").
     const Settled s = playCube(2.0f, kSide, 0.5f * kSide + 0.5f * (kDepth - kSide), 2.5f);
     const double lowest = lowestPoint(s.body, kSide);
     EXPECT_GT(lowest, -0.5 * kSpacing) << "penetration of the floor";

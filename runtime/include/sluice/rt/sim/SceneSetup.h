@@ -28,9 +28,9 @@ struct PbfConstants {
     /// Scale of a body's boundary volume: the rest lattice's share behind a flat boundary at
     /// s/2 over the continuous share there (docs/bodies.md)
     float boundaryScale = 1.0f;
-    /// A dynamic body's fluid-facing surface lies this far inside its zero level set, 0.15
-    /// spacing: the first fluid layer sits about that much further out than the contact
-    /// distance (docs/bodies.md, "Surface offset") [m]
+    /// A dynamic body's fluid-facing surface lies this far inside its zero level set, 0.05
+    /// spacing (format::kBodySurfaceOffsetSpacings): the first fluid layer sits about that much
+    /// further out than the contact distance (docs/bodies.md, "Surface offset") [m]
     float bodyOffset = 0.0f;
 };
 

@@ -431,11 +431,10 @@ public:
     std::optional<BodyHit> pickBody(glm::vec3 origin, glm::vec3 direction) const;
 
     /// The boundary volume the domain's walls and the static and kinematic colliders add to a
-    /// particle's density at each world point [m], as the lambda pass adds it with
-    /// `"boundary": "solids"` (all zero with "bodies"): per point, w is the share (of rho / rho0)
-    /// and xyz its gradient [1/m]. The colliders at their pose of the last substep. Colliders
-    /// with a volume map (docs/pbf.md, "Volume maps") include it. One small dispatch and
-    /// readback (a sync).
+    /// particle's density at each world point [m], as the lambda pass adds it: per point, w is
+    /// the share (of rho / rho0) and xyz its gradient [1/m]. The colliders at their pose of the
+    /// last substep. Colliders with a volume map (docs/pbf.md, "Volume maps") include it. One
+    /// small dispatch and readback (a sync).
     Result<std::vector<glm::vec4>> solidBoundaryAt(const std::vector<glm::vec3>& points);
 
     /// Static and kinematic colliders with a volume map (built when the scene starts with
