@@ -15,6 +15,7 @@
 #include "interop/ParticlePly.h"
 #include "interop/VdbHeaders.h"
 #include "interop/VdbWrite.h"
+#include "sluice/format/support/NumberText.h"
 
 SLUICE_VDB_WARNINGS_OFF
 #include <openvdb/tools/LevelSetFilter.h>
@@ -45,11 +46,6 @@ std::string quoted(const fs::path& path) {
 }
 
 /// Up to 6 significant digits, for messages.
-std::string number(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.6g", value);
-    return text;
-}
 
 /// The particle-list interface ParticlesToLevelSet reads (its header's "struct ParticleList"),
 /// every radius times `scale`.
@@ -90,11 +86,11 @@ Result<void> checkRadiusInVoxels(double radius, double voxelSize, const SurfaceO
     const std::string spheres =
         options.spheres ? "spheres" : "the fluid's spheres (twice the particle radius)";
     return fail(ErrorCode::InvalidArgument,
-                "the particle radius " + number(radius) + " makes spheres of " + number(voxels) +
-                    " voxels of --voxel-size " + number(voxelSize) + "; OpenVDB rasterises " +
+                "the particle radius " + format::significant(radius) + " makes spheres of " + format::significant(voxels) +
+                    " voxels of --voxel-size " + format::significant(voxelSize) + "; OpenVDB rasterises " +
                     spheres + " of 1.5 to 100 voxels: choose a voxel size from " +
-                    number(scale * radius / kMaxRadiusVoxels) + " to " +
-                    number(scale * radius / kMinRadiusVoxels));
+                    format::significant(scale * radius / kMaxRadiusVoxels) + " to " +
+                    format::significant(scale * radius / kMinRadiusVoxels));
 }
 
 /// Where a frame's radius comes from (--radius, per vertex, the header), or an error saying what
@@ -127,9 +123,9 @@ Result<void> checkIndexRange(const detail::ParticleFrame& frame, double reach, d
     if (index < kLimit)
         return {};
     return fail(ErrorCode::SizeOverflow,
-                quoted(path) + ": a particle at " + number(largest) +
+                quoted(path) + ": a particle at " + format::significant(largest) +
                     " world units is beyond OpenVDB's index range at voxel size " +
-                    number(voxelSize) + "; choose a larger --voxel-size");
+                    format::significant(voxelSize) + "; choose a larger --voxel-size");
 }
 
 /// The union of one sphere per particle, radius `scale` times the particle's (`uniform` for
@@ -180,7 +176,7 @@ Result<openvdb::FloatGrid::Ptr> rasterise(const detail::ParticleFrame& frame, co
                 ErrorCode::InvalidArgument,
                 quoted(path) + ": every particle's sphere radius (" +
                     (options.spheres ? "the particle radius" : "twice the particle radius") +
-                    ") is outside 1.5 to 100 voxels of " + number(voxelSize) +
+                    ") is outside 1.5 to 100 voxels of " + format::significant(voxelSize) +
                     "; choose another --voxel-size");
         if (!options.spheres)
             erode(*grid, perVertex ? *std::min_element(frame.radii.begin(), frame.radii.end())

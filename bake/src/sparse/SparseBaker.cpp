@@ -32,6 +32,7 @@
 #include "sluice/format/scene/SimulationLimits.h"
 #include "sluice/format/scene/SolverReach.h"
 #include "sparse/SparseBricks.h"
+#include "sluice/format/support/NumberText.h"
 
 namespace sluice::bake {
 
@@ -59,11 +60,6 @@ struct GridBytesBuffer {
 };
 
 /// "0.02": a length or a count with a few significant digits, for messages.
-std::string shortNumber(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3g", value);
-    return text;
-}
 
 } // namespace
 
@@ -80,15 +76,15 @@ Result<double> bandForVoxel(double voxel, double spacing, double kernelRadius) {
         double(float(kernelRadius > 0.0 ? kernelRadius : format::kDefaultKernelSpacings * spacing));
     const format::ParamRange range =
         format::simulationParamRange("kernelRadius", float(spacing), float(h));
-    if (const std::string problem = format::rangeProblem(h, shortNumber(h), range);
+    if (const std::string problem = format::rangeProblem(h, format::significant(h, 3), range);
         !problem.empty())
         return fail(ErrorCode::InvalidArgument, "--for-kernel-radius: " + problem);
     const double reach = format::colliderReach(spacing, h, true);
     const double band = std::max(1.0, std::ceil(format::requiredBandVoxels(reach, voxel)));
     if (band > 64.0)
         return fail(ErrorCode::InvalidArgument,
-                    "a particle spacing of " + shortNumber(spacing) + " needs a band of " +
-                        shortNumber(band) + " voxels of " + shortNumber(voxel) +
+                    "a particle spacing of " + format::significant(spacing, 3) + " needs a band of " +
+                        format::significant(band, 3) + " voxels of " + format::significant(voxel, 3) +
                         ", over the 64 a sparse bake allows; bake with a coarser --resolution or "
                         "--voxel-size, or bake dense");
     return band;

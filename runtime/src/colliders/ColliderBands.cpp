@@ -7,16 +7,10 @@
 
 #include "sluice/format/scene/SolverReach.h"
 #include "sluice/rt/sim/SceneSetup.h"
+#include "sluice/format/support/NumberText.h"
 
 namespace sluice::rt {
 
-namespace {
-std::string num(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3g", v);
-    return text;
-}
-} // namespace
 
 Result<void> checkColliderBands(const format::Scene& scene,
                                 const std::vector<format::ColliderAsset>& assets) {
@@ -36,10 +30,10 @@ Result<void> checkColliderBands(const format::Scene& scene,
             collider.resolvedPath.empty() ? collider.asset : collider.resolvedPath;
         return fail(ErrorCode::InvalidArgument,
                     scene.path + ": colliders[" + std::to_string(c) + "]: " + path +
-                        " is sparse with a band of " + num(asset.meta.bandWidth) + " voxels, but " +
+                        " is sparse with a band of " + format::significant(asset.meta.bandWidth, 3) + " voxels, but " +
                         (dynamic ? "a dynamic body" : "a collider") +
-                        " here reads distances up to " + num(reach) + " m, which needs " +
-                        num(needed) + " voxels of " + num(voxel) +
+                        " here reads distances up to " + format::significant(reach, 3) + " m, which needs " +
+                        format::significant(needed, 3) + " voxels of " + format::significant(voxel, 3) +
                         " m; re-bake it with `sluice-bake bake --sparse --band " +
                         std::to_string(int(std::ceil(needed))) + "` or bake it dense");
     }

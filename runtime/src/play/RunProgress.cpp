@@ -11,6 +11,7 @@
 
 #include "colliders/VolumeMapSize.h"
 #include "sluice/gpu/Gl.h"
+#include "sluice/format/support/NumberText.h"
 
 namespace sluice::rt {
 namespace {
@@ -148,13 +149,6 @@ std::optional<std::string> slowLoadWarning(const std::string& renderer, const Vo
            "shorter";
 }
 
-namespace {
-std::string shortNumber(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.6g", value);
-    return text;
-}
-} // namespace
 
 std::optional<std::string> volumeMapNote(const format::Scene& scene, const VolumeMapLoad& load) {
     if (load.built == 0)
@@ -164,7 +158,7 @@ std::optional<std::string> volumeMapNote(const format::Scene& scene, const Volum
         const double support =
             double(scene.simulation.kernelRadius) / double(scene.colliders[c].scale);
         which += (which.empty() ? "" : ", ") + format::colliderName(scene.colliders[c]) +
-                 " (--volume-map " + shortNumber(support) + ")";
+                 " (--volume-map " + format::significant(support) + ")";
     }
     return "built " + std::to_string(load.built) + " volume map" + (load.built == 1 ? "" : "s") +
            " at load in " + formatDuration(load.seconds) + ": " + which +

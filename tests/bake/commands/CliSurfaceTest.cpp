@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "CliRun.h"
+#include "LevelSetProbe.h"
 #include "TestParticles.h"
 #include "interop/VdbHeaders.h"
 
@@ -25,6 +26,9 @@ using namespace sluice::bake::clirun;
 using namespace sluice::testparticles;
 
 namespace {
+
+using sluice::testlevelset::sample;
+using sluice::testlevelset::zeroCrossing;
 
 // A ball of particles on a lattice, centred off the voxel grid so that the crossings are not
 // voxel centres. sluice-play's particle radius is half its spacing.
@@ -42,27 +46,6 @@ openvdb::GridPtrVecPtr readGrids(const fs::path& path) {
     openvdb::GridPtrVecPtr grids = file.getGrids();
     file.close();
     return grids;
-}
-
-/// The level set's value at world point `p`, trilinear between voxels.
-double sample(const openvdb::FloatGrid& grid, const glm::dvec3& p) {
-    const openvdb::Vec3R index = grid.worldToIndex(openvdb::Vec3R(p.x, p.y, p.z));
-    return openvdb::tools::BoxSampler::sample(grid.tree(), index);
-}
-
-/// [world units] Where the level set first turns positive walking from `from` along `dir`
-/// (a unit vector), linearly interpolated between samples a hundredth of a voxel apart.
-double zeroCrossing(const openvdb::FloatGrid& grid, const glm::dvec3& from, const glm::dvec3& dir,
-                    double maxDistance) {
-    const double step = kVoxel / 100;
-    double previous = sample(grid, from);
-    for (double t = step; t <= maxDistance; t += step) {
-        const double value = sample(grid, from + dir * t);
-        if (previous < 0.0 && value >= 0.0)
-            return t - step * value / (value - previous);
-        previous = value;
-    }
-    return NAN;
 }
 
 fs::path surfaceDir(const std::string& name) {
@@ -94,7 +77,7 @@ double worstAxisCrossing(const openvdb::FloatGrid& grid, double expected) {
         for (double sign : {-1.0, 1.0}) {
             glm::dvec3 along(0.0);
             along[axis] = sign;
-            const double t = kBall + zeroCrossing(grid, kCentre + along * kBall, along, 0.05);
+            const double t = kBall + zeroCrossing(grid, kCentre + along * kBall, along, 0.05, kVoxel);
             EXPECT_FALSE(std::isnan(t)) << "no crossing along axis " << axis;
             worst = std::max(worst, std::isnan(t) ? HUGE_VAL : std::abs(t - expected));
         }

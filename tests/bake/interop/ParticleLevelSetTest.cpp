@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "ProgramRun.h"
+#include "LevelSetProbe.h"
 #include "TestParticles.h"
 #include "interop/ParticlePly.h"
 #include "interop/VdbHeaders.h"
@@ -28,6 +29,9 @@ using namespace sluice::testparticles;
 
 namespace {
 
+using sluice::testlevelset::sample;
+using sluice::testlevelset::zeroCrossing;
+
 fs::path tempDir(const std::string& name) {
     return testrun::tempDir("particle-level-set-" + name);
 }
@@ -43,10 +47,6 @@ openvdb::FloatGrid::Ptr readOnlyGrid(const fs::path& path) {
     return grids->empty() ? nullptr : openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[0]);
 }
 
-double sample(const openvdb::FloatGrid& grid, const glm::dvec3& p) {
-    return openvdb::tools::BoxSampler::sample(grid.tree(),
-                                              grid.worldToIndex(openvdb::Vec3R(p.x, p.y, p.z)));
-}
 
 TEST(ParticlePly, ReadsSluicePlaysFramesAndRejectsEveryTruncatedPrefix) {
     const fs::path dir = tempDir("prefixes");
@@ -179,21 +179,6 @@ TEST(ParticleLevelSet, APositiveOffsetErodesTheLevelSet) {
         EXPECT_NEAR(sample(*ball, {distance, 0, 0}), distance - 0.04, 0.1 * voxel) << distance;
         EXPECT_NEAR(sample(*ball, {0, 0, -distance}), distance - 0.04, 0.1 * voxel) << distance;
     }
-}
-
-/// [world units] Where the level set first turns positive walking from `from` along `dir` (a
-/// unit vector), linearly interpolated between samples a hundredth of `voxel` apart.
-double zeroCrossing(const openvdb::FloatGrid& grid, const glm::dvec3& from, const glm::dvec3& dir,
-                    double maxDistance, double voxel) {
-    const double step = voxel / 100;
-    double previous = sample(grid, from);
-    for (double t = step; t <= maxDistance; t += step) {
-        const double value = sample(grid, from + dir * t);
-        if (previous < 0.0 && value >= 0.0)
-            return t - step * value / (value - previous);
-        previous = value;
-    }
-    return NAN;
 }
 
 TEST(ParticleLevelSet, ALatticeBlockEndsHalfASpacingBeyondItsOuterParticles) {

@@ -65,6 +65,21 @@ Coverage coverage(const Image& with, const Image& without, const PixelRect& rect
     return c;
 }
 
+// The particles' pixels (`with` against `without` them) fill most of `rect` (a box projects to
+// a hexagon that fills most of its bounding rectangle) and none lie outside it.
+void expectCoversOnly(const Image& with, const Image& without, const PixelRect& rect) {
+    const Coverage c = coverage(with, without, rect);
+    EXPECT_GT(double(c.inside), 0.6 * double(c.rectPixels)) << c.inside << " of " << c.rectPixels;
+    EXPECT_EQ(c.outside, 0u);
+}
+
+// Water is blue: the pixel of `image` where the block's centre (0, 0.1, 0) projects.
+void expectWaterColouredAtTheBlocksCentre(const Stage& stage, const Image& image) {
+    const glm::vec3 centre = stage.camera.project({0.0f, 0.1f, 0.0f}, kSize);
+    const glm::ivec3 water(image.at(std::uint32_t(centre.x), std::uint32_t(centre.y)));
+    EXPECT_GT(water.b, water.r + 40) << water.r << " " << water.g << " " << water.b;
+}
+
 TEST_F(RenderTest, ParticlesCoverTheScreenRegionOfTheirBlockAndNothingElse) {
     Stage stage(kBlockScene);
     ASSERT_TRUE(stage.ok());
@@ -73,15 +88,9 @@ TEST_F(RenderTest, ParticlesCoverTheScreenRegionOfTheirBlockAndNothingElse) {
     ASSERT_EQ(with.width, kSize.x);
     ASSERT_EQ(with.height, kSize.y);
     // Spheres of radius r around lattice points inside the block stay inside the block.
-    const PixelRect rect = projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, 0.0f);
-    const Coverage c = coverage(with, without, rect);
-    // A box projects to a hexagon that fills most of its bounding rectangle.
-    EXPECT_GT(double(c.inside), 0.6 * double(c.rectPixels)) << c.inside << " of " << c.rectPixels;
-    EXPECT_EQ(c.outside, 0u);
-    // Water is blue: the covered pixel at the block's centre.
-    const glm::vec3 centre = stage.camera.project({0.0f, 0.1f, 0.0f}, kSize);
-    const glm::ivec3 water(with.at(std::uint32_t(centre.x), std::uint32_t(centre.y)));
-    EXPECT_GT(water.b, water.r + 40) << water.r << " " << water.g << " " << water.b;
+    expectCoversOnly(with, without,
+                     projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, 0.0f));
+    expectWaterColouredAtTheBlocksCentre(stage, with);
 }
 
 TEST_F(RenderTest, FluidSurfaceCoversTheBlockRegionToo) {
@@ -93,11 +102,8 @@ TEST_F(RenderTest, FluidSurfaceCoversTheBlockRegionToo) {
     const Image without = stage.drawWithoutParticles(fluid);
     // The fluid's spheres are fluidSphereScale times the particles' (radius 1 cm).
     const float margin = (fluid.fluidSphereScale - 1.0f) * 0.01f;
-    const PixelRect rect =
-        projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, margin);
-    const Coverage c = coverage(with, without, rect);
-    EXPECT_GT(double(c.inside), 0.6 * double(c.rectPixels)) << c.inside << " of " << c.rectPixels;
-    EXPECT_EQ(c.outside, 0u);
+    expectCoversOnly(with, without,
+                     projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, margin));
 }
 
 // The reconstructed mesh (--surface mesh) covers the block's region too: a closed surface at
@@ -111,14 +117,10 @@ TEST_F(RenderTest, SurfaceMeshCoversTheBlockRegionAndNothingElse) {
     const Image with = stage.draw(mesh);
     EXPECT_EQ(stage.renderer->meshError(), "");
     const Image without = stage.drawWithoutParticles(mesh);
-    const PixelRect rect =
-        projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, 0.0025f);
-    const Coverage c = coverage(with, without, rect);
-    EXPECT_GT(double(c.inside), 0.6 * double(c.rectPixels)) << c.inside << " of " << c.rectPixels;
-    EXPECT_EQ(c.outside, 0u);
-    const glm::vec3 centre = stage.camera.project({0.0f, 0.1f, 0.0f}, kSize);
-    const glm::ivec3 water(with.at(std::uint32_t(centre.x), std::uint32_t(centre.y)));
-    EXPECT_GT(water.b, water.r + 40) << water.r << " " << water.g << " " << water.b;
+    expectCoversOnly(
+        with, without,
+        projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, 0.0025f));
+    expectWaterColouredAtTheBlocksCentre(stage, with);
 }
 
 const char* kSphereScene = R"({
