@@ -8,12 +8,12 @@
 #include <cstdio>
 #include <limits>
 
-#include "sim/BodySetup.h"
+#include "bodies/BodySetup.h"
 #include "sluice/format/asset/GridSamples.h"
 #include "sluice/format/asset/SdfSampler.h"
 #include "sluice/format/scene/SimulationLimits.h"
-#include "sluice/rt/sim/SceneSetup.h"
 #include "sluice/format/support/NumberText.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
 namespace {

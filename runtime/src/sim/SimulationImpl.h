@@ -18,14 +18,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "bodies/BodyBuffers.h"
 #include "colliders/ColliderBands.h"
 #include "colliders/ColliderState.h"
+#include "grid/NeighbourGrid.h"
 #include "render/GlObjects.h"
 #include "shared/Bodies.h"
 #include "shared/ChunkedDispatch.h"
 #include "shared/Pbf.h"
-#include "sim/BodyBuffers.h"
-#include "sim/NeighbourGrid.h"
 #include "sim/ParticleBuffers.h"
 #include "sim/ParticleRemoval.h"
 #include "sim/StepStatistics.h"

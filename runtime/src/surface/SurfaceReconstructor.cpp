@@ -12,8 +12,8 @@
 #include <string>
 #include <utility>
 
+#include "grid/PrefixScan.h"
 #include "shared/Surface.h"
-#include "sim/PrefixScan.h"
 #include "sluice/gpu/Program.h"
 #include "sluice/rt/RuntimeShaders.h"
 #include "surface/CubeTable.h"

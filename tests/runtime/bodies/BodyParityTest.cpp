@@ -12,7 +12,7 @@
 #include "GpuTest.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
-#include "sim/BodySetup.h"
+#include "bodies/BodySetup.h"
 #include "sim/ParticleCompare.h"
 #include "sluice/rt/sim/Simulation.h"
 

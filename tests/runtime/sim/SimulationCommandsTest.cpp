@@ -13,8 +13,8 @@
 
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
+#include "grid/PrefixScan.h"
 #include "shared/Pbf.h"
-#include "sim/PrefixScan.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/rt/sim/Simulation.h"

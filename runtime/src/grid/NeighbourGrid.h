@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "sim/PrefixScan.h"
+#include "grid/PrefixScan.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/gpu/BufferTexture.h"
 

@@ -8,8 +8,8 @@
 #include <optional>
 #include <vector>
 
+#include "bodies/BodySetup.h"
 #include "render/GlObjects.h"
-#include "sim/BodySetup.h"
 #include "sluice/gpu/Buffer.h"
 #include "sluice/rt/sim/Simulation.h"
 

@@ -1,5 +1,5 @@
 // Dynamic bodies at scene start: mass properties, contact points and the GPU records.
-#include "sim/BodySetup.h"
+#include "bodies/BodySetup.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Block scan: level 0 scans the data; its add pass sums the block totals before each block, or,
 // past m_reducedBlocks blocks, level l + 1 scans level l's totals first (recursively).
-#include "sim/PrefixScan.h"
+#include "grid/PrefixScan.h"
 
 #include <algorithm>
 #include <string>
