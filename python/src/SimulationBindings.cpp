@@ -15,8 +15,8 @@
 #include <Python.h>
 
 #include "Errors.h"
-#include "play/RunProgress.h"
 #include "output/StatsReport.h"
+#include "play/RunProgress.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/scene/SimulationLimits.h"
 #include "sluice/gpu/Context.h"

@@ -396,7 +396,7 @@ void main() {
         if (sealedWork)
             sealedReaction(b, lane, sealedDx, sealedMoment);
         memoryBarrierBuffer();
-        barrier(); // every lane has read the rim's sums before the lead clears them
+        barrier(); // every lane has read the body's sums before the lead clears them
         if (lane == 0u)
             startBody(b, sealedDx, sealedMoment);
         memoryBarrierBuffer();

@@ -173,7 +173,7 @@ private:
         glm::dvec3 heldForce{0.0};            // of heldDx, before the share [N]
         std::vector<glm::vec4> contactPoints; // asset frame; w: area [asset units^2]
         glm::dvec3 underDx{0.0};              // its pushes across a solid in its rim band [m]
-        glm::dvec3 underMoment{0.0}; // their moments (x - c) x dx [m^2]
+        glm::dvec3 underMoment{0.0};          // their moments (x - c) x dx [m^2]
         double boundRadius = 0.0;    // as the GPU's: contact points' reach + a voxel [m]
         std::uint32_t surface = 0;   // the film model's level word (FilmGlsl.h)
         glm::dvec3 filmDx{0.0};      // what the film model took off the water under

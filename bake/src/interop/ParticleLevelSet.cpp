@@ -86,9 +86,10 @@ Result<void> checkRadiusInVoxels(double radius, double voxelSize, const SurfaceO
     const std::string spheres =
         options.spheres ? "spheres" : "the fluid's spheres (twice the particle radius)";
     return fail(ErrorCode::InvalidArgument,
-                "the particle radius " + format::significant(radius) + " makes spheres of " + format::significant(voxels) +
-                    " voxels of --voxel-size " + format::significant(voxelSize) + "; OpenVDB rasterises " +
-                    spheres + " of 1.5 to 100 voxels: choose a voxel size from " +
+                "the particle radius " + format::significant(radius) + " makes spheres of " +
+                    format::significant(voxels) + " voxels of --voxel-size " +
+                    format::significant(voxelSize) + "; OpenVDB rasterises " + spheres +
+                    " of 1.5 to 100 voxels: choose a voxel size from " +
                     format::significant(scale * radius / kMaxRadiusVoxels) + " to " +
                     format::significant(scale * radius / kMinRadiusVoxels));
 }

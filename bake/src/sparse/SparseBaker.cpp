@@ -31,8 +31,8 @@
 #include "sluice/format/asset/NanoVdbCheck.h"
 #include "sluice/format/scene/SimulationLimits.h"
 #include "sluice/format/scene/SolverReach.h"
-#include "sparse/SparseBricks.h"
 #include "sluice/format/support/NumberText.h"
+#include "sparse/SparseBricks.h"
 
 namespace sluice::bake {
 
@@ -83,8 +83,9 @@ Result<double> bandForVoxel(double voxel, double spacing, double kernelRadius) {
     const double band = std::max(1.0, std::ceil(format::requiredBandVoxels(reach, voxel)));
     if (band > 64.0)
         return fail(ErrorCode::InvalidArgument,
-                    "a particle spacing of " + format::significant(spacing, 3) + " needs a band of " +
-                        format::significant(band, 3) + " voxels of " + format::significant(voxel, 3) +
+                    "a particle spacing of " + format::significant(spacing, 3) +
+                        " needs a band of " + format::significant(band, 3) + " voxels of " +
+                        format::significant(voxel, 3) +
                         ", over the 64 a sparse bake allows; bake with a coarser --resolution or "
                         "--voxel-size, or bake dense");
     return band;

@@ -6,11 +6,10 @@
 #include <string>
 
 #include "sluice/format/scene/SolverReach.h"
-#include "sluice/rt/sim/SceneSetup.h"
 #include "sluice/format/support/NumberText.h"
+#include "sluice/rt/sim/SceneSetup.h"
 
 namespace sluice::rt {
-
 
 Result<void> checkColliderBands(const format::Scene& scene,
                                 const std::vector<format::ColliderAsset>& assets) {
@@ -30,10 +29,12 @@ Result<void> checkColliderBands(const format::Scene& scene,
             collider.resolvedPath.empty() ? collider.asset : collider.resolvedPath;
         return fail(ErrorCode::InvalidArgument,
                     scene.path + ": colliders[" + std::to_string(c) + "]: " + path +
-                        " is sparse with a band of " + format::significant(asset.meta.bandWidth, 3) + " voxels, but " +
+                        " is sparse with a band of " +
+                        format::significant(asset.meta.bandWidth, 3) + " voxels, but " +
                         (dynamic ? "a dynamic body" : "a collider") +
-                        " here reads distances up to " + format::significant(reach, 3) + " m, which needs " +
-                        format::significant(needed, 3) + " voxels of " + format::significant(voxel, 3) +
+                        " here reads distances up to " + format::significant(reach, 3) +
+                        " m, which needs " + format::significant(needed, 3) + " voxels of " +
+                        format::significant(voxel, 3) +
                         " m; re-bake it with `sluice-bake bake --sparse --band " +
                         std::to_string(int(std::ceil(needed))) + "` or bake it dense");
     }

@@ -12,14 +12,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "play/SceneChecks.h"
 #include "output/StatsReport.h"
+#include "play/SceneChecks.h"
 #include "shared/Pbf.h"
 #include "sluice/format/support/AtomicFile.h"
 #include "sluice/gpu/Context.h"
 #include "sluice/rt/play/PlayCli.h"
-#include "sluice/rt/sim/Simulation.h"
 #include "sluice/rt/render/SceneFraming.h"
+#include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
 namespace {

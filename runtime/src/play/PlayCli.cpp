@@ -12,10 +12,10 @@
 
 #include "capture/CaptureFrames.h"
 #include "capture/CaptureVideo.h"
+#include "output/RunOutputs.h"
 #include "play/Bench.h"
 #include "play/PlayHeadless.h"
 #include "play/PlayOptions.h"
-#include "output/RunOutputs.h"
 #include "play/SceneChecks.h"
 #include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/support/CliErrors.h"

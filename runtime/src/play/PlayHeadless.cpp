@@ -16,10 +16,10 @@
 
 #include "capture/CaptureHeadless.h"
 #include "output/BodiesCsv.h"
+#include "output/StatsReport.h"
 #include "play/Interrupt.h"
 #include "play/RunProgress.h"
 #include "play/SceneChecks.h"
-#include "output/StatsReport.h"
 #include "sluice/format/support/AtomicFile.h"
 #include "sluice/format/support/Suggest.h"
 #include "sluice/gpu/Context.h"

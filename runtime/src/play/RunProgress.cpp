@@ -10,8 +10,8 @@
 #include <unistd.h>
 
 #include "colliders/VolumeMapSize.h"
-#include "sluice/gpu/Gl.h"
 #include "sluice/format/support/NumberText.h"
+#include "sluice/gpu/Gl.h"
 
 namespace sluice::rt {
 namespace {
@@ -148,7 +148,6 @@ std::optional<std::string> slowLoadWarning(const std::string& renderer, const Vo
            "colliders (sluice-bake bake --volume-map), a GPU or a coarser bake make it "
            "shorter";
 }
-
 
 std::optional<std::string> volumeMapNote(const format::Scene& scene, const VolumeMapLoad& load) {
     if (load.built == 0)

@@ -58,7 +58,7 @@ std::optional<std::string> slowRunWarning(const std::string& renderer, std::uint
 /// are warned about before they are built (the load says nothing while it works).
 inline constexpr double kSlowLoadSeconds = 30.0;
 
-/// The volume maps a scene builds at load ("boundary": "solids"; docs/pbf.md, "Volume maps"):
+/// The volume maps a scene builds at load (docs/pbf.md, "Volume maps"):
 /// their points, and the quadrature's nominal reads (points x the support ball in its cells),
 /// dense and sparse grids apart (a sparse read goes through NanoVDB's accessor).
 struct VolumeMapWork {
@@ -67,8 +67,9 @@ struct VolumeMapWork {
     double sparseReads = 0.0;
 };
 
-/// What the scene's static and kinematic colliders' maps would be (none without "solids"; a map
-/// over kVolumeMapMaxPoints is not built). Colliders as loadSceneColliders gives them.
+/// What the scene's static and kinematic colliders' maps would be (a map baked with the
+/// collider for the scene's support is not built, nor one over kVolumeMapMaxPoints). Colliders as
+/// loadSceneColliders gives them.
 VolumeMapWork volumeMapWork(const format::Scene& scene,
                             const std::vector<format::ColliderAsset>& colliders);
 

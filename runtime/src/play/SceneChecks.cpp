@@ -25,7 +25,8 @@ constexpr double kDomainSlack = 1e-3;
 /// "0.123" with a few significant digits.
 
 std::string vec(const glm::dvec3& v) {
-    return "(" + format::significant(v.x, 3) + ", " + format::significant(v.y, 3) + ", " + format::significant(v.z, 3) + ")";
+    return "(" + format::significant(v.x, 3) + ", " + format::significant(v.y, 3) + ", " +
+           format::significant(v.z, 3) + ")";
 }
 
 /// "scene.json: colliders[2] (crate.slc): " for a collider's messages.
@@ -113,7 +114,8 @@ void checkColliderOverlap(const format::Scene& scene,
                            scene.path + ": " + group.where + ": " + std::to_string(near) + " of " +
                                std::to_string(group.points.size()) + " particles start inside (" +
                                std::to_string(inside) + ") or within a particle radius (" +
-                               format::significant(radius, 3) + " m) of colliders[" + std::to_string(c) + "] (" +
+                               format::significant(radius, 3) + " m) of colliders[" +
+                               std::to_string(c) + "] (" +
                                format::colliderName(scene.colliders[c]) +
                                "); the solver will throw them out of it on the first step. Move "
                                "the fluid or the collider apart"});
@@ -129,12 +131,14 @@ void checkColliderScale(const format::Scene& scene,
         const glm::dvec3 size = colliderWorldSize(scene.colliders[c], colliders[c]);
         const double side = std::max({size.x, size.y, size.z});
         const std::string where = colliderWhere(scene, c);
-        const std::string measured = format::significant(size.x, 3) + " x " + format::significant(size.y, 3) + " x " +
-                                     format::significant(size.z, 3) + " m, " + format::significant(side / s, 3) +
-                                     " times the particle spacing (" + format::significant(s, 3) + " m)";
+        const std::string measured =
+            format::significant(size.x, 3) + " x " + format::significant(size.y, 3) + " x " +
+            format::significant(size.z, 3) + " m, " + format::significant(side / s, 3) +
+            " times the particle spacing (" + format::significant(s, 3) + " m)";
         if (side > kColliderMaxSpacings * s)
             out.push_back({"collider-scale",
-                           where + measured + ", more than " + format::significant(kColliderMaxSpacings, 3) +
+                           where + measured + ", more than " +
+                               format::significant(kColliderMaxSpacings, 3) +
                                ": was the mesh modelled in centimetres (FBX often is)? Re-bake it "
                                "with `sluice-bake bake --scale 0.01` or set \"scale\" on the "
                                "collider in the scene"});
@@ -159,9 +163,10 @@ void checkBodyDensity(const format::Scene& scene,
             continue;
         const bool fromMass = scene.colliders[c].dynamic->mass.has_value();
         out.push_back(
-            {"body-density", colliderWhere(scene, c) + "a dynamic body of " + format::significant(*density, 3) +
-                                 " kg/m^3" + (fromMass ? " (its mass over its volume)" : "") +
-                                 ", outside " + format::significant(kBodyDensityMin, 3) + " to " +
+            {"body-density", colliderWhere(scene, c) + "a dynamic body of " +
+                                 format::significant(*density, 3) + " kg/m^3" +
+                                 (fromMass ? " (its mass over its volume)" : "") + ", outside " +
+                                 format::significant(kBodyDensityMin, 3) + " to " +
                                  format::significant(kBodyDensityMax, 3) +
                                  " kg/m^3, the range of real materials (air-filled foam to the "
                                  "densest metals): the solver may lose it. Is the \"density\" in "
@@ -279,8 +284,9 @@ std::vector<std::string> describeColliders(const format::Scene& scene,
     for (std::size_t c = 0; c < colliders.size() && c < scene.colliders.size(); ++c) {
         const glm::dvec3 size = colliderWorldSize(scene.colliders[c], colliders[c]);
         lines.push_back("colliders[" + std::to_string(c) + "] " +
-                        format::colliderName(scene.colliders[c]) + ": " + format::significant(size.x, 3) + " x " +
-                        format::significant(size.y, 3) + " x " + format::significant(size.z, 3) + " m (scale " +
+                        format::colliderName(scene.colliders[c]) + ": " +
+                        format::significant(size.x, 3) + " x " + format::significant(size.y, 3) +
+                        " x " + format::significant(size.z, 3) + " m (scale " +
                         format::significant(scene.colliders[c].scale, 3) + ")");
     }
     return lines;

@@ -183,8 +183,8 @@ struct Simulation::Impl : ParticleBuffers,
     /// outnumber the capacity.
     Result<void> fillBlocks();
     void uploadParams();
-    /// Whether collider c is one to map: static or kinematic, in a scene that starts with
-    /// "solids", its map at most kVolumeMapMaxPoints points (VolumeMaps.cpp).
+    /// Whether collider c is one to map: static or kinematic, its map at most
+    /// kVolumeMapMaxPoints points (VolumeMaps.cpp).
     bool mapsCollider(std::size_t c) const;
     /// Whether collider c gets a volume map: mapsCollider, and every map fitting in the SDF
     /// buffer's storage block with the grids (volumeMapsFit).

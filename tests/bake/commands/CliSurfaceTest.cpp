@@ -77,7 +77,8 @@ double worstAxisCrossing(const openvdb::FloatGrid& grid, double expected) {
         for (double sign : {-1.0, 1.0}) {
             glm::dvec3 along(0.0);
             along[axis] = sign;
-            const double t = kBall + zeroCrossing(grid, kCentre + along * kBall, along, 0.05, kVoxel);
+            const double t =
+                kBall + zeroCrossing(grid, kCentre + along * kBall, along, 0.05, kVoxel);
             EXPECT_FALSE(std::isnan(t)) << "no crossing along axis " << axis;
             worst = std::max(worst, std::isnan(t) ? HUGE_VAL : std::abs(t - expected));
         }

@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "ProgramRun.h"
 #include "LevelSetProbe.h"
+#include "ProgramRun.h"
 #include "TestParticles.h"
 #include "interop/ParticlePly.h"
 #include "interop/VdbHeaders.h"
@@ -46,7 +46,6 @@ openvdb::FloatGrid::Ptr readOnlyGrid(const fs::path& path) {
     EXPECT_EQ(grids->size(), 1u);
     return grids->empty() ? nullptr : openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[0]);
 }
-
 
 TEST(ParticlePly, ReadsSluicePlaysFramesAndRejectsEveryTruncatedPrefix) {
     const fs::path dir = tempDir("prefixes");

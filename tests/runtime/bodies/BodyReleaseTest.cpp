@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "bodies/BodyTank.h"
 #include "GpuTest.h"
+#include "bodies/BodyTank.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {

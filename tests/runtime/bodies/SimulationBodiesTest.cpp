@@ -13,9 +13,9 @@
 
 #include <gtest/gtest.h>
 
-#include "bodies/BodyTank.h"
 #include "GpuTest.h"
 #include "RuntimeTestScenes.h"
+#include "bodies/BodyTank.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {

@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "sim/ParticleCompare.h"
 #include "ReferencePbf.h"
 #include "RuntimeTestScenes.h"
+#include "sim/ParticleCompare.h"
 #include "sluice/gpu/colliders/VolumeMap.h"
 #include "sluice/rt/sim/Simulation.h"
 

@@ -117,9 +117,8 @@ TEST_F(RenderTest, SurfaceMeshCoversTheBlockRegionAndNothingElse) {
     const Image with = stage.draw(mesh);
     EXPECT_EQ(stage.renderer->meshError(), "");
     const Image without = stage.drawWithoutParticles(mesh);
-    expectCoversOnly(
-        with, without,
-        projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, 0.0025f));
+    expectCoversOnly(with, without,
+                     projectBox(stage.camera, {-0.1f, 0.0f, -0.1f}, {0.1f, 0.2f, 0.1f}, 0.0025f));
     expectWaterColouredAtTheBlocksCentre(stage, with);
 }
 

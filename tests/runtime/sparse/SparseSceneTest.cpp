@@ -13,12 +13,12 @@
 #include <gtest/gtest.h>
 
 #include "GpuTest.h"
-#include "sim/ParticleCompare.h"
 #include "ProgramRun.h"
 #include "ReferencePbf.h"
+#include "sim/ParticleCompare.h"
 #include "sluice/format/asset/AssetIO.h"
-#include "sluice/format/scene/SceneIO.h"
 #include "sluice/format/asset/SdfSampler.h"
+#include "sluice/format/scene/SceneIO.h"
 #include "sluice/rt/sim/Simulation.h"
 
 namespace sluice::rt {
@@ -111,7 +111,7 @@ TEST_F(SparseScene, TheTankBakedDenseAndSparseOnOneGridPlaysTheSameRunBitForBit)
     EXPECT_EQ(denseAndSparseDiffer("sparse-scene-tank", 8), 0u);
 }
 
-// The boundary share ("solids") at points of the tank's inside corner at (-0.37, 0.03, -0.22)
+// The boundary share at points of the tank's inside corner at (-0.37, 0.03, -0.22)
 // and along its floor's edge, 0 to 6 cm from the walls every 5 mm, from the tank baked dense and
 // sparse (band 8 voxels) on one grid: both get a volume map, and the sparse one (per leaf) gives
 // the dense one's values where a particle can be.

@@ -38,7 +38,7 @@ Result<void> checkSimulationParams(const SimulationParams& p);
 
 /// What a "simulation.boundary" value names (docs/scene-format.md): the one boundary model
 /// there is ("solids", the walls and every collider and body adding boundary volume), the one
-/// removed in format 1.x ("bodies", only dynamic bodies adding it), or neither.
+/// removed on 2026-12-08 ("bodies", only dynamic bodies adding it), or neither.
 enum class BoundaryModelName { Solids, Removed, Unknown };
 BoundaryModelName boundaryModelNamed(std::string_view name);
 

@@ -1,7 +1,7 @@
 // The volume map pass (shaders/colliders/pbf_volume_map.comp, docs/pbf.md "Volume maps"): its
 // program and one collider's map dispatched with it. Shared by the solver, which builds the maps
-// a scene needs at load (runtime/src/colliders/VolumeMaps.cpp), and computeVolumeMap, which bakes one
-// into an asset (VolumeMap.h).
+// a scene needs at load (runtime/src/colliders/VolumeMaps.cpp), and computeVolumeMap, which bakes
+// one into an asset (VolumeMap.h).
 #pragma once
 
 #include <cmath>

@@ -437,8 +437,8 @@ public:
     /// small dispatch and readback (a sync).
     Result<std::vector<glm::vec4>> solidBoundaryAt(const std::vector<glm::vec3>& points);
 
-    /// Static and kinematic colliders with a volume map (built when the scene starts with
-    /// `"boundary": "solids"` and rebuilt when kernelRadius changes).
+    /// Static and kinematic colliders with a volume map (baked with the collider or built when
+    /// the scene starts, and rebuilt when kernelRadius changes).
     std::uint32_t volumeMapCount() const;
 
     /// How the volume maps were last made: taken from the colliders' assets (baked for this
